@@ -1,0 +1,32 @@
+#pragma once
+// Stage constraints g(x_k) <= 0 on the product state (obstacles, collisions, formation, bounds,
+// goal), each reading only a few product coordinates so that planners can exploit sparsity.
+#include <string>
+#include <vector>
+
+namespace marsyn {
+
+enum class ConstraintStage { AllSteps, Terminal };
+
+class Constraint {
+ public:
+  virtual ~Constraint() = default;
+  virtual std::string name() const = 0;       // e.g. "obstacle[0] vs drone3"
+  virtual int size() const = 0;               // number of scalar inequalities
+  virtual ConstraintStage stage() const = 0;
+  // Product-state coordinates read by evaluate(), in the order of the Jacobian's columns.
+  virtual const std::vector<int>& support() const = 0;
+  // g (size()) at the product state x; jac (size() x support().size(), row-major) when non-null.
+  virtual void evaluate(const double* x, double* g, double* jac) const = 0;
+};
+
+// A collision-geometry provider (the FCL plugin, or core's exact primitives): signed distance
+// between a workspace point and an obstacle, with its gradient in the point.
+class DistanceModel {
+ public:
+  virtual ~DistanceModel() = default;
+  // Signed distance (negative inside) in the given norm, and d/dp in grad[2].
+  virtual double distance(int obstacle, const double* p, double* grad) const = 0;
+};
+
+}  // namespace marsyn

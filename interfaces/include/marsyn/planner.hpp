@@ -1,0 +1,77 @@
+#pragma once
+// Step 1 of the method: a disturbance-free plan of the product system satisfying the eps-robust
+// specification. A Planner is an immutable model; solve() is const and keeps all its scratch
+// data inside the call, so one instance may serve several threads.
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "marsyn/constraint.hpp"
+#include "marsyn/problem.hpp"
+
+namespace marsyn {
+
+enum class PlannerStatus {
+  ExactSolution,        // the solver met its tolerances (core still runs the exact robust check)
+  ApproximateSolution,  // best effort that violates some constraint
+  Infeasible,           // the solver concluded no feasible plan exists at this horizon
+  Timeout,
+  InvalidInput,
+  Crash,
+};
+
+inline const char* to_string(PlannerStatus s) {
+  switch (s) {
+    case PlannerStatus::ExactSolution: return "exact";
+    case PlannerStatus::ApproximateSolution: return "approximate";
+    case PlannerStatus::Infeasible: return "infeasible";
+    case PlannerStatus::Timeout: return "timeout";
+    case PlannerStatus::InvalidInput: return "invalid input";
+    case PlannerStatus::Crash: return "crash";
+  }
+  return "?";
+}
+
+// The eps-robust planning problem on the product system, assembled by core from a Problem.
+struct PlanningProblem {
+  const Problem* problem = nullptr;  // agents and their dynamics (product = stacked agents)
+  Eigen::VectorXd x0;                // product initial state
+  Box input_bounds;                  // U^x
+  Box state_bounds;                  // X^x shrunk by eps
+  Box goal;                          // Goal^x shrunk by eps (terminal state)
+  std::vector<std::shared_ptr<const Constraint>> constraints;  // avoid set grown by eps
+  int horizon = 0;
+  std::optional<GlobalPlan> warm_start;
+};
+
+struct PlanProgress {
+  int iteration = 0;
+  double cost = 0.0;
+  double max_violation = 0.0;
+};
+
+struct PlanOptions {
+  double time_limit_s = 60.0;
+  std::function<void(const PlanProgress&)> progress;  // may be empty
+};
+
+struct PlanResult {
+  PlannerStatus status = PlannerStatus::Crash;
+  GlobalPlan plan;
+  int iterations = 0;
+  double solve_time_s = 0.0;
+  double max_violation = 0.0;  // the solver's own measure; core re-checks exactly
+  double cost = 0.0;
+  std::string message;
+};
+
+class Planner {
+ public:
+  virtual ~Planner() = default;
+  virtual std::string name() const = 0;
+  virtual PlanResult solve(const PlanningProblem& problem, const PlanOptions& options) const = 0;
+};
+
+}  // namespace marsyn

@@ -1,0 +1,120 @@
+#pragma once
+// The problem value types every stage reads (architecture: plain values flowing one way).
+// Units: states and inputs in the model's units; time in seconds (tau) or steps (k, horizon).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "marsyn/box.hpp"
+#include "marsyn/dynamics.hpp"
+#include "marsyn/params.hpp"
+
+namespace marsyn {
+
+// How an agent's state maps to a point in the shared plane (obstacles, collisions, formation).
+struct Workspace {
+  // Linear map: p[c] = x[index[c]] + offset[c], or offset[c] alone when index[c] < 0.
+  std::vector<int> index{0, 1};
+  std::vector<double> offset{0.0, 0.0};
+  // A model-provided nonlinear footprint (e.g. the crane's pendulum tip); -1 for the linear map.
+  int footprint = -1;
+  std::string footprint_name;
+
+  bool linear() const { return footprint < 0; }
+};
+
+// p = workspace point of state x (2 coordinates). Works for double, DualD and Interval.
+template <class S>
+void workspace_point(const Dynamics& dyn, const Workspace& ws, const S* x, S* p) {
+  if (!ws.linear()) {
+    dyn.footprint(ws.footprint, x, p);
+    return;
+  }
+  for (int c = 0; c < 2; ++c)
+    p[c] = ws.index[c] >= 0 ? x[ws.index[c]] + ws.offset[c] : S(ws.offset[c]);
+}
+
+struct PluginChoice {
+  std::string name;
+  Params params;
+};
+
+struct AgentSpec {
+  std::string name;
+  std::string dynamics_type;
+  std::shared_ptr<const Dynamics> dynamics;
+  Eigen::VectorXd x0;
+  Box goal;         // Goal^i, in state coordinates
+  Box state_bounds;  // X^i
+  Box input_bounds;  // U^i
+  Eigen::VectorXd w;      // disturbance bound: w in [-w, w] componentwise
+  Eigen::VectorXd eps;    // tube half-width per state coordinate (robustness margin)
+  Eigen::VectorXd eta_x;  // state grid cell size
+  Eigen::VectorXd eta_u;  // input grid spacing
+  Workspace workspace;
+
+  int n() const { return static_cast<int>(x0.size()); }
+  int m() const { return static_cast<int>(input_bounds.lo.size()); }
+};
+
+enum class Norm { Inf, Two };
+
+struct Obstacle {
+  std::string name;
+  // Convex polygon, counter-clockwise; an axis-aligned box is stored as its 4 corners.
+  std::vector<Eigen::Vector2d> vertices;
+  bool is_box = false;
+};
+
+struct FormationPair {
+  int i = 0, j = 0;     // agent indices
+  double lambda = 0.0;  // desired Euclidean distance between the workspace points
+  double mu = 0.0;      // tolerance: lambda - mu <= d_ij <= lambda + mu
+};
+
+struct Problem {
+  std::string name;
+  std::string source;  // the file it was loaded from
+  std::vector<AgentSpec> agents;
+  std::vector<Obstacle> obstacles;
+  double delta = 0.0;      // safety distance to obstacles and between agents
+  Norm delta_norm = Norm::Inf;
+  bool pairwise_collision = true;
+  std::vector<FormationPair> formation;
+  double tau = 0.1;        // sampling time [s]
+  int horizon = 0;         // T [steps]
+  int rk4_substeps = 4;    // substeps of the sampled map f_tau used by planners and simulation
+  PluginChoice planner;
+  PluginChoice tracker;
+  std::vector<std::string> plugin_paths;
+
+  int product_state_dim() const {
+    int n = 0;
+    for (const auto& a : agents) n += a.n();
+    return n;
+  }
+  int product_input_dim() const {
+    int m = 0;
+    for (const auto& a : agents) m += a.m();
+    return m;
+  }
+};
+
+// A plan for the product system: x[0..T] (product states), u[0..T-1] (product inputs).
+struct GlobalPlan {
+  double tau = 0.1;
+  std::vector<Eigen::VectorXd> x;
+  std::vector<Eigen::VectorXd> u;
+  int horizon() const { return static_cast<int>(u.size()); }
+};
+
+// One agent's share of a plan (paper Alg. 1 step 2): its nominal trajectory rho^i.
+struct NominalTrajectory {
+  std::string agent;
+  std::vector<Eigen::VectorXd> x;  // x_0..x_T
+  std::vector<Eigen::VectorXd> u;  // u_0..u_{T-1}
+};
+
+}  // namespace marsyn

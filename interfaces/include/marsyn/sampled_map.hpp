@@ -1,0 +1,52 @@
+#pragma once
+// The sampled map f_tau: classical RK4 with `substeps` equal steps over one sampling period tau,
+// with a constant disturbance w added to the right-hand side. Templated so that the same code
+// gives states (double) and exact discrete Jacobians (DualD). It is an approximation of the
+// flow; trackers never rely on it for soundness (they enclose the flow, docs/soundness.md).
+#include <vector>
+
+#include "marsyn/dynamics.hpp"
+
+namespace marsyn {
+
+template <class S>
+void rk4_step(const Dynamics& f, const S* x, const S* u, const double* w, double tau, int substeps,
+              S* out) {
+  const int n = f.state_dim();
+  std::vector<S> k1(n), k2(n), k3(n), k4(n), y(n), xs(x, x + n);
+  const double h = tau / substeps;
+  auto rhs = [&](const S* state, S* d) {
+    f.field(state, u, d);
+    if (w)
+      for (int i = 0; i < n; ++i) d[i] = d[i] + w[i];
+  };
+  for (int s = 0; s < substeps; ++s) {
+    rhs(xs.data(), k1.data());
+    for (int i = 0; i < n; ++i) y[i] = xs[i] + (0.5 * h) * k1[i];
+    rhs(y.data(), k2.data());
+    for (int i = 0; i < n; ++i) y[i] = xs[i] + (0.5 * h) * k2[i];
+    rhs(y.data(), k3.data());
+    for (int i = 0; i < n; ++i) y[i] = xs[i] + h * k3[i];
+    rhs(y.data(), k4.data());
+    for (int i = 0; i < n; ++i) xs[i] = xs[i] + (h / 6.0) * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+  }
+  for (int i = 0; i < n; ++i) out[i] = xs[i];
+}
+
+// Discrete Jacobians A = d f_tau / dx, B = d f_tau / du (row-major n x n and n x m), exact for
+// the RK4 map by forward-mode AD.
+inline void rk4_jacobians(const Dynamics& f, const double* x, const double* u, double tau, int substeps,
+                          double* next, double* A, double* B) {
+  const int n = f.state_dim(), m = f.input_dim();
+  std::vector<DualD> xd(n), ud(m), out(n);
+  for (int i = 0; i < n; ++i) xd[i] = DualD::variable(x[i], i, n + m);
+  for (int j = 0; j < m; ++j) ud[j] = DualD::variable(u[j], n + j, n + m);
+  rk4_step<DualD>(f, xd.data(), ud.data(), nullptr, tau, substeps, out.data());
+  for (int i = 0; i < n; ++i) {
+    if (next) next[i] = out[i].v;
+    for (int j = 0; j < n; ++j) A[i * n + j] = out[i].derivative(j);
+    for (int j = 0; j < m; ++j) B[i * m + j] = out[i].derivative(n + j);
+  }
+}
+
+}  // namespace marsyn

@@ -1,0 +1,102 @@
+#pragma once
+// Step 3 of the method: a per-agent feedback controller C(x, k) that keeps the agent inside the
+// eps-box around its nominal state at every step k, for every disturbance in W (Phi_track,
+// paper eq. 1). A Tracker is an immutable model; track() is const and re-entrant, so agents can
+// be processed in parallel.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "marsyn/problem.hpp"
+
+namespace marsyn {
+
+enum class TrackerStatus {
+  Controller,     // x_0's cell is winning: a verified controller
+  NoController,   // the tube admits no controller at this eps / eta
+  InvalidInput,
+  ResourceLimit,  // memory or time budget exceeded
+};
+
+inline const char* to_string(TrackerStatus s) {
+  switch (s) {
+    case TrackerStatus::Controller: return "controller";
+    case TrackerStatus::NoController: return "no controller";
+    case TrackerStatus::InvalidInput: return "invalid input";
+    case TrackerStatus::ResourceLimit: return "resource limit";
+  }
+  return "?";
+}
+
+enum class ControlStatus { Ok, OutsideDomain, OutsideHorizon };
+
+// A synthesized controller. input() answers in O(1).
+class Controller {
+ public:
+  virtual ~Controller() = default;
+  virtual int state_dim() const = 0;
+  virtual int input_dim() const = 0;
+  virtual int horizon() const = 0;  // steps k = 0..horizon(); time-invariant controllers: -1
+  virtual ControlStatus input(const double* x, int k, double* u) const = 0;
+  virtual void write(const std::string& path) const = 0;  // throws std::runtime_error on I/O failure
+};
+
+struct TrackingProblem {
+  std::string agent;
+  std::shared_ptr<const Dynamics> dynamics;
+  NominalTrajectory nominal;
+  Eigen::VectorXd eps, eta_x, eta_u, w;
+  Box input_bounds;
+  Box state_bounds;
+  double tau = 0.1;
+};
+
+// Whole-domain mode (global ABCD baseline): reach `target` while staying in `safe`, over the box
+// `domain`, with a time-invariant controller.
+struct ReachAvoidProblem {
+  std::shared_ptr<const Dynamics> dynamics;
+  Box domain, safe, target;
+  Eigen::VectorXd eta_x, eta_u, w;
+  Box input_bounds;
+  double tau = 0.1;
+};
+
+struct TrackerStats {
+  long long tube_cells = 0;
+  double state_input_pairs = 0;  // N_l as in the paper: tube cells x steps x inputs
+  long long boxes_computed = 0;  // successor boxes actually computed
+  double abstraction_time_s = 0.0;
+  double synthesis_time_s = 0.0;
+  long long peak_memory_bytes = 0;
+  std::vector<long long> winning_cells_per_step;
+  bool initial_state_winning = false;
+};
+
+struct TrackOptions {
+  int threads = 0;  // 0: hardware concurrency
+  double memory_budget_bytes = 8e9;
+};
+
+struct TrackResult {
+  TrackerStatus status = TrackerStatus::InvalidInput;
+  std::shared_ptr<const Controller> controller;  // set iff status == Controller (or partial)
+  TrackerStats stats;
+  std::string message;
+};
+
+class Tracker {
+ public:
+  virtual ~Tracker() = default;
+  virtual std::string name() const = 0;
+  virtual TrackResult track(const TrackingProblem& problem, const TrackOptions& options) const = 0;
+  virtual TrackResult reach_avoid(const ReachAvoidProblem&, const TrackOptions&) const {
+    TrackResult r;
+    r.message = name() + " does not support whole-domain reach-avoid";
+    return r;
+  }
+  // Reads a controller file written by this tracker; throws std::runtime_error on a corrupt or
+  // mismatched file.
+  virtual std::shared_ptr<const Controller> read_controller(const std::string& path) const = 0;
+};
+
+}  // namespace marsyn
