@@ -124,6 +124,12 @@ Dual<T> sqrt(const Dual<T>& a) {
   return dual_detail::chain(a, s, T(0.5) / s, 0);
 }
 template <class T>
+Dual<T> tan(const Dual<T>& a) {
+  using std::tan;
+  const T t = tan(a.v);
+  return dual_detail::chain(a, t, T(1.0) + t * t, 0);
+}
+template <class T>
 Dual<T> atan(const Dual<T>& a) {
   using std::atan;
   return dual_detail::chain(a, T(atan(a.v)), T(1.0) / (T(1.0) + a.v * a.v), 0);

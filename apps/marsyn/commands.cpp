@@ -1,0 +1,43 @@
+#include "commands.hpp"
+
+#include <iostream>
+
+#include "marsyn/core/plugin_registry.hpp"
+#include "marsyn/core/problem_loader.hpp"
+#include "marsyn/core/problem_summary.hpp"
+
+namespace marsyn::cli {
+
+int run_plugins(bool show_params) {
+  PluginRegistry registry;
+  std::cout << "search path:\n";
+  for (const auto& p : registry.search_path()) std::cout << "  " << p << "\n";
+  std::cout << "\n";
+  std::size_t width = 4;
+  for (const auto& i : registry.plugins()) width = std::max(width, i.name.size());
+  std::printf("%-10s %-*s %s\n", "kind", static_cast<int>(width), "name", "library");
+  for (const auto& i : registry.plugins()) {
+    std::printf("%-10s %-*s %s\n", i.kind.c_str(), static_cast<int>(width), i.name.c_str(), i.library_path.c_str());
+    std::printf("%-10s %-*s   %s\n", "", static_cast<int>(width), "", i.summary.c_str());
+    if (show_params)
+      for (const auto& p : i.params)
+        std::printf("%-10s %-*s   - %s (%s, default %s, range %s): %s\n", "", static_cast<int>(width), "",
+                    p.name.c_str(), to_string(p.type), p.default_value.c_str(), p.range.c_str(), p.doc.c_str());
+  }
+  std::cout.flush();
+  for (const auto& p : registry.problems())
+    std::cerr << "warning: skipped " << p.library_path << ": " << p.reason << "\n";
+  if (registry.plugins().empty()) {
+    std::cerr << "error: no plugins found; set MARSYN_PLUGIN_PATH or reinstall marsyn\n";
+    return 2;
+  }
+  return 0;
+}
+
+int run_check(const std::string& config) {
+  const LoadedProblem loaded = load_problem(config);
+  std::cout << summarize(loaded.problem) << "\nok: " << config << " is a valid marsyn problem\n";
+  return 0;
+}
+
+}  // namespace marsyn::cli

@@ -1,0 +1,21 @@
+#pragma once
+#include <string>
+
+#include "marsyn/problem.hpp"
+
+namespace marsyn {
+
+// Counts of the eps-robust constraints a planner will see per step (paper eq. 2 and 3).
+struct ConstraintCounts {
+  int obstacle = 0;   // agent x obstacle
+  int collision = 0;  // agent pairs
+  int formation = 0;  // formation pairs (each a two-sided constraint)
+  int per_step() const { return obstacle + collision + formation; }
+};
+
+ConstraintCounts count_constraints(const Problem& problem);
+
+// A readable one-screen description of a loaded problem (what `marsyn check` prints).
+std::string summarize(const Problem& problem);
+
+}  // namespace marsyn

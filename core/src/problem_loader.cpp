@@ -1,0 +1,413 @@
+#include "marsyn/core/problem_loader.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <sstream>
+
+#include "yaml_reader.hpp"
+
+namespace fs = std::filesystem;
+
+namespace marsyn {
+namespace {
+
+using yaml::Field;
+
+const std::vector<std::string> kTopKeys = {
+    "name",  "description", "tau",     "horizon",      "rk4_substeps", "delta",     "delta_norm",
+    "pairwise_collision", "planner", "tracker", "plugin_paths", "defaults", "agents", "obstacles",
+    "formation"};
+const std::vector<std::string> kAgentKeys = {"name",         "dynamics",    "x0",    "goal",
+                                             "state_bounds", "input_bounds", "disturbance", "eps",
+                                             "eta_x",        "eta_u",        "workspace"};
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+std::string join(const std::vector<std::string>& items) {
+  std::string out;
+  for (const auto& i : items) out += (out.empty() ? "" : ", ") + i;
+  return out.empty() ? "(none found)" : out;
+}
+
+// An agent's field comes from its own block or, when absent there, from `defaults`.
+Field agent_field(const Field& agent, const Field& defaults, const std::string& key) {
+  Field f = agent.child(key);
+  return f.present() ? f : defaults.child(key);
+}
+
+Field agent_required(const Field& agent, const Field& defaults, const std::string& key) {
+  Field f = agent_field(agent, defaults, key);
+  if (!f.present()) agent.fail("missing required field '" + key + "' (set it in the agent or in 'defaults')");
+  return f;
+}
+
+std::string unknown_plugin(const PluginRegistry& reg, const std::string& kind, const std::string& name) {
+  std::string msg = "unknown " + kind + " plugin '" + name + "'";
+  const std::string near = yaml::nearest(name, reg.names(kind));
+  if (!near.empty()) msg += " (did you mean '" + near + "'?)";
+  msg += "; available: " + join(reg.names(kind));
+  for (const auto& p : reg.problems())
+    if (p.reason.find("API version") != std::string::npos) msg += "; skipped " + p.library_path + ": " + p.reason;
+  return msg;
+}
+
+Params read_params(const Field& f, const PluginInfo& info) {
+  Params params;
+  if (!f.present()) return params;
+  f.expect_map();
+  std::vector<std::string> allowed;
+  for (const auto& s : info.params) allowed.push_back(s.name);
+  if (allowed.empty() && !f.keys().empty())
+    f.child(f.keys().front()).fail("the " + info.kind + " '" + info.name + "' takes no parameters");
+  f.allow_only(allowed);
+  for (const auto& spec : info.params) {
+    Field v = f.child(spec.name);
+    if (!v.present()) continue;
+    switch (spec.type) {
+      case ParamType::Bool: params.set(spec.name, v.boolean()); break;
+      case ParamType::Int: params.set(spec.name, v.integer()); break;
+      case ParamType::Real: params.set(spec.name, v.real()); break;
+      case ParamType::String: params.set(spec.name, v.text()); break;
+      case ParamType::RealVector: {
+        const Eigen::VectorXd x = v.vector(-1, "");
+        params.set(spec.name, std::vector<double>(x.data(), x.data() + x.size()));
+        break;
+      }
+    }
+  }
+  return params;
+}
+
+// A plugin choice written either as `name` or as {name: ..., params: {...}} (dynamics use `type`).
+struct PluginField {
+  std::string name;
+  Field name_field;
+  Field params_field;
+};
+
+PluginField read_plugin_field(const Field& f, const std::string& name_key) {
+  if (f.is_scalar()) return {f.text(), f, f.child("params")};
+  f.expect_map();
+  f.allow_only({name_key, "params"});
+  Field n = f.required(name_key);
+  return {n.text(), n, f.child("params")};
+}
+
+template <class Interface>
+std::pair<std::shared_ptr<Interface>, Params> create_plugin(const PluginRegistry& reg, const PluginField& pf) {
+  const std::string kind = PluginKind<Interface>::name;
+  const PluginInfo* info = reg.find(kind, pf.name);
+  if (!info) pf.name_field.fail(unknown_plugin(reg, kind, pf.name));
+  Params params = read_params(pf.params_field, *info);
+  try {
+    return {reg.create<Interface>(pf.name, params), params};
+  } catch (const ParamError& e) {
+    Field at = pf.params_field.child(e.field());
+    (at.present() ? at : pf.params_field.present() ? pf.params_field : pf.name_field).fail(e.what());
+  } catch (const std::exception& e) {
+    pf.name_field.fail(std::string("the plugin could not be created: ") + e.what());
+  }
+}
+
+Box read_box(const Field& f, int n, const std::string& why) {
+  f.expect_map();
+  Box b;
+  if (f.child("center").present() || f.child("radius").present()) {
+    f.allow_only({"center", "radius"});
+    const Eigen::VectorXd c = f.required("center").vector(n, why);
+    const Eigen::VectorXd r = f.required("radius").non_negative_vector(n, why);
+    b = {c - r, c + r};
+  } else {
+    f.allow_only({"lo", "hi"});
+    b = {f.required("lo").vector(n, why), f.required("hi").vector(n, why)};
+    for (int i = 0; i < n; ++i)
+      if (b.lo[i] > b.hi[i])
+        f.child("lo")[static_cast<std::size_t>(i)].fail("lower bound " + fmt(b.lo[i]) + " exceeds upper bound " +
+                                                         fmt(b.hi[i]));
+  }
+  return b;
+}
+
+Workspace read_workspace(const Field& f, const Dynamics& dyn) {
+  f.expect_map();
+  f.allow_only({"position", "offset", "footprint"});
+  Workspace ws;
+  const int n = dyn.state_dim();
+  if (f.child("footprint").present()) {
+    if (f.child("position").present()) f.child("position").fail("give either 'position' or 'footprint', not both");
+    const std::string name = f.child("footprint").text();
+    const auto names = dyn.footprints();
+    for (std::size_t i = 0; i < names.size(); ++i)
+      if (names[i] == name) ws.footprint = static_cast<int>(i);
+    if (ws.footprint < 0)
+      f.child("footprint").fail("the dynamics '" + dyn.type() + "' has no footprint '" + name +
+                                "'; it has: " + join(names));
+    ws.footprint_name = name;
+    return ws;
+  }
+  Field pos = f.required("position");
+  if (!pos.is_sequence() || pos.size() != 2)
+    pos.fail("expected 2 entries [x_index, y_index]: state indices (0-based) or null for a fixed coordinate");
+  for (std::size_t c = 0; c < 2; ++c) {
+    Field e = pos[c];
+    if (!e.present()) {
+      ws.index[c] = -1;
+      continue;
+    }
+    const long i = e.integer();
+    if (i < 0 || i >= n)
+      e.fail("expected a state index in [0, " + std::to_string(n - 1) + "] (the dynamics '" + dyn.type() +
+             "' has " + std::to_string(n) + " states) or null");
+    ws.index[c] = static_cast<int>(i);
+  }
+  if (f.child("offset").present()) {
+    const Eigen::VectorXd o = f.child("offset").vector(2, "a point in the plane");
+    ws.offset = {o[0], o[1]};
+  }
+  return ws;
+}
+
+void validate_agent(const AgentSpec& a, const Field& x0f, const Field& goalf, const Field& epsf, const Field& etaf) {
+  const auto names = a.dynamics->state_names();
+  for (int i = 0; i < a.n(); ++i) {
+    const std::string coord = "'" + names[i] + "'";
+    const std::size_t si = static_cast<std::size_t>(i);
+    const double lo = a.state_bounds.lo[i], hi = a.state_bounds.hi[i];
+    if (a.x0[i] < lo || a.x0[i] > hi)
+      x0f[si].fail("x0 = " + fmt(a.x0[i]) + " in " + coord + " lies outside the state bounds [" + fmt(lo) + ", " +
+                   fmt(hi) + "]");
+    if (a.x0[i] - a.eps[i] < lo || a.x0[i] + a.eps[i] > hi)
+      x0f[si].fail("the tube around x0 leaves the state bounds in " + coord + ": x0 +- eps = [" +
+                   fmt(a.x0[i] - a.eps[i]) + ", " + fmt(a.x0[i] + a.eps[i]) + "] is not inside [" + fmt(lo) + ", " +
+                   fmt(hi) + "]");
+    // The tracker's grid is aligned at the state bounds' lower corner; x0's cell must lie inside
+    // the eps-box around x0 or the tube starts without x0's cell.
+    const double cell_lo = lo + std::floor((a.x0[i] - lo) / a.eta_x[i]) * a.eta_x[i];
+    const double cell_hi = cell_lo + a.eta_x[i];
+    if (cell_lo < a.x0[i] - a.eps[i] || cell_hi > a.x0[i] + a.eps[i])
+      etaf[si].fail("x0's grid cell [" + fmt(cell_lo) + ", " + fmt(cell_hi) + "] in " + coord +
+                    " does not fit inside the tube [x0 - eps, x0 + eps] = [" + fmt(a.x0[i] - a.eps[i]) + ", " +
+                    fmt(a.x0[i] + a.eps[i]) + "]; choose eta_x <= eps (" + fmt(a.eps[i]) + ")");
+    if (a.goal.lo[i] + a.eps[i] > a.goal.hi[i] - a.eps[i])
+      goalf.fail("the goal shrunk by eps is empty in " + coord + ": [" + fmt(a.goal.lo[i]) + " + " + fmt(a.eps[i]) +
+                 ", " + fmt(a.goal.hi[i]) + " - " + fmt(a.eps[i]) + "] = [" + fmt(a.goal.lo[i] + a.eps[i]) + ", " +
+                 fmt(a.goal.hi[i] - a.eps[i]) + "]; enlarge the goal or reduce eps");
+  }
+  (void)epsf;
+}
+
+Obstacle read_obstacle(const Field& f, std::size_t index) {
+  f.expect_map();
+  f.allow_only({"name", "box", "polygon"});
+  Obstacle o;
+  o.name = f.child("name").present() ? f.child("name").text() : "obstacle" + std::to_string(index);
+  const bool has_box = f.child("box").present(), has_poly = f.child("polygon").present();
+  if (has_box == has_poly) f.fail("expected exactly one of 'box' or 'polygon'");
+  if (has_box) {
+    const Box b = read_box(f.child("box"), 2, "a box in the plane");
+    o.is_box = true;
+    o.vertices = {{b.lo[0], b.lo[1]}, {b.hi[0], b.lo[1]}, {b.hi[0], b.hi[1]}, {b.lo[0], b.hi[1]}};
+    return o;
+  }
+  Field p = f.child("polygon");
+  const auto items = p.items();
+  if (items.size() < 3) p.fail("expected at least 3 vertices [[x, y], ...]");
+  for (const auto& v : items) {
+    const Eigen::VectorXd xy = v.vector(2, "a point in the plane");
+    o.vertices.emplace_back(xy[0], xy[1]);
+  }
+  double area = 0;
+  const std::size_t k = o.vertices.size();
+  for (std::size_t i = 0; i < k; ++i) {
+    const auto& a = o.vertices[i];
+    const auto& b = o.vertices[(i + 1) % k];
+    area += a.x() * b.y() - b.x() * a.y();
+  }
+  if (std::abs(area) < 1e-12) p.fail("the polygon has no area");
+  if (area < 0) std::reverse(o.vertices.begin(), o.vertices.end());  // store counter-clockwise
+  for (std::size_t i = 0; i < k; ++i) {
+    const Eigen::Vector2d e1 = o.vertices[(i + 1) % k] - o.vertices[i];
+    const Eigen::Vector2d e2 = o.vertices[(i + 2) % k] - o.vertices[(i + 1) % k];
+    if (e1.x() * e2.y() - e1.y() * e2.x() < -1e-12)
+      p.fail("the polygon is not convex; split it into convex pieces");
+  }
+  return o;
+}
+
+int agent_index(const Problem& pb, const Field& f) {
+  const std::string name = f.text();
+  for (std::size_t i = 0; i < pb.agents.size(); ++i)
+    if (pb.agents[i].name == name) return static_cast<int>(i);
+  std::vector<std::string> names;
+  for (const auto& a : pb.agents) names.push_back(a.name);
+  f.fail("unknown agent '" + name + "'; agents: " + join(names));
+}
+
+void read_formation(const Field& f, Problem& pb) {
+  f.expect_map();
+  f.allow_only({"mu", "offsets", "pairs"});
+  const double mu = f.required("mu").positive();
+  if (Field off = f.child("offsets"); off.present()) {
+    off.expect_map();
+    std::vector<std::pair<int, Eigen::Vector2d>> pts;
+    for (const auto& key : off.keys()) {
+      Field k = off.child(key);
+      YAML::Node name_node(key);
+      const int i = agent_index(pb, Field(name_node, f.file(), k.path(), k.node().Mark()));
+      const Eigen::VectorXd v = k.vector(2, "an offset in the plane");
+      pts.emplace_back(i, Eigen::Vector2d(v[0], v[1]));
+    }
+    for (std::size_t a = 0; a < pts.size(); ++a)
+      for (std::size_t b = a + 1; b < pts.size(); ++b)
+        pb.formation.push_back({pts[a].first, pts[b].first, (pts[a].second - pts[b].second).norm(), mu});
+  }
+  if (Field pairs = f.child("pairs"); pairs.present()) {
+    for (const auto& p : pairs.items()) {
+      p.expect_map();
+      p.allow_only({"agents", "lambda", "mu"});
+      Field ag = p.required("agents");
+      if (!ag.is_sequence() || ag.size() != 2) ag.fail("expected two agent names [a, b]");
+      const int i = agent_index(pb, ag[0]), j = agent_index(pb, ag[1]);
+      if (i == j) ag.fail("a formation pair needs two different agents");
+      pb.formation.push_back({i, j, p.required("lambda").positive(), p.child("mu").present() ? p.child("mu").positive() : mu});
+    }
+  }
+  if (pb.formation.empty()) f.fail("expected 'offsets' or 'pairs' defining at least one formation pair");
+  for (const auto& fp : pb.formation)
+    if (fp.mu <= 0 || fp.lambda - fp.mu < 0) f.fail("formation tolerance mu must be positive and below lambda");
+}
+
+}  // namespace
+
+LoadedProblem load_problem(const std::string& path) {
+  const YAML::Node root = yaml::load_file(path);
+  Field top(root, path, "");
+  top.expect_map();
+  top.allow_only(kTopKeys);
+
+  LoadedProblem out;
+  Problem& pb = out.problem;
+  pb.source = path;
+  pb.name = top.child("name").present() ? top.child("name").text() : fs::path(path).stem().string();
+
+  // Plugins first: the dynamics decide every dimension checked below.
+  const fs::path base = fs::path(path).parent_path();
+  std::vector<std::string> plugin_paths;
+  if (Field pp = top.child("plugin_paths"); pp.present()) {
+    for (const auto& item : pp.items()) {
+      fs::path p = item.text();
+      if (p.is_relative()) p = base / p;
+      plugin_paths.push_back(p.lexically_normal().string());
+    }
+  }
+  pb.plugin_paths = plugin_paths;
+  out.registry = std::make_shared<PluginRegistry>(plugin_paths);
+  for (const auto& prob : out.registry->problems()) {
+    if (!prob.explicit_path) continue;
+    Field pp = top.child("plugin_paths");
+    for (std::size_t i = 0; i < plugin_paths.size(); ++i)
+      if (prob.library_path.rfind(plugin_paths[i], 0) == 0) pp[i].fail("plugin library " + prob.library_path + " " + prob.reason);
+    pp.fail("plugin library " + prob.library_path + " " + prob.reason);
+  }
+
+  pb.tau = top.required("tau").positive();
+  pb.horizon = static_cast<int>(top.required("horizon").positive_integer());
+  if (Field f = top.child("rk4_substeps"); f.present()) pb.rk4_substeps = static_cast<int>(f.positive_integer());
+  if (Field f = top.child("delta"); f.present()) pb.delta = f.non_negative();
+  if (Field f = top.child("delta_norm"); f.present()) {
+    const std::string s = f.text();
+    if (s == "inf" || s == "max") pb.delta_norm = Norm::Inf;
+    else if (s == "2" || s == "euclidean") pb.delta_norm = Norm::Two;
+    else f.fail("expected 'inf' or '2', got '" + s + "'");
+  }
+  if (Field f = top.child("pairwise_collision"); f.present()) pb.pairwise_collision = f.boolean();
+
+  const Field defaults = top.child("defaults");
+  if (defaults.present()) {
+    defaults.expect_map();
+    std::vector<std::string> allowed(kAgentKeys.begin() + 1, kAgentKeys.end());
+    defaults.allow_only(allowed);
+  }
+  const bool has_obstacles = top.child("obstacles").present() && top.child("obstacles").size() > 0;
+
+  Field agents = top.required("agents");
+  const auto agent_fields = agents.items();
+  if (agent_fields.empty()) agents.fail("expected at least one agent");
+  const bool spatial = has_obstacles || top.child("formation").present() ||
+                       (pb.pairwise_collision && agent_fields.size() > 1);
+  std::map<std::string, std::size_t> seen;
+  for (std::size_t idx = 0; idx < agent_fields.size(); ++idx) {
+    const Field& af = agent_fields[idx];
+    af.expect_map();
+    af.allow_only(kAgentKeys);
+    AgentSpec a;
+    Field name = af.required("name");
+    a.name = name.text();
+    if (a.name.empty()) name.fail("expected a non-empty name");
+    if (auto it = seen.find(a.name); it != seen.end())
+      name.fail("duplicate agent name '" + a.name + "' (also agents[" + std::to_string(it->second) + "])");
+    seen[a.name] = idx;
+
+    const PluginField dyn = read_plugin_field(agent_required(af, defaults, "dynamics"), "type");
+    a.dynamics_type = dyn.name;
+    a.dynamics = create_plugin<Dynamics>(*out.registry, dyn).first;
+    const int n = a.dynamics->state_dim(), m = a.dynamics->input_dim();
+    const std::string sn = "the dynamics '" + a.dynamics_type + "' has " + std::to_string(n) + " states";
+    const std::string sm = "the dynamics '" + a.dynamics_type + "' has " + std::to_string(m) + " inputs";
+
+    Field x0f = af.required("x0");
+    a.x0 = x0f.vector(n, sn);
+    Field goalf = agent_required(af, defaults, "goal");
+    a.goal = read_box(goalf, n, sn);
+    a.state_bounds = read_box(agent_required(af, defaults, "state_bounds"), n, sn);
+    a.input_bounds = read_box(agent_required(af, defaults, "input_bounds"), m, sm);
+    a.w = agent_required(af, defaults, "disturbance").non_negative_vector(n, sn);
+    Field epsf = agent_required(af, defaults, "eps");
+    a.eps = epsf.positive_vector(n, sn);
+    Field etaf = agent_required(af, defaults, "eta_x");
+    a.eta_x = etaf.positive_vector(n, sn);
+    a.eta_u = agent_required(af, defaults, "eta_u").positive_vector(m, sm);
+    if (Field ws = agent_field(af, defaults, "workspace"); ws.present()) {
+      a.workspace = read_workspace(ws, *a.dynamics);
+    } else if (spatial) {
+      af.fail("missing required field 'workspace' (the problem has obstacles, collisions or a formation, so "
+              "each agent needs a point in the plane: {position: [i, j]} or {footprint: name})");
+    } else {
+      a.workspace.index = {0, n > 1 ? 1 : -1};
+    }
+    validate_agent(a, x0f, goalf, epsf, etaf);
+    pb.agents.push_back(std::move(a));
+  }
+
+  if (has_obstacles) {
+    const auto obs = top.child("obstacles").items();
+    for (std::size_t i = 0; i < obs.size(); ++i) pb.obstacles.push_back(read_obstacle(obs[i], i));
+  }
+  if (Field f = top.child("formation"); f.present()) read_formation(f, pb);
+
+  // Planner and tracker: defaults when absent; always checked against the installed plugins so
+  // that a typo fails here rather than after minutes of work.
+  for (const auto& [key, kind, fallback] :
+       {std::tuple{"planner", "planner", kDefaultPlanner}, std::tuple{"tracker", "tracker", kDefaultTracker}}) {
+    Field f = top.child(key);
+    if (!f.present() && !out.registry->find(kind, fallback))
+      throw ConfigError(path, 0, 0, key,
+                        std::string("no ") + kind + " given and the default '" + fallback +
+                            "' is not installed; available: " + join(out.registry->names(kind)));
+    PluginField pf = f.present() ? read_plugin_field(f, "name")
+                                 : PluginField{fallback, Field(YAML::Node(fallback), path, key), Field(YAML::Node(), path, key + std::string(".params"))};
+    PluginChoice choice;
+    choice.name = pf.name;
+    if (std::string(kind) == "planner") choice.params = create_plugin<Planner>(*out.registry, pf).second;
+    else choice.params = create_plugin<Tracker>(*out.registry, pf).second;
+    (std::string(kind) == "planner" ? pb.planner : pb.tracker) = choice;
+  }
+  return out;
+}
+
+}  // namespace marsyn

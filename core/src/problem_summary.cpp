@@ -1,0 +1,56 @@
+#include "marsyn/core/problem_summary.hpp"
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace marsyn {
+
+ConstraintCounts count_constraints(const Problem& pb) {
+  ConstraintCounts c;
+  const int n = static_cast<int>(pb.agents.size());
+  c.obstacle = n * static_cast<int>(pb.obstacles.size());
+  c.collision = pb.pairwise_collision ? n * (n - 1) / 2 : 0;
+  c.formation = static_cast<int>(pb.formation.size());
+  return c;
+}
+
+namespace {
+std::string vec(const Eigen::VectorXd& v) {
+  std::ostringstream s;
+  s << "(";
+  for (Eigen::Index i = 0; i < v.size(); ++i) s << (i ? ", " : "") << v[i];
+  return s.str() + ")";
+}
+}  // namespace
+
+std::string summarize(const Problem& pb) {
+  std::ostringstream s;
+  const ConstraintCounts c = count_constraints(pb);
+  s << "problem   " << pb.name << "  (" << pb.source << ")\n";
+  s << "agents    " << pb.agents.size() << "    product system: " << pb.product_state_dim() << " states, "
+    << pb.product_input_dim() << " inputs\n";
+  s << "time      tau = " << pb.tau << " s, horizon T = " << pb.horizon << " steps (" << pb.tau * pb.horizon
+    << " s)\n";
+  s << "safety    delta = " << pb.delta << " (" << (pb.delta_norm == Norm::Inf ? "inf-norm" : "2-norm") << ")\n";
+  s << "plugins   planner " << pb.planner.name << ", tracker " << pb.tracker.name << "\n\n";
+  s << std::left << std::setw(12) << "agent" << std::setw(19) << "dynamics" << std::setw(7) << "n x m"
+    << std::setw(31) << "eps" << std::setw(33) << "eta_x" << "tube cells/step\n";
+  for (const auto& a : pb.agents) {
+    // Grid cells lying entirely inside one eps-box: at least floor(2 eps / eta) - 1 per
+    // coordinate, at most floor(2 eps / eta); the upper figure sizes the tracker's work.
+    double cells = 1;
+    for (int i = 0; i < a.n(); ++i) cells *= std::floor(2 * a.eps[i] / a.eta_x[i]);
+    s << std::setw(12) << a.name << std::setw(19) << a.dynamics_type << std::setw(7)
+      << (std::to_string(a.n()) + " x " + std::to_string(a.m())) << std::setw(31) << vec(a.eps) << std::setw(33)
+      << vec(a.eta_x) << "<= " << cells << "\n";
+  }
+  s << "\nconstraints per step: " << c.per_step() << " (obstacle " << c.obstacle << ", collision " << c.collision
+    << ", formation " << c.formation << "); obstacles " << pb.obstacles.size() << "\n";
+  s << "constraints over the horizon: " << static_cast<long long>(c.per_step()) * (pb.horizon + 1)
+    << " inequalities + " << pb.product_input_dim() * pb.horizon * 2 << " input bounds + "
+    << pb.product_state_dim() * 2 << " goal bounds\n";
+  return s.str();
+}
+
+}  // namespace marsyn
