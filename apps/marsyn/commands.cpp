@@ -1,5 +1,6 @@
 #include "commands.hpp"
 
+#include <filesystem>
 #include <iostream>
 
 #include "marsyn/core/plugin_registry.hpp"
@@ -32,6 +33,16 @@ int run_plugins(bool show_params) {
     return 2;
   }
   return 0;
+}
+
+std::string default_example() {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec).parent_path();
+  for (const fs::path& p : {fs::path(MARSYN_SOURCE_DIR) / "examples/multi_drone.yaml",
+                            exe / "../share/marsyn/examples/multi_drone.yaml"})
+    if (fs::exists(p, ec)) return p.lexically_normal().string();
+  throw std::runtime_error("the default example examples/multi_drone.yaml was not found; give a CONFIG");
 }
 
 int run_check(const std::string& config) {

@@ -7,5 +7,13 @@ namespace marsyn::cli {
 
 int run_plugins(bool show_params);
 int run_check(const std::string& config);
+int run_plan(const std::string& config, const std::string& out_dir);
+int run_track(const std::string& config, const std::string& agent, const std::string& plan_file,
+              const std::string& out_dir, int threads);
+int run_solve(const std::string& config, const std::string& out_dir, int runs, int threads);
+int run_simulate(const std::string& config, const std::string& controllers_dir, const std::string& mode,
+                 unsigned long seed, const std::string& out_file);
+// The default example `solve` runs without a CONFIG: next to the sources or the installation.
+std::string default_example();
 
 }  // namespace marsyn::cli

@@ -1,11 +1,13 @@
 // The marsyn command line: parses arguments and hands over to core. Bad input of any kind ends
-// here as one precise message on stderr and exit code 2.
+// here as one precise message on stderr and exit code 2; a valid problem on which the method
+// fails (no plan, no controller, a violation) ends with exit code 1.
 #include <CLI/CLI.hpp>
 
 #include <iostream>
 
 #include "commands.hpp"
 #include "marsyn/core/config_error.hpp"
+#include "marsyn/error.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -18,9 +20,37 @@ int main(int argc, char** argv) {
   auto* plugins = app.add_subcommand("plugins", "list every plugin found: kind, name, library");
   plugins->add_flag("--params", show_params, "also list each plugin's parameters");
 
-  std::string config;
+  std::string config, out, agent, plan_file, controllers, mode = "uniform", sim_out;
+  int threads = 2, runs = 1000;
+  unsigned long seed = 1;
   auto* check = app.add_subcommand("check", "load and validate a problem file, print a summary");
   check->add_option("CONFIG", config, "problem file (YAML)")->required();
+
+#ifdef MARSYN_WITH_PIPELINE
+  auto* plan = app.add_subcommand("plan", "plan the eps-robust nominal trajectory of all agents (plan.json, CSVs)");
+  plan->add_option("CONFIG", config, "problem file (YAML)")->required();
+  plan->add_option("--out", out, "output folder (default marsyn-out/<problem name>)");
+
+  auto* track = app.add_subcommand("track", "synthesize one agent's tracking controller");
+  track->add_option("CONFIG", config, "problem file (YAML)")->required();
+  track->add_option("--agent", agent, "the agent's name")->required();
+  track->add_option("--plan", plan_file, "a plan.json from `marsyn plan` (default: plan now)");
+  track->add_option("--out", out, "output folder for <agent>.ctrl (default marsyn-out/<problem name>)");
+  track->add_option("--threads", threads, "threads (default 2)")->check(CLI::Range(1, 256));
+
+  auto* solve = app.add_subcommand("solve", "plan, track every agent, verify, and write result.json, controllers, report.html");
+  solve->add_option("CONFIG", config, "problem file (YAML); default: the multi-drone example");
+  solve->add_option("--out", out, "output folder (default marsyn-out/<problem name>)");
+  solve->add_option("--runs", runs, "closed-loop verification runs (default 1000)")->check(CLI::Range(5, 10000000));
+  solve->add_option("--threads", threads, "threads (default 2)")->check(CLI::Range(1, 256));
+
+  auto* simulate = app.add_subcommand("simulate", "replay the closed loop of all agents with their controllers");
+  simulate->add_option("CONFIG", config, "problem file (YAML)")->required();
+  simulate->add_option("--controllers", controllers, "a folder written by `marsyn solve`")->required();
+  simulate->add_option("--disturbance", mode, "none | vertex | paper | uniform | switching (default uniform)");
+  simulate->add_option("--seed", seed, "random seed (default 1)");
+  simulate->add_option("--out", sim_out, "trajectory CSV (default <controllers>/simulation-<mode>.csv)");
+#endif
 
   try {
     app.parse(argc, argv);
@@ -32,12 +62,21 @@ int main(int argc, char** argv) {
   try {
     if (*plugins) return marsyn::cli::run_plugins(show_params);
     if (*check) return marsyn::cli::run_check(config);
+#ifdef MARSYN_WITH_PIPELINE
+    if (*plan) return marsyn::cli::run_plan(config, out);
+    if (*track) return marsyn::cli::run_track(config, agent, plan_file, out, threads);
+    if (*solve) return marsyn::cli::run_solve(config.empty() ? marsyn::cli::default_example() : config, out, runs, threads);
+    if (*simulate) return marsyn::cli::run_simulate(config, controllers, mode, seed, sim_out);
+#endif
   } catch (const marsyn::ConfigError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 2;
+  } catch (const marsyn::ParamError& e) {
+    std::cerr << "error: parameter " << e.field() << ": " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
-    return 2;
+    return 1;
   }
   return 2;
 }

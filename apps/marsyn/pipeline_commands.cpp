@@ -1,0 +1,224 @@
+// Subcommands that run the method: plan, track, solve, simulate.
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "commands.hpp"
+#include "marsyn/core/closed_loop.hpp"
+#include "marsyn/core/config_error.hpp"
+#include "marsyn/core/orchestrator.hpp"
+#include "marsyn/core/plan_file.hpp"
+#include "marsyn/core/planning/plan.hpp"
+#include "marsyn/core/problem_loader.hpp"
+#include "marsyn/core/spec_monitor.hpp"
+
+namespace fs = std::filesystem;
+
+namespace marsyn::cli {
+namespace {
+
+const auto kStart = std::chrono::steady_clock::now();
+
+void log_line(const std::string& s) {
+  const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - kStart).count();
+  std::fprintf(stderr, "[%7.2f s] %s\n", t, s.c_str());
+}
+
+double peak_rss_mb() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return ru.ru_maxrss / 1024.0;  // ru_maxrss is in KiB on Linux
+}
+
+std::string out_dir_for(const std::string& requested, const Problem& pb) {
+  return requested.empty() ? (fs::path("marsyn-out") / pb.name).string() : requested;
+}
+
+const AgentSpec& find_agent(const Problem& pb, const std::string& name, int* index) {
+  for (std::size_t i = 0; i < pb.agents.size(); ++i)
+    if (pb.agents[i].name == name) {
+      *index = static_cast<int>(i);
+      return pb.agents[i];
+    }
+  std::string names;
+  for (const auto& a : pb.agents) names += (names.empty() ? "" : ", ") + a.name;
+  throw ConfigError(pb.source, 0, 0, "--agent", "no agent named '" + name + "'; agents: " + names);
+}
+
+std::vector<NominalTrajectory> nominal_for(const LoadedProblem& lp, const std::string& plan_file) {
+  if (!plan_file.empty()) return read_plan_json(plan_file, lp.problem);
+  log_line("[plan] no --plan given: planning first with " + lp.problem.planner.name);
+  auto planner = lp.registry->create<Planner>(lp.problem.planner.name, lp.problem.planner.params);
+  planning::PlanSearchOptions po;
+  po.log = [](const std::string& s) { log_line("[plan] " + s); };
+  const planning::PlanOutcome out = planning::plan(lp.problem, *planner, po);
+  if (!out.feasible) throw std::runtime_error("planning failed: " + out.check.message);
+  return out.agents;
+}
+
+}  // namespace
+
+int run_plan(const std::string& config, const std::string& out_requested) {
+  const LoadedProblem lp = load_problem(config);
+  const Problem& pb = lp.problem;
+  auto planner = lp.registry->create<Planner>(pb.planner.name, pb.planner.params);
+  planning::PlanSearchOptions po;
+  po.log = [](const std::string& s) { log_line("[plan] " + s); };
+  const planning::PlanOutcome out = planning::plan(pb, *planner, po);
+  const std::string dir = out_dir_for(out_requested, pb);
+  fs::create_directories(dir);
+  planning::write_plan_json((fs::path(dir) / "plan.json").string(), pb, out);
+  const auto csvs = planning::write_agent_csvs(dir, pb, out);
+  std::cout << planning::summary(pb, out);
+  std::cout << "wrote " << (fs::path(dir) / "plan.json").string() << " and " << csvs.size() << " CSV files\n";
+  return out.feasible ? 0 : 1;
+}
+
+int run_track(const std::string& config, const std::string& agent, const std::string& plan_file,
+              const std::string& out_requested, int threads) {
+  const LoadedProblem lp = load_problem(config);
+  const Problem& pb = lp.problem;
+  int index = -1;
+  const AgentSpec& a = find_agent(pb, agent, &index);
+  auto tracker = lp.registry->create<Tracker>(pb.tracker.name, pb.tracker.params);
+  const auto nominal = nominal_for(lp, plan_file);
+  TrackingProblem tp;
+  tp.agent = a.name;
+  tp.dynamics = a.dynamics;
+  tp.nominal = nominal[index];
+  tp.eps = a.eps;
+  tp.eta_x = a.eta_x;
+  tp.eta_u = a.eta_u;
+  tp.w = a.w;
+  tp.input_bounds = a.input_bounds;
+  tp.state_bounds = a.state_bounds;
+  tp.tau = pb.tau;
+  TrackOptions to;
+  to.threads = threads;
+  log_line("[track] " + a.name + " with " + pb.tracker.name);
+  const TrackResult r = tracker->track(tp, to);
+  const auto& s = r.stats;
+  std::printf("agent               %s (%s)\n", a.name.c_str(), a.dynamics_type.c_str());
+  std::printf("status              %s%s%s\n", to_string(r.status), r.message.empty() ? "" : ": ", r.message.c_str());
+  std::printf("tube cells          %lld over %zu steps\n", s.tube_cells, s.winning_cells_per_step.size());
+  std::printf("N_l (pairs)         %.4g\n", s.state_input_pairs);
+  std::printf("boxes computed      %lld\n", s.boxes_computed);
+  std::printf("abstraction time    %.3f s\n", s.abstraction_time_s);
+  std::printf("synthesis time      %.3f s\n", s.synthesis_time_s);
+  std::printf("peak memory         %.1f MB (tracker), %.1f MB (process)\n", s.peak_memory_bytes / 1048576.0, peak_rss_mb());
+  std::printf("x0's cell winning   %s\n", s.initial_state_winning ? "yes" : "no");
+  if (!s.winning_cells_per_step.empty()) {
+    long long lo = s.winning_cells_per_step.front(), hi = lo;
+    std::size_t at = 0;
+    for (std::size_t k = 0; k < s.winning_cells_per_step.size(); ++k) {
+      if (s.winning_cells_per_step[k] < lo) {
+        lo = s.winning_cells_per_step[k];
+        at = k;
+      }
+      hi = std::max(hi, s.winning_cells_per_step[k]);
+    }
+    std::printf("winning cells/step  k=0: %lld, fewest %lld (k=%zu), most %lld\n", s.winning_cells_per_step.front(), lo,
+                at, hi);
+  }
+  const std::string dir = out_dir_for(out_requested, pb);
+  fs::create_directories(dir);
+  {
+    std::ofstream f(fs::path(dir) / (a.name + ".track.json"));
+    f << "{\"agent\": \"" << a.name << "\", \"status\": \"" << to_string(r.status) << "\", \"winning_cells_per_step\": [";
+    for (std::size_t k = 0; k < s.winning_cells_per_step.size(); ++k) f << (k ? ", " : "") << s.winning_cells_per_step[k];
+    f << "]}\n";
+  }
+  if (r.status == TrackerStatus::Controller && r.controller) {
+    const std::string file = (fs::path(dir) / (a.name + ".ctrl")).string();
+    r.controller->write(file);
+    std::printf("controller          %s\n", file.c_str());
+    return 0;
+  }
+  return 1;
+}
+
+int run_solve(const std::string& config, const std::string& out_requested, int runs, int threads) {
+  const LoadedProblem lp = load_problem(config);
+  SolveOptions so;
+  so.verification_runs = runs;
+  so.threads = threads;
+  so.log = log_line;
+  log_line("[solve] " + lp.problem.name + ": " + std::to_string(lp.problem.agents.size()) + " agents, planner " +
+           lp.problem.planner.name + ", tracker " + lp.problem.tracker.name);
+  SolveOutcome out = solve(lp, so);
+  const std::string dir = out_dir_for(out_requested, lp.problem);
+  write_solve_outputs(dir, out);
+  const auto& v = out.verification;
+  std::printf("\nstatus        %s%s%s\n", out.verified ? "VERIFIED" : "FAILED", out.failure.empty() ? "" : ": ",
+              out.failure.c_str());
+  std::printf("plan          %s, T = %d, %.3f s, smallest robust margin %.4g\n", out.plan.feasible ? "feasible" : "infeasible",
+              out.plan.horizon, out.plan.total_time_s, out.plan.check.min_margin);
+  for (const auto& a : out.agents)
+    std::printf("  %-12s %-14s N_l %-10.3g boxes %-8lld %.3f s\n", a.name.c_str(), to_string(a.track.status),
+                a.track.stats.state_input_pairs, a.track.stats.boxes_computed,
+                a.track.stats.abstraction_time_s + a.track.stats.synthesis_time_s);
+  if (out.verification_ran) {
+    std::printf("verification  %d closed-loop runs, %d violations, smallest margin %.4g\n", v.runs, v.violations, v.min_margin);
+    std::printf("open loop     %d runs, %d violations, smallest margin %.4g (%s)\n", v.open_loop_runs,
+                v.open_loop_violations, v.open_loop_min_margin, v.open_loop_worst.c_str());
+  }
+  std::printf("global ABCD   N_g = %.3g state-input pairs, >= %.3g bytes: %s\n", out.global.state_input_pairs,
+              out.global.memory_bytes_estimate, out.global.status.c_str());
+  std::printf("total         %.2f s, peak memory %.1f MB\n", out.total_time_s, peak_rss_mb());
+  std::printf("output        %s/{result.json, report.html, plan.json, <agent>.ctrl}\n", dir.c_str());
+  return out.verified ? 0 : 1;
+}
+
+int run_simulate(const std::string& config, const std::string& controllers_dir, const std::string& mode_text,
+                 unsigned long seed, const std::string& out_file) {
+  const LoadedProblem lp = load_problem(config);
+  const Problem& pb = lp.problem;
+  DisturbanceMode mode;
+  try {
+    mode = parse_disturbance_mode(mode_text);
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError("--disturbance", 0, 0, "", e.what());
+  }
+  const std::string plan_path = (fs::path(controllers_dir) / "plan.json").string();
+  const auto nominal = read_plan_json(plan_path, pb);
+  auto tracker = lp.registry->create<Tracker>(pb.tracker.name, pb.tracker.params);
+  std::vector<std::shared_ptr<const Controller>> ctrls;
+  for (const auto& a : pb.agents) {
+    const std::string file = (fs::path(controllers_dir) / (a.name + ".ctrl")).string();
+    try {
+      ctrls.push_back(tracker->read_controller(file));
+    } catch (const std::exception& e) {
+      throw ConfigError(file, 0, 0, "", e.what());
+    }
+  }
+  SimulationSetup setup{&pb, nominal, ctrls, 20};
+  const ClosedLoopRun run = simulate(setup, {mode, seed, 0});
+  const SpecEvaluation ev = SpecMonitor(pb).evaluate(run.states);
+  const std::string path = out_file.empty() ? (fs::path(controllers_dir) / ("simulation-" + mode_text + ".csv")).string() : out_file;
+  std::ofstream f(path);
+  f << "k,t";
+  for (const auto& a : pb.agents)
+    for (const auto& s : a.dynamics->state_names()) f << "," << a.name << "." << s;
+  f << "\n";
+  for (std::size_t k = 0; k < run.states.size(); ++k) {
+    f << k << "," << k * pb.tau;
+    for (Eigen::Index c = 0; c < run.states[k].size(); ++c) f << "," << run.states[k][c];
+    f << "\n";
+  }
+  std::printf("disturbance   %s (seed %lu)\n", to_string(mode), seed);
+  std::printf("specification %s, smallest margin %.4g (%s)\n", ev.satisfied ? "satisfied" : "VIOLATED", ev.min_margin,
+              ev.worst.c_str());
+  std::printf("tube          largest deviation %.3f of eps%s\n", run.max_tube_excess,
+              run.max_tube_excess <= 1.0 ? " (inside)" : " (LEFT THE TUBE)");
+  if (run.outside_domain_agent >= 0)
+    std::printf("controller    %s had no input at step %d\n", pb.agents[run.outside_domain_agent].name.c_str(),
+                run.outside_domain_step);
+  std::printf("trajectory    %s\n", path.c_str());
+  return ev.satisfied && run.outside_domain_agent < 0 ? 0 : 1;
+}
+
+}  // namespace marsyn::cli

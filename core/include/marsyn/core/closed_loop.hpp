@@ -1,0 +1,50 @@
+#pragma once
+// Simulation of all agents together, each under its own controller C_i(x_i, k) (local state and
+// time only: no communication) or open loop under its nominal inputs, with disturbances drawn
+// by a scenario. Integration is fine RK4, independent of any abstraction.
+#include <cstdint>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "marsyn/problem.hpp"
+#include "marsyn/tracker.hpp"
+
+namespace marsyn {
+
+enum class DisturbanceMode {
+  None,
+  ConstantVertex,    // one vertex of W per agent, held for the whole run
+  PaperConstant,     // agent i gets (-1)^i W (or its negation), held: the paper's Figs. 9-11
+  UniformRandom,     // uniform in W, redrawn every sampling period
+  VertexSwitching,   // a random vertex of W, redrawn every sampling period
+};
+
+const char* to_string(DisturbanceMode m);
+// Parses "none", "vertex", "paper", "uniform", "switching"; throws std::invalid_argument.
+DisturbanceMode parse_disturbance_mode(const std::string& s);
+
+struct Scenario {
+  DisturbanceMode mode = DisturbanceMode::None;
+  std::uint64_t seed = 0;
+  int variant = 0;  // PaperConstant: sign pattern; ConstantVertex: which vertices
+};
+
+struct ClosedLoopRun {
+  std::vector<Eigen::VectorXd> states;  // product states x_0..x_T
+  int outside_domain_agent = -1;        // first agent whose controller had no input
+  int outside_domain_step = -1;
+  double max_tube_excess = 0.0;  // max over agents, steps, coords of |x - nominal| / eps (<= 1 inside the tube)
+};
+
+struct SimulationSetup {
+  const Problem* problem = nullptr;
+  std::vector<NominalTrajectory> nominal;                // per agent
+  std::vector<std::shared_ptr<const Controller>> controllers;  // per agent; empty: open loop
+  int fine_substeps = 20;                                // RK4 steps per sampling period
+};
+
+ClosedLoopRun simulate(const SimulationSetup& setup, const Scenario& scenario);
+
+}  // namespace marsyn

@@ -1,0 +1,71 @@
+#pragma once
+// The user's main job (`marsyn solve`): plan -> project -> track every agent (in parallel) ->
+// verify -> report, inside the outer search of the paper's Remark 2: when planning fails, the
+// horizon grows (inside the planning stage) and then eps shrinks; when an agent's tracking fails,
+// its grid is refined or its eps enlarged, and the problem is re-planned. Every attempt is
+// recorded with its parameters, outcome and time.
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "marsyn/core/planning/plan.hpp"
+#include "marsyn/core/problem_loader.hpp"
+#include "marsyn/core/verification.hpp"
+
+namespace marsyn {
+
+struct SolveOptions {
+  int verification_runs = 1000;
+  int threads = 2;
+  int max_outer_iterations = 4;             // bounded search
+  double time_limit_s = 600.0;
+  double global_memory_budget_bytes = 2e9;  // the global ABCD baseline is attempted below this
+  std::function<void(const std::string&)> log;  // progress lines; may be empty
+};
+
+struct Attempt {
+  std::string stage;       // "plan", "track <agent>", "verify"
+  std::string parameters;  // e.g. "T=104 eps=(0.2,0.2,0.24)"
+  std::string outcome;
+  double time_s = 0;
+};
+
+struct AgentOutcome {
+  std::string name;
+  TrackResult track;
+  std::string controller_file;  // relative to the output folder; empty without a controller
+};
+
+struct GlobalAbcdEstimate {
+  double state_input_pairs = 0;  // N_g: product grid cells x product inputs over the full domain
+  double memory_bytes_estimate = 0;
+  std::string status;            // "skipped: ..." or the outcome of an attempt
+};
+
+struct SolveOutcome {
+  bool verified = false;
+  std::string failure;  // why, when not verified
+  Problem problem;      // with the eps / eta / horizon finally used
+  planning::PlanOutcome plan;
+  std::vector<AgentOutcome> agents;
+  VerificationReport verification;
+  bool verification_ran = false;
+  GlobalAbcdEstimate global;
+  std::vector<Attempt> attempts;
+  double total_time_s = 0;
+};
+
+GlobalAbcdEstimate estimate_global_abcd(const Problem& problem);
+
+// Runs the whole method. Throws only for bad input (unknown plugins); failures are outcomes.
+SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& options);
+
+// Writes result.json, plan.json, one controller file per agent and report.html into out_dir.
+nlohmann::json result_json(const SolveOutcome& outcome);
+// Returns the files written.
+std::vector<std::string> write_solve_outputs(const std::string& out_dir, SolveOutcome& outcome);
+
+}  // namespace marsyn

@@ -1,0 +1,47 @@
+#pragma once
+// Evaluates the *real* global specification (paper eq. 2 and 3, no eps) on simulated product
+// states: goals reached at the final step, obstacles and other agents at least delta away,
+// formation distances within lambda +- mu. Margins are signed: >= 0 satisfied, < 0 violated.
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "marsyn/problem.hpp"
+
+namespace marsyn {
+
+// Signed distance from p to a convex polygon (negative inside) in the inf-norm, exactly.
+double signed_distance_inf(const std::vector<Eigen::Vector2d>& ccw_polygon, const Eigen::Vector2d& p);
+// The same in the Euclidean norm.
+double signed_distance_two(const std::vector<Eigen::Vector2d>& ccw_polygon, const Eigen::Vector2d& p);
+
+struct StepMargins {
+  double obstacle = 1e300;   // min over agents and obstacles of d - delta
+  double collision = 1e300;  // min over pairs of d - delta
+  double formation = 1e300;  // min over formation pairs of mu - |d - lambda|
+  double min() const { return std::min(obstacle, std::min(collision, formation)); }
+};
+
+struct SpecEvaluation {
+  bool satisfied = true;
+  double min_margin = 1e300;
+  std::string worst;  // e.g. "collision drone1 vs drone4 at step 37"
+  std::vector<StepMargins> per_step;
+  double goal_margin = 1e300;  // min over agents and coordinates at the final step
+};
+
+class SpecMonitor {
+ public:
+  explicit SpecMonitor(const Problem& problem);
+  // states[k] is the product state at step k (agents stacked in problem order).
+  SpecEvaluation evaluate(const std::vector<Eigen::VectorXd>& states, bool keep_per_step = false) const;
+  StepMargins step(const Eigen::VectorXd& x, std::string* worst = nullptr) const;
+
+ private:
+  Eigen::Vector2d point(int agent, const Eigen::VectorXd& x) const;
+  const Problem& problem_;
+  std::vector<int> offset_;
+};
+
+}  // namespace marsyn

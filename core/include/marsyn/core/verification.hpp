@@ -1,0 +1,61 @@
+#pragma once
+// Multi-agent verification (evidence beside the proof): every agent runs its own controller on
+// its local state and time only, under many disturbance scenarios, and the real global
+// specification is checked on the simulated states. The nominal inputs are also run open loop
+// under the paper's constant disturbances, to show what fails without feedback.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "marsyn/core/closed_loop.hpp"
+#include "marsyn/core/spec_monitor.hpp"
+
+namespace marsyn {
+
+struct VerificationOptions {
+  int runs = 1000;        // closed-loop runs in total (at least the 4 paper scenarios + 1 undisturbed)
+  std::uint64_t seed = 1;
+  int threads = 2;
+  int fine_substeps = 20;
+  std::function<void(int done, int total)> progress;  // may be empty
+};
+
+struct RunSummary {
+  Scenario scenario;
+  bool satisfied = true;
+  double min_margin = 0;
+  std::string worst;
+  bool left_tube = false;
+  bool outside_domain = false;
+};
+
+// A run kept for plots and animations.
+struct KeptRun {
+  std::string label;  // e.g. "feedback, paper disturbance (+W, -W, ...)"
+  std::vector<Eigen::VectorXd> states;
+  SpecEvaluation spec;
+};
+
+struct VerificationReport {
+  int runs = 0;
+  int violations = 0;          // runs violating the global specification
+  int tube_violations = 0;     // runs where some agent left its tube (must be 0 for sound controllers)
+  int outside_domain = 0;      // runs where some controller had no input for its state
+  double min_margin = 1e300;   // over all runs
+  std::string worst;
+  int open_loop_runs = 0;
+  int open_loop_violations = 0;
+  double open_loop_min_margin = 1e300;
+  std::string open_loop_worst;
+  std::vector<KeptRun> kept;   // nominal, worst feedback run, paper scenarios closed and open loop
+  double time_s = 0;
+};
+
+VerificationReport verify(const Problem& problem, const std::vector<NominalTrajectory>& nominal,
+                          const std::vector<std::shared_ptr<const Controller>>& controllers,
+                          const VerificationOptions& options = {});
+
+// The scenarios run by verify(), in order (deterministic for a seed).
+std::vector<Scenario> verification_scenarios(int runs, std::uint64_t seed);
+
+}  // namespace marsyn

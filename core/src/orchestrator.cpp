@@ -1,0 +1,315 @@
+#include "marsyn/core/orchestrator.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include "marsyn/core/report_html.hpp"
+
+namespace fs = std::filesystem;
+
+namespace marsyn {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+std::string vec(const Eigen::VectorXd& v) {
+  std::ostringstream s;
+  s << "(";
+  for (Eigen::Index i = 0; i < v.size(); ++i) s << (i ? "," : "") << v[i];
+  return s.str() + ")";
+}
+
+// The loader's per-agent checks that a parameter change could break.
+bool consistent(const AgentSpec& a) {
+  for (int i = 0; i < a.n(); ++i) {
+    const double lo = a.state_bounds.lo[i], hi = a.state_bounds.hi[i];
+    if (a.x0[i] - a.eps[i] < lo || a.x0[i] + a.eps[i] > hi) return false;
+    if (a.goal.lo[i] + a.eps[i] > a.goal.hi[i] - a.eps[i]) return false;
+    const double cell_lo = lo + std::floor((a.x0[i] - lo) / a.eta_x[i]) * a.eta_x[i];
+    if (cell_lo < a.x0[i] - a.eps[i] || cell_lo + a.eta_x[i] > a.x0[i] + a.eps[i]) return false;
+  }
+  return true;
+}
+
+std::vector<AgentOutcome> track_all(const Problem& pb, const std::vector<NominalTrajectory>& nominal,
+                                    const Tracker& tracker, const SolveOptions& opt) {
+  const int N = static_cast<int>(pb.agents.size());
+  std::vector<AgentOutcome> out(N);
+  // Agents in parallel, one tracker thread each, when there are enough of them; otherwise the
+  // tracker gets the threads.
+  const int workers = std::max(1, std::min(opt.threads, N));
+  TrackOptions topt;
+  topt.threads = N >= opt.threads ? 1 : opt.threads;
+  std::atomic<int> next{0}, done{0};
+  std::mutex log_mutex;
+  auto work = [&] {
+    for (int i = next++; i < N; i = next++) {
+      const AgentSpec& a = pb.agents[i];
+      TrackingProblem tp;
+      tp.agent = a.name;
+      tp.dynamics = a.dynamics;
+      tp.nominal = nominal[i];
+      tp.eps = a.eps;
+      tp.eta_x = a.eta_x;
+      tp.eta_u = a.eta_u;
+      tp.w = a.w;
+      tp.input_bounds = a.input_bounds;
+      tp.state_bounds = a.state_bounds;
+      tp.tau = pb.tau;
+      const auto t0 = Clock::now();
+      out[i].name = a.name;
+      try {
+        out[i].track = tracker.track(tp, topt);
+      } catch (const std::exception& e) {
+        out[i].track.status = TrackerStatus::InvalidInput;
+        out[i].track.message = e.what();
+      }
+      const int d = ++done;
+      if (opt.log) {
+        std::lock_guard<std::mutex> lock(log_mutex);
+        std::ostringstream s;
+        s << "[track " << d << "/" << N << "] " << a.name << ": " << to_string(out[i].track.status) << ", "
+          << out[i].track.stats.tube_cells << " tube cells, N_l " << out[i].track.stats.state_input_pairs << ", "
+          << out[i].track.stats.boxes_computed << " boxes, " << since(t0) << " s";
+        if (!out[i].track.message.empty()) s << " (" << out[i].track.message << ")";
+        opt.log(s.str());
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < workers; ++t) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+  return out;
+}
+
+}  // namespace
+
+GlobalAbcdEstimate estimate_global_abcd(const Problem& pb) {
+  GlobalAbcdEstimate g;
+  double pairs = 1;
+  for (const auto& a : pb.agents) {
+    for (int i = 0; i < a.n(); ++i) pairs *= std::ceil((a.state_bounds.hi[i] - a.state_bounds.lo[i]) / a.eta_x[i]);
+    for (int j = 0; j < a.m(); ++j)
+      pairs *= std::floor((a.input_bounds.hi[j] - a.input_bounds.lo[j]) / a.eta_u[j] + 1e-9) + 1;
+  }
+  g.state_input_pairs = pairs;
+  // A SCOTS-style transition table stores at least one 64-bit successor range per pair.
+  g.memory_bytes_estimate = pairs * 8.0;
+  return g;
+}
+
+SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
+  const auto t_start = Clock::now();
+  const PluginRegistry& reg = *loaded.registry;
+  SolveOutcome out;
+  out.problem = loaded.problem;
+  Problem& pb = out.problem;
+  auto log = [&](const std::string& s) {
+    if (opt.log) opt.log(s);
+  };
+  const auto planner = reg.create<Planner>(pb.planner.name, pb.planner.params);
+  const auto tracker = reg.create<Tracker>(pb.tracker.name, pb.tracker.params);
+
+  bool all_tracked = false;
+  for (int iter = 0; iter < opt.max_outer_iterations && since(t_start) < opt.time_limit_s; ++iter) {
+    // 1. Plan (the planning stage lengthens the horizon itself when T fails).
+    planning::PlanSearchOptions po;
+    po.time_limit_s = std::max(1.0, opt.time_limit_s - since(t_start));
+    po.log = [&](const std::string& s) { log("[plan] " + s); };
+    std::ostringstream params;
+    params << "T=" << pb.horizon;
+    for (const auto& a : pb.agents) params << " eps[" << a.name << "]=" << vec(a.eps);
+    log("[plan] " + pb.planner.name + " on the product system (" + std::to_string(pb.product_state_dim()) +
+        " states, " + std::to_string(pb.product_input_dim()) + " inputs)");
+    out.plan = planning::plan(pb, *planner, po);
+    out.attempts.push_back({"plan", params.str(),
+                            out.plan.feasible ? "feasible, smallest robust margin " + std::to_string(out.plan.check.min_margin)
+                                              : "no feasible plan: " + out.plan.check.message,
+                            out.plan.total_time_s});
+    if (!out.plan.feasible) {
+      // Remark 2: a smaller eps makes the robust specification easier to plan for.
+      bool changed = false;
+      for (auto& a : pb.agents) {
+        AgentSpec b = a;
+        b.eps *= 0.8;
+        b.eta_x = b.eta_x.cwiseMin(b.eps);
+        if (consistent(b)) {
+          a = b;
+          changed = true;
+        }
+      }
+      out.failure = "planning failed: " + out.plan.check.message;
+      if (!changed) break;
+      log("[search] planning failed; shrinking eps by 0.8 and re-planning");
+      continue;
+    }
+    if (!out.plan.agents.empty()) pb.horizon = out.plan.horizon;
+
+    // 2-3. Project and track every agent.
+    const auto t_track = Clock::now();
+    out.agents = track_all(pb, out.plan.agents, *tracker, opt);
+    all_tracked = true;
+    std::vector<int> failed;
+    for (std::size_t i = 0; i < out.agents.size(); ++i) {
+      const auto& r = out.agents[i].track;
+      out.attempts.push_back({"track " + out.agents[i].name,
+                              "eps=" + vec(pb.agents[i].eps) + " eta_x=" + vec(pb.agents[i].eta_x) +
+                                  " eta_u=" + vec(pb.agents[i].eta_u),
+                              std::string(to_string(r.status)) + (r.message.empty() ? "" : ": " + r.message),
+                              r.stats.abstraction_time_s + r.stats.synthesis_time_s});
+      if (r.status != TrackerStatus::Controller) {
+        all_tracked = false;
+        failed.push_back(static_cast<int>(i));
+      }
+    }
+    log("[track] all agents in " + std::to_string(since(t_track)) + " s");
+    if (all_tracked) break;
+    out.failure = "no controller for";
+    for (int i : failed) out.failure += " " + pb.agents[i].name;
+    // Remark 2: a failed agent gets a wider tube (first) or a finer grid (then), and the team is
+    // re-planned with the new eps.
+    bool changed = false;
+    for (int i : failed) {
+      AgentSpec b = pb.agents[i];
+      if (iter % 2 == 0) {
+        b.eps *= 1.25;
+      } else {
+        b.eta_x *= 0.75;
+        b.eta_u *= 0.75;
+      }
+      if (consistent(b)) {
+        pb.agents[i] = b;
+        changed = true;
+      }
+    }
+    if (!changed) break;
+    log("[search] " + out.failure + "; " + (iter % 2 == 0 ? "enlarging their eps" : "refining their grids") +
+        " and re-planning");
+  }
+
+  out.global = estimate_global_abcd(pb);
+  out.global.status = out.global.memory_bytes_estimate > opt.global_memory_budget_bytes
+                          ? "skipped: the estimate exceeds the memory budget"
+                          : "not attempted";
+
+  if (out.plan.feasible && all_tracked) {
+    std::vector<std::shared_ptr<const Controller>> ctrls;
+    for (const auto& a : out.agents) ctrls.push_back(a.track.controller);
+    VerificationOptions vo;
+    vo.runs = opt.verification_runs;
+    vo.threads = opt.threads;
+    int last_pct = -1;
+    vo.progress = [&](int done, int total) {
+      const int pct = 100 * done / total;
+      if (pct / 25 != last_pct / 25) {
+        last_pct = pct;
+        log("[verify] " + std::to_string(done) + "/" + std::to_string(total) + " closed-loop runs");
+      }
+    };
+    out.verification = verify(pb, out.plan.agents, ctrls, vo);
+    out.verification_ran = true;
+    out.attempts.push_back({"verify", std::to_string(out.verification.runs) + " runs",
+                            std::to_string(out.verification.violations) + " violations",
+                            out.verification.time_s});
+    out.verified = out.verification.violations == 0 && out.verification.tube_violations == 0;
+    out.failure = out.verified ? "" : "verification found violations (a soundness bug): " + out.verification.worst;
+  }
+  out.total_time_s = since(t_start);
+  return out;
+}
+
+nlohmann::json result_json(const SolveOutcome& o) {
+  using nlohmann::json;
+  json j;
+  j["status"] = o.verified ? "verified" : "failed";
+  if (!o.failure.empty()) j["failure"] = o.failure;
+  j["problem"] = o.problem.name;
+  j["plan"] = {{"planner", o.problem.planner.name},
+               {"status", o.plan.feasible ? "feasible" : to_string(o.plan.result.status)},
+               {"time_s", o.plan.total_time_s},
+               {"horizon", o.plan.horizon},
+               {"iterations", o.plan.result.iterations},
+               {"min_robust_margin", o.plan.check.min_margin},
+               {"worst_constraint", o.plan.check.worst}};
+  json agents = json::array();
+  for (std::size_t i = 0; i < o.agents.size(); ++i) {
+    const auto& a = o.agents[i];
+    const auto& s = a.track.stats;
+    json t = {{"status", to_string(a.track.status)},
+              {"state_input_pairs", s.state_input_pairs},
+              {"tube_cells", s.tube_cells},
+              {"boxes_computed", s.boxes_computed},
+              {"abstraction_time_s", s.abstraction_time_s},
+              {"synthesis_time_s", s.synthesis_time_s},
+              {"peak_memory_bytes", s.peak_memory_bytes},
+              {"initial_state_winning", s.initial_state_winning}};
+    if (!a.track.message.empty()) t["message"] = a.track.message;
+    const AgentSpec& spec = o.problem.agents[i];
+    agents.push_back({{"name", a.name},
+                      {"dynamics", spec.dynamics_type},
+                      {"eps", std::vector<double>(spec.eps.data(), spec.eps.data() + spec.eps.size())},
+                      {"eta_x", std::vector<double>(spec.eta_x.data(), spec.eta_x.data() + spec.eta_x.size())},
+                      {"eta_u", std::vector<double>(spec.eta_u.data(), spec.eta_u.data() + spec.eta_u.size())},
+                      {"tracker", t},
+                      {"controller", a.controller_file.empty() ? json(nullptr) : json(a.controller_file)}});
+  }
+  j["agents"] = agents;
+  const auto& v = o.verification;
+  j["verification"] = {{"ran", o.verification_ran},
+                       {"runs", v.runs},
+                       {"violations", v.violations},
+                       {"tube_violations", v.tube_violations},
+                       {"outside_domain", v.outside_domain},
+                       {"min_margin", o.verification_ran ? json(v.min_margin) : json(nullptr)},
+                       {"worst", v.worst},
+                       {"time_s", v.time_s}};
+  j["open_loop"] = {{"runs", v.open_loop_runs},
+                    {"violations", v.open_loop_violations},
+                    {"min_margin", o.verification_ran ? json(v.open_loop_min_margin) : json(nullptr)},
+                    {"worst", v.open_loop_worst}};
+  j["global_abcd"] = {{"state_input_pairs", o.global.state_input_pairs},
+                      {"memory_bytes_estimate", o.global.memory_bytes_estimate},
+                      {"status", o.global.status}};
+  json att = json::array();
+  for (const auto& a : o.attempts)
+    att.push_back({{"stage", a.stage}, {"parameters", a.parameters}, {"outcome", a.outcome}, {"time_s", a.time_s}});
+  j["attempts"] = att;
+  j["total_time_s"] = o.total_time_s;
+  return j;
+}
+
+std::vector<std::string> write_solve_outputs(const std::string& dir, SolveOutcome& o) {
+  fs::create_directories(dir);
+  std::vector<std::string> files;
+  for (auto& a : o.agents) {
+    if (!a.track.controller) continue;
+    a.controller_file = a.name + ".ctrl";
+    a.track.controller->write((fs::path(dir) / a.controller_file).string());
+    files.push_back(a.controller_file);
+  }
+  if (!o.plan.plan.u.empty()) {
+    planning::write_plan_json((fs::path(dir) / "plan.json").string(), o.problem, o.plan);
+    files.push_back("plan.json");
+  }
+  const nlohmann::json result = result_json(o);
+  {
+    std::ofstream f(fs::path(dir) / "result.json");
+    f << result.dump(2) << "\n";
+    if (!f) throw std::runtime_error("cannot write " + (fs::path(dir) / "result.json").string());
+  }
+  files.push_back("result.json");
+  const nlohmann::json scene = report_scene(o.problem, o.plan.agents, o.verification_ran ? &o.verification : nullptr);
+  write_report_html((fs::path(dir) / "report.html").string(), result, scene);
+  files.push_back("report.html");
+  return files;
+}
+
+}  // namespace marsyn

@@ -1,0 +1,183 @@
+#include "marsyn/core/report_html.hpp"
+
+#include <fstream>
+#include <stdexcept>
+
+namespace marsyn {
+namespace {
+
+// The page. Data arrive as two JSON literals replacing the markers; everything else is static.
+const char* const kPage = R"HTML(<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>marsyn report</title>
+<style>
+body{font-family:system-ui,-apple-system,"Segoe UI",sans-serif;margin:0;background:#f6f7f9;color:#1d2330}
+header{background:#1d2330;color:#fff;padding:14px 24px;display:flex;align-items:center;gap:16px}
+header h1{font-size:20px;margin:0;font-weight:600}
+.badge{padding:4px 12px;border-radius:12px;font-weight:700;font-size:14px}
+.ok{background:#1f9d55}.bad{background:#cc1f1a}
+main{padding:16px 24px;display:grid;grid-template-columns:minmax(420px,640px) 1fr;gap:20px}
+section{background:#fff;border-radius:8px;box-shadow:0 1px 3px rgba(0,0,0,.12);padding:14px 16px}
+h2{font-size:15px;margin:0 0 10px 0;color:#3d4852}
+table{border-collapse:collapse;font-size:13px;width:100%}
+th,td{border-bottom:1px solid #e2e8f0;padding:4px 8px;text-align:right}
+th:first-child,td:first-child{text-align:left}
+th{background:#f1f5f8;font-weight:600}
+canvas{width:100%;border:1px solid #dae1e7;border-radius:4px;background:#fff}
+.controls{display:flex;gap:8px;align-items:center;margin-top:8px;font-size:13px}
+.controls input[type=range]{flex:1}
+.wide{grid-column:1/3}
+.legend span{display:inline-block;margin-right:14px;font-size:12px}
+.legend i{display:inline-block;width:18px;height:3px;vertical-align:middle;margin-right:4px}
+.muted{color:#8795a1;font-size:12px}
+</style></head><body>
+<header><h1 id="title"></h1><span id="badge" class="badge"></span><span id="sub"></span></header>
+<main>
+<section><h2>Workspace: agents, tubes, obstacles, goals</h2>
+<canvas id="cv" width="640" height="640"></canvas>
+<div class="controls"><button id="play">pause</button><input id="k" type="range" min="0" value="0">
+<span id="kt"></span></div>
+<div class="controls"><label>run <select id="run"></select></label></div>
+<div class="muted">Filled boxes: each agent's eps-tube at the current step (workspace projection, sound); dots: the selected simulated run; thin lines: nominal plan; green dashed: goals; grey: obstacles.</div>
+</section>
+<section><h2>Per-stage figures (paper Table 2 row)</h2><table id="t2"></table>
+<h2 style="margin-top:16px">Agents</h2><table id="ag"></table>
+<h2 style="margin-top:16px">Verification</h2><table id="ver"></table></section>
+<section class="wide"><h2>Distance to threshold over time (smallest margin over obstacles, collisions and formation; below 0 = violation)</h2>
+<div id="plot"></div><div class="legend" id="legend"></div></section>
+<section class="wide"><h2>Attempts of the outer search</h2><table id="att"></table></section>
+</main>
+<script>
+const R = /*RESULT*/;
+const S = /*SCENE*/;
+const $ = id => document.getElementById(id);
+const fmt = (v, d = 3) => v === null || v === undefined ? '-' : (typeof v === 'number' ? (Math.abs(v) >= 1e4 || (Math.abs(v) < 1e-3 && v !== 0) ? v.toExponential(2) : v.toFixed(d)) : String(v));
+$('title').textContent = 'marsyn: ' + (R.problem || '');
+const verified = R.status === 'verified';
+$('badge').textContent = verified ? 'VERIFIED' : 'FAILED';
+$('badge').className = 'badge ' + (verified ? 'ok' : 'bad');
+$('sub').textContent = (R.agents ? R.agents.length : 0) + ' agents, total ' + fmt(R.total_time_s, 2) + ' s';
+function table(el, head, rows) {
+  el.innerHTML = '<tr>' + head.map(h => '<th>' + h + '</th>').join('') + '</tr>' +
+    rows.map(r => '<tr>' + r.map(c => '<td>' + c + '</td>').join('') + '</tr>').join('');
+}
+const ags = R.agents || [];
+const maxBy = f => ags.reduce((m, a) => Math.max(m, f(a) || 0), 0);
+const g = R.global_abcd || {};
+table($('t2'), ['T_plan [s]', 'N_l', 'T_abs [s]', 'T_syn [s]', 'N_g', 'global ABCD'],
+  [[fmt((R.plan || {}).time_s, 2), fmt(maxBy(a => a.tracker && a.tracker.state_input_pairs), 0),
+    fmt(maxBy(a => a.tracker && a.tracker.abstraction_time_s), 2), fmt(maxBy(a => a.tracker && a.tracker.synthesis_time_s), 2),
+    fmt(g.state_input_pairs, 0), g.status || '-']]);
+table($('ag'), ['agent', 'tracker', 'N_l', 'boxes', 'abs [s]', 'syn [s]', 'memory [MB]', 'x0 winning'],
+  ags.map(a => { const t = a.tracker || {}; return [a.name, t.status, fmt(t.state_input_pairs, 0), fmt(t.boxes_computed, 0),
+    fmt(t.abstraction_time_s, 3), fmt(t.synthesis_time_s, 3), fmt((t.peak_memory_bytes || 0) / 1048576, 1), t.initial_state_winning ? 'yes' : 'no']; }));
+const v = R.verification || {}, ol = R.open_loop || {};
+table($('ver'), ['', 'runs', 'violations', 'smallest margin'],
+  [['feedback', fmt(v.runs, 0), fmt(v.violations, 0), fmt(v.min_margin)], ['open loop', fmt(ol.runs, 0), fmt(ol.violations, 0), fmt(ol.min_margin)]]);
+table($('att'), ['#', 'stage', 'parameters', 'outcome', 'time [s]'],
+  (R.attempts || []).map((a, i) => [i + 1, a.stage || '', a.parameters || '', a.outcome || '', fmt(a.time_s, 3)]));
+
+// Workspace animation.
+const cv = $('cv'), ctx = cv.getContext('2d');
+const colors = ['#3490dc', '#e3342f', '#38c172', '#f6993f', '#9561e2', '#f66d9b', '#4dc0b5', '#6574cd', '#ffed4a', '#8795a1'];
+let xmin = 1e9, xmax = -1e9, ymin = 1e9, ymax = -1e9;
+const grow = (x, y) => { xmin = Math.min(xmin, x); xmax = Math.max(xmax, x); ymin = Math.min(ymin, y); ymax = Math.max(ymax, y); };
+S.agents.forEach(a => { a.tube.forEach(b => { grow(b[0], b[1]); grow(b[2], b[3]); }); grow(a.goal[0], a.goal[1]); grow(a.goal[2], a.goal[3]); });
+(S.runs || []).forEach(r => r.points.forEach(tr => tr.forEach(p => grow(p[0], p[1]))));
+S.obstacles.forEach(o => o.vertices.forEach(p => { if (p[0] > xmin - 3 && p[0] < xmax + 3 && p[1] > ymin - 3 && p[1] < ymax + 3) grow(p[0], p[1]); }));
+if (xmin > xmax) { xmin = 0; xmax = 1; ymin = 0; ymax = 1; }
+const pad = 0.05 * Math.max(xmax - xmin, ymax - ymin, 1e-3);
+xmin -= pad; xmax += pad; ymin -= pad; ymax += pad;
+const scale = Math.min(cv.width / (xmax - xmin), cv.height / (ymax - ymin));
+const X = x => (x - xmin) * scale, Y = y => cv.height - (y - ymin) * scale;
+const steps = S.agents.length ? S.agents[0].tube.length : 1;
+$('k').max = Math.max(0, steps - 1);
+(S.runs || []).forEach((r, i) => { const o = document.createElement('option'); o.value = i; o.textContent = r.label + (r.satisfied ? '' : '  [violates]'); $('run').appendChild(o); });
+const fb = (S.runs || []).findIndex(r => r.label.startsWith('feedback, constant'));
+if (fb >= 0) $('run').value = fb;
+function draw(k) {
+  ctx.clearRect(0, 0, cv.width, cv.height);
+  ctx.fillStyle = '#cbd2d9';
+  S.obstacles.forEach(o => { ctx.beginPath(); o.vertices.forEach((p, i) => i ? ctx.lineTo(X(p[0]), Y(p[1])) : ctx.moveTo(X(p[0]), Y(p[1]))); ctx.closePath(); ctx.fill(); });
+  ctx.setLineDash([5, 4]); ctx.strokeStyle = '#1f9d55'; ctx.lineWidth = 1.5;
+  S.agents.forEach(a => ctx.strokeRect(X(a.goal[0]), Y(a.goal[3]), (a.goal[2] - a.goal[0]) * scale, (a.goal[3] - a.goal[1]) * scale));
+  ctx.setLineDash([]);
+  S.agents.forEach((a, i) => {
+    const c = colors[i % colors.length];
+    ctx.strokeStyle = c; ctx.globalAlpha = 0.5; ctx.lineWidth = 1; ctx.beginPath();
+    a.nominal.forEach((p, j) => j ? ctx.lineTo(X(p[0]), Y(p[1])) : ctx.moveTo(X(p[0]), Y(p[1]))); ctx.stroke();
+    const b = a.tube[Math.min(k, a.tube.length - 1)];
+    if (b) { ctx.globalAlpha = 0.25; ctx.fillStyle = c; ctx.fillRect(X(b[0]), Y(b[3]), (b[2] - b[0]) * scale, (b[3] - b[1]) * scale); }
+    ctx.globalAlpha = 1;
+  });
+  const r = (S.runs || [])[+$('run').value];
+  if (r) r.points.forEach((tr, i) => {
+    const c = colors[i % colors.length];
+    ctx.strokeStyle = c; ctx.lineWidth = 2; ctx.beginPath();
+    tr.slice(0, k + 1).forEach((p, j) => j ? ctx.lineTo(X(p[0]), Y(p[1])) : ctx.moveTo(X(p[0]), Y(p[1]))); ctx.stroke();
+    const p = tr[Math.min(k, tr.length - 1)];
+    if (p) { ctx.fillStyle = c; ctx.beginPath(); ctx.arc(X(p[0]), Y(p[1]), 4, 0, 7); ctx.fill(); }
+  });
+  $('kt').textContent = 'k = ' + k + ' (t = ' + (k * S.tau).toFixed(1) + ' s)';
+}
+let k = 0, playing = true;
+$('k').oninput = e => { k = +e.target.value; draw(k); };
+$('run').onchange = () => draw(k);
+$('play').onclick = () => { playing = !playing; $('play').textContent = playing ? 'pause' : 'play'; };
+setInterval(() => { if (!playing) return; k = (k + 1) % steps; $('k').value = k; draw(k); }, 80);
+draw(0);
+
+// Margin plot (SVG).
+(function plot() {
+  const runs = (S.runs || []).filter(r => r.margin.length && r.margin.some(m => Math.abs(m) < 999));
+  if (!runs.length) { $('plot').innerHTML = '<p class="muted">This problem has no obstacle, collision or formation constraints; only the goal is checked (see the verification table).</p>'; return; }
+  const W = 1100, H = 300, L = 50, B = 30;
+  let lo = 0, hi = 0, n = 0;
+  runs.forEach(r => r.margin.forEach(m => { if (Math.abs(m) < 999) { lo = Math.min(lo, m); hi = Math.max(hi, m); } n = Math.max(n, r.margin.length); }));
+  hi = hi + 0.05 * (hi - lo + 1e-9); lo = lo - 0.05 * (hi - lo + 1e-9);
+  const px = i => L + (W - L - 10) * i / Math.max(1, n - 1), py = m => 10 + (H - B - 10) * (hi - m) / (hi - lo);
+  const col = r => r.label.startsWith('open loop') ? (r.satisfied ? '#f6993f' : '#e3342f') : r.label.startsWith('nominal') ? '#8795a1' : '#3490dc';
+  let s = '<svg viewBox="0 0 ' + W + ' ' + H + '" width="100%" xmlns="http://www.w3.org/2000/svg" font-size="11">';
+  s += '<line x1="' + L + '" x2="' + (W - 10) + '" y1="' + py(0) + '" y2="' + py(0) + '" stroke="#cc1f1a" stroke-dasharray="6 4"/>';
+  s += '<text x="' + (W - 12) + '" y="' + (py(0) - 4) + '" text-anchor="end" fill="#cc1f1a">threshold (delta / formation tolerance)</text>';
+  for (let t = 0; t <= 4; t++) { const m = lo + (hi - lo) * t / 4; s += '<text x="' + (L - 6) + '" y="' + (py(m) + 4) + '" text-anchor="end">' + m.toFixed(2) + '</text>'; }
+  for (let t = 0; t <= 5; t++) { const i = Math.round((n - 1) * t / 5); s += '<text x="' + px(i) + '" y="' + (H - 8) + '" text-anchor="middle">' + (i * S.tau).toFixed(1) + ' s</text>'; }
+  runs.forEach(r => { s += '<polyline fill="none" stroke-width="1.6" stroke="' + col(r) + '" points="' + r.margin.map((m, i) => px(i) + ',' + py(Math.max(lo, Math.min(hi, m)))).join(' ') + '"><title>' + r.label + '</title></polyline>'; });
+  $('plot').innerHTML = s + '</svg>';
+  $('legend').innerHTML = '<span><i style="background:#8795a1"></i>nominal plan</span><span><i style="background:#3490dc"></i>feedback under disturbance</span><span><i style="background:#e3342f"></i>open loop under disturbance (violating)</span><span><i style="background:#f6993f"></i>open loop under disturbance (satisfying)</span>';
+})();
+</script></body></html>
+)HTML";
+
+std::string replace_marker(std::string page, const std::string& marker, const std::string& value) {
+  const auto pos = page.find(marker);
+  if (pos != std::string::npos) page.replace(pos, marker.size(), value);
+  return page;
+}
+
+// JSON inside a <script> element must not contain "</": escape the slash.
+std::string script_safe(const nlohmann::json& j) {
+  std::string s = j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  std::string out;
+  out.reserve(s.size());
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (s[i] == '<' && i + 1 < s.size() && s[i + 1] == '/') {
+      out += "<\\/";
+      ++i;
+    } else {
+      out += s[i];
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+void write_report_html(const std::string& path, const nlohmann::json& result, const nlohmann::json& scene) {
+  std::string page = replace_marker(kPage, "/*RESULT*/", script_safe(result));
+  page = replace_marker(page, "/*SCENE*/", script_safe(scene));
+  std::ofstream out(path);
+  out << page;
+  if (!out) throw std::runtime_error("cannot write " + path);
+}
+
+}  // namespace marsyn

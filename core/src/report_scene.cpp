@@ -1,0 +1,88 @@
+#include <cmath>
+
+#include "marsyn/core/report_html.hpp"
+#include "marsyn/scalar.hpp"
+
+namespace marsyn {
+namespace {
+
+// Sound workspace box of a state box: interval evaluation of the agent's workspace map.
+std::array<double, 4> workspace_box(const AgentSpec& a, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
+  std::vector<Interval> x(a.n());
+  for (int i = 0; i < a.n(); ++i) x[i] = Interval(lo[i], hi[i]);
+  Interval p[2];
+  workspace_point<Interval>(*a.dynamics, a.workspace, x.data(), p);
+  return {p[0].lower(), p[1].lower(), p[0].upper(), p[1].upper()};
+}
+
+nlohmann::json round4(double v) { return std::round(v * 1e4) / 1e4; }
+
+}  // namespace
+
+nlohmann::json report_scene(const Problem& pb, const std::vector<NominalTrajectory>& nominal,
+                            const VerificationReport* ver) {
+  using nlohmann::json;
+  json scene;
+  scene["tau"] = pb.tau;
+  scene["delta"] = pb.delta;
+  json obstacles = json::array();
+  for (const auto& o : pb.obstacles) {
+    json v = json::array();
+    for (const auto& p : o.vertices) v.push_back({p.x(), p.y()});
+    obstacles.push_back({{"name", o.name}, {"vertices", v}});
+  }
+  scene["obstacles"] = obstacles;
+  json agents = json::array();
+  for (std::size_t i = 0; i < pb.agents.size(); ++i) {
+    const AgentSpec& a = pb.agents[i];
+    json ag;
+    ag["name"] = a.name;
+    const auto g = workspace_box(a, a.goal.lo, a.goal.hi);
+    ag["goal"] = {g[0], g[1], g[2], g[3]};
+    json tube = json::array(), path = json::array();
+    if (i < nominal.size())
+      for (const auto& x : nominal[i].x) {
+        const auto b = workspace_box(a, x - a.eps, x + a.eps);
+        tube.push_back({round4(b[0]), round4(b[1]), round4(b[2]), round4(b[3])});
+        double p[2];
+        workspace_point<double>(*a.dynamics, a.workspace, x.data(), p);
+        path.push_back({round4(p[0]), round4(p[1])});
+      }
+    ag["tube"] = tube;
+    ag["nominal"] = path;
+    agents.push_back(ag);
+  }
+  scene["agents"] = agents;
+
+  json runs = json::array();
+  if (ver) {
+    for (const auto& kept : ver->kept) {
+      json r;
+      r["label"] = kept.label;
+      r["satisfied"] = kept.spec.satisfied;
+      r["min_margin"] = kept.spec.min_margin;
+      r["worst"] = kept.spec.worst;
+      json margins = json::array();
+      for (const auto& m : kept.spec.per_step) margins.push_back(round4(std::max(-1e3, std::min(1e3, m.min()))));
+      r["margin"] = margins;
+      json pts = json::array();  // [agent][step] = [x, y]
+      for (std::size_t i = 0; i < pb.agents.size(); ++i) {
+        json track = json::array();
+        int off = 0;
+        for (std::size_t j = 0; j < i; ++j) off += pb.agents[j].n();
+        for (const auto& x : kept.states) {
+          double p[2];
+          workspace_point<double>(*pb.agents[i].dynamics, pb.agents[i].workspace, x.data() + off, p);
+          track.push_back({round4(p[0]), round4(p[1])});
+        }
+        pts.push_back(track);
+      }
+      r["points"] = pts;
+      runs.push_back(r);
+    }
+  }
+  scene["runs"] = runs;
+  return scene;
+}
+
+}  // namespace marsyn

@@ -1,0 +1,157 @@
+#include "marsyn/core/spec_monitor.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace marsyn {
+namespace {
+
+double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+bool inside(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& p) {
+  for (std::size_t i = 0; i < poly.size(); ++i)
+    if (cross(poly[(i + 1) % poly.size()] - poly[i], p - poly[i]) < 0) return false;
+  return true;
+}
+
+// min over t in [0, 1] of |p - (a + t (b - a))|_inf. The objective is convex and piecewise
+// linear in t; its minimum is at an end point or where a component vanishes or the two
+// components have equal magnitude.
+double segment_distance_inf(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
+  const Eigen::Vector2d d0 = p - a, e = b - a;  // d(t) = d0 - t e
+  auto f = [&](double t) {
+    const Eigen::Vector2d d = d0 - t * e;
+    return std::max(std::abs(d.x()), std::abs(d.y()));
+  };
+  double best = std::min(f(0.0), f(1.0));
+  auto consider = [&](double num, double den) {
+    if (std::abs(den) < 1e-300) return;
+    const double t = num / den;
+    if (t > 0.0 && t < 1.0) best = std::min(best, f(t));
+  };
+  consider(d0.x(), e.x());                  // dx(t) = 0
+  consider(d0.y(), e.y());                  // dy(t) = 0
+  consider(d0.x() - d0.y(), e.x() - e.y());  // dx = dy
+  consider(d0.x() + d0.y(), e.x() + e.y());  // dx = -dy
+  return best;
+}
+
+double segment_distance_two(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
+  const Eigen::Vector2d e = b - a;
+  const double t = std::clamp((p - a).dot(e) / std::max(e.squaredNorm(), 1e-300), 0.0, 1.0);
+  return (p - (a + t * e)).norm();
+}
+
+template <class SegmentDistance, class Depth>
+double signed_distance(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& p, SegmentDistance seg,
+                       Depth depth) {
+  const std::size_t n = poly.size();
+  if (inside(poly, p)) {
+    // Inside: the smallest move that exits across some edge's supporting line.
+    double d = 1e300;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector2d e = poly[(i + 1) % n] - poly[i];
+      const Eigen::Vector2d normal = Eigen::Vector2d(e.y(), -e.x()).normalized();  // outward for CCW
+      const double h = (poly[i] - p).dot(normal);                                     // >= 0 inside
+      d = std::min(d, depth(h, normal));
+    }
+    return -d;
+  }
+  double d = 1e300;
+  for (std::size_t i = 0; i < n; ++i) d = std::min(d, seg(poly[i], poly[(i + 1) % n], p));
+  return d;
+}
+
+}  // namespace
+
+double signed_distance_inf(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& p) {
+  // An inf-norm ball of radius r reaches a line at Euclidean distance h when r |n|_1 = h.
+  return signed_distance(poly, p, segment_distance_inf,
+                         [](double h, const Eigen::Vector2d& n) { return h / n.lpNorm<1>(); });
+}
+
+double signed_distance_two(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& p) {
+  return signed_distance(poly, p, segment_distance_two, [](double h, const Eigen::Vector2d&) { return h; });
+}
+
+SpecMonitor::SpecMonitor(const Problem& problem) : problem_(problem) {
+  int off = 0;
+  for (const auto& a : problem.agents) {
+    offset_.push_back(off);
+    off += a.n();
+  }
+}
+
+Eigen::Vector2d SpecMonitor::point(int agent, const Eigen::VectorXd& x) const {
+  const AgentSpec& a = problem_.agents[agent];
+  double p[2];
+  workspace_point<double>(*a.dynamics, a.workspace, x.data() + offset_[agent], p);
+  return {p[0], p[1]};
+}
+
+StepMargins SpecMonitor::step(const Eigen::VectorXd& x, std::string* worst) const {
+  StepMargins m;
+  const int n = static_cast<int>(problem_.agents.size());
+  std::vector<Eigen::Vector2d> pts(n);
+  for (int i = 0; i < n; ++i) pts[i] = point(i, x);
+  const bool inf = problem_.delta_norm == Norm::Inf;
+  double best = 1e300;
+  auto note = [&](double v, const std::string& what) {
+    if (worst && v < best) {
+      best = v;
+      *worst = what;
+    }
+  };
+  for (int i = 0; i < n; ++i)
+    for (const auto& o : problem_.obstacles) {
+      const double d = (inf ? signed_distance_inf(o.vertices, pts[i]) : signed_distance_two(o.vertices, pts[i])) -
+                       problem_.delta;
+      m.obstacle = std::min(m.obstacle, d);
+      note(d, "obstacle " + o.name + " vs " + problem_.agents[i].name);
+    }
+  if (problem_.pairwise_collision)
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j) {
+        const Eigen::Vector2d d = pts[i] - pts[j];
+        const double v = (inf ? d.lpNorm<Eigen::Infinity>() : d.norm()) - problem_.delta;
+        m.collision = std::min(m.collision, v);
+        note(v, "collision " + problem_.agents[i].name + " vs " + problem_.agents[j].name);
+      }
+  for (const auto& f : problem_.formation) {
+    const double v = f.mu - std::abs((pts[f.i] - pts[f.j]).norm() - f.lambda);
+    m.formation = std::min(m.formation, v);
+    note(v, "formation " + problem_.agents[f.i].name + " - " + problem_.agents[f.j].name);
+  }
+  return m;
+}
+
+SpecEvaluation SpecMonitor::evaluate(const std::vector<Eigen::VectorXd>& states, bool keep_per_step) const {
+  SpecEvaluation ev;
+  for (std::size_t k = 0; k < states.size(); ++k) {
+    std::string what;
+    const StepMargins m = step(states[k], &what);
+    if (keep_per_step) ev.per_step.push_back(m);
+    if (m.min() < ev.min_margin) {
+      ev.min_margin = m.min();
+      ev.worst = what + " at step " + std::to_string(k);
+    }
+  }
+  if (!states.empty()) {
+    const Eigen::VectorXd& x = states.back();
+    for (std::size_t i = 0; i < problem_.agents.size(); ++i) {
+      const AgentSpec& a = problem_.agents[i];
+      for (int c = 0; c < a.n(); ++c) {
+        const double v = std::min(x[offset_[i] + c] - a.goal.lo[c], a.goal.hi[c] - x[offset_[i] + c]);
+        if (v < ev.goal_margin) ev.goal_margin = v;
+        if (v < ev.min_margin) {
+          ev.min_margin = v;
+          ev.worst = "goal of " + a.name + " (" + a.dynamics->state_names()[c] + ") at the final step";
+        }
+      }
+    }
+  }
+  ev.satisfied = ev.min_margin >= 0;
+  return ev;
+}
+
+}  // namespace marsyn
