@@ -3,7 +3,8 @@
 # missing. Run as root (or through sudo).
 set -eu
 PACKAGES="build-essential cmake pkg-config libeigen3-dev libboost-dev libyaml-cpp-dev libcli11-dev
-nlohmann-json3-dev libgtest-dev libgmock-dev"
+nlohmann-json3-dev libgtest-dev libgmock-dev
+chromium"
 missing=""
 for p in $PACKAGES; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"

@@ -34,7 +34,9 @@ int main(int argc, char** argv) {
   auto* track = app.add_subcommand("track", "synthesize one agent's tracking controller");
   track->add_option("CONFIG", config, "problem file (YAML)")->required();
   track->add_option("--agent", agent, "the agent's name")->required();
-  track->add_option("--plan", plan_file, "a plan.json from `marsyn plan` (default: plan now)");
+  track->add_option("--plan", plan_file,
+                    "a plan.json from `marsyn plan`, or 'straight-line' for the geometric plan of paper Sec. 3.5 "
+                    "(default: plan now)");
   track->add_option("--out", out, "output folder for <agent>.ctrl (default marsyn-out/<problem name>)");
   track->add_option("--threads", threads, "threads (default 2)")->check(CLI::Range(1, 256));
 

@@ -49,7 +49,26 @@ const AgentSpec& find_agent(const Problem& pb, const std::string& name, int* ind
   throw ConfigError(pb.source, 0, 0, "--agent", "no agent named '" + name + "'; agents: " + names);
 }
 
+// The geometric plan of paper Sec. 3.5: states on the straight line from x0 to the goal's centre,
+// ignoring the dynamics (inputs at the centre of U, only a hint for the tracker's input order).
+std::vector<NominalTrajectory> straight_line(const Problem& pb) {
+  std::vector<NominalTrajectory> out;
+  for (const auto& a : pb.agents) {
+    NominalTrajectory t;
+    t.agent = a.name;
+    const Eigen::VectorXd goal = a.goal.center();
+    for (int k = 0; k <= pb.horizon; ++k) t.x.push_back(a.x0 + (goal - a.x0) * (static_cast<double>(k) / pb.horizon));
+    for (int k = 0; k < pb.horizon; ++k) t.u.push_back(a.input_bounds.center());
+    out.push_back(t);
+  }
+  return out;
+}
+
 std::vector<NominalTrajectory> nominal_for(const LoadedProblem& lp, const std::string& plan_file) {
+  if (plan_file == "straight-line") {
+    log_line("[plan] straight line from x0 to the goal centre (ignores the dynamics, paper Sec. 3.5)");
+    return straight_line(lp.problem);
+  }
   if (!plan_file.empty()) return read_plan_json(plan_file, lp.problem);
   log_line("[plan] no --plan given: planning first with " + lp.problem.planner.name);
   auto planner = lp.registry->create<Planner>(lp.problem.planner.name, lp.problem.planner.params);

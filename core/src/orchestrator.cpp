@@ -119,7 +119,9 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
   const auto tracker = reg.create<Tracker>(pb.tracker.name, pb.tracker.params);
 
   bool all_tracked = false;
+  bool replan = true;  // false when only grids changed: the plan stays valid
   for (int iter = 0; iter < opt.max_outer_iterations && since(t_start) < opt.time_limit_s; ++iter) {
+    if (replan) {
     // 1. Plan (the planning stage lengthens the horizon itself when T fails).
     planning::PlanSearchOptions po;
     po.time_limit_s = std::max(1.0, opt.time_limit_s - since(t_start));
@@ -153,6 +155,7 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
     }
     if (!out.plan.agents.empty()) pb.horizon = out.plan.horizon;
 
+    }
     // 2-3. Project and track every agent.
     const auto t_track = Clock::now();
     out.agents = track_all(pb, out.plan.agents, *tracker, opt);
@@ -172,11 +175,22 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
     }
     log("[track] all agents in " + std::to_string(since(t_track)) + " s");
     if (all_tracked) break;
+    // Only "no controller" is a reason to change parameters; bad input or an exhausted budget
+    // would fail the same way again.
+    bool searchable = true;
+    for (int i : failed)
+      if (out.agents[i].track.status != TrackerStatus::NoController) {
+        searchable = false;
+        out.failure = "tracking " + pb.agents[i].name + ": " + to_string(out.agents[i].track.status) +
+                      (out.agents[i].track.message.empty() ? "" : ": " + out.agents[i].track.message);
+      }
+    if (!searchable) break;
     out.failure = "no controller for";
     for (int i : failed) out.failure += " " + pb.agents[i].name;
     // Remark 2: a failed agent gets a wider tube (first) or a finer grid (then), and the team is
     // re-planned with the new eps.
     bool changed = false;
+    replan = iter % 2 == 0;  // eps changes the robust spec; a finer grid does not
     for (int i : failed) {
       AgentSpec b = pb.agents[i];
       if (iter % 2 == 0) {

@@ -21,6 +21,7 @@ h2{font-size:15px;margin:0 0 10px 0;color:#3d4852}
 table{border-collapse:collapse;font-size:13px;width:100%}
 th,td{border-bottom:1px solid #e2e8f0;padding:4px 8px;text-align:right}
 th:first-child,td:first-child{text-align:left}
+#att td:nth-child(3),#att td:nth-child(4){text-align:left;font-size:12px}
 th{background:#f1f5f8;font-weight:600}
 canvas{width:100%;border:1px solid #dae1e7;border-radius:4px;background:#fff}
 .controls{display:flex;gap:8px;align-items:center;margin-top:8px;font-size:13px}
@@ -128,6 +129,7 @@ draw(0);
 
 // Margin plot (SVG).
 (function plot() {
+  if (!(S.runs || []).length) { $('plot').innerHTML = '<p class="muted">No closed-loop runs: verification runs only when every agent has a controller (see the attempts below).</p>'; return; }
   const runs = (S.runs || []).filter(r => r.margin.length && r.margin.some(m => Math.abs(m) < 999));
   if (!runs.length) { $('plot').innerHTML = '<p class="muted">This problem has no obstacle, collision or formation constraints; only the goal is checked (see the verification table).</p>'; return; }
   const W = 1100, H = 300, L = 50, B = 30;
