@@ -13,6 +13,8 @@ int run_track(const std::string& config, const std::string& agent, const std::st
 int run_solve(const std::string& config, const std::string& out_dir, int runs, int threads);
 int run_simulate(const std::string& config, const std::string& controllers_dir, const std::string& mode,
                  unsigned long seed, const std::string& out_file);
+int run_bench(const std::string& examples, const std::string& planners, const std::string& stage, bool track,
+              int runs, int threads, const std::string& out_dir);
 // The default example `solve` runs without a CONFIG: next to the sources or the installation.
 std::string default_example();
 

@@ -52,6 +52,18 @@ int main(int argc, char** argv) {
   simulate->add_option("--disturbance", mode, "none | vertex | paper | uniform | switching (default uniform)");
   simulate->add_option("--seed", seed, "random seed (default 1)");
   simulate->add_option("--out", sim_out, "trajectory CSV (default <controllers>/simulation-<mode>.csv)");
+
+  std::string bench_examples, bench_planners, bench_stage = "plan", bench_out = "marsyn-out/bench";
+  bool no_track = false;
+  auto* bench = app.add_subcommand("bench", "measure planners (or the whole method) on examples; prints a table, writes CSV and markdown");
+  bench->add_option("--examples", bench_examples, "comma-separated example names or files (default: all five)");
+  bench->add_option("--planners", bench_planners, "comma-separated planner plugins (default: every one installed)");
+  bench->add_option("--stage", bench_stage, "plan (planners, then tracking) or solve (the whole method)")
+      ->check(CLI::IsMember({"plan", "solve"}));
+  bench->add_flag("--no-track", no_track, "with --stage plan: skip tracking after planning");
+  bench->add_option("--runs", runs, "with --stage solve: verification runs (default 1000)")->check(CLI::Range(5, 10000000));
+  bench->add_option("--threads", threads, "threads (default 2)")->check(CLI::Range(1, 256));
+  bench->add_option("--out", bench_out, "folder for bench.csv and bench.md (default marsyn-out/bench)");
 #endif
 
   try {
@@ -69,6 +81,8 @@ int main(int argc, char** argv) {
     if (*track) return marsyn::cli::run_track(config, agent, plan_file, out, threads);
     if (*solve) return marsyn::cli::run_solve(config.empty() ? marsyn::cli::default_example() : config, out, runs, threads);
     if (*simulate) return marsyn::cli::run_simulate(config, controllers, mode, seed, sim_out);
+    if (*bench)
+      return marsyn::cli::run_bench(bench_examples, bench_planners, bench_stage, !no_track, runs, threads, bench_out);
 #endif
   } catch (const marsyn::ConfigError& e) {
     std::cerr << "error: " << e.what() << "\n";

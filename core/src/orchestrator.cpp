@@ -38,8 +38,10 @@ bool consistent(const AgentSpec& a) {
   return true;
 }
 
-std::vector<AgentOutcome> track_all(const Problem& pb, const std::vector<NominalTrajectory>& nominal,
-                                    const Tracker& tracker, const SolveOptions& opt) {
+}  // namespace
+
+std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<NominalTrajectory>& nominal,
+                                       const Tracker& tracker, const SolveOptions& opt) {
   const int N = static_cast<int>(pb.agents.size());
   std::vector<AgentOutcome> out(N);
   // Agents in parallel, one tracker thread each, when there are enough of them; otherwise the
@@ -89,8 +91,6 @@ std::vector<AgentOutcome> track_all(const Problem& pb, const std::vector<Nominal
   for (auto& t : pool) t.join();
   return out;
 }
-
-}  // namespace
 
 GlobalAbcdEstimate estimate_global_abcd(const Problem& pb) {
   GlobalAbcdEstimate g;
@@ -158,7 +158,7 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
     }
     // 2-3. Project and track every agent.
     const auto t_track = Clock::now();
-    out.agents = track_all(pb, out.plan.agents, *tracker, opt);
+    out.agents = track_agents(pb, out.plan.agents, *tracker, opt);
     all_tracked = true;
     std::vector<int> failed;
     for (std::size_t i = 0; i < out.agents.size(); ++i) {
@@ -300,8 +300,31 @@ nlohmann::json result_json(const SolveOutcome& o) {
   return j;
 }
 
+namespace {
+std::vector<std::string> write_into(const std::string& dir, SolveOutcome& o);
+}
+
+// Everything is written into a staging folder that replaces `dir` only when complete, so a
+// failure part-way never leaves a half-written result that looks like a finished one.
 std::vector<std::string> write_solve_outputs(const std::string& dir, SolveOutcome& o) {
-  fs::create_directories(dir);
+  const fs::path target = fs::path(dir);
+  const fs::path staging = target.string() + ".partial";
+  fs::remove_all(staging);
+  fs::create_directories(staging);
+  try {
+    auto files = write_into(staging.string(), o);
+    fs::remove_all(target);
+    fs::rename(staging, target);
+    return files;
+  } catch (...) {
+    std::error_code ec;
+    fs::remove_all(staging, ec);
+    throw;
+  }
+}
+
+namespace {
+std::vector<std::string> write_into(const std::string& dir, SolveOutcome& o) {
   std::vector<std::string> files;
   for (auto& a : o.agents) {
     if (!a.track.controller) continue;
@@ -325,5 +348,6 @@ std::vector<std::string> write_solve_outputs(const std::string& dir, SolveOutcom
   files.push_back("report.html");
   return files;
 }
+}  // namespace
 
 }  // namespace marsyn

@@ -60,6 +60,10 @@ struct SolveOutcome {
 
 GlobalAbcdEstimate estimate_global_abcd(const Problem& problem);
 
+// Tracks every agent along its nominal trajectory, agents in parallel (threads from options).
+std::vector<AgentOutcome> track_agents(const Problem& problem, const std::vector<NominalTrajectory>& nominal,
+                                       const Tracker& tracker, const SolveOptions& options);
+
 // Runs the whole method. Throws only for bad input (unknown plugins); failures are outcomes.
 SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& options);
 

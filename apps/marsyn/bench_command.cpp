@@ -1,0 +1,149 @@
+// `marsyn bench`: runs chosen planners (stage "plan", tracking included unless --no-track) or the
+// whole method (stage "solve") on chosen examples and prints a table, also written as CSV and
+// markdown. Every figure is measured in this process, on this machine.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "commands.hpp"
+#include "marsyn/core/orchestrator.hpp"
+#include "marsyn/core/planning/plan.hpp"
+#include "marsyn/core/problem_loader.hpp"
+
+namespace fs = std::filesystem;
+
+namespace marsyn::cli {
+namespace {
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ','))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+std::string resolve_example(const std::string& name) {
+  if (fs::exists(name)) return name;
+  const fs::path dir = fs::path(default_example()).parent_path();
+  for (const auto& candidate : {dir / name, dir / (name + ".yaml")})
+    if (fs::exists(candidate)) return candidate.string();
+  throw std::runtime_error("no example '" + name + "' (looked in " + dir.string() + ")");
+}
+
+struct Row {
+  std::vector<std::string> cells;
+};
+
+void emit(const std::string& out_dir, const std::vector<std::string>& head, const std::vector<Row>& rows) {
+  std::vector<std::size_t> w(head.size());
+  for (std::size_t c = 0; c < head.size(); ++c) {
+    w[c] = head[c].size();
+    for (const auto& r : rows) w[c] = std::max(w[c], r.cells[c].size());
+  }
+  auto line = [&](const std::vector<std::string>& cells) {
+    for (std::size_t c = 0; c < cells.size(); ++c) std::printf("%-*s  ", static_cast<int>(w[c]), cells[c].c_str());
+    std::printf("\n");
+  };
+  line(head);
+  for (const auto& r : rows) line(r.cells);
+  fs::create_directories(out_dir);
+  std::ofstream csv(fs::path(out_dir) / "bench.csv"), md(fs::path(out_dir) / "bench.md");
+  for (std::size_t c = 0; c < head.size(); ++c) {
+    csv << (c ? "," : "") << head[c];
+    md << "| " << head[c] << " ";
+  }
+  csv << "\n";
+  md << "|\n";
+  for (std::size_t c = 0; c < head.size(); ++c) md << "|---";
+  md << "|\n";
+  for (const auto& r : rows) {
+    for (std::size_t c = 0; c < r.cells.size(); ++c) {
+      csv << (c ? "," : "") << r.cells[c];
+      md << "| " << r.cells[c] << " ";
+    }
+    csv << "\n";
+    md << "|\n";
+  }
+  std::printf("\nwrote %s/bench.csv and %s/bench.md\n", out_dir.c_str(), out_dir.c_str());
+}
+
+std::string num(double v, int prec = 3) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", prec, v);
+  return buf;
+}
+
+}  // namespace
+
+int run_bench(const std::string& examples_list, const std::string& planners_list, const std::string& stage,
+              bool track, int runs, int threads, const std::string& out_dir) {
+  std::vector<std::string> examples = split(examples_list);
+  if (examples.empty()) examples = {"pendulum", "crane_vehicle", "multi_drone", "lane_merging", "formation"};
+  std::vector<Row> rows;
+  if (stage == "solve") {
+    const std::vector<std::string> head = {"example", "status", "T_plan s", "N_l (max)", "T_abs s (max)", "T_syn s (max)",
+                                           "verify runs", "violations", "open-loop viol.", "total s"};
+    for (const auto& ex : examples) {
+      const LoadedProblem lp = load_problem(resolve_example(ex));
+      SolveOptions so;
+      so.verification_runs = runs;
+      so.threads = threads;
+      std::fprintf(stderr, "[bench] solve %s ...\n", ex.c_str());
+      const SolveOutcome o = solve(lp, so);
+      double nl = 0, ta = 0, ts = 0;
+      for (const auto& a : o.agents) {
+        nl = std::max(nl, a.track.stats.state_input_pairs);
+        ta = std::max(ta, a.track.stats.abstraction_time_s);
+        ts = std::max(ts, a.track.stats.synthesis_time_s);
+      }
+      rows.push_back({{ex, o.verified ? "verified" : "failed", num(o.plan.total_time_s), num(nl), num(ta), num(ts),
+                       std::to_string(o.verification.runs), std::to_string(o.verification.violations),
+                       std::to_string(o.verification.open_loop_violations) + "/" +
+                           std::to_string(o.verification.open_loop_runs),
+                       num(o.total_time_s)}});
+    }
+    emit(out_dir, head, rows);
+    return 0;
+  }
+  const std::vector<std::string> head = {"example", "planner", "feasible", "plan s", "iterations", "cost",
+                                         "min robust margin", "horizon", "tracking"};
+  for (const auto& ex : examples) {
+    const LoadedProblem lp = load_problem(resolve_example(ex));
+    std::vector<std::string> planners = split(planners_list);
+    if (planners.empty()) planners = lp.registry->names("planner");
+    for (const auto& name : planners) {
+      Problem pb = lp.problem;
+      if (pb.planner.name != name) pb.planner = {name, {}};  // the config's parameters belong to its own planner
+      std::shared_ptr<Planner> planner;
+      try {
+        planner = lp.registry->create<Planner>(name, pb.planner.params);
+      } catch (const std::exception& e) {
+        rows.push_back({{ex, name, "error", "-", "-", "-", "-", "-", e.what()}});
+        continue;
+      }
+      std::fprintf(stderr, "[bench] %s with %s ...\n", ex.c_str(), name.c_str());
+      planning::PlanSearchOptions po;
+      const planning::PlanOutcome o = planning::plan(pb, *planner, po);
+      std::string tracking = "-";
+      if (track && o.feasible) {
+        const auto tracker = lp.registry->create<Tracker>(pb.tracker.name, pb.tracker.params);
+        SolveOptions so;
+        so.threads = threads;
+        const auto agents = track_agents(pb, o.agents, *tracker, so);
+        int ok = 0;
+        for (const auto& a : agents) ok += a.track.status == TrackerStatus::Controller;
+        tracking = std::to_string(ok) + "/" + std::to_string(agents.size()) + " agents";
+      }
+      rows.push_back({{ex, name, o.feasible ? "yes" : "no", num(o.total_time_s), std::to_string(o.result.iterations),
+                       num(o.result.cost), num(o.check.min_margin), std::to_string(o.horizon), tracking}});
+    }
+  }
+  emit(out_dir, head, rows);
+  return 0;
+}
+
+}  // namespace marsyn::cli
