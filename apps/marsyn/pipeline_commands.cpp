@@ -200,7 +200,7 @@ int run_simulate(const std::string& config, const std::string& controllers_dir, 
   try {
     mode = parse_disturbance_mode(mode_text);
   } catch (const std::invalid_argument& e) {
-    throw ConfigError("--disturbance", 0, 0, "", e.what());
+    throw ConfigError("command line", 0, 0, "--disturbance", e.what());
   }
   const std::string plan_path = (fs::path(controllers_dir) / "plan.json").string();
   const auto nominal = read_plan_json(plan_path, pb);
