@@ -105,17 +105,7 @@ int run_track(const std::string& config, const std::string& agent, const std::st
   const AgentSpec& a = find_agent(pb, agent, &index);
   auto tracker = lp.registry->create<Tracker>(pb.tracker.name, pb.tracker.params);
   const auto nominal = nominal_for(lp, plan_file);
-  TrackingProblem tp;
-  tp.agent = a.name;
-  tp.dynamics = a.dynamics;
-  tp.nominal = nominal[index];
-  tp.eps = a.eps;
-  tp.eta_x = a.eta_x;
-  tp.eta_u = a.eta_u;
-  tp.w = a.w;
-  tp.input_bounds = a.input_bounds;
-  tp.state_bounds = a.state_bounds;
-  tp.tau = pb.tau;
+  const TrackingProblem tp = tracking_problem(pb, index, nominal[index]);
   TrackOptions to;
   to.threads = threads;
   log_line("[track] " + a.name + " with " + pb.tracker.name);

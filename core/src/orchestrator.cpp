@@ -40,6 +40,22 @@ bool consistent(const AgentSpec& a) {
 
 }  // namespace
 
+TrackingProblem tracking_problem(const Problem& pb, int index, const NominalTrajectory& nominal) {
+  const AgentSpec& a = pb.agents[index];
+  TrackingProblem tp;
+  tp.agent = a.name;
+  tp.dynamics = a.dynamics;
+  tp.nominal = nominal;
+  tp.eps = a.eps;
+  tp.eta_x = a.eta_x;
+  tp.eta_u = a.eta_u;
+  tp.w = a.w;
+  tp.input_bounds = a.input_bounds;
+  tp.state_bounds = a.state_bounds;
+  tp.tau = pb.tau;
+  return tp;
+}
+
 std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<NominalTrajectory>& nominal,
                                        const Tracker& tracker, const SolveOptions& opt) {
   const int N = static_cast<int>(pb.agents.size());
@@ -54,17 +70,7 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
   auto work = [&] {
     for (int i = next++; i < N; i = next++) {
       const AgentSpec& a = pb.agents[i];
-      TrackingProblem tp;
-      tp.agent = a.name;
-      tp.dynamics = a.dynamics;
-      tp.nominal = nominal[i];
-      tp.eps = a.eps;
-      tp.eta_x = a.eta_x;
-      tp.eta_u = a.eta_u;
-      tp.w = a.w;
-      tp.input_bounds = a.input_bounds;
-      tp.state_bounds = a.state_bounds;
-      tp.tau = pb.tau;
+      const TrackingProblem tp = tracking_problem(pb, i, nominal[i]);
       const auto t0 = Clock::now();
       out[i].name = a.name;
       try {

@@ -60,6 +60,9 @@ struct SolveOutcome {
 
 GlobalAbcdEstimate estimate_global_abcd(const Problem& problem);
 
+// Agent `index`'s tracking problem (paper Alg. 1 step 3) along its nominal trajectory.
+TrackingProblem tracking_problem(const Problem& problem, int index, const NominalTrajectory& nominal);
+
 // Tracks every agent along its nominal trajectory, agents in parallel (threads from options).
 std::vector<AgentOutcome> track_agents(const Problem& problem, const std::vector<NominalTrajectory>& nominal,
                                        const Tracker& tracker, const SolveOptions& options);

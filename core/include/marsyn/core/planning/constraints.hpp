@@ -1,0 +1,102 @@
+#pragma once
+// Assembly of the eps-robust planning problem (paper Sec. 3.1: Avoid grown by eps, Goal shrunk by
+// eps) from a Problem: bounds become boxes, workspace requirements become Constraint objects.
+// Formulas and the margin argument: docs/planner.md.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "marsyn/constraint.hpp"
+#include "marsyn/core/planning/geometry.hpp"
+#include "marsyn/core/planning/margins.hpp"
+#include "marsyn/planner.hpp"
+
+namespace marsyn::planning {
+
+struct AssemblyOptions {
+  // Extra slack every constraint keeps (same units as the constraint), so that a solver answer
+  // within its own tolerance, and the input clamping after it, still pass the exact check.
+  double buffer = 1e-3;
+  // Width c of the smoothed corner of the inf-norm condition between agents, in units of the
+  // required distance: a smooth lower bound of max(|dx|/rx, |dy|/ry), exact when the two differ
+  // by at least 2c, conservative by at most 4c/27 otherwise (docs/planner.md).
+  double inf_norm_corner = 0.3;
+};
+
+// First product-state (input) coordinate of each agent; one more entry holds the total.
+std::vector<int> state_offsets(const Problem& problem);
+std::vector<int> input_offsets(const Problem& problem);
+
+// p = workspace point of agent state x; J (2 x n, row-major) = dp/dx when non-null.
+void workspace_point_jacobian(const AgentSpec& agent, const double* x, double* p, double* J);
+
+class ObstacleConstraint final : public Constraint {
+ public:
+  // Keeps the workspace point outside the obstacle grown by the margin box (+ `grow`, delta for
+  // the inf-norm) by at least `clearance` in the Euclidean norm.
+  ObstacleConstraint(std::string name, const AgentSpec& agent, int offset, Polygon obstacle,
+                     std::shared_ptr<const MarginTable> margins, double grow, double clearance);
+  std::string name() const override { return name_; }
+  int size() const override { return 1; }
+  ConstraintStage stage() const override { return ConstraintStage::AllSteps; }
+  const std::vector<int>& support() const override { return support_; }
+  void evaluate(const double* x, double* g, double* jac) const override;
+
+ private:
+  std::string name_;
+  const AgentSpec* agent_;
+  std::vector<int> support_;
+  Polygon obstacle_, grown_;  // grown_: precomputed for a constant margin
+  std::shared_ptr<const MarginTable> margins_;
+  double grow_, clearance_;
+};
+
+class PairConstraint final : public Constraint {
+ public:
+  // With r = delta + both agents' margins: Inf: max(|dx|/rx, |dy|/ry) >= 1, enforced through a
+  // smooth lower bound of the max whose corner has width `corner`; Two: ||d||_2 >= r.
+  PairConstraint(std::string name, const AgentSpec& a, int offset_a, const AgentSpec& b, int offset_b,
+                 Norm norm, double delta, std::shared_ptr<const MarginTable> ma,
+                 std::shared_ptr<const MarginTable> mb, double corner, double buffer);
+  std::string name() const override { return name_; }
+  int size() const override { return 1; }
+  ConstraintStage stage() const override { return ConstraintStage::AllSteps; }
+  const std::vector<int>& support() const override { return support_; }
+  void evaluate(const double* x, double* g, double* jac) const override;
+
+ private:
+  std::string name_;
+  const AgentSpec *a_, *b_;
+  std::vector<int> support_;
+  Norm norm_;
+  double delta_;
+  std::shared_ptr<const MarginTable> ma_, mb_;
+  double corner_, buffer_;
+};
+
+class FormationConstraint final : public Constraint {
+ public:
+  // lambda - mu + s <= ||p_a - p_b||_2 <= lambda + mu - s, s = both Euclidean margins + buffer.
+  FormationConstraint(std::string name, const AgentSpec& a, int offset_a, const AgentSpec& b, int offset_b,
+                      double lambda, double mu, std::shared_ptr<const MarginTable> ma,
+                      std::shared_ptr<const MarginTable> mb, double buffer);
+  std::string name() const override { return name_; }
+  int size() const override { return 2; }
+  ConstraintStage stage() const override { return ConstraintStage::AllSteps; }
+  const std::vector<int>& support() const override { return support_; }
+  void evaluate(const double* x, double* g, double* jac) const override;
+
+ private:
+  std::string name_;
+  const AgentSpec *a_, *b_;
+  std::vector<int> support_;
+  double lambda_, mu_;
+  std::shared_ptr<const MarginTable> ma_, mb_;
+  double buffer_;
+};
+
+// The eps-robust planning problem at horizon T (state bounds and goal shrunk by eps + buffer,
+// workspace constraints grown by delta + margins + buffer). `problem` must outlive the result.
+PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOptions& options = {});
+
+}  // namespace marsyn::planning

@@ -1,0 +1,24 @@
+#pragma once
+// Planar geometry for the eps-robust constraints: convex polygons, their Minkowski sum with an
+// axis-aligned box, and the Euclidean signed distance of a point to them.
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace marsyn::planning {
+
+using Polygon = std::vector<Eigen::Vector2d>;  // convex, counter-clockwise
+
+// Convex hull (counter-clockwise, no collinear points) of a point set.
+Polygon convex_hull(std::vector<Eigen::Vector2d> points);
+
+// P + [-rx, rx] x [-ry, ry]. For a point p, dist_inf(p, P) >= r holds exactly when p lies outside
+// the interior of P grown by the box (r, r); growing by the workspace margin box as well makes the
+// condition hold for every point of p's margin box, with no conservatism.
+Polygon grow_by_box(const Polygon& poly, double rx, double ry);
+
+// Euclidean signed distance from p to the polygon (negative inside) and its gradient in p
+// (a unit vector; for points inside, the outward normal of the nearest edge).
+double signed_distance(const Polygon& poly, const Eigen::Vector2d& p, Eigen::Vector2d* grad = nullptr);
+
+}  // namespace marsyn::planning

@@ -1,0 +1,59 @@
+#pragma once
+// Workspace margins: how far an agent's workspace point can move while its state stays inside
+// the eps-box around the nominal state. The eps-robust spec grows every workspace constraint by
+// these margins (docs/planner.md, "Margins").
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "marsyn/problem.hpp"
+
+namespace marsyn::planning {
+
+// Per workspace coordinate: |p(y)_c - p(x)_c| <= m[c] for all y with |y - x| <= eps.
+struct WorkspaceMargin {
+  double x = 0.0, y = 0.0;
+  double inf() const { return x > y ? x : y; }
+  double two() const;
+};
+
+// A sound bound at one nominal state (exact for the linear map; an interval enclosure of the
+// footprint over the eps-box otherwise). Used by the exact robustness check.
+WorkspaceMargin margin_at(const AgentSpec& agent, const Eigen::VectorXd& x);
+
+// Sound bounds for nominal states inside `region` (the agent's state bounds shrunk by eps): the
+// region is covered by cells along the coordinates the footprint reads, and for each cell C the
+// footprint's enclosure over C + eps-box is compared with its enclosure over C. The planner's
+// constraints look up the cell of the current state (a piecewise-constant margin).
+// Cells are evaluated lazily (a solver visits few of them); the table is safe to share between
+// threads.
+class MarginTable {
+ public:
+  MarginTable(const AgentSpec& agent, const Box& region, int cells_per_dim = 256);
+  // The bound of x's cell. Outside the region x is clamped to it: there the state bounds are
+  // violated anyway, so the planner's constraint need not be sound.
+  WorkspaceMargin at(const double* x) const;
+  WorkspaceMargin max() const;  // evaluates every cell
+  bool constant() const { return split_.empty(); }
+
+ private:
+  double edge(int s, int j) const;
+  WorkspaceMargin evaluate(long idx) const;
+
+  const AgentSpec* agent_;
+  std::vector<int> split_;
+  int k_ = 1;
+  Eigen::VectorXd lo_, hi_;
+  WorkspaceMargin linear_;
+  mutable std::vector<WorkspaceMargin> cells_;
+  mutable std::unique_ptr<std::atomic<bool>[]> done_;
+  mutable std::mutex fill_;
+};
+
+// The largest bound of the table: one margin valid at every state of the region.
+WorkspaceMargin global_margin(const AgentSpec& agent, const Box& region, int cells_per_dim = 256);
+
+}  // namespace marsyn::planning

@@ -1,0 +1,59 @@
+#pragma once
+// What `marsyn plan` runs: assemble the eps-robust problem, solve it with a Planner, clamp and
+// re-simulate the inputs, run the exact check, and lengthen the horizon when that fails.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "marsyn/core/planning/constraints.hpp"
+#include "marsyn/core/planning/robust_check.hpp"
+#include "marsyn/planner.hpp"
+
+namespace marsyn::planning {
+
+struct PlanSearchOptions {
+  AssemblyOptions assembly;
+  int max_attempts = 4;          // horizons tried: T, then T * growth, ... (bounded)
+  double horizon_growth = 1.25;  // factor between attempts (at least +1 step)
+  double time_limit_s = 300.0;   // for the whole search; each solve gets what is left
+  std::function<void(const std::string&)> log;        // one line per attempt; may be empty
+  std::function<void(const PlanProgress&)> progress;  // forwarded to the planner; may be empty
+};
+
+struct PlanAttempt {
+  int horizon = 0;
+  PlannerStatus status = PlannerStatus::Crash;
+  int iterations = 0;
+  double solve_time_s = 0.0;
+  double max_violation = 0.0;
+  RobustCheck check;
+  std::string message;
+};
+
+struct PlanOutcome {
+  bool feasible = false;  // the exact robust check passed
+  int horizon = 0;
+  PlanResult result;      // of the returned attempt
+  RobustCheck check;      // of the returned plan
+  GlobalPlan plan;        // inputs clamped to U, states re-simulated from x0
+  std::vector<NominalTrajectory> agents;  // the projection of `plan`
+  std::vector<PlanAttempt> attempts;
+  double total_time_s = 0.0;
+};
+
+// Never throws for algorithmic failure (feasible == false then, with the best attempt's data);
+// throws std::invalid_argument for an inconsistent problem.
+PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearchOptions& options = {});
+
+// plan.json: problem name, horizon, tau, feasible, solver status, timings, iterations, violation,
+// smallest robust margin (and where), attempts, and per agent its states and inputs.
+void write_plan_json(const std::string& path, const Problem& problem, const PlanOutcome& outcome);
+
+// One CSV per agent, DIR/<agent>.csv: k, t, state names..., input names... (no inputs at k = T).
+// Returns the files written.
+std::vector<std::string> write_agent_csvs(const std::string& dir, const Problem& problem, const PlanOutcome& outcome);
+
+// A one-screen human summary.
+std::string summary(const Problem& problem, const PlanOutcome& outcome);
+
+}  // namespace marsyn::planning

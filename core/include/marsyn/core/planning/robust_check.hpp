@@ -1,0 +1,32 @@
+#pragma once
+// The exact eps-robust check, independent of any solver: re-simulate the nominal inputs from x0
+// with the sampled map f_tau and verify, at every step k = 0..T, that every state within eps of
+// the nominal one satisfies the real specification (docs/planner.md, "Exact check").
+#include <string>
+#include <vector>
+
+#include "marsyn/problem.hpp"
+
+namespace marsyn::planning {
+
+struct RobustCheck {
+  bool passed = false;
+  // Smallest signed margin over the state requirements (bounds, goal, obstacles, collisions,
+  // formation), and the requirement attaining it, e.g. "collision drone1 vs drone2".
+  double min_margin = 0.0;
+  std::string worst;
+  int worst_step = -1;
+  // Inputs are reported apart: clamped inputs sit exactly on their bounds (margin 0).
+  double min_input_margin = 0.0;
+  std::string worst_input;
+  double max_state_mismatch = 0.0;  // |re-simulated x - plan.x|_inf, when the plan carries states
+  std::string message;              // one line for humans
+};
+
+// x_0 = problem's x0, x_{k+1} = f_tau(x_k, u_k) (RK4, problem.rk4_substeps), no disturbance.
+std::vector<Eigen::VectorXd> simulate(const Problem& problem, const std::vector<Eigen::VectorXd>& inputs);
+
+// Re-simulates plan.u and checks the eps-robust spec along the result (plan.x is only compared).
+RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan);
+
+}  // namespace marsyn::planning

@@ -1,0 +1,228 @@
+#include "marsyn/core/planning/constraints.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "marsyn/dual.hpp"
+
+namespace marsyn::planning {
+
+std::vector<int> state_offsets(const Problem& problem) {
+  std::vector<int> off{0};
+  for (const auto& a : problem.agents) off.push_back(off.back() + a.n());
+  return off;
+}
+
+std::vector<int> input_offsets(const Problem& problem) {
+  std::vector<int> off{0};
+  for (const auto& a : problem.agents) off.push_back(off.back() + a.m());
+  return off;
+}
+
+void workspace_point_jacobian(const AgentSpec& agent, const double* x, double* p, double* J) {
+  const int n = agent.n();
+  const auto& ws = agent.workspace;
+  if (ws.linear()) {
+    workspace_point(*agent.dynamics, ws, x, p);
+    if (J) {
+      for (int i = 0; i < 2 * n; ++i) J[i] = 0.0;
+      for (int c = 0; c < 2; ++c)
+        if (ws.index[c] >= 0) J[c * n + ws.index[c]] = 1.0;
+    }
+    return;
+  }
+  if (!J) {
+    agent.dynamics->footprint(ws.footprint, x, p);
+    return;
+  }
+  std::vector<DualD> xd(n);
+  for (int i = 0; i < n; ++i) xd[i] = DualD::variable(x[i], i, n);
+  DualD pd[2];
+  agent.dynamics->footprint(ws.footprint, xd.data(), pd);
+  for (int c = 0; c < 2; ++c) {
+    p[c] = pd[c].v;
+    for (int i = 0; i < n; ++i) J[c * n + i] = pd[c].derivative(i);
+  }
+}
+
+namespace {
+
+std::vector<int> range_support(int off_a, int n_a, int off_b = 0, int n_b = 0) {
+  std::vector<int> s;
+  for (int i = 0; i < n_a; ++i) s.push_back(off_a + i);
+  for (int i = 0; i < n_b; ++i) s.push_back(off_b + i);
+  return s;
+}
+
+// d = p_a - p_b and its Jacobians (2 x n_a, 2 x n_b) for a constraint on agents a, b.
+struct PairGeometry {
+  double d[2];
+  double Ja[2 * kMaxDual], Jb[2 * kMaxDual];
+  PairGeometry(const AgentSpec& a, const AgentSpec& b, const double* xa, const double* xb, bool jac) {
+    double pa[2], pb[2];
+    workspace_point_jacobian(a, xa, pa, jac ? Ja : nullptr);
+    workspace_point_jacobian(b, xb, pb, jac ? Jb : nullptr);
+    d[0] = pa[0] - pb[0];
+    d[1] = pa[1] - pb[1];
+  }
+  // Row of dg/dx given dg/dd.
+  void chain(const double* gd, int na, int nb, double* row) const {
+    for (int i = 0; i < na; ++i) row[i] = gd[0] * Ja[i] + gd[1] * Ja[na + i];
+    for (int i = 0; i < nb; ++i) row[na + i] = -(gd[0] * Jb[i] + gd[1] * Jb[nb + i]);
+  }
+};
+
+}  // namespace
+
+ObstacleConstraint::ObstacleConstraint(std::string name, const AgentSpec& agent, int offset, Polygon obstacle,
+                                       std::shared_ptr<const MarginTable> margins, double grow, double clearance)
+    : name_(std::move(name)), agent_(&agent), support_(range_support(offset, agent.n())),
+      obstacle_(std::move(obstacle)), margins_(std::move(margins)), grow_(grow), clearance_(clearance) {
+  if (margins_->constant()) grown_ = grow_by_box(obstacle_, margins_->max().x + grow_, margins_->max().y + grow_);
+}
+
+void ObstacleConstraint::evaluate(const double* x, double* g, double* jac) const {
+  const int n = agent_->n();
+  const double* xa = x + support_[0];
+  double p[2];
+  double J[2 * kMaxDual];
+  workspace_point_jacobian(*agent_, xa, p, jac ? J : nullptr);
+  Eigen::Vector2d grad;
+  double sd;
+  if (margins_->constant()) {
+    sd = signed_distance(grown_, Eigen::Vector2d(p[0], p[1]), &grad);
+  } else {
+    const WorkspaceMargin m = margins_->at(xa);
+    sd = signed_distance(grow_by_box(obstacle_, m.x + grow_, m.y + grow_), Eigen::Vector2d(p[0], p[1]), &grad);
+  }
+  g[0] = clearance_ - sd;
+  if (jac)
+    for (int i = 0; i < n; ++i) jac[i] = -(grad[0] * J[i] + grad[1] * J[n + i]);
+}
+
+PairConstraint::PairConstraint(std::string name, const AgentSpec& a, int offset_a, const AgentSpec& b,
+                               int offset_b, Norm norm, double delta, std::shared_ptr<const MarginTable> ma,
+                               std::shared_ptr<const MarginTable> mb, double corner, double buffer)
+    : name_(std::move(name)), a_(&a), b_(&b), support_(range_support(offset_a, a.n(), offset_b, b.n())),
+      norm_(norm), delta_(delta), ma_(std::move(ma)), mb_(std::move(mb)), corner_(corner), buffer_(buffer) {}
+
+void PairConstraint::evaluate(const double* x, double* g, double* jac) const {
+  const int na = a_->n(), nb = b_->n();
+  const double *xa = x + support_[0], *xb = x + support_[na];
+  const PairGeometry geo(*a_, *b_, xa, xb, jac != nullptr);
+  // The margins are piecewise constant in the state: their variation is not differentiated.
+  const WorkspaceMargin m1 = ma_->at(xa), m2 = mb_->at(xb);
+  double gd[2];
+  if (norm_ == Norm::Two) {
+    const double len = std::hypot(geo.d[0], geo.d[1]);
+    g[0] = delta_ + m1.two() + m2.two() + buffer_ - len;
+    const double inv = len > 1e-12 ? 1.0 / len : 0.0;
+    gd[0] = -geo.d[0] * inv;
+    gd[1] = -geo.d[1] * inv;
+  } else {
+    const double rx = delta_ + m1.x + m2.x, ry = delta_ + m1.y + m2.y;
+    const double sx = geo.d[0] / rx, sy = geo.d[1] / ry;
+    const double ax = std::abs(sx), ay = std::abs(sy);
+    // M(a, b) = (a + b)/2 + sigma((a - b)/2) <= max(a, b), where sigma is |z| smoothed below on
+    // |z| < c by z^2 (2c - |z|) / c^2 (C1, never above |z|): exact unless |a - b| < 2c.
+    const double z = 0.5 * (ax - ay), az = std::abs(z), c = corner_;
+    double sigma = az, dsigma = z >= 0 ? 1.0 : -1.0;
+    if (az < c) {
+      sigma = z * z * (2 * c - az) / (c * c);
+      dsigma = (z >= 0 ? 1.0 : -1.0) * (4 * c * az - 3 * z * z) / (c * c);
+    }
+    const double M = 0.5 * (ax + ay) + sigma;
+    const double dMx = (0.5 + 0.5 * dsigma) * (sx >= 0 ? 1 : -1), dMy = (0.5 - 0.5 * dsigma) * (sy >= 0 ? 1 : -1);
+    const double scale = std::min(rx, ry);
+    g[0] = scale * (1.0 - M) + buffer_;
+    gd[0] = -scale * dMx / rx;
+    gd[1] = -scale * dMy / ry;
+  }
+  if (jac) geo.chain(gd, na, nb, jac);
+}
+
+FormationConstraint::FormationConstraint(std::string name, const AgentSpec& a, int offset_a, const AgentSpec& b,
+                                         int offset_b, double lambda, double mu,
+                                         std::shared_ptr<const MarginTable> ma, std::shared_ptr<const MarginTable> mb,
+                                         double buffer)
+    : name_(std::move(name)), a_(&a), b_(&b), support_(range_support(offset_a, a.n(), offset_b, b.n())),
+      lambda_(lambda), mu_(mu), ma_(std::move(ma)), mb_(std::move(mb)), buffer_(buffer) {}
+
+void FormationConstraint::evaluate(const double* x, double* g, double* jac) const {
+  const int na = a_->n(), nb = b_->n();
+  const double *xa = x + support_[0], *xb = x + support_[na];
+  const PairGeometry geo(*a_, *b_, xa, xb, jac != nullptr);
+  const double slack = ma_->at(xa).two() + mb_->at(xb).two() + buffer_;
+  const double len = std::hypot(geo.d[0], geo.d[1]);
+  g[0] = len - (lambda_ + mu_ - slack);
+  g[1] = (lambda_ - mu_ + slack) - len;
+  if (jac) {
+    const double inv = len > 1e-12 ? 1.0 / len : 0.0;
+    const double gd[2] = {geo.d[0] * inv, geo.d[1] * inv};
+    const double gn[2] = {-gd[0], -gd[1]};
+    geo.chain(gd, na, nb, jac);
+    geo.chain(gn, na, nb, jac + na + nb);
+  }
+}
+
+PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOptions& opt) {
+  const int N = static_cast<int>(problem.agents.size());
+  if (N == 0) throw std::invalid_argument("marsyn::planning::assemble: the problem has no agents");
+  if (horizon <= 0) throw std::invalid_argument("marsyn::planning::assemble: horizon must be positive");
+  const auto xo = state_offsets(problem), uo = input_offsets(problem);
+  const int n = xo.back(), m = uo.back();
+  PlanningProblem pp;
+  pp.problem = &problem;
+  pp.horizon = horizon;
+  pp.x0.resize(n);
+  pp.input_bounds = {Eigen::VectorXd(m), Eigen::VectorXd(m)};
+  pp.state_bounds = {Eigen::VectorXd(n), Eigen::VectorXd(n)};
+  pp.goal = {Eigen::VectorXd(n), Eigen::VectorXd(n)};
+  std::vector<std::shared_ptr<const MarginTable>> margin(N);
+  for (int i = 0; i < N; ++i) {
+    const auto& a = problem.agents[i];
+    if (a.dynamics == nullptr || a.dynamics->state_dim() != a.n() || a.dynamics->input_dim() != a.m() ||
+        a.eps.size() != a.n() || a.state_bounds.dim() != a.n() || a.goal.dim() != a.n())
+      throw std::invalid_argument("marsyn::planning::assemble: inconsistent dimensions for agent " + a.name);
+    const Eigen::VectorXd shrink = a.eps.array() + opt.buffer;
+    pp.x0.segment(xo[i], a.n()) = a.x0;
+    const Box X = a.state_bounds.shrunk(shrink), G = a.goal.shrunk(shrink);
+    pp.state_bounds.lo.segment(xo[i], a.n()) = X.lo;
+    pp.state_bounds.hi.segment(xo[i], a.n()) = X.hi;
+    pp.goal.lo.segment(xo[i], a.n()) = G.lo;
+    pp.goal.hi.segment(xo[i], a.n()) = G.hi;
+    pp.input_bounds.lo.segment(uo[i], a.m()) = a.input_bounds.lo;
+    pp.input_bounds.hi.segment(uo[i], a.m()) = a.input_bounds.hi;
+    margin[i] = std::make_shared<MarginTable>(a, a.state_bounds.shrunk(a.eps));
+  }
+  const double delta = problem.delta;
+  const bool inf = problem.delta_norm == Norm::Inf;
+  for (int i = 0; i < N; ++i) {
+    const auto& a = problem.agents[i];
+    for (size_t o = 0; o < problem.obstacles.size(); ++o) {
+      const auto& obs = problem.obstacles[o];
+      pp.constraints.push_back(std::make_shared<ObstacleConstraint>(
+          "obstacle " + (obs.name.empty() ? std::to_string(o) : obs.name) + " vs " + a.name, a, xo[i], obs.vertices,
+          margin[i], inf ? delta : 0.0, (inf ? 0.0 : delta) + opt.buffer));
+    }
+  }
+  if (problem.pairwise_collision)
+    for (int i = 0; i < N; ++i)
+      for (int j = i + 1; j < N; ++j) {
+        const auto &a = problem.agents[i], &b = problem.agents[j];
+        pp.constraints.push_back(std::make_shared<PairConstraint>(
+            "collision " + a.name + " vs " + b.name, a, xo[i], b, xo[j], problem.delta_norm, delta, margin[i],
+            margin[j], opt.inf_norm_corner, opt.buffer));
+      }
+  for (const auto& f : problem.formation) {
+    if (f.i < 0 || f.j < 0 || f.i >= N || f.j >= N || f.i == f.j)
+      throw std::invalid_argument("marsyn::planning::assemble: formation pair with a bad agent index");
+    const auto &a = problem.agents[f.i], &b = problem.agents[f.j];
+    pp.constraints.push_back(std::make_shared<FormationConstraint>("formation " + a.name + " - " + b.name, a,
+                                                                   xo[f.i], b, xo[f.j], f.lambda, f.mu, margin[f.i],
+                                                                   margin[f.j], opt.buffer));
+  }
+  return pp;
+}
+
+}  // namespace marsyn::planning

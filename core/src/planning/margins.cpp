@@ -1,0 +1,150 @@
+#include "marsyn/core/planning/margins.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "marsyn/interval.hpp"
+
+namespace marsyn::planning {
+
+double WorkspaceMargin::two() const { return std::sqrt(x * x + y * y); }
+
+namespace {
+
+WorkspaceMargin linear_margin(const AgentSpec& a) {
+  WorkspaceMargin m;
+  const auto& ws = a.workspace;
+  m.x = ws.index[0] >= 0 ? a.eps[ws.index[0]] : 0.0;
+  m.y = ws.index[1] >= 0 ? a.eps[ws.index[1]] : 0.0;
+  return m;
+}
+
+// max over p in P, q in Q of |p - q| per coordinate, with P = enclosure over the grown box and
+// Q = enclosure over the nominal cell.
+void spread(const Interval* big, const Interval* small, WorkspaceMargin& m) {
+  for (int c = 0; c < 2; ++c) {
+    const double v = std::max(big[c].upper() - small[c].lower(), small[c].upper() - big[c].lower());
+    (c == 0 ? m.x : m.y) = std::max(c == 0 ? m.x : m.y, v);
+  }
+}
+
+}  // namespace
+
+WorkspaceMargin margin_at(const AgentSpec& a, const Eigen::VectorXd& x) {
+  if (a.workspace.linear()) return linear_margin(a);
+  const int n = a.n();
+  std::vector<Interval> box(n), point(n);
+  for (int i = 0; i < n; ++i) {
+    box[i] = Interval(x[i] - a.eps[i], x[i] + a.eps[i]);
+    point[i] = Interval(x[i]);
+  }
+  Interval big[2], small[2];
+  a.dynamics->footprint(a.workspace.footprint, box.data(), big);
+  a.dynamics->footprint(a.workspace.footprint, point.data(), small);
+  WorkspaceMargin m;
+  spread(big, small, m);
+  return m;
+}
+
+MarginTable::MarginTable(const AgentSpec& a, const Box& region, int cells_per_dim) : agent_(&a) {
+  if (a.workspace.linear()) {
+    linear_ = linear_margin(a);
+    return;
+  }
+  const int n = a.n();
+  // Split only the coordinates the footprint reads: an interval evaluation with one coordinate
+  // replaced by a wide interval is unchanged exactly when the footprint ignores it.
+  std::vector<Interval> probe(n);
+  for (int i = 0; i < n; ++i) probe[i] = Interval(region.center()[i]);
+  Interval base[2];
+  a.dynamics->footprint(a.workspace.footprint, probe.data(), base);
+  for (int i = 0; i < n; ++i) {
+    auto p = probe;
+    p[i] = Interval(region.lo[i], region.hi[i]);
+    Interval out[2];
+    a.dynamics->footprint(a.workspace.footprint, p.data(), out);
+    for (int c = 0; c < 2; ++c)
+      if (out[c].lower() != base[c].lower() || out[c].upper() != base[c].upper()) {
+        split_.push_back(i);
+        break;
+      }
+  }
+  if (split_.empty()) {  // a constant footprint
+    linear_ = evaluate(0);
+    return;
+  }
+  // Bounded memory for footprints reading many coordinates.
+  k_ = split_.size() <= 2 ? cells_per_dim : split_.size() == 3 ? 32 : 8;
+  lo_ = region.lo;
+  hi_ = region.hi;
+  long total = 1;
+  for (size_t s = 0; s < split_.size(); ++s) total *= k_;
+  cells_.resize(total);
+  done_ = std::make_unique<std::atomic<bool>[]>(total);
+  for (long i = 0; i < total; ++i) done_[i].store(false);
+}
+
+WorkspaceMargin MarginTable::evaluate(long idx) const {
+  const AgentSpec& a = *agent_;
+  const int n = a.n();
+  std::vector<Interval> cell(n), grown(n);
+  for (int i = 0; i < n; ++i) cell[i] = Interval(lo_.size() ? lo_[i] : 0.0, hi_.size() ? hi_[i] : 0.0);
+  long r = idx;
+  for (int s : split_) {
+    const int j = static_cast<int>(r % k_);
+    r /= k_;
+    cell[s] = Interval(edge(s, j), edge(s, j + 1));
+  }
+  for (int i = 0; i < n; ++i) grown[i] = Interval(cell[i].lower() - a.eps[i], cell[i].upper() + a.eps[i]);
+  Interval big[2], small[2];
+  a.dynamics->footprint(a.workspace.footprint, grown.data(), big);
+  a.dynamics->footprint(a.workspace.footprint, cell.data(), small);
+  WorkspaceMargin m;
+  spread(big, small, m);
+  return m;
+}
+
+double MarginTable::edge(int s, int j) const {
+  // The same expression for the shared edge of neighbouring cells, so the cover has no gaps.
+  return j == k_ ? hi_[s] : lo_[s] + j * ((hi_[s] - lo_[s]) / k_);
+}
+
+WorkspaceMargin MarginTable::at(const double* x) const {
+  if (split_.empty()) return linear_;
+  long idx = 0, stride = 1;
+  for (int s : split_) {
+    const double v = std::clamp(x[s], lo_[s], hi_[s]);
+    int j = std::clamp(static_cast<int>((v - lo_[s]) / ((hi_[s] - lo_[s]) / k_)), 0, k_ - 1);
+    // Rounding may put v just outside cell j: step to the neighbour that holds it.
+    if (v < edge(s, j) && j > 0) --j;
+    if (v > edge(s, j + 1) && j + 1 < k_) ++j;
+    idx += j * stride;
+    stride *= k_;
+  }
+  if (!done_[idx].load(std::memory_order_acquire)) {
+    std::lock_guard<std::mutex> lock(fill_);
+    if (!done_[idx].load(std::memory_order_relaxed)) {
+      cells_[idx] = evaluate(idx);
+      done_[idx].store(true, std::memory_order_release);
+    }
+  }
+  return cells_[idx];
+}
+
+WorkspaceMargin MarginTable::max() const {
+  if (split_.empty()) return linear_;
+  WorkspaceMargin m;
+  for (long i = 0; i < static_cast<long>(cells_.size()); ++i) {
+    const WorkspaceMargin c = evaluate(i);
+    m.x = std::max(m.x, c.x);
+    m.y = std::max(m.y, c.y);
+  }
+  return m;
+}
+
+WorkspaceMargin global_margin(const AgentSpec& a, const Box& region, int cells_per_dim) {
+  return MarginTable(a, region, cells_per_dim).max();
+}
+
+}  // namespace marsyn::planning

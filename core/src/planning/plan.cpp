@@ -1,0 +1,120 @@
+#include "marsyn/core/planning/plan.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "marsyn/core/planning/projector.hpp"
+
+namespace marsyn::planning {
+
+namespace {
+
+double now_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// Solvers meet bounds only to their tolerance; clamping keeps U exact and the assembly buffer
+// absorbs the resulting state change.
+GlobalPlan clamp_and_resimulate(const Problem& problem, const GlobalPlan& raw) {
+  const auto uo = input_offsets(problem);
+  GlobalPlan out;
+  out.tau = problem.tau;
+  out.u = raw.u;
+  for (auto& u : out.u)
+    for (size_t i = 0; i < problem.agents.size(); ++i) {
+      const auto& U = problem.agents[i].input_bounds;
+      for (int c = 0; c < U.dim(); ++c) {
+        double& v = u[uo[i] + c];
+        if (!std::isfinite(v)) v = 0.0;
+        v = std::clamp(v, U.lo[c], U.hi[c]);
+      }
+    }
+  out.x = simulate(problem, out.u);
+  return out;
+}
+
+GlobalPlan extend(const Problem& problem, const GlobalPlan& p, int horizon) {
+  GlobalPlan w = p;
+  const int m = problem.product_input_dim();
+  while (static_cast<int>(w.u.size()) < horizon) w.u.push_back(Eigen::VectorXd::Zero(m));
+  w.x = simulate(problem, w.u);
+  return w;
+}
+
+}  // namespace
+
+PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearchOptions& options) {
+  const double t0 = now_s();
+  PlanOutcome best;
+  best.check.min_margin = -std::numeric_limits<double>::infinity();
+  int horizon = problem.horizon;
+  if (horizon <= 0) throw std::invalid_argument("marsyn::planning::plan: the problem's horizon must be positive");
+  std::optional<GlobalPlan> warm;
+  for (int attempt = 0; attempt < std::max(1, options.max_attempts); ++attempt) {
+    const double left = options.time_limit_s - (now_s() - t0);
+    if (attempt > 0 && left <= 0) {
+      if (options.log) options.log("time limit reached: no further horizons tried");
+      break;
+    }
+    PlanningProblem pp = assemble(problem, horizon, options.assembly);
+    if (warm) pp.warm_start = extend(problem, *warm, horizon);
+    PlanOptions po;
+    po.time_limit_s = std::max(left, 1e-3);
+    po.progress = options.progress;
+    PlanResult res = planner.solve(pp, po);
+    PlanAttempt a;
+    a.horizon = horizon;
+    a.status = res.status;
+    a.iterations = res.iterations;
+    a.solve_time_s = res.solve_time_s;
+    a.max_violation = res.max_violation;
+    a.message = res.message;
+    GlobalPlan clean;
+    if (static_cast<int>(res.plan.u.size()) == horizon) {
+      clean = clamp_and_resimulate(problem, res.plan);
+      a.check = check_robust(problem, clean);
+    } else {
+      a.check.message = "the planner returned no inputs";
+      a.check.min_margin = -std::numeric_limits<double>::infinity();
+    }
+    if (options.log) {
+      std::ostringstream os;
+      os << "T = " << horizon << ": " << to_string(res.status) << " after " << res.iterations << " iterations, "
+         << res.solve_time_s << " s, violation " << res.max_violation << "; " << a.check.message;
+      if (!res.message.empty()) os << "; planner: " << res.message;
+      options.log(os.str());
+    }
+    best.attempts.push_back(a);
+    const bool better = best.attempts.size() == 1 || a.check.passed || a.check.min_margin > best.check.min_margin;
+    if (better && !best.feasible) {
+      best.horizon = horizon;
+      best.result = std::move(res);
+      best.check = a.check;
+      best.plan = clean;
+      best.feasible = a.check.passed;
+    }
+    if (best.feasible) break;
+    if (!clean.u.empty()) warm = clean;
+    horizon = std::max(horizon + 1, static_cast<int>(std::ceil(horizon * options.horizon_growth)));
+  }
+  if (!best.plan.u.empty()) best.agents = ProductProjector().project(problem, best.plan);
+  best.total_time_s = now_s() - t0;
+  return best;
+}
+
+std::string summary(const Problem& problem, const PlanOutcome& o) {
+  std::ostringstream os;
+  os << "problem " << (problem.name.empty() ? "(unnamed)" : problem.name) << ": " << problem.agents.size()
+     << " agents, " << problem.product_state_dim() << " states, " << problem.product_input_dim() << " inputs\n";
+  for (const auto& a : o.attempts)
+    os << "  T = " << a.horizon << ": " << to_string(a.status) << ", " << a.iterations << " iterations, "
+       << a.solve_time_s << " s, solver violation " << a.max_violation << ", "
+       << (a.check.passed ? "robust" : "not robust") << " (margin " << a.check.min_margin << ")\n";
+  os << (o.feasible ? "FEASIBLE" : "NO FEASIBLE PLAN") << ": horizon " << o.horizon << ", total " << o.total_time_s
+     << " s\n  " << o.check.message << "\n";
+  return os.str();
+}
+
+}  // namespace marsyn::planning

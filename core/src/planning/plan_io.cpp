@@ -1,0 +1,88 @@
+#include <filesystem>
+#include <iomanip>
+#include <fstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "marsyn/core/planning/plan.hpp"
+
+namespace marsyn::planning {
+
+namespace {
+nlohmann::json rows(const std::vector<Eigen::VectorXd>& v) {
+  auto out = nlohmann::json::array();
+  for (const auto& r : v) out.push_back(std::vector<double>(r.data(), r.data() + r.size()));
+  return out;
+}
+std::ofstream open(const std::string& path) {
+  std::ofstream f(path);
+  if (!f) throw std::runtime_error("cannot write " + path);
+  f.precision(17);
+  return f;
+}
+}  // namespace
+
+void write_plan_json(const std::string& path, const Problem& problem, const PlanOutcome& o) {
+  nlohmann::json j;
+  j["problem"] = problem.name;
+  j["source"] = problem.source;
+  j["feasible"] = o.feasible;
+  j["horizon"] = o.horizon;
+  j["tau"] = problem.tau;
+  j["status"] = to_string(o.result.status);
+  j["solver_message"] = o.result.message;
+  j["solve_time_s"] = o.result.solve_time_s;
+  j["total_time_s"] = o.total_time_s;
+  j["iterations"] = o.result.iterations;
+  j["final_violation"] = o.result.max_violation;
+  j["min_robust_margin"] = o.check.min_margin;
+  j["min_robust_margin_at"] = {{"requirement", o.check.worst}, {"step", o.check.worst_step}};
+  j["min_input_margin"] = o.check.min_input_margin;
+  j["check"] = o.check.message;
+  auto attempts = nlohmann::json::array();
+  for (const auto& a : o.attempts)
+    attempts.push_back({{"horizon", a.horizon}, {"status", to_string(a.status)}, {"iterations", a.iterations},
+                        {"solve_time_s", a.solve_time_s}, {"final_violation", a.max_violation},
+                        {"robust", a.check.passed}, {"min_robust_margin", a.check.min_margin},
+                        {"message", a.message}});
+  j["attempts"] = attempts;
+  auto agents = nlohmann::json::array();
+  for (size_t i = 0; i < o.agents.size() && i < problem.agents.size(); ++i) {
+    const auto& a = problem.agents[i];
+    agents.push_back({{"name", a.name}, {"dynamics", a.dynamics_type},
+                      {"state_names", a.dynamics->state_names()}, {"input_names", a.dynamics->input_names()},
+                      {"states", rows(o.agents[i].x)}, {"inputs", rows(o.agents[i].u)}});
+  }
+  j["agents"] = agents;
+  auto f = open(path);
+  f << j.dump(1) << "\n";
+}
+
+std::vector<std::string> write_agent_csvs(const std::string& dir, const Problem& problem, const PlanOutcome& o) {
+  std::filesystem::create_directories(dir);
+  std::vector<std::string> files;
+  for (size_t i = 0; i < o.agents.size() && i < problem.agents.size(); ++i) {
+    const auto& a = problem.agents[i];
+    const auto& tr = o.agents[i];
+    const std::string path = (std::filesystem::path(dir) / (a.name + ".csv")).string();
+    auto f = open(path);
+    f << "k,t";
+    for (const auto& s : a.dynamics->state_names()) f << "," << s;
+    for (const auto& s : a.dynamics->input_names()) f << "," << s;
+    f << "\n";
+    for (size_t k = 0; k < tr.x.size(); ++k) {
+      f << k << "," << std::setprecision(12) << k * problem.tau << std::setprecision(17);
+      for (int c = 0; c < tr.x[k].size(); ++c) f << "," << tr.x[k][c];
+      for (int c = 0; c < a.m(); ++c) {
+        f << ",";
+        if (k < tr.u.size()) f << tr.u[k][c];
+      }
+      f << "\n";
+    }
+    files.push_back(path);
+  }
+  return files;
+}
+
+}  // namespace marsyn::planning

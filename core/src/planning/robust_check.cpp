@@ -1,0 +1,132 @@
+#include "marsyn/core/planning/robust_check.hpp"
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <sstream>
+
+#include "marsyn/core/planning/constraints.hpp"
+#include "marsyn/core/planning/geometry.hpp"
+#include "marsyn/core/planning/margins.hpp"
+#include "marsyn/sampled_map.hpp"
+
+namespace marsyn::planning {
+
+std::vector<Eigen::VectorXd> simulate(const Problem& problem, const std::vector<Eigen::VectorXd>& inputs) {
+  const auto xo = state_offsets(problem), uo = input_offsets(problem);
+  std::vector<Eigen::VectorXd> x(inputs.size() + 1, Eigen::VectorXd(xo.back()));
+  for (size_t i = 0; i < problem.agents.size(); ++i) x[0].segment(xo[i], problem.agents[i].n()) = problem.agents[i].x0;
+  for (size_t k = 0; k < inputs.size(); ++k)
+    for (size_t i = 0; i < problem.agents.size(); ++i)
+      rk4_step<double>(*problem.agents[i].dynamics, x[k].data() + xo[i], inputs[k].data() + uo[i], nullptr,
+                       problem.tau, problem.rk4_substeps, x[k + 1].data() + xo[i]);
+  return x;
+}
+
+namespace {
+
+class Tally {
+ public:
+  // Names are built only for new minima: the 50-agent check visits ~10^5 requirements per plan.
+  void record(double margin, int k, const std::function<std::string()>& name) {
+    if (!(margin >= min_)) {  // also catches NaN
+      min_ = std::isnan(margin) ? -std::numeric_limits<double>::infinity() : margin;
+      step_ = k;
+      name_ = name();
+    }
+  }
+  double min_ = std::numeric_limits<double>::infinity();
+  int step_ = -1;
+  std::string name_;
+};
+
+}  // namespace
+
+RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan) {
+  RobustCheck r;
+  const int T = plan.horizon();
+  const auto xo = state_offsets(problem), uo = input_offsets(problem);
+  for (const auto& u : plan.u)
+    if (u.size() != uo.back()) {
+      r.message = "plan inputs have the wrong dimension";
+      r.min_margin = -std::numeric_limits<double>::infinity();
+      return r;
+    }
+  const auto x = simulate(problem, plan.u);
+  if (plan.x.size() == x.size())
+    for (size_t k = 0; k < x.size(); ++k)
+      if (plan.x[k].size() == x[k].size())
+        r.max_state_mismatch = std::max(r.max_state_mismatch, (plan.x[k] - x[k]).cwiseAbs().maxCoeff());
+
+  const int N = static_cast<int>(problem.agents.size());
+  const bool inf = problem.delta_norm == Norm::Inf;
+  const double delta = problem.delta;
+  Tally t, tu;
+  for (int k = 0; k <= T; ++k) {
+    std::vector<Eigen::Vector2d> p(N);
+    std::vector<WorkspaceMargin> m(N);
+    for (int i = 0; i < N; ++i) {
+      const auto& a = problem.agents[i];
+      const Eigen::VectorXd xi = x[k].segment(xo[i], a.n());
+      m[i] = margin_at(a, xi);
+      workspace_point(*a.dynamics, a.workspace, xi.data(), p[i].data());
+      const Box X = a.state_bounds.shrunk(a.eps);
+      for (int c = 0; c < a.n(); ++c)
+        t.record(std::min(xi[c] - X.lo[c], X.hi[c] - xi[c]), k, [&] {
+          return "state bound " + a.dynamics->state_names()[c] + " of " + a.name;
+        });
+      if (k < T) {
+        const Eigen::VectorXd ui = plan.u[k].segment(uo[i], a.m());
+        for (int c = 0; c < a.m(); ++c)
+          tu.record(std::min(ui[c] - a.input_bounds.lo[c], a.input_bounds.hi[c] - ui[c]), k, [&] {
+            return "input bound " + a.dynamics->input_names()[c] + " of " + a.name;
+          });
+      } else {
+        const Box G = a.goal.shrunk(a.eps);
+        for (int c = 0; c < a.n(); ++c)
+          t.record(std::min(xi[c] - G.lo[c], G.hi[c] - xi[c]), k, [&] {
+            return "goal " + a.dynamics->state_names()[c] + " of " + a.name;
+          });
+      }
+      for (size_t o = 0; o < problem.obstacles.size(); ++o) {
+        const double g = inf ? delta : 0.0;
+        const Polygon grown = grow_by_box(problem.obstacles[o].vertices, m[i].x + g, m[i].y + g);
+        t.record(signed_distance(grown, p[i]) - (inf ? 0.0 : delta), k, [&] {
+          return "obstacle " + (problem.obstacles[o].name.empty() ? std::to_string(o) : problem.obstacles[o].name) +
+                 " vs " + a.name;
+        });
+      }
+    }
+    if (problem.pairwise_collision)
+      for (int i = 0; i < N; ++i)
+        for (int j = i + 1; j < N; ++j) {
+          const Eigen::Vector2d d = p[i] - p[j];
+          // Inf-norm: the margin boxes add, and ||d'||_inf >= delta for every d' in
+          // d + box(mx_i + mx_j, my_i + my_j) iff one coordinate clears its sum.
+          const double margin =
+              inf ? std::max(std::abs(d.x()) - (delta + m[i].x + m[j].x), std::abs(d.y()) - (delta + m[i].y + m[j].y))
+                  : d.norm() - (delta + m[i].two() + m[j].two());
+          t.record(margin, k, [&] { return "collision " + problem.agents[i].name + " vs " + problem.agents[j].name; });
+        }
+    for (const auto& f : problem.formation) {
+      const double len = (p[f.i] - p[f.j]).norm(), slack = m[f.i].two() + m[f.j].two();
+      t.record(std::min(f.lambda + f.mu - slack - len, len - (f.lambda - f.mu + slack)), k, [&] {
+        return "formation " + problem.agents[f.i].name + " - " + problem.agents[f.j].name;
+      });
+    }
+  }
+  r.min_margin = t.min_;
+  r.worst = t.name_;
+  r.worst_step = t.step_;
+  r.min_input_margin = tu.min_;
+  r.worst_input = tu.name_;
+  r.passed = t.min_ >= 0.0 && tu.min_ >= 0.0;
+  std::ostringstream os;
+  os << (r.passed ? "eps-robust: smallest margin " : "NOT eps-robust: ") << r.min_margin << " (" << r.worst
+     << " at step " << r.worst_step << ")";
+  if (tu.min_ < 0) os << "; " << r.worst_input << " violated by " << -tu.min_ << " at step " << tu.step_;
+  r.message = os.str();
+  return r;
+}
+
+}  // namespace marsyn::planning

@@ -1,0 +1,137 @@
+#include <gtest/gtest.h>
+
+#include "dynamics_unicycle/src/unicycle.hpp"
+#include "marsyn/core/planning/constraints.hpp"
+#include "marsyn/core/planning/projector.hpp"
+#include "marsyn/core/planning/robust_check.hpp"
+
+using namespace marsyn;
+using namespace marsyn::planning;
+
+namespace {
+
+AgentSpec unicycle(const std::string& name, Eigen::Vector3d x0) {
+  AgentSpec a;
+  a.name = name;
+  a.dynamics_type = "unicycle";
+  a.dynamics = std::make_shared<models::Unicycle>();
+  a.x0 = x0;
+  a.state_bounds = {Eigen::Vector3d(-10, -10, -4), Eigen::Vector3d(10, 10, 4)};
+  a.input_bounds = {Eigen::Vector2d(-2, -2), Eigen::Vector2d(2, 2)};
+  a.goal = {Eigen::Vector3d(-10, -10, -4), Eigen::Vector3d(10, 10, 4)};
+  a.eps = Eigen::Vector3d(0.1, 0.1, 0.1);
+  a.w = Eigen::Vector3d::Zero();
+  return a;
+}
+
+// One unicycle driving +x at speed 1 for 1 s (ends at x = 1) towards a box whose near face is at
+// `face`: with delta = 0.2 (inf-norm) and eps = 0.1 the robust spec needs 1 <= face - 0.3.
+Problem drive_to_wall(double face) {
+  Problem p;
+  p.agents.push_back(unicycle("car", {0, 0, 0}));
+  Obstacle o;
+  o.name = "wall";
+  o.vertices = {{face, -1}, {face + 1, -1}, {face + 1, 1}, {face, 1}};
+  p.obstacles.push_back(o);
+  p.delta = 0.2;
+  p.delta_norm = Norm::Inf;
+  p.tau = 0.1;
+  p.horizon = 10;
+  return p;
+}
+
+GlobalPlan straight(int T, int agents) {
+  GlobalPlan g;
+  for (int k = 0; k < T; ++k) {
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(2 * agents);
+    for (int i = 0; i < agents; ++i) u[2 * i] = 1.0;
+    g.u.push_back(u);
+  }
+  return g;
+}
+
+}  // namespace
+
+TEST(RobustCheck, AcceptsAClearMarginAndRejectsASlightViolation) {
+  const auto ok = check_robust(drive_to_wall(1.3 + 1e-3), straight(10, 1));
+  EXPECT_TRUE(ok.passed) << ok.message;
+  EXPECT_NEAR(ok.min_margin, 1e-3, 1e-6);
+  const auto bad = check_robust(drive_to_wall(1.3 - 1e-3), straight(10, 1));
+  EXPECT_FALSE(bad.passed);
+  EXPECT_NEAR(bad.min_margin, -1e-3, 1e-6);
+  EXPECT_EQ(bad.worst, "obstacle wall vs car");
+  EXPECT_EQ(bad.worst_step, 10);
+}
+
+TEST(RobustCheck, PairMarginsAddBothEps) {
+  // Two cars side by side, 0.4 + s apart in y: inf-norm delta 0.2 plus 2 x 0.1 needs s >= 0.
+  for (double s : {1e-3, -1e-3}) {
+    Problem p;
+    p.agents.push_back(unicycle("a", {0, 0, 0}));
+    p.agents.push_back(unicycle("b", {0, 0.4 + s, 0}));
+    p.delta = 0.2;
+    const auto r = check_robust(p, straight(5, 2));
+    EXPECT_EQ(r.passed, s > 0) << r.message;
+    EXPECT_NEAR(r.min_margin, s, 1e-9);
+  }
+}
+
+TEST(RobustCheck, RejectsInputsOutsideUAndAMissedGoal) {
+  auto p = drive_to_wall(5.0);
+  auto u = straight(10, 1);
+  u.u[3][0] = 2.0 + 1e-4;
+  const auto ru = check_robust(p, u);
+  EXPECT_FALSE(ru.passed);
+  EXPECT_NEAR(ru.min_input_margin, -1e-4, 1e-12);
+  EXPECT_EQ(ru.worst_input, "input bound v of car");
+  p.agents[0].goal = {Eigen::Vector3d(1.2, -1, -1), Eigen::Vector3d(2, 1, 1)};  // shrunk: x >= 1.3
+  const auto r = check_robust(p, straight(10, 1));
+  EXPECT_FALSE(r.passed);
+  EXPECT_EQ(r.worst, "goal x of car");
+}
+
+TEST(Assembly, SolverConstraintsAreNoWeakerThanTheCheck) {
+  // At a state the check accepts with a small margin, the assembled constraints may reject (they
+  // are conservative) but where they accept, the check must accept too.
+  Problem p;
+  p.agents.push_back(unicycle("a", {0, 0, 0}));
+  p.agents.push_back(unicycle("b", {0.45, 0.45, 0}));
+  p.delta = 0.2;
+  const auto pp = assemble(p, 5, {});
+  ASSERT_EQ(pp.constraints.size(), 1u);
+  for (double dy : {0.3, 0.4, 0.45, 0.5, 0.6, 0.8}) {
+    Eigen::VectorXd x(6);
+    x << 0, 0, 0, dy, dy, 0;
+    double g;
+    pp.constraints[0]->evaluate(x.data(), &g, nullptr);
+    p.agents[1].x0 = x.tail(3);
+    const auto r = check_robust(p, GlobalPlan{0.1, {}, {}});
+    if (g <= 0) EXPECT_TRUE(r.passed) << dy;
+  }
+  // The Jacobian matches finite differences.
+  Eigen::VectorXd x(6);
+  x << 0.1, -0.2, 0.3, 0.5, 0.7, -0.1;
+  double g, jac[6];
+  pp.constraints[0]->evaluate(x.data(), &g, jac);
+  for (int i = 0; i < 6; ++i) {
+    Eigen::VectorXd y = x;
+    y[i] += 1e-6;
+    double gy;
+    pp.constraints[0]->evaluate(y.data(), &gy, nullptr);
+    EXPECT_NEAR((gy - g) / 1e-6, jac[i], 1e-5);
+  }
+}
+
+TEST(Projector, SplitsTheProductPlan) {
+  Problem p;
+  p.agents.push_back(unicycle("a", {0, 0, 0}));
+  p.agents.push_back(unicycle("b", {0, 2, 0}));
+  auto g = straight(3, 2);
+  g.x = simulate(p, g.u);
+  const auto parts = ProductProjector().project(p, g);
+  ASSERT_EQ(parts.size(), 2u);
+  EXPECT_EQ(parts[1].agent, "b");
+  EXPECT_EQ(parts[1].x.size(), 4u);
+  EXPECT_NEAR(parts[1].x[3][1], 2.0, 1e-12);
+  EXPECT_NEAR(parts[1].x[3][0], 0.3, 1e-12);
+}
