@@ -1,0 +1,49 @@
+#pragma once
+// Augmented-Lagrangian iLQR on the product system, in the spirit of ALTRO (Howell et al. 2019):
+// iLQR inner solves on the RK4 map with exact AD Jacobians, outer multiplier/penalty updates,
+// Levenberg-Marquardt style regularization and a backtracking line search. The product dynamics
+// are block diagonal; the backward pass works on groups of agents (all agents in one group:
+// exact Gauss-Newton; one agent per group: a block-diagonal Gauss-Newton majorizer whose cost
+// grows linearly in the number of agents). See docs/planner.md.
+#include <string>
+#include <vector>
+
+#include "marsyn/params.hpp"
+#include "marsyn/planner.hpp"
+
+namespace marsyn::altro {
+
+struct Options {
+  int max_iterations = 3000;        // iLQR iterations in total
+  int max_outer = 30;               // augmented-Lagrangian updates
+  int max_inner = 150;              // iLQR iterations per outer update
+  double cost_tolerance = 1e-5;     // relative cost decrease ending an inner solve once feasible
+  double cost_tolerance_intermediate = 1e-3;  // ... while still infeasible
+  double constraint_tolerance = 1e-6;         // max violation of the (buffered) constraints
+  double penalty_initial = 1.0;
+  double penalty_scaling = 10.0;
+  double penalty_max = 1e8;
+  double reg_initial = 1e-4;
+  double reg_min = 1e-8;
+  double reg_max = 1e10;
+  double reg_factor = 4.0;
+  double small_step = 0.125;        // accepted steps at most this long raise the regularization
+  int line_search_steps = 12;
+  double q_track = 0.05;            // weight of the straight-line reference per state coordinate
+  double r_input = 0.3;             // input weight
+  double q_terminal = 10.0;         // terminal weight towards the goal centre
+  double bend = 0.1;                // lateral bend of the reference, x path length (breaks symmetry)
+  int polish_iterations = 10;         // final projection steps onto the active constraints
+  double polish_start = 1e-2;          // tried before more penalty rounds below this violation
+  double polish_max_violation = 1e-2;  // after the last round, attempted only below this violation
+  double polish_max_work = 3e9;        // ... and when the dense least squares is this small
+  std::string coupling = "auto";    // exact | block | auto
+  int exact_max_states = 60;        // auto: exact coupling up to this many product states
+
+  static std::vector<ParamSpec> specs();
+  static Options from(const Params& p);  // throws ParamError
+};
+
+PlanResult solve(const PlanningProblem& problem, const PlanOptions& run, const Options& options);
+
+}  // namespace marsyn::altro

@@ -1,0 +1,121 @@
+#include "solver.hpp"
+
+#include <algorithm>
+
+#include <Eigen/Dense>
+
+namespace marsyn::altro::detail {
+
+// The augmented Lagrangian approaches feasibility only as fast as the penalty grows; this step
+// finishes the job. With the near-active rows c_i (violated or within `active` of their bound) as
+// functions of the inputs, it takes the least-norm input change that drives the violated rows to
+// zero and holds the others to first order: dU = J' (J J')^-1 t, t_i = -max(c_i, 0), where row i
+// of J is dc_i/dU by an adjoint sweep through the block-diagonal Jacobians.
+bool Solver::polish(double& viol, std::string& worst, double deadline) {
+  const int N = static_cast<int>(agents_.size());
+  const double active = 1e-3;
+  for (int it = 0; it < opt_.polish_iterations && viol > opt_.constraint_tolerance; ++it) {
+    if (now_s() > deadline) return false;
+    linearize();
+    struct Row {
+      int k;
+      double c;
+      std::vector<std::pair<int, double>> grad;  // product state (or input) index, dc/d
+      bool input;
+    };
+    std::vector<Row> rows;
+    auto take = [&](int k, double c, std::vector<std::pair<int, double>> g, bool input) {
+      if (c > -active) rows.push_back({k, c, std::move(g), input});
+    };
+    std::vector<double> g(64), jac;
+    for (int k = 0; k < T_; ++k)
+      for (int j = 0; j < m_; ++j) {
+        take(k, pp_.input_bounds.lo[j] - U_[k][j], {{j, -1.0}}, true);
+        take(k, U_[k][j] - pp_.input_bounds.hi[j], {{j, 1.0}}, true);
+      }
+    for (int k = 1; k <= T_; ++k) {
+      const Vec& x = X_[k];
+      for (int i = 0; i < n_; ++i) {
+        take(k, pp_.state_bounds.lo[i] - x[i], {{i, -1.0}}, false);
+        take(k, x[i] - pp_.state_bounds.hi[i], {{i, 1.0}}, false);
+        if (k == T_) {
+          take(k, pp_.goal.lo[i] - x[i], {{i, -1.0}}, false);
+          take(k, x[i] - pp_.goal.hi[i], {{i, 1.0}}, false);
+        }
+      }
+      auto add = [&](const ConstraintRef& r) {
+        g.resize(std::max<size_t>(g.size(), r.rows));
+        r.c->evaluate(x.data(), g.data(), nullptr);
+        bool any = false;
+        for (int j = 0; j < r.rows; ++j) any |= g[j] > -active;
+        if (!any) return;
+        const auto& sup = r.c->support();
+        jac.resize(static_cast<size_t>(r.rows) * sup.size());
+        r.c->evaluate(x.data(), g.data(), jac.data());
+        for (int j = 0; j < r.rows; ++j) {
+          std::vector<std::pair<int, double>> gr;
+          for (size_t a = 0; a < sup.size(); ++a) gr.push_back({sup[a], jac[j * sup.size() + a]});
+          take(k, g[j], std::move(gr), false);
+        }
+      };
+      for (const auto& r : stage_) add(r);
+      if (k == T_)
+        for (const auto& r : terminal_) add(r);
+    }
+    const long cols = static_cast<long>(T_) * m_;
+    if (rows.empty() || static_cast<double>(rows.size()) * rows.size() * cols > opt_.polish_max_work) return false;
+    Mat J = Mat::Zero(static_cast<long>(rows.size()), cols);
+    Vec t(static_cast<long>(rows.size()));
+    std::vector<int> agent_of(n_);
+    for (int i = 0; i < N; ++i)
+      for (int c = 0; c < agents_[i].n; ++c) agent_of[agents_[i].xo + c] = i;
+    Vec v = Vec::Zero(n_);
+    for (size_t r = 0; r < rows.size(); ++r) {
+      const Row& row = rows[r];
+      t[r] = -std::max(row.c, 0.0);
+      if (row.input) {
+        for (const auto& [j, d] : row.grad) J(r, static_cast<long>(row.k) * m_ + j) += d;
+        continue;
+      }
+      // Adjoint sweep restricted to the agents the row reads (the dynamics do not couple them).
+      std::vector<int> who;
+      for (const auto& [i, d] : row.grad) {
+        v[i] += d;
+        if (std::find(who.begin(), who.end(), agent_of[i]) == who.end()) who.push_back(agent_of[i]);
+      }
+      for (int j = row.k - 1; j >= 0; --j)
+        for (int ai : who) {
+          const auto& a = agents_[ai];
+          J.row(r).segment(static_cast<long>(j) * m_ + a.uo, a.m) = (B_[j * N + ai].transpose() * v.segment(a.xo, a.n)).transpose();
+          v.segment(a.xo, a.n) = A_[j * N + ai].transpose() * v.segment(a.xo, a.n);
+        }
+      for (int ai : who) v.segment(agents_[ai].xo, agents_[ai].n).setZero();
+    }
+    Mat M = J * J.transpose();
+    M.diagonal().array() += 1e-12 * (1.0 + M.diagonal().maxCoeff());
+    const Vec y = M.ldlt().solve(t);
+    const Vec dU = J.transpose() * y;
+    if (!dU.allFinite()) return false;
+    bool improved = false;
+    for (double alpha = 1.0; alpha > 1e-3 && !improved; alpha *= 0.5) {
+      Xn_[0] = X_[0];
+      for (int k = 0; k < T_; ++k) {
+        Un_[k] = U_[k] + alpha * dU.segment(static_cast<long>(k) * m_, m_);
+        for (const auto& a : agents_) step_agent(a, Xn_[k], Un_[k], Xn_[k + 1]);
+      }
+      std::string w;
+      const double nv = max_violation(Xn_, Un_, &w);
+      if (nv < viol) {
+        std::swap(X_, Xn_);
+        std::swap(U_, Un_);
+        viol = nv;
+        worst = w;
+        improved = true;
+      }
+    }
+    if (!improved) return false;
+  }
+  return viol <= opt_.constraint_tolerance;
+}
+
+}  // namespace marsyn::altro::detail

@@ -1,0 +1,92 @@
+#include "rk4.hpp"
+
+#include "marsyn/dual.hpp"
+#include "marsyn/scalar.hpp"
+
+namespace marsyn::altro {
+
+void rk4_step_fixed(const Dynamics& f, const double* x, const double* u, double tau, int substeps, double* out) {
+  const int n = f.state_dim();
+  double k1[kMaxDual], k2[kMaxDual], k3[kMaxDual], k4[kMaxDual], y[kMaxDual], xs[kMaxDual];
+  for (int i = 0; i < n; ++i) xs[i] = x[i];
+  const double h = tau / substeps;
+  for (int s = 0; s < substeps; ++s) {
+    f.field(xs, u, k1);
+    for (int i = 0; i < n; ++i) y[i] = xs[i] + (0.5 * h) * k1[i];
+    f.field(y, u, k2);
+    for (int i = 0; i < n; ++i) y[i] = xs[i] + (0.5 * h) * k2[i];
+    f.field(y, u, k3);
+    for (int i = 0; i < n; ++i) y[i] = xs[i] + h * k3[i];
+    f.field(y, u, k4);
+    for (int i = 0; i < n; ++i) xs[i] = xs[i] + (h / 6.0) * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+  }
+  for (int i = 0; i < n; ++i) out[i] = xs[i];
+}
+
+namespace {
+
+template <int NX, int W>
+void staged_impl(const Dynamics& f, const double* x, const double* u, double tau, int substeps, double* A,
+                 double* B) {
+  const int n = NX > 0 ? NX : f.state_dim(), w = W > 0 ? W : f.state_dim() + f.input_dim(), m = w - n;
+  DualD yd[kMaxDual], ud[kMaxDual], kd[kMaxDual];
+  double xs[kMaxDual], y[kMaxDual], kv[4][kMaxDual];
+  // S = d xs / d(x0, u): n x w; dk[s] = d k_s / d(x0, u); Jf = [f_x f_u] at the stage point.
+  double S[kMaxDual * kMaxDual], Y[kMaxDual * kMaxDual], dk[4][kMaxDual * kMaxDual], Jf[kMaxDual * kMaxDual];
+  for (int i = 0; i < n; ++i) {
+    xs[i] = x[i];
+    for (int j = 0; j < w; ++j) S[i * w + j] = i == j ? 1.0 : 0.0;
+  }
+  for (int j = 0; j < m; ++j) ud[j] = DualD::variable(u[j], n + j, w);
+  const double h = tau / substeps;
+  auto stage = [&](const double* pt, const double* dpt, int s) {
+    for (int i = 0; i < n; ++i) yd[i] = DualD::variable(pt[i], i, w);
+    f.field(yd, ud, kd);
+    for (int i = 0; i < n; ++i) {
+      kv[s][i] = kd[i].v;
+      for (int j = 0; j < w; ++j) Jf[i * w + j] = kd[i].d[j];  // slots >= kd[i].n are zero
+    }
+    // dk = f_x * dpt + [0 f_u]
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < w; ++j) {
+        double acc = j >= n ? Jf[i * w + j] : 0.0;
+        for (int l = 0; l < n; ++l) acc += Jf[i * w + l] * dpt[l * w + j];
+        dk[s][i * w + j] = acc;
+      }
+  };
+  for (int sub = 0; sub < substeps; ++sub) {
+    stage(xs, S, 0);
+    for (int i = 0; i < n; ++i) y[i] = xs[i] + (0.5 * h) * kv[0][i];
+    for (int e = 0; e < n * w; ++e) Y[e] = S[e] + (0.5 * h) * dk[0][e];
+    stage(y, Y, 1);
+    for (int i = 0; i < n; ++i) y[i] = xs[i] + (0.5 * h) * kv[1][i];
+    for (int e = 0; e < n * w; ++e) Y[e] = S[e] + (0.5 * h) * dk[1][e];
+    stage(y, Y, 2);
+    for (int i = 0; i < n; ++i) y[i] = xs[i] + h * kv[2][i];
+    for (int e = 0; e < n * w; ++e) Y[e] = S[e] + h * dk[2][e];
+    stage(y, Y, 3);
+    for (int i = 0; i < n; ++i) xs[i] = xs[i] + (h / 6.0) * (kv[0][i] + 2.0 * kv[1][i] + 2.0 * kv[2][i] + kv[3][i]);
+    for (int e = 0; e < n * w; ++e) S[e] = S[e] + (h / 6.0) * (dk[0][e] + 2.0 * dk[1][e] + 2.0 * dk[2][e] + dk[3][e]);
+  }
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) A[i * n + j] = S[i * w + j];
+    for (int j = 0; j < m; ++j) B[i * m + j] = S[i * w + n + j];
+  }
+}
+
+}  // namespace
+
+// Forward-mode differentiation of the RK4 map done stage by stage: each stage needs only the
+// field's own Jacobian [f_x f_u] (one dual evaluation), and the sensitivities are propagated with
+// small dense products. Same derivative as marsyn::rk4_jacobians, without dual arithmetic in the
+// stage combinations (which dominated the profile).
+void rk4_jacobians_staged(const Dynamics& f, const double* x, const double* u, double tau, int substeps,
+                          double* A, double* B) {
+  const int n = f.state_dim(), m = f.input_dim();
+  if (n == 3 && m == 2) return staged_impl<3, 5>(f, x, u, tau, substeps, A, B);
+  if (n == 2 && m == 1) return staged_impl<2, 3>(f, x, u, tau, substeps, A, B);
+  if (n == 4 && m == 1) return staged_impl<4, 5>(f, x, u, tau, substeps, A, B);
+  staged_impl<0, 0>(f, x, u, tau, substeps, A, B);
+}
+
+}  // namespace marsyn::altro

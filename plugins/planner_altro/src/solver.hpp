@@ -1,0 +1,101 @@
+#pragma once
+// The solver's internal state and steps (not part of the plugin's interface). One Solver lives
+// for one solve() call, so Planner::solve stays const and thread-safe.
+#include <chrono>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "altro_solver.hpp"
+
+namespace marsyn::altro::detail {
+
+using Mat = Eigen::MatrixXd;
+using Vec = Eigen::VectorXd;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+inline double now_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+struct AgentBlock {
+  const Dynamics* dyn;
+  int xo, uo, n, m, group;
+};
+
+struct Group {
+  int xo, uo, n, m;
+  int first, last;  // agents [first, last)
+};
+
+// One generic constraint's rows at one step: multipliers live in a flat array.
+struct ConstraintRef {
+  const Constraint* c;
+  int rows, lam_offset;  // offset into a step's multiplier block
+  std::vector<int> group_of, local;  // per support entry: group and index inside the group
+  int groups_touched;
+};
+
+// PHR augmented-Lagrangian term for c <= 0: (max(0, lam + rho c)^2 - lam^2) / (2 rho).
+inline double phr(double c, double lam, double rho) {
+  const double s = std::max(0.0, lam + rho * c);
+  return (s * s - lam * lam) / (2.0 * rho);
+}
+
+class Solver {
+ public:
+  Solver(const PlanningProblem& pp, const PlanOptions& run, const Options& opt)
+      : pp_(pp), run_(run), opt_(opt), prob_(*pp.problem), T_(pp.horizon) {}
+
+  PlanResult run();
+
+ private:
+  // Setup
+  void layout();
+  void initial_guess();
+  // Evaluation
+  void rollout_nominal();
+  double stage_cost(int k, const Vec& x, const Vec* u) const;
+  double total_cost(const std::vector<Vec>& X, const std::vector<Vec>& U) const;
+  double max_violation(const std::vector<Vec>& X, const std::vector<Vec>& U, std::string* worst) const;
+  void update_multipliers();
+  // Final projection: Gauss-Newton steps on the inputs onto the active constraints.
+  bool polish(double& viol, std::string& worst, double deadline);
+  // iLQR
+  void linearize();
+  void expand_costs();
+  bool backward(double reg, double& dv1, double& dv2);
+  bool forward(double dv1, double dv2, double& alpha);
+  void step_agent(const AgentBlock& a, const Vec& x, const Vec& u, Vec& out) const;
+
+  const PlanningProblem& pp_;
+  const PlanOptions& run_;
+  const Options& opt_;
+  const Problem& prob_;
+  const int T_;
+  int n_ = 0, m_ = 0;
+  std::vector<AgentBlock> agents_;
+  std::vector<Group> groups_;
+  std::vector<int> xgroup_, xlocal_;  // product state index -> group, index in group
+  std::vector<ConstraintRef> stage_, terminal_;
+  int stage_rows_ = 0, terminal_rows_ = 0;
+
+  std::vector<Vec> X_, U_, ref_;
+  Vec goal_centre_;
+  // Multipliers: state bounds (lo, hi), input bounds, generic constraints, goal (terminal).
+  std::vector<Vec> lam_xlo_, lam_xhi_, lam_ulo_, lam_uhi_, lam_c_;
+  Vec lam_glo_, lam_ghi_, lam_t_;
+  double rho_ = 1.0;
+  // Per step: agent Jacobians; per step and group: cost expansion and gains.
+  std::vector<Mat> A_, B_;           // [k * N + agent]
+  std::vector<Mat> lxx_, K_;         // [k * G + group]
+  std::vector<Vec> lx_, luu_, lu_, d_;
+  std::vector<Vec> Xn_, Un_;         // forward-pass candidates
+  int iterations_ = 0;
+  double cost_ = kInf;
+  mutable std::vector<double> scratch_ = std::vector<double>(64);
+};
+
+}  // namespace marsyn::altro::detail

@@ -1,0 +1,122 @@
+// The augmented-Lagrangian cost, the violation measure and the multiplier update.
+#include "solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace marsyn::altro::detail {
+
+double Solver::stage_cost(int k, const Vec& x, const Vec* u) const {
+  double J = 0.0;
+  const bool term = k == T_;
+  const double q = term ? opt_.q_terminal : opt_.q_track;
+  const Vec& target = term ? goal_centre_ : ref_[k];
+  J += 0.5 * q * (x - target).squaredNorm();
+  if (u) {
+    J += 0.5 * opt_.r_input * u->squaredNorm();
+    for (int j = 0; j < m_; ++j) {
+      J += phr(pp_.input_bounds.lo[j] - (*u)[j], lam_ulo_[k][j], rho_);
+      J += phr((*u)[j] - pp_.input_bounds.hi[j], lam_uhi_[k][j], rho_);
+    }
+  }
+  if (k == 0) return J;  // x0 is fixed: constraints there cannot be influenced
+  for (int i = 0; i < n_; ++i) {
+    if (std::isfinite(pp_.state_bounds.lo[i])) J += phr(pp_.state_bounds.lo[i] - x[i], lam_xlo_[k][i], rho_);
+    if (std::isfinite(pp_.state_bounds.hi[i])) J += phr(x[i] - pp_.state_bounds.hi[i], lam_xhi_[k][i], rho_);
+  }
+  std::vector<double>& g = scratch_;
+  for (const auto& r : stage_) {
+    if (static_cast<int>(g.size()) < r.rows) g.resize(r.rows);
+    r.c->evaluate(x.data(), g.data(), nullptr);
+    for (int j = 0; j < r.rows; ++j) J += phr(g[j], lam_c_[k][r.lam_offset + j], rho_);
+  }
+  if (term) {
+    for (int i = 0; i < n_; ++i) {
+      if (std::isfinite(pp_.goal.lo[i])) J += phr(pp_.goal.lo[i] - x[i], lam_glo_[i], rho_);
+      if (std::isfinite(pp_.goal.hi[i])) J += phr(x[i] - pp_.goal.hi[i], lam_ghi_[i], rho_);
+    }
+    for (const auto& r : terminal_) {
+      if (static_cast<int>(g.size()) < r.rows) g.resize(r.rows);
+      r.c->evaluate(x.data(), g.data(), nullptr);
+      for (int j = 0; j < r.rows; ++j) J += phr(g[j], lam_t_[r.lam_offset + j], rho_);
+    }
+  }
+  return J;
+}
+
+double Solver::total_cost(const std::vector<Vec>& X, const std::vector<Vec>& U) const {
+  double J = 0.0;
+  for (int k = 0; k < T_; ++k) J += stage_cost(k, X[k], &U[k]);
+  return J + stage_cost(T_, X[T_], nullptr);
+}
+
+double Solver::max_violation(const std::vector<Vec>& X, const std::vector<Vec>& U, std::string* worst) const {
+  double v = 0.0;
+  auto note = [&](double c, const std::string& what) {
+    if (c > v) {
+      v = c;
+      if (worst) *worst = what;
+    }
+  };
+  for (int k = 0; k < T_; ++k)
+    for (int j = 0; j < m_; ++j) {
+      note(pp_.input_bounds.lo[j] - U[k][j], "input bound");
+      note(U[k][j] - pp_.input_bounds.hi[j], "input bound");
+    }
+  std::vector<double> g(64);
+  for (int k = 1; k <= T_; ++k) {
+    for (int i = 0; i < n_; ++i) {
+      note(pp_.state_bounds.lo[i] - X[k][i], "state bound");
+      note(X[k][i] - pp_.state_bounds.hi[i], "state bound");
+    }
+    for (const auto& r : stage_) {
+      g.resize(std::max<size_t>(g.size(), r.rows));
+      r.c->evaluate(X[k].data(), g.data(), nullptr);
+      for (int j = 0; j < r.rows; ++j)
+        if (g[j] > v) note(g[j], r.c->name());
+    }
+  }
+  for (int i = 0; i < n_; ++i) {
+    note(pp_.goal.lo[i] - X[T_][i], "goal");
+    note(X[T_][i] - pp_.goal.hi[i], "goal");
+  }
+  for (const auto& r : terminal_) {
+    g.resize(std::max<size_t>(g.size(), r.rows));
+    r.c->evaluate(X[T_].data(), g.data(), nullptr);
+    for (int j = 0; j < r.rows; ++j)
+      if (g[j] > v) note(g[j], r.c->name());
+  }
+  return v;
+}
+
+void Solver::update_multipliers() {
+  auto upd = [&](double& lam, double c) { lam = std::max(0.0, lam + rho_ * c); };
+  std::vector<double> g(64);
+  for (int k = 0; k < T_; ++k)
+    for (int j = 0; j < m_; ++j) {
+      upd(lam_ulo_[k][j], pp_.input_bounds.lo[j] - U_[k][j]);
+      upd(lam_uhi_[k][j], U_[k][j] - pp_.input_bounds.hi[j]);
+    }
+  for (int k = 1; k <= T_; ++k) {
+    for (int i = 0; i < n_; ++i) {
+      if (std::isfinite(pp_.state_bounds.lo[i])) upd(lam_xlo_[k][i], pp_.state_bounds.lo[i] - X_[k][i]);
+      if (std::isfinite(pp_.state_bounds.hi[i])) upd(lam_xhi_[k][i], X_[k][i] - pp_.state_bounds.hi[i]);
+    }
+    for (const auto& r : stage_) {
+      g.resize(std::max<size_t>(g.size(), r.rows));
+      r.c->evaluate(X_[k].data(), g.data(), nullptr);
+      for (int j = 0; j < r.rows; ++j) upd(lam_c_[k][r.lam_offset + j], g[j]);
+    }
+  }
+  for (int i = 0; i < n_; ++i) {
+    if (std::isfinite(pp_.goal.lo[i])) upd(lam_glo_[i], pp_.goal.lo[i] - X_[T_][i]);
+    if (std::isfinite(pp_.goal.hi[i])) upd(lam_ghi_[i], X_[T_][i] - pp_.goal.hi[i]);
+  }
+  for (const auto& r : terminal_) {
+    g.resize(std::max<size_t>(g.size(), r.rows));
+    r.c->evaluate(X_[T_].data(), g.data(), nullptr);
+    for (int j = 0; j < r.rows; ++j) upd(lam_t_[r.lam_offset + j], g[j]);
+  }
+}
+
+}  // namespace marsyn::altro::detail

@@ -1,0 +1,307 @@
+// One iLQR iteration: linearization, cost expansion, block-wise backward pass, line search;
+// and the outer augmented-Lagrangian loop around it.
+#include "solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Dense>
+
+#include "rk4.hpp"
+
+namespace marsyn::altro::detail {
+
+void Solver::linearize() {
+  const int N = static_cast<int>(agents_.size());
+  for (int k = 0; k < T_; ++k)
+    for (int i = 0; i < N; ++i) {
+      const auto& a = agents_[i];
+      Mat& A = A_[k * N + i];
+      Mat& B = B_[k * N + i];
+      // rk4_jacobians writes row-major; Eigen's default is column-major.
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> Ar(a.n, a.n), Br(a.n, a.m);
+      rk4_jacobians_staged(*a.dyn, X_[k].data() + a.xo, U_[k].data() + a.uo, prob_.tau, prob_.rk4_substeps,
+                           Ar.data(), Br.data());
+      A = Ar;
+      B = Br;
+    }
+}
+
+void Solver::expand_costs() {
+  const int G = static_cast<int>(groups_.size());
+  std::vector<double> g(64), jac;
+  for (int k = 0; k <= T_; ++k) {
+    const bool term = k == T_;
+    const double q = term ? opt_.q_terminal : opt_.q_track;
+    const Vec& target = term ? goal_centre_ : ref_[k];
+    const Vec& x = X_[k];
+    for (int gi = 0; gi < G; ++gi) {
+      const auto& gr = groups_[gi];
+      Mat& lxx = lxx_[k * G + gi];
+      Vec& lx = lx_[k * G + gi];
+      lxx.setZero(gr.n, gr.n);
+      lxx.diagonal().setConstant(q);
+      lx = q * (x.segment(gr.xo, gr.n) - target.segment(gr.xo, gr.n));
+      if (!term) {
+        Vec& luu = luu_[k * G + gi];
+        Vec& lu = lu_[k * G + gi];
+        luu.setConstant(gr.m, opt_.r_input);
+        lu = opt_.r_input * U_[k].segment(gr.uo, gr.m);
+        for (int j = 0; j < gr.m; ++j) {
+          const int pj = gr.uo + j;
+          const double slo = lam_ulo_[k][pj] + rho_ * (pp_.input_bounds.lo[pj] - U_[k][pj]);
+          const double shi = lam_uhi_[k][pj] + rho_ * (U_[k][pj] - pp_.input_bounds.hi[pj]);
+          if (slo > 0) lu[j] -= slo, luu[j] += rho_;
+          if (shi > 0) lu[j] += shi, luu[j] += rho_;
+        }
+      }
+      if (k == 0) continue;
+      for (int i = 0; i < gr.n; ++i) {
+        const int pi = gr.xo + i;
+        const double lo = term ? pp_.goal.lo[pi] : -kInf, hi = term ? pp_.goal.hi[pi] : kInf;
+        const double slo = std::isfinite(pp_.state_bounds.lo[pi])
+                               ? lam_xlo_[k][pi] + rho_ * (pp_.state_bounds.lo[pi] - x[pi]) : 0.0;
+        const double shi = std::isfinite(pp_.state_bounds.hi[pi])
+                               ? lam_xhi_[k][pi] + rho_ * (x[pi] - pp_.state_bounds.hi[pi]) : 0.0;
+        if (slo > 0) lx[i] -= slo, lxx(i, i) += rho_;
+        if (shi > 0) lx[i] += shi, lxx(i, i) += rho_;
+        if (term) {
+          const double glo = std::isfinite(lo) ? lam_glo_[pi] + rho_ * (lo - x[pi]) : 0.0;
+          const double ghi = std::isfinite(hi) ? lam_ghi_[pi] + rho_ * (x[pi] - hi) : 0.0;
+          if (glo > 0) lx[i] -= glo, lxx(i, i) += rho_;
+          if (ghi > 0) lx[i] += ghi, lxx(i, i) += rho_;
+        }
+      }
+    }
+    if (k == 0) continue;
+    auto add = [&](const ConstraintRef& r, const double* lam) {
+      g.resize(std::max<size_t>(g.size(), r.rows));
+      r.c->evaluate(x.data(), g.data(), nullptr);
+      bool any = false;
+      for (int j = 0; j < r.rows; ++j) any |= lam[r.lam_offset + j] + rho_ * g[j] > 0;
+      if (!any) return;
+      const int s = static_cast<int>(r.local.size());
+      jac.resize(static_cast<size_t>(r.rows) * s);
+      r.c->evaluate(x.data(), g.data(), jac.data());
+      // Dropping cross-group blocks of rho J'J and scaling the kept ones by the number of groups
+      // touched keeps the model an upper bound (Cauchy-Schwarz): a majorizer, so steps stay safe.
+      const double scale = rho_ * r.groups_touched;
+      for (int j = 0; j < r.rows; ++j) {
+        const double mu = lam[r.lam_offset + j] + rho_ * g[j];
+        if (mu <= 0) continue;
+        const double* J = jac.data() + static_cast<size_t>(j) * s;
+        for (int a = 0; a < s; ++a) {
+          const int ga = r.group_of[a];
+          lx_[k * G + ga][r.local[a]] += mu * J[a];
+          Mat& lxx = lxx_[k * G + ga];
+          for (int b = 0; b < s; ++b)
+            if (r.group_of[b] == ga) lxx(r.local[a], r.local[b]) += scale * J[a] * J[b];
+        }
+      }
+    };
+    for (const auto& r : stage_) add(r, lam_c_[k].data());
+    if (term)
+      for (const auto& r : terminal_) add(r, lam_t_.data());
+  }
+}
+
+bool Solver::backward(double reg, double& dv1, double& dv2) {
+  const int G = static_cast<int>(groups_.size());
+  const int N = static_cast<int>(agents_.size());
+  dv1 = dv2 = 0.0;
+  for (int gi = 0; gi < G; ++gi) {
+    const auto& gr = groups_[gi];
+    Mat P = lxx_[T_ * G + gi];
+    Vec p = lx_[T_ * G + gi];
+    Mat PA(gr.n, gr.n), PB(gr.n, gr.m), Qxx, Qux(gr.m, gr.n), Quu(gr.m, gr.m);
+    Vec Qx, Qu(gr.m);
+    for (int k = T_ - 1; k >= 0; --k) {
+      // A and B are block diagonal over the group's agents: multiply block by block (lazy,
+      // coefficient-wise products: the blocks are too thin for Eigen's blocked GEMM to pay off).
+      for (int i = gr.first; i < gr.last; ++i) {
+        const auto& a = agents_[i];
+        const int lo = a.xo - gr.xo, lu = a.uo - gr.uo;
+        PA.middleCols(lo, a.n).noalias() = P.middleCols(lo, a.n).lazyProduct(A_[k * N + i]);
+        PB.middleCols(lu, a.m).noalias() = P.middleCols(lo, a.n).lazyProduct(B_[k * N + i]);
+      }
+      Qxx = lxx_[k * G + gi];
+      Qx = lx_[k * G + gi];
+      Quu.setZero();
+      Quu.diagonal() = luu_[k * G + gi].array() + reg;
+      Qu = lu_[k * G + gi];
+      for (int i = gr.first; i < gr.last; ++i) {
+        const auto& a = agents_[i];
+        const int lo = a.xo - gr.xo, lu = a.uo - gr.uo;
+        const Mat& Ak = A_[k * N + i];
+        const Mat& Bk = B_[k * N + i];
+        Qxx.middleRows(lo, a.n).noalias() += Ak.transpose().lazyProduct(PA.middleRows(lo, a.n));
+        Quu.middleRows(lu, a.m).noalias() += Bk.transpose().lazyProduct(PB.middleRows(lo, a.n));
+        Qux.middleRows(lu, a.m).noalias() = Bk.transpose().lazyProduct(PA.middleRows(lo, a.n));
+        Qx.segment(lo, a.n).noalias() += Ak.transpose() * p.segment(lo, a.n);
+        Qu.segment(lu, a.m).noalias() += Bk.transpose() * p.segment(lo, a.n);
+      }
+      Eigen::LLT<Mat> llt(Quu);
+      if (llt.info() != Eigen::Success) return false;
+      Mat& K = K_[k * G + gi];
+      Vec& d = d_[k * G + gi];
+      K = -llt.solve(Qux);
+      d = -llt.solve(Qu);
+      dv1 += d.dot(Qu);
+      dv2 += 0.5 * d.dot(Quu * d);
+      // With K = -Quu^-1 Qux the usual update collapses to these two lines.
+      P = Qxx;
+      P.noalias() += Qux.transpose() * K;
+      P = 0.5 * (P + P.transpose()).eval();
+      p = Qx;
+      p.noalias() += Qux.transpose() * d;
+      if (!P.allFinite()) return false;
+    }
+  }
+  return true;
+}
+
+bool Solver::forward(double dv1, double dv2, double& alpha) {
+  const int G = static_cast<int>(groups_.size());
+  alpha = 1.0;
+  for (int ls = 0; ls < opt_.line_search_steps; ++ls, alpha *= 0.5) {
+    Xn_[0] = X_[0];
+    bool finite = true;
+    for (int k = 0; k < T_ && finite; ++k) {
+      for (int gi = 0; gi < G; ++gi) {
+        const auto& gr = groups_[gi];
+        Un_[k].segment(gr.uo, gr.m) = U_[k].segment(gr.uo, gr.m) + alpha * d_[k * G + gi] +
+                                     K_[k * G + gi] * (Xn_[k].segment(gr.xo, gr.n) - X_[k].segment(gr.xo, gr.n));
+      }
+      for (const auto& a : agents_) step_agent(a, Xn_[k], Un_[k], Xn_[k + 1]);
+      finite = Xn_[k + 1].allFinite();
+    }
+    if (!finite) continue;
+    const double J = total_cost(Xn_, Un_);
+    const double expected = -(alpha * dv1 + alpha * alpha * dv2);
+    if (!std::isfinite(J)) continue;
+    const double ratio = expected > 0 ? (cost_ - J) / expected : (J < cost_ ? 1.0 : -1.0);
+    if (ratio > 1e-4 && ratio < 10.0 && J < cost_) {
+      std::swap(X_, Xn_);
+      std::swap(U_, Un_);
+      cost_ = J;
+      return true;
+    }
+  }
+  return false;
+}
+
+PlanResult Solver::run() {
+  const double t0 = now_s();
+  PlanResult res;
+  layout();
+  const int N = static_cast<int>(agents_.size()), G = static_cast<int>(groups_.size());
+  lam_xlo_.assign(T_ + 1, Vec::Zero(n_));
+  lam_xhi_ = lam_xlo_;
+  lam_ulo_.assign(T_, Vec::Zero(m_));
+  lam_uhi_ = lam_ulo_;
+  lam_c_.assign(T_ + 1, Vec::Zero(stage_rows_));
+  lam_glo_ = lam_ghi_ = Vec::Zero(n_);
+  lam_t_ = Vec::Zero(terminal_rows_);
+  A_.resize(static_cast<size_t>(T_) * N);
+  B_.resize(A_.size());
+  lxx_.resize(static_cast<size_t>(T_ + 1) * G);
+  lx_.resize(lxx_.size());
+  luu_.resize(lxx_.size());
+  lu_.resize(lxx_.size());
+  K_.resize(lxx_.size());
+  d_.resize(lxx_.size());
+  rho_ = opt_.penalty_initial;
+  initial_guess();
+  Xn_ = X_;
+  Un_ = U_;
+  cost_ = total_cost(X_, U_);
+  double reg = opt_.reg_initial;
+  std::string worst;
+  double viol = max_violation(X_, U_, &worst);
+  bool timed_out = false, stalled = false, polished = false;
+  int outer = 0;
+  for (; outer < opt_.max_outer; ++outer) {
+    const double tol = viol <= 1e2 * opt_.constraint_tolerance ? opt_.cost_tolerance : opt_.cost_tolerance_intermediate;
+    for (int inner = 0; inner < opt_.max_inner && iterations_ < opt_.max_iterations; ++inner) {
+      if (now_s() - t0 > run_.time_limit_s) {
+        timed_out = true;
+        break;
+      }
+      ++iterations_;
+      linearize();
+      expand_costs();
+      double dv1, dv2, alpha = 0.0;
+      bool ok = false;
+      while (reg <= opt_.reg_max) {
+        if (backward(reg, dv1, dv2)) {
+          ok = true;
+          break;
+        }
+        reg *= opt_.reg_factor;
+      }
+      if (!ok) {
+        stalled = true;
+        break;
+      }
+      const double before = cost_;
+      if (!forward(dv1, dv2, alpha)) {
+        reg = std::max(reg * opt_.reg_factor * opt_.reg_factor, 1e-6);
+        if (reg > opt_.reg_max) {
+          stalled = true;
+          break;
+        }
+        continue;
+      }
+      // Small accepted steps mean the model is poor: raise regularization, as for a failure.
+      if (alpha <= opt_.small_step) reg = std::min(reg * opt_.reg_factor, opt_.reg_max);
+      else if (alpha == 1.0) reg = std::max(reg / opt_.reg_factor, opt_.reg_min);
+      if (run_.progress) run_.progress({iterations_, cost_, -1.0});
+      const double decrease = before - cost_;
+      if (decrease < tol * std::max(1.0, std::abs(cost_))) break;
+    }
+    viol = max_violation(X_, U_, &worst);
+    if (run_.progress) run_.progress({iterations_, cost_, viol});
+    if (viol <= opt_.constraint_tolerance || timed_out || iterations_ >= opt_.max_iterations) break;
+    // Close enough for the projection to finish: cheaper than more penalty rounds.
+    if (viol <= opt_.polish_start && polish(viol, worst, t0 + run_.time_limit_s)) {
+      polished = true;
+      break;
+    }
+    if (stalled && rho_ >= opt_.penalty_max) break;
+    stalled = false;
+    update_multipliers();
+    rho_ = std::min(rho_ * opt_.penalty_scaling, opt_.penalty_max);
+    reg = std::max(reg, opt_.reg_initial);
+    cost_ = total_cost(X_, U_);
+  }
+  if (viol > opt_.constraint_tolerance && viol <= opt_.polish_max_violation && !timed_out)
+    polished = polish(viol, worst, t0 + run_.time_limit_s);
+  cost_ = total_cost(X_, U_);
+  res.plan.tau = prob_.tau;
+  res.plan.x = X_;
+  res.plan.u = U_;
+  res.iterations = iterations_;
+  res.solve_time_s = now_s() - t0;
+  res.max_violation = viol;
+  res.cost = cost_;
+  std::ostringstream msg;
+  if (viol <= opt_.constraint_tolerance) {
+    res.status = PlannerStatus::ExactSolution;
+    msg << "converged: violation " << viol << " after " << outer + 1 << " outer updates"
+        << (polished ? " and the final projection" : "");
+  } else {
+    res.status = timed_out ? PlannerStatus::Timeout
+                 : (rho_ >= opt_.penalty_max || outer >= opt_.max_outer) && viol > 1e-2 ? PlannerStatus::Infeasible
+                                                                                        : PlannerStatus::ApproximateSolution;
+    msg << (timed_out ? "time limit reached" : "no feasible plan found") << ": '" << worst << "' violated by "
+        << viol << " after " << iterations_ << " iterations, penalty " << rho_
+        << (res.status == PlannerStatus::Infeasible ? " (penalty at its maximum: likely infeasible at this horizon)"
+                                                    : "");
+  }
+  res.message = msg.str();
+  return res;
+}
+
+}  // namespace marsyn::altro::detail

@@ -1,0 +1,111 @@
+// Problem layout (agents, groups, constraint rows), the initial guess and rollouts.
+#include "solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "rk4.hpp"
+
+namespace marsyn::altro::detail {
+
+void Solver::layout() {
+  const auto& ag = prob_.agents;
+  int xo = 0, uo = 0;
+  for (const auto& a : ag) {
+    agents_.push_back({a.dynamics.get(), xo, uo, a.n(), a.m(), 0});
+    xo += a.n();
+    uo += a.m();
+  }
+  n_ = xo;
+  m_ = uo;
+  const bool exact = opt_.coupling == "exact" || (opt_.coupling == "auto" && n_ <= opt_.exact_max_states);
+  const int N = static_cast<int>(agents_.size());
+  for (int i = 0; i < N; ++i) {
+    if (exact && i > 0) {
+      agents_[i].group = 0;
+      groups_[0].n += agents_[i].n;
+      groups_[0].m += agents_[i].m;
+      groups_[0].last = i + 1;
+      continue;
+    }
+    agents_[i].group = static_cast<int>(groups_.size());
+    groups_.push_back({agents_[i].xo, agents_[i].uo, agents_[i].n, agents_[i].m, i, i + 1});
+  }
+  xgroup_.resize(n_);
+  xlocal_.resize(n_);
+  for (const auto& a : agents_)
+    for (int i = 0; i < a.n; ++i) {
+      xgroup_[a.xo + i] = a.group;
+      xlocal_[a.xo + i] = a.xo + i - groups_[a.group].xo;
+    }
+  for (const auto& c : pp_.constraints) {
+    ConstraintRef r{c.get(), c->size(), 0, {}, {}, 0};
+    std::vector<int> seen;
+    for (int s : c->support()) {
+      r.group_of.push_back(xgroup_[s]);
+      r.local.push_back(xlocal_[s]);
+      if (std::find(seen.begin(), seen.end(), xgroup_[s]) == seen.end()) seen.push_back(xgroup_[s]);
+    }
+    r.groups_touched = static_cast<int>(seen.size());
+    auto& list = c->stage() == ConstraintStage::Terminal ? terminal_ : stage_;
+    int& rows = c->stage() == ConstraintStage::Terminal ? terminal_rows_ : stage_rows_;
+    r.lam_offset = rows;
+    rows += r.rows;
+    list.push_back(std::move(r));
+  }
+}
+
+void Solver::step_agent(const AgentBlock& a, const Vec& x, const Vec& u, Vec& out) const {
+  rk4_step_fixed(*a.dyn, x.data() + a.xo, u.data() + a.uo, prob_.tau, prob_.rk4_substeps, out.data() + a.xo);
+}
+
+void Solver::initial_guess() {
+  const Box& G = pp_.goal;
+  goal_centre_ = Vec(n_);
+  for (int i = 0; i < n_; ++i) {
+    const bool lo = std::isfinite(G.lo[i]), hi = std::isfinite(G.hi[i]);
+    goal_centre_[i] = lo && hi ? 0.5 * (G.lo[i] + G.hi[i]) : lo ? G.lo[i] : hi ? G.hi[i] : pp_.x0[i];
+  }
+  ref_.assign(T_ + 1, Vec(n_));
+  for (int k = 0; k <= T_; ++k) {
+    const double s = static_cast<double>(k) / T_;
+    ref_[k] = pp_.x0 + s * (goal_centre_ - pp_.x0);
+  }
+  // Straight lines of several agents may cross at one point at one time, a guess with no
+  // feasible symmetric neighbour: bend each agent's reference sideways, by a slightly different
+  // amount per agent.
+  const int N = static_cast<int>(agents_.size());
+  for (int i = 0; i < N; ++i) {
+    const auto& ws = prob_.agents[i].workspace;
+    if (!ws.linear() || ws.index[0] < 0 || ws.index[1] < 0) continue;
+    const int ix = agents_[i].xo + ws.index[0], iy = agents_[i].xo + ws.index[1];
+    const Eigen::Vector2d dir(goal_centre_[ix] - pp_.x0[ix], goal_centre_[iy] - pp_.x0[iy]);
+    const double len = dir.norm();
+    if (len < 1e-9) continue;
+    const Eigen::Vector2d perp(-dir.y() / len, dir.x() / len);
+    const double amp = opt_.bend * len * (1.0 + 0.2 * i / std::max(1, N - 1));
+    for (int k = 0; k <= T_; ++k) {
+      const double b = amp * std::sin(M_PI * k / T_);
+      ref_[k][ix] += b * perp.x();
+      ref_[k][iy] += b * perp.y();
+    }
+  }
+  U_.assign(T_, Vec::Zero(m_));
+  if (pp_.warm_start && static_cast<int>(pp_.warm_start->u.size()) >= T_) {
+    for (int k = 0; k < T_; ++k) U_[k] = pp_.warm_start->u[k];
+  } else {
+    for (int k = 0; k < T_; ++k)
+      for (int j = 0; j < m_; ++j)
+        U_[k][j] = std::clamp(0.0, pp_.input_bounds.lo[j], pp_.input_bounds.hi[j]);
+  }
+  rollout_nominal();
+}
+
+void Solver::rollout_nominal() {
+  X_.assign(T_ + 1, Vec(n_));
+  X_[0] = pp_.x0;
+  for (int k = 0; k < T_; ++k)
+    for (const auto& a : agents_) step_agent(a, X_[k], U_[k], X_[k + 1]);
+}
+
+}  // namespace marsyn::altro::detail

@@ -1,0 +1,103 @@
+// iLQR on a linear-quadratic problem must reproduce the LQ optimum, here computed independently
+// by solving the batch least-squares problem over all inputs.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+
+#include "altro_solver.hpp"
+#include "rk4.hpp"
+#include "dynamics_double_integrator/src/double_integrator.hpp"
+#include "marsyn/sampled_map.hpp"
+
+using namespace marsyn;
+
+namespace {
+
+Problem integrator_problem(int T) {
+  Problem p;
+  AgentSpec a;
+  a.name = "car";
+  a.dynamics = std::make_shared<models::DoubleIntegrator>();
+  a.x0 = Eigen::Vector2d(2.0, -1.0);
+  a.input_bounds = {Eigen::VectorXd::Constant(1, -1e6), Eigen::VectorXd::Constant(1, 1e6)};
+  a.state_bounds = {Eigen::Vector2d(-1e6, -1e6), Eigen::Vector2d(1e6, 1e6)};
+  a.goal = {Eigen::Vector2d(-1e3, -1e3), Eigen::Vector2d(1e3, 1e3)};  // centre 0, never active
+  a.eps = Eigen::Vector2d::Zero();
+  a.workspace.index = {0, -1};
+  p.agents.push_back(a);
+  p.tau = 0.1;
+  p.horizon = T;
+  return p;
+}
+
+PlanningProblem planning(const Problem& p) {
+  const auto& a = p.agents[0];
+  PlanningProblem pp;
+  pp.problem = &p;
+  pp.x0 = a.x0;
+  pp.input_bounds = a.input_bounds;
+  pp.state_bounds = a.state_bounds;
+  pp.goal = a.goal;
+  pp.horizon = p.horizon;
+  return pp;
+}
+
+}  // namespace
+
+TEST(Ilqr, MatchesTheLinearQuadraticOptimum) {
+  const int T = 40;
+  const Problem p = integrator_problem(T);
+  altro::Options o;
+  o.q_track = 0.7;
+  o.r_input = 0.05;
+  o.q_terminal = 20.0;
+  o.bend = 0.0;
+  o.reg_initial = o.reg_min = 0.0;
+  o.cost_tolerance = o.cost_tolerance_intermediate = 1e-14;
+  const auto r = altro::solve(planning(p), {}, o);
+  ASSERT_EQ(r.status, PlannerStatus::ExactSolution) << r.message;
+
+  // Batch: x_k = Phi_k x0 + sum_j Gamma_kj u_j; minimise the same cost in U directly.
+  Eigen::Matrix2d A;
+  Eigen::Vector2d B;
+  {
+    double x[2] = {0, 0}, u[1] = {0}, Ar[4], Br[2];
+    rk4_jacobians(*p.agents[0].dynamics, x, u, p.tau, p.rk4_substeps, nullptr, Ar, Br);
+    A << Ar[0], Ar[1], Ar[2], Ar[3];
+    B << Br[0], Br[1];
+  }
+  const Eigen::Vector2d x0 = p.agents[0].x0;
+  Eigen::MatrixXd H = o.r_input * Eigen::MatrixXd::Identity(T, T);
+  Eigen::VectorXd h = Eigen::VectorXd::Zero(T);
+  Eigen::Matrix2d Phi = Eigen::Matrix2d::Identity();
+  Eigen::MatrixXd Gam = Eigen::MatrixXd::Zero(2, T);
+  for (int k = 1; k <= T; ++k) {
+    Gam = (A * Gam).eval();
+    Gam.col(k - 1) = B;
+    Phi = A * Phi;
+    const double q = k == T ? o.q_terminal : o.q_track;
+    const Eigen::Vector2d ref = x0 * (1.0 - double(k) / T) * (k == T ? 0.0 : 1.0);
+    H += q * Gam.transpose() * Gam;
+    h += q * Gam.transpose() * (Phi * x0 - ref);
+  }
+  const Eigen::VectorXd U = -H.ldlt().solve(h);
+  for (int k = 0; k < T; ++k) EXPECT_NEAR(r.plan.u[k][0], U[k], 1e-6) << "k = " << k;
+}
+
+#include "dynamics_cartpole/src/cartpole.hpp"
+#include "dynamics_unicycle/src/unicycle.hpp"
+
+TEST(Jacobians, StagedRk4DerivativeEqualsForwardAd) {
+  const models::CartPole crane;
+  const models::Unicycle uni;
+  const std::vector<std::pair<const Dynamics*, std::vector<double>>> cases = {
+      {&crane, {0.3, -0.7, 2.9, 1.3, 4.2}}, {&uni, {1.0, -2.0, 0.7, 1.5, -0.8}}};
+  for (const auto& [dyn, xu] : cases) {
+    const int n = dyn->state_dim(), m = dyn->input_dim();
+    std::vector<double> A1(n * n), B1(n * m), A2(n * n), B2(n * m);
+    rk4_jacobians(*dyn, xu.data(), xu.data() + n, 0.1, 4, nullptr, A1.data(), B1.data());
+    altro::rk4_jacobians_staged(*dyn, xu.data(), xu.data() + n, 0.1, 4, A2.data(), B2.data());
+    for (int i = 0; i < n * n; ++i) EXPECT_NEAR(A1[i], A2[i], 1e-12) << dyn->type() << " A " << i;
+    for (int i = 0; i < n * m; ++i) EXPECT_NEAR(B1[i], B2[i], 1e-12) << dyn->type() << " B " << i;
+  }
+}
