@@ -3,6 +3,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -60,15 +61,34 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
                                        const Tracker& tracker, const SolveOptions& opt) {
   const int N = static_cast<int>(pb.agents.size());
   std::vector<AgentOutcome> out(N);
-  // Agents in parallel, one tracker thread each, when there are enough of them; otherwise the
-  // tracker gets the threads.
-  const int workers = std::max(1, std::min(opt.threads, N));
+  // Agents in parallel, one tracker thread each, when the work is spread over them; when one
+  // agent dominates (the crane beside a vehicle: 4 vs 2 dimensions), agents run one after the
+  // other with all threads each. Work estimate: tube cells per step x steps x inputs.
+  std::vector<double> work_estimate(N, 0.0);
+  double total_work = 0, max_work = 0;
+  for (int i = 0; i < N; ++i) {
+    const AgentSpec& a = pb.agents[i];
+    double w = static_cast<double>(nominal[i].x.size());
+    for (int c = 0; c < a.n(); ++c) w *= std::max(1.0, std::floor(2 * a.eps[c] / a.eta_x[c]));
+    for (int j = 0; j < a.m(); ++j)
+      w *= std::floor((a.input_bounds.hi[j] - a.input_bounds.lo[j]) / a.eta_u[j] + 1e-9) + 1;
+    work_estimate[i] = w;
+    total_work += w;
+    max_work = std::max(max_work, w);
+  }
+  const bool dominated = N < opt.threads || max_work > 0.5 * total_work;
+  const int workers = dominated ? 1 : std::max(1, std::min(opt.threads, N));
   TrackOptions topt;
-  topt.threads = N >= opt.threads ? 1 : opt.threads;
+  topt.threads = dominated ? opt.threads : 1;
   std::atomic<int> next{0}, done{0};
   std::mutex log_mutex;
+  std::vector<char> running(N, 0);
   auto work = [&] {
     for (int i = next++; i < N; i = next++) {
+      {
+        std::lock_guard<std::mutex> lock(log_mutex);
+        running[i] = 1;
+      }
       const AgentSpec& a = pb.agents[i];
       const TrackingProblem tp = tracking_problem(pb, i, nominal[i]);
       const auto t0 = Clock::now();
@@ -82,6 +102,7 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
       const int d = ++done;
       if (opt.log) {
         std::lock_guard<std::mutex> lock(log_mutex);
+        running[i] = 0;
         std::ostringstream s;
         s << "[track " << d << "/" << N << "] " << a.name << ": " << to_string(out[i].track.status) << ", "
           << out[i].track.stats.tube_cells << " tube cells, N_l " << out[i].track.stats.state_input_pairs << ", "
@@ -91,10 +112,35 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
       }
     }
   };
+  // A heartbeat, so that a long abstraction (minutes for a 4-dimensional agent) is visibly alive.
+  std::mutex beat_mutex;
+  std::condition_variable beat_cv;
+  bool finished = false;
+  std::thread heartbeat([&] {
+    const auto t0 = Clock::now();
+    std::unique_lock<std::mutex> lock(beat_mutex);
+    while (!beat_cv.wait_for(lock, std::chrono::seconds(15), [&] { return finished; })) {
+      if (!opt.log) continue;
+      std::lock_guard<std::mutex> log_lock(log_mutex);
+      std::string names;
+      for (int i = 0; i < N; ++i)
+        if (running[i]) names += (names.empty() ? "" : ", ") + pb.agents[i].name;
+      std::ostringstream s;
+      s << "[track] " << done.load() << "/" << N << " agents done after " << static_cast<int>(since(t0))
+        << " s; still working on " << (names.empty() ? "-" : names);
+      opt.log(s.str());
+    }
+  });
   std::vector<std::thread> pool;
   for (int t = 1; t < workers; ++t) pool.emplace_back(work);
   work();
   for (auto& t : pool) t.join();
+  {
+    std::lock_guard<std::mutex> lock(beat_mutex);
+    finished = true;
+  }
+  beat_cv.notify_all();
+  heartbeat.join();
   return out;
 }
 
