@@ -4,7 +4,8 @@
 set -eu
 PACKAGES="build-essential cmake pkg-config libeigen3-dev libboost-dev libyaml-cpp-dev libcli11-dev
 nlohmann-json3-dev libgtest-dev libgmock-dev
-chromium"
+libnlopt-cxx-dev coinor-libipopt-dev libompl-dev libfcl-dev libboost-serialization-dev libboost-system-dev
+libboost-filesystem-dev libboost-program-options-dev chromium"
 missing=""
 for p in $PACKAGES; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "marsyn/export.hpp"
 #include "marsyn/problem.hpp"
 
 namespace marsyn {
@@ -39,6 +40,18 @@ class Controller {
   virtual int horizon() const = 0;  // steps k = 0..horizon(); time-invariant controllers: -1
   virtual ControlStatus input(const double* x, int k, double* u) const = 0;
   virtual void write(const std::string& path) const = 0;  // throws std::runtime_error on I/O failure
+};
+
+// Optional model-specific successor bound. A Dynamics implementation may also derive from this
+// class; trackers that find it (dynamic_cast) intersect their own sound successor box with the
+// model's, so the hook can only tighten it and must itself be sound: for every state in `cell`
+// (n intervals), the constant input u, and every measurable disturbance with values in [-w, w],
+// the state after tau lies in [lo, hi]. Returns false when it cannot bound the case.
+class MARSYN_EXPORT SuccessorBoundHook {  // exported: found by dynamic_cast across plugin libraries
+ public:
+  virtual ~SuccessorBoundHook() = default;
+  virtual bool successor(const Interval* cell, const double* u, const double* w, double tau, double* lo,
+                         double* hi) const = 0;
 };
 
 struct TrackingProblem {

@@ -1,0 +1,70 @@
+#pragma once
+// The multiple-shooting NLP as an Ipopt TNLP (layout in ipopt_solver.hpp).
+#include <IpTNLP.hpp>
+#include <string>
+#include <vector>
+
+#include "ipopt_solver.hpp"
+#include "planner_nlopt/src/product_model.hpp"
+
+namespace marsyn::ipopt_planner {
+
+class ShootingNlp : public Ipopt::TNLP {
+ public:
+  using Index = Ipopt::Index;
+  using Number = Ipopt::Number;
+
+  ShootingNlp(const plan5::ProductModel& model, const Options& options, const PlanOptions& run, double t0);
+
+  bool get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag, IndexStyleEnum& style) override;
+  bool get_bounds_info(Index n, Number* x_l, Number* x_u, Index m, Number* g_l, Number* g_u) override;
+  bool get_starting_point(Index n, bool init_x, Number* x, bool init_z, Number* z_L, Number* z_U, Index m,
+                          bool init_lambda, Number* lambda) override;
+  bool eval_f(Index n, const Number* x, bool new_x, Number& obj_value) override;
+  bool eval_grad_f(Index n, const Number* x, bool new_x, Number* grad_f) override;
+  bool eval_g(Index n, const Number* x, bool new_x, Index m, Number* g) override;
+  bool eval_jac_g(Index n, const Number* x, bool new_x, Index m, Index nele_jac, Index* iRow, Index* jCol,
+                  Number* values) override;
+  bool eval_h(Index n, const Number* x, bool new_x, Number obj_factor, Index m, const Number* lambda,
+              bool new_lambda, Index nele_hess, Index* iRow, Index* jCol, Number* values) override;
+  void finalize_solution(Ipopt::SolverReturn status, Index n, const Number* x, const Number* z_L,
+                         const Number* z_U, Index m, const Number* g, const Number* lambda, Number obj_value,
+                         const Ipopt::IpoptData* ip_data, Ipopt::IpoptCalculatedQuantities* ip_cq) override;
+  bool intermediate_callback(Ipopt::AlgorithmMode mode, Index iter, Number obj_value, Number inf_pr,
+                             Number inf_du, Number mu, Number d_norm, Number regularization_size,
+                             Number alpha_du, Number alpha_pr, Index ls_trials, const Ipopt::IpoptData* ip_data,
+                             Ipopt::IpoptCalculatedQuantities* ip_cq) override;
+
+  // The solution's inputs (u_0..u_{T-1}); empty before finalize_solution.
+  const std::vector<Eigen::VectorXd>& inputs() const { return solution_u_; }
+  Ipopt::SolverReturn status() const { return status_; }
+  bool timed_out() const { return timed_out_; }
+  int iterations() const { return iterations_; }
+
+ private:
+  int xvar(int k, int i) const { return (k - 1) * n_ + i; }  // k >= 1
+  int uvar(int k, int j) const { return T_ * n_ + k * m_ + j; }
+  const double* state(const Number* z, int k) const { return k == 0 ? model_.pp.x0.data() : z + xvar(k, 0); }
+  // Values and agent Jacobians of f_tau at every step, for the current z.
+  void linearize(const Number* z);
+  void build_patterns();
+
+  const plan5::ProductModel& model_;
+  const Options& o_;
+  const PlanOptions& run_;
+  const double t0_;
+  const int T_, n_, m_;
+  std::vector<const Constraint*> path_, terminal_;
+  int path_rows_ = 0, terminal_rows_ = 0;
+  std::vector<Index> jrow_, jcol_, hrow_, hcol_;
+  // Cache for the current z: next states and row-major agent Jacobians [A | B] per step.
+  std::vector<double> z_cache_;
+  std::vector<Eigen::VectorXd> next_;
+  std::vector<std::vector<double>> jac_;  // [k * agents + i]: n_i x (n_i + m_i)
+  std::vector<Eigen::VectorXd> solution_u_;
+  Ipopt::SolverReturn status_ = Ipopt::INTERNAL_ERROR;
+  bool timed_out_ = false;
+  int iterations_ = 0;
+};
+
+}  // namespace marsyn::ipopt_planner

@@ -1,0 +1,260 @@
+#include "nlopt_solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <nlopt.hpp>
+#include <sstream>
+
+#include "product_model.hpp"
+
+namespace marsyn::nlopt_planner {
+
+std::vector<ParamSpec> Options::specs() {
+  return {
+      {"algorithm", ParamType::String, "auglag_lbfgs", "auglag_lbfgs|auglag_slsqp|slsqp|mma",
+       "NLopt method: augmented Lagrangian around L-BFGS or SLSQP, or SLSQP / MMA on the constraints directly"},
+      {"r_input", ParamType::Real, "0.01", "[0, inf)", "weight of the input energy 1/2 |u|^2"},
+      {"q_terminal", ParamType::Real, "1", "[0, inf)", "weight of 1/2 |x_T - goal centre|^2"},
+      {"feasibility_tolerance", ParamType::Real, "1e-5", "(0, 1e-3)", "largest row violation reported as exact"},
+      {"xtol_rel", ParamType::Real, "1e-8", "(0, 1)", "NLopt relative input tolerance"},
+      {"ftol_rel", ParamType::Real, "1e-10", "(0, 1)", "NLopt relative objective tolerance"},
+      {"max_evaluations", ParamType::Int, "20000", "[1, inf)", "objective evaluations in total"},
+      {"max_dense_entries", ParamType::Real, "2e7", "(0, inf)",
+       "largest dense constraint Jacobian (rows x inputs); larger problems are refused as invalid input"},
+  };
+}
+
+Options Options::from(const Params& p) {
+  Options o;
+  o.algorithm = p.text("algorithm", o.algorithm);
+  if (o.algorithm != "auglag_lbfgs" && o.algorithm != "auglag_slsqp" && o.algorithm != "slsqp" && o.algorithm != "mma")
+    throw ParamError("algorithm", "expected auglag_lbfgs, auglag_slsqp, slsqp or mma");
+  o.r_input = p.real("r_input", o.r_input);
+  o.q_terminal = p.real("q_terminal", o.q_terminal);
+  o.feasibility_tolerance = p.real("feasibility_tolerance", o.feasibility_tolerance);
+  o.xtol_rel = p.real("xtol_rel", o.xtol_rel);
+  o.ftol_rel = p.real("ftol_rel", o.ftol_rel);
+  o.max_evaluations = p.integer("max_evaluations", o.max_evaluations);
+  o.max_dense_entries = p.real("max_dense_entries", o.max_dense_entries);
+  if (o.r_input < 0 || o.q_terminal < 0) throw ParamError("r_input", "weights must be non-negative");
+  if (!(o.feasibility_tolerance > 0)) throw ParamError("feasibility_tolerance", "must be positive");
+  if (o.max_evaluations < 1) throw ParamError("max_evaluations", "must be at least 1");
+  return o;
+}
+
+namespace {
+
+using Vec = Eigen::VectorXd;
+using Mat = Eigen::MatrixXd;
+
+class Shooting {
+ public:
+  Shooting(const plan5::ProductModel& model, const Options& o, const PlanOptions& run)
+      : M_(model), o_(o), run_(run), T_(model.T), n_(model.n), m_(model.m), N_(model.T * model.m) {
+    rows_ = T_ * M_.path.rows() + M_.terminal.rows();
+    U_.assign(T_, Vec(m_));
+    A_.resize(T_);
+    B_.resize(T_);
+  }
+  int variables() const { return N_; }
+  int rows() const { return rows_; }
+
+  double objective(const double* z, double* grad) {
+    load(z, grad != nullptr);
+    const Vec e = X_[T_] - M_.goal_centre;
+    double J = 0.5 * o_.q_terminal * e.squaredNorm();
+    for (const auto& u : U_) J += 0.5 * o_.r_input * u.squaredNorm();
+    if (grad) {
+      // Adjoint: lam_k = dJ/dx_k through the rollout; only x_T carries cost.
+      Vec lam = o_.q_terminal * e;
+      for (int k = T_ - 1; k >= 0; --k) {
+        const Vec g = o_.r_input * U_[k] + B_[k].transpose() * lam;
+        for (int j = 0; j < m_; ++j) grad[k * m_ + j] = g[j];
+        lam = A_[k].transpose() * lam;
+      }
+    }
+    ++evaluations_;
+    last_cost_ = J;
+    return J;
+  }
+
+  void constraints(double* c, const double* z, double* grad) {
+    load(z, grad != nullptr);
+    const int pr = M_.path.rows(), tr = M_.terminal.rows();
+    std::vector<double> jac(std::max({M_.path.nonzeros(), M_.terminal.nonzeros(), 1}));
+    Mat Jp(pr, n_), Jt(tr, n_);
+    // S = d x_k / d U (n x N), zero beyond the inputs already applied.
+    Mat S = Mat::Zero(n_, grad ? N_ : 0);
+    if (grad) std::fill(grad, grad + static_cast<size_t>(rows_) * N_, 0.0);
+    for (int k = 1; k <= T_; ++k) {
+      if (grad) {
+        const int used = (k - 1) * m_;
+        if (used > 0) S.leftCols(used) = A_[k - 1] * S.leftCols(used);
+        S.middleCols(used, m_) = B_[k - 1];
+      }
+      const int r0 = (k - 1) * pr;
+      M_.path.evaluate(X_[k].data(), c + r0, grad ? jac.data() : nullptr);
+      if (grad && pr > 0) {
+        M_.path.dense(jac.data(), Jp);
+        Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> G(grad + static_cast<size_t>(r0) * N_, pr, N_);
+        G.leftCols(k * m_) = Jp * S.leftCols(k * m_);
+      }
+    }
+    if (tr > 0) {
+      const int r0 = T_ * pr;
+      M_.terminal.evaluate(X_[T_].data(), c + r0, grad ? jac.data() : nullptr);
+      if (grad) {
+        M_.terminal.dense(jac.data(), Jt);
+        Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> G(grad + static_cast<size_t>(r0) * N_, tr, N_);
+        G = Jt * S;
+      }
+    }
+    double v = 0.0;
+    for (int r = 0; r < rows_; ++r) v = std::max(v, c[r]);
+    last_violation_ = v;
+    // AUGLAG returns its last subproblem's point, not the best feasible one it passed through.
+    if (v <= o_.feasibility_tolerance) {
+      const double J = cost_at_loaded();
+      if (best_.empty() || J < best_cost_) {
+        best_.assign(z, z + N_);
+        best_cost_ = J;
+      }
+    }
+    if (run_.progress && evaluations_ % 50 == 0) run_.progress({static_cast<int>(evaluations_), last_cost_, v});
+  }
+
+  const std::vector<double>& best() const { return best_; }
+  long evaluations() const { return evaluations_; }
+
+ private:
+  double cost_at_loaded() const {
+    double J = 0.5 * o_.q_terminal * (X_[T_] - M_.goal_centre).squaredNorm();
+    for (const auto& u : U_) J += 0.5 * o_.r_input * u.squaredNorm();
+    return J;
+  }
+
+  // NLopt asks for the objective and the constraints at the same point separately.
+  void load(const double* z, bool derivatives) {
+    const bool same = !z_.empty() && std::equal(z_.begin(), z_.end(), z);
+    if (!same) {
+      z_.assign(z, z + N_);
+      for (int k = 0; k < T_; ++k)
+        for (int j = 0; j < m_; ++j) U_[k][j] = z[k * m_ + j];
+      X_ = M_.rollout(U_);
+      have_jac_ = false;
+    }
+    if (derivatives && !have_jac_) {
+      for (int k = 0; k < T_; ++k) M_.jacobians(X_[k].data(), U_[k].data(), A_[k], B_[k]);
+      have_jac_ = true;
+    }
+  }
+
+  const plan5::ProductModel& M_;
+  const Options& o_;
+  const PlanOptions& run_;
+  const int T_, n_, m_, N_;
+  int rows_ = 0;
+  std::vector<double> z_;
+  std::vector<Vec> U_, X_;
+  std::vector<Mat> A_, B_;
+  bool have_jac_ = false;
+  long evaluations_ = 0;
+  double last_cost_ = 0.0, last_violation_ = 0.0;
+  std::vector<double> best_;
+  double best_cost_ = 0.0;
+};
+
+double objective_cb(unsigned, const double* z, double* grad, void* data) {
+  return static_cast<Shooting*>(data)->objective(z, grad);
+}
+void constraints_cb(unsigned, double* c, unsigned, const double* z, double* grad, void* data) {
+  static_cast<Shooting*>(data)->constraints(c, z, grad);
+}
+
+}  // namespace
+
+PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Options& o) {
+  const double t0 = plan5::now_seconds();
+  PlanResult res;
+  if (!pp.problem || pp.horizon <= 0) {
+    res.status = PlannerStatus::InvalidInput;
+    res.message = "no problem or a non-positive horizon";
+    return res;
+  }
+  plan5::ProductModel model(pp);
+  Shooting sh(model, o, run);
+  if (static_cast<double>(sh.rows()) * sh.variables() > o.max_dense_entries) {
+    res.status = PlannerStatus::InvalidInput;
+    std::ostringstream os;
+    os << "single shooting needs a dense " << sh.rows() << " x " << sh.variables()
+       << " constraint Jacobian, above max_dense_entries = " << o.max_dense_entries << "; use ipopt or altro";
+    res.message = os.str();
+    return res;
+  }
+  const int N = sh.variables();
+  const bool auglag = o.algorithm.rfind("auglag", 0) == 0;
+  const nlopt::algorithm outer = auglag                 ? nlopt::AUGLAG
+                                 : o.algorithm == "mma" ? nlopt::LD_MMA
+                                                        : nlopt::LD_SLSQP;
+  nlopt::opt opt(outer, N);
+  std::vector<double> lo(N), hi(N);
+  for (int k = 0; k < model.T; ++k)
+    for (int j = 0; j < model.m; ++j) {
+      lo[k * model.m + j] = pp.input_bounds.lo[j];
+      hi[k * model.m + j] = pp.input_bounds.hi[j];
+    }
+  opt.set_lower_bounds(lo);
+  opt.set_upper_bounds(hi);
+  opt.set_min_objective(objective_cb, &sh);
+  opt.add_inequality_mconstraint(constraints_cb, &sh, std::vector<double>(sh.rows(), 0.1 * o.feasibility_tolerance));
+  opt.set_xtol_rel(o.xtol_rel);
+  opt.set_ftol_rel(o.ftol_rel);
+  opt.set_maxeval(static_cast<int>(std::min<long>(o.max_evaluations, 1L << 30)));
+  opt.set_maxtime(std::max(1e-3, run.time_limit_s));
+  if (auglag) {
+    nlopt::opt local(o.algorithm == "auglag_slsqp" ? nlopt::LD_SLSQP : nlopt::LD_LBFGS, N);
+    local.set_xtol_rel(o.xtol_rel);
+    local.set_ftol_rel(o.ftol_rel);
+    local.set_maxeval(2000);
+    opt.set_local_optimizer(local);
+  }
+  std::vector<double> z(N);
+  const auto U0 = model.initial_inputs();
+  for (int k = 0; k < model.T; ++k)
+    for (int j = 0; j < model.m; ++j) z[k * model.m + j] = U0[k][j];
+  double f = 0.0;
+  std::string nlopt_note;
+  try {
+    const nlopt::result r = opt.optimize(z, f);
+    nlopt_note = "nlopt result " + std::to_string(static_cast<int>(r));
+  } catch (const nlopt::roundoff_limited&) {
+    nlopt_note = "nlopt: roundoff limited";
+  } catch (const nlopt::forced_stop&) {
+    nlopt_note = "nlopt: forced stop";
+  } catch (const std::exception& e) {
+    nlopt_note = std::string("nlopt: ") + e.what();
+  }
+  if (!sh.best().empty()) z = sh.best();
+  std::vector<Vec> U(model.T, Vec(model.m));
+  for (int k = 0; k < model.T; ++k)
+    for (int j = 0; j < model.m; ++j) U[k][j] = std::clamp(z[k * model.m + j], lo[k * model.m + j], hi[k * model.m + j]);
+  res.plan.tau = model.tau;
+  res.plan.x = model.rollout(U);
+  res.plan.u = U;
+  std::string worst;
+  res.max_violation = model.violation(res.plan.x, U, &worst);
+  res.cost = 0.5 * o.q_terminal * (res.plan.x.back() - model.goal_centre).squaredNorm();
+  for (const auto& u : U) res.cost += 0.5 * o.r_input * u.squaredNorm();
+  res.iterations = static_cast<int>(sh.evaluations());
+  res.solve_time_s = plan5::now_seconds() - t0;
+  if (res.max_violation <= o.feasibility_tolerance) {
+    res.status = PlannerStatus::ExactSolution;
+  } else {
+    res.status = res.solve_time_s >= run.time_limit_s ? PlannerStatus::Timeout : PlannerStatus::ApproximateSolution;
+    nlopt_note += "; worst: " + worst;
+  }
+  res.message = o.algorithm + ", " + nlopt_note;
+  return res;
+}
+
+}  // namespace marsyn::nlopt_planner

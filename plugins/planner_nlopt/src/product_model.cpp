@@ -1,0 +1,198 @@
+#include "product_model.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "marsyn/sampled_map.hpp"
+
+namespace marsyn::plan5 {
+
+double now_seconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+void rk4_step_fixed(const Dynamics& f, const double* x, const double* u, double tau, int substeps, double* out) {
+  const int n = f.state_dim();
+  double k1[kMaxDual], k2[kMaxDual], k3[kMaxDual], k4[kMaxDual], y[kMaxDual], xs[kMaxDual];
+  for (int i = 0; i < n; ++i) xs[i] = x[i];
+  const double h = tau / substeps;
+  for (int s = 0; s < substeps; ++s) {
+    f.field(xs, u, k1);
+    for (int i = 0; i < n; ++i) y[i] = xs[i] + (0.5 * h) * k1[i];
+    f.field(y, u, k2);
+    for (int i = 0; i < n; ++i) y[i] = xs[i] + (0.5 * h) * k2[i];
+    f.field(y, u, k3);
+    for (int i = 0; i < n; ++i) y[i] = xs[i] + h * k3[i];
+    f.field(y, u, k4);
+    for (int i = 0; i < n; ++i) xs[i] = xs[i] + (h / 6.0) * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+  }
+  for (int i = 0; i < n; ++i) out[i] = xs[i];
+}
+
+void RowSet::add_lower(int coord, double lo) {
+  items_.push_back({nullptr, coord, -1.0, lo});
+  rows_ += 1;
+  nnz_ += 1;
+}
+void RowSet::add_upper(int coord, double hi) {
+  items_.push_back({nullptr, coord, 1.0, hi});
+  rows_ += 1;
+  nnz_ += 1;
+}
+void RowSet::add(const Constraint* c) {
+  items_.push_back({c, -1, 0.0, 0.0});
+  rows_ += c->size();
+  nnz_ += c->size() * static_cast<int>(c->support().size());
+}
+
+void RowSet::pattern(std::vector<int>& row, std::vector<int>& col) const {
+  row.clear();
+  col.clear();
+  int r = 0;
+  for (const auto& it : items_) {
+    if (!it.c) {
+      row.push_back(r++);
+      col.push_back(it.coord);
+      continue;
+    }
+    const auto& s = it.c->support();
+    for (int i = 0; i < it.c->size(); ++i, ++r)
+      for (int j : s) {
+        row.push_back(r);
+        col.push_back(j);
+      }
+  }
+}
+
+void RowSet::evaluate(const double* x, double* g, double* jac) const {
+  int r = 0, e = 0;
+  for (const auto& it : items_) {
+    if (!it.c) {
+      // lo - x (sign -1) or x - hi (sign +1)
+      g[r++] = it.sign * (x[it.coord] - it.bound);
+      if (jac) jac[e] = it.sign;
+      ++e;
+      continue;
+    }
+    const int rows = it.c->size(), w = static_cast<int>(it.c->support().size());
+    it.c->evaluate(x, g + r, jac ? jac + e : nullptr);
+    r += rows;
+    e += rows * w;
+  }
+}
+
+void RowSet::dense(const double* jac, Eigen::MatrixXd& J) const {
+  J.setZero();
+  int r = 0, e = 0;
+  for (const auto& it : items_) {
+    if (!it.c) {
+      J(r++, it.coord) = jac[e++];
+      continue;
+    }
+    const auto& s = it.c->support();
+    for (int i = 0; i < it.c->size(); ++i, ++r)
+      for (int j : s) J(r, j) += jac[e++];
+  }
+}
+
+double RowSet::worst(const double* x, std::string* name) const {
+  scratch_g_.resize(std::max(rows_, 1));
+  evaluate(x, scratch_g_.data(), nullptr);
+  double v = -INFINITY;
+  int r = 0;
+  for (const auto& it : items_) {
+    const int rows = it.c ? it.c->size() : 1;
+    for (int i = 0; i < rows; ++i, ++r)
+      if (scratch_g_[r] > v) {
+        v = scratch_g_[r];
+        if (name) *name = it.c ? it.c->name() : (it.sign < 0 ? "lower bound of x" : "upper bound of x") + std::to_string(it.coord);
+      }
+  }
+  return v;
+}
+
+ProductModel::ProductModel(const PlanningProblem& p) : pp(p) {
+  const Problem& prob = *pp.problem;
+  tau = prob.tau;
+  substeps = prob.rk4_substeps;
+  T = pp.horizon;
+  for (const auto& a : prob.agents) {
+    agents.push_back({a.dynamics.get(), n, m, a.n(), a.m()});
+    n += a.n();
+    m += a.m();
+  }
+  for (int i = 0; i < n; ++i) {
+    if (std::isfinite(pp.state_bounds.lo[i])) path.add_lower(i, pp.state_bounds.lo[i]);
+    if (std::isfinite(pp.state_bounds.hi[i])) path.add_upper(i, pp.state_bounds.hi[i]);
+  }
+  goal_centre = Eigen::VectorXd(n);
+  for (int i = 0; i < n; ++i) {
+    const double lo = pp.goal.lo[i], hi = pp.goal.hi[i];
+    if (std::isfinite(lo)) terminal.add_lower(i, lo);
+    if (std::isfinite(hi)) terminal.add_upper(i, hi);
+    goal_centre[i] = std::isfinite(lo) && std::isfinite(hi) ? 0.5 * (lo + hi)
+                     : std::isfinite(lo)                    ? lo
+                     : std::isfinite(hi)                    ? hi
+                                                            : pp.x0[i];
+  }
+  for (const auto& c : pp.constraints) (c->stage() == ConstraintStage::Terminal ? terminal : path).add(c.get());
+}
+
+void ProductModel::step(const double* x, const double* u, double* out) const {
+  for (const auto& a : agents) rk4_step_fixed(*a.dyn, x + a.xo, u + a.uo, tau, substeps, out + a.xo);
+}
+
+void ProductModel::jacobians(const double* x, const double* u, Eigen::MatrixXd& A, Eigen::MatrixXd& B) const {
+  A.setZero(n, n);
+  B.setZero(n, m);
+  double Ar[kMaxDual * kMaxDual], Br[kMaxDual * kMaxDual];
+  for (const auto& a : agents) {
+    rk4_jacobians(*a.dyn, x + a.xo, u + a.uo, tau, substeps, nullptr, Ar, Br);
+    for (int i = 0; i < a.n; ++i) {
+      for (int j = 0; j < a.n; ++j) A(a.xo + i, a.xo + j) = Ar[i * a.n + j];
+      for (int j = 0; j < a.m; ++j) B(a.xo + i, a.uo + j) = Br[i * a.m + j];
+    }
+  }
+}
+
+std::vector<Eigen::VectorXd> ProductModel::rollout(const std::vector<Eigen::VectorXd>& U) const {
+  std::vector<Eigen::VectorXd> X(U.size() + 1, Eigen::VectorXd(n));
+  X[0] = pp.x0;
+  for (size_t k = 0; k < U.size(); ++k) step(X[k].data(), U[k].data(), X[k + 1].data());
+  return X;
+}
+
+double ProductModel::violation(const std::vector<Eigen::VectorXd>& X, const std::vector<Eigen::VectorXd>& U,
+                               std::string* worst) const {
+  double v = 0.0;
+  std::string w;
+  for (const auto& u : U)
+    for (int j = 0; j < m; ++j) {
+      const double e = std::max(pp.input_bounds.lo[j] - u[j], u[j] - pp.input_bounds.hi[j]);
+      if (e > v) v = e, w = "input bound";
+    }
+  for (size_t k = 1; k < X.size(); ++k) {
+    std::string name;
+    const double e = path.worst(X[k].data(), &name);
+    if (e > v) v = e, w = name + " at k = " + std::to_string(k);
+  }
+  if (terminal.rows() > 0) {
+    std::string name;
+    const double e = terminal.worst(X.back().data(), &name);
+    if (e > v) v = e, w = name + " at the end";
+  }
+  if (worst) *worst = w;
+  return v;
+}
+
+std::vector<Eigen::VectorXd> ProductModel::initial_inputs() const {
+  std::vector<Eigen::VectorXd> U(T, Eigen::VectorXd::Zero(m));
+  const bool warm = pp.warm_start && static_cast<int>(pp.warm_start->u.size()) >= T;
+  for (int k = 0; k < T; ++k)
+    for (int j = 0; j < m; ++j)
+      U[k][j] = std::clamp(warm ? pp.warm_start->u[k][j] : 0.0, pp.input_bounds.lo[j], pp.input_bounds.hi[j]);
+  return U;
+}
+
+}  // namespace marsyn::plan5

@@ -1,0 +1,77 @@
+#pragma once
+// The transcription every non-default planner shares: the product system's RK4 map with exact
+// per-agent Jacobians, and the eps-robust requirements of a PlanningProblem as flat rows
+// g(x) <= 0 with sparse supports (state bounds and stage constraints at k = 1..T; goal box and
+// terminal constraints at k = T). x_0 is fixed, so nothing is required of it: a solver cannot
+// change it, and the exact check reports it on its own.
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "marsyn/planner.hpp"
+
+namespace marsyn::plan5 {
+
+// Rows of g(x) <= 0 with their sparsity; a bound row reads one coordinate.
+class RowSet {
+ public:
+  void add_lower(int coord, double lo);  // lo - x[coord] <= 0
+  void add_upper(int coord, double hi);  // x[coord] - hi <= 0
+  void add(const Constraint* c);
+  int rows() const { return rows_; }
+  int nonzeros() const { return nnz_; }
+  // Row and product-state column of each Jacobian entry, in the order evaluate() writes them.
+  void pattern(std::vector<int>& row, std::vector<int>& col) const;
+  // g (rows()) and, when non-null, the Jacobian entries (nonzeros()) at product state x.
+  void evaluate(const double* x, double* g, double* jac) const;
+  // Dense Jacobian (rows() x n) from the entries.
+  void dense(const double* jac, Eigen::MatrixXd& J) const;
+  // The largest g, and the name of the row attaining it.
+  double worst(const double* x, std::string* name) const;
+
+ private:
+  struct Item {
+    const Constraint* c = nullptr;
+    int coord = -1;
+    double sign = 0.0, bound = 0.0;
+  };
+  std::vector<Item> items_;
+  int rows_ = 0, nnz_ = 0;
+  mutable std::vector<double> scratch_g_, scratch_j_;
+};
+
+class ProductModel {
+ public:
+  explicit ProductModel(const PlanningProblem& pp);
+
+  struct Agent {
+    const Dynamics* dyn;
+    int xo, uo, n, m;
+  };
+  const PlanningProblem& pp;
+  int n = 0, m = 0, T = 0;
+  double tau = 0.1;
+  int substeps = 4;
+  std::vector<Agent> agents;
+  RowSet path, terminal;        // path at k = 1..T, terminal at k = T (in addition)
+  Eigen::VectorXd goal_centre;  // a point of the shrunk goal (centre where bounded)
+
+  void step(const double* x, const double* u, double* out) const;
+  // Block-diagonal product Jacobians, dense: A (n x n), B (n x m).
+  void jacobians(const double* x, const double* u, Eigen::MatrixXd& A, Eigen::MatrixXd& B) const;
+  std::vector<Eigen::VectorXd> rollout(const std::vector<Eigen::VectorXd>& U) const;
+  // Largest violation of every requirement (inputs, path, terminal) along a rollout.
+  double violation(const std::vector<Eigen::VectorXd>& X, const std::vector<Eigen::VectorXd>& U,
+                   std::string* worst) const;
+  // Warm start inputs when present and long enough, else zeros clamped into U.
+  std::vector<Eigen::VectorXd> initial_inputs() const;
+};
+
+// The RK4 map exactly as marsyn::rk4_step<double> computes it, without its heap buffers; the
+// exact check re-simulates with that function, so plans computed here reproduce bit for bit.
+void rk4_step_fixed(const Dynamics& f, const double* x, const double* u, double tau, int substeps, double* out);
+
+double now_seconds();
+
+}  // namespace marsyn::plan5

@@ -1,0 +1,250 @@
+#include "controller_file.hpp"
+
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace marsyn::abcd {
+namespace {
+
+constexpr char kMagic[8] = {'M', 'A', 'R', 'S', 'Y', 'N', 'C', 'T'};
+
+std::uint64_t fnv1a(const char* p, size_t len) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (size_t i = 0; i < len; ++i) {
+    h ^= static_cast<unsigned char>(p[i]);
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+// Fixed little-endian encoding so the file does not depend on the host.
+class Writer {
+ public:
+  void u8(std::uint8_t v) { s_.push_back(static_cast<char>(v)); }
+  void u16(std::uint16_t v) { for (int i = 0; i < 2; ++i) u8(static_cast<std::uint8_t>(v >> (8 * i))); }
+  void u32(std::uint32_t v) { for (int i = 0; i < 4; ++i) u8(static_cast<std::uint8_t>(v >> (8 * i))); }
+  void u64(std::uint64_t v) { for (int i = 0; i < 8; ++i) u8(static_cast<std::uint8_t>(v >> (8 * i))); }
+  void i64(std::int64_t v) { u64(static_cast<std::uint64_t>(v)); }
+  void f64(double v) {
+    std::uint64_t b;
+    std::memcpy(&b, &v, 8);
+    u64(b);
+  }
+  void str(const std::string& v) {
+    u32(static_cast<std::uint32_t>(v.size()));
+    s_ += v;
+  }
+  void vec(const std::vector<double>& v) {
+    for (double x : v) f64(x);
+  }
+  std::string& bytes() { return s_; }
+
+ private:
+  std::string s_;
+};
+
+class Reader {
+ public:
+  Reader(const std::string& s, size_t begin, size_t end, std::string what) : s_(s), p_(begin), end_(end), what_(std::move(what)) {}
+  [[noreturn]] void fail(const std::string& why) const {
+    throw std::runtime_error("controller file " + what_ + ": " + why);
+  }
+  void need(size_t k) const {
+    if (end_ - p_ < k) fail("truncated payload");
+  }
+  std::uint8_t u8() {
+    need(1);
+    return static_cast<std::uint8_t>(s_[p_++]);
+  }
+  std::uint64_t uN(int bytes) {
+    need(static_cast<size_t>(bytes));
+    std::uint64_t v = 0;
+    for (int i = 0; i < bytes; ++i) v |= static_cast<std::uint64_t>(static_cast<unsigned char>(s_[p_ + i])) << (8 * i);
+    p_ += static_cast<size_t>(bytes);
+    return v;
+  }
+  std::uint16_t u16() { return static_cast<std::uint16_t>(uN(2)); }
+  std::uint32_t u32() { return static_cast<std::uint32_t>(uN(4)); }
+  std::int64_t i64() { return static_cast<std::int64_t>(uN(8)); }
+  double f64() {
+    const std::uint64_t b = uN(8);
+    double v;
+    std::memcpy(&v, &b, 8);
+    return v;
+  }
+  std::string str() {
+    const std::uint32_t len = u32();
+    need(len);
+    std::string v = s_.substr(p_, len);
+    p_ += len;
+    return v;
+  }
+  std::vector<double> vec(int k) {
+    std::vector<double> v(static_cast<size_t>(k));
+    for (auto& x : v) x = f64();
+    return v;
+  }
+  bool done() const { return p_ == end_; }
+
+ private:
+  const std::string& s_;
+  size_t p_, end_;
+  std::string what_;
+};
+
+}  // namespace
+
+std::string serialize(const ControllerData& d) {
+  Writer p;
+  p.str(d.dynamics_type);
+  p.str(d.agent);
+  p.u32(static_cast<std::uint32_t>(d.n));
+  p.u32(static_cast<std::uint32_t>(d.m));
+  p.u8(d.time_invariant ? 1 : 0);
+  p.f64(d.tau);
+  p.vec(d.origin);
+  p.vec(d.eta_x);
+  p.vec(d.eps);
+  p.vec(d.w);
+  p.vec(d.u_lo);
+  p.vec(d.u_hi);
+  p.vec(d.eta_u);
+  p.u32(static_cast<std::uint32_t>(d.boxes.size()));
+  p.u32(static_cast<std::uint32_t>(d.offsets.size()));
+  for (size_t k = 0; k < d.boxes.size(); ++k) {
+    for (int i = 0; i < d.n; ++i) p.i64(d.boxes[k].lo[i]);
+    for (int i = 0; i < d.n; ++i) p.i64(d.boxes[k].hi[i]);
+    if (k < d.offsets.size()) {
+      const std::int64_t cells = d.boxes[k].size();
+      for (std::int64_t c = 0; c < cells; ++c) p.u16(d.inputs[static_cast<size_t>(d.offsets[k] + c)]);
+    }
+  }
+  Writer f;
+  for (char c : kMagic) f.u8(static_cast<std::uint8_t>(c));
+  f.u32(kFormatVersion);
+  f.u64(p.bytes().size());
+  f.bytes() += p.bytes();
+  f.u64(fnv1a(p.bytes().data(), p.bytes().size()));
+  return std::move(f.bytes());
+}
+
+ControllerData deserialize(const std::string& s, const std::string& what) {
+  auto fail = [&](const std::string& why) -> void { throw std::runtime_error("controller file " + what + ": " + why); };
+  if (s.size() < 8 || std::memcmp(s.data(), kMagic, 8) != 0) fail("not a marsyn abcd controller (bad magic)");
+  if (s.size() < 28) fail("truncated header");
+  Reader h(s, 8, s.size(), what);
+  const std::uint32_t version = h.u32();
+  if (version != kFormatVersion)
+    fail("format version " + std::to_string(version) + ", this reader understands " + std::to_string(kFormatVersion));
+  const std::uint64_t size = h.uN(8);
+  if (size != s.size() - 28) fail("truncated or oversized (payload size does not match file size)");
+  Reader t(s, 20 + size, s.size(), what);
+  if (t.uN(8) != fnv1a(s.data() + 20, size)) fail("checksum mismatch (corrupt file)");
+
+  Reader r(s, 20, 20 + size, what);
+  ControllerData d;
+  d.dynamics_type = r.str();
+  d.agent = r.str();
+  d.n = static_cast<int>(r.u32());
+  d.m = static_cast<int>(r.u32());
+  if (d.n < 1 || d.n > kMaxDim || d.m < 1 || d.m > kMaxDim) fail("unsupported dimensions");
+  d.time_invariant = r.u8() != 0;
+  d.tau = r.f64();
+  d.origin = r.vec(d.n);
+  d.eta_x = r.vec(d.n);
+  d.eps = r.vec(d.n);
+  d.w = r.vec(d.n);
+  d.u_lo = r.vec(d.m);
+  d.u_hi = r.vec(d.m);
+  d.eta_u = r.vec(d.m);
+  const std::uint32_t nboxes = r.u32(), ntables = r.u32();
+  if (nboxes == 0 || ntables > nboxes || (d.time_invariant && (nboxes != 1 || ntables != 1)) ||
+      (!d.time_invariant && ntables + 1 != nboxes))
+    fail("inconsistent step count");
+  std::int64_t total = 0;
+  for (std::uint32_t k = 0; k < nboxes; ++k) {
+    IndexBox b;
+    b.n = d.n;
+    for (int i = 0; i < d.n; ++i) b.lo[i] = r.i64();
+    for (int i = 0; i < d.n; ++i) b.hi[i] = r.i64();
+    for (int i = 0; i < d.n; ++i)
+      if (b.hi[i] < b.lo[i] - 1 || b.hi[i] - b.lo[i] > (std::int64_t{1} << 31)) fail("bad tube box");
+    d.boxes.push_back(b);
+    if (k < ntables) {
+      const std::int64_t cells = b.size();
+      r.need(static_cast<size_t>(cells) * 2);
+      d.offsets.push_back(total);
+      d.inputs.reserve(static_cast<size_t>(total + cells));
+      for (std::int64_t c = 0; c < cells; ++c) d.inputs.push_back(r.u16());
+      total += cells;
+    }
+  }
+  if (!r.done()) fail("trailing bytes in payload");
+  return d;
+}
+
+void write_controller(const ControllerData& d, const std::string& path) {
+  const std::string bytes = serialize(d);
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw std::runtime_error("cannot open " + path + " for writing");
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  if (!out) throw std::runtime_error("write to " + path + " failed");
+}
+
+std::shared_ptr<const GridController> read_controller(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot open controller file " + path);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return std::make_shared<GridController>(deserialize(ss.str(), path));
+}
+
+GridController::GridController(ControllerData d) : data_(std::move(d)) {
+  try {
+    grid_ = UniformGrid(data_.origin, data_.eta_x);
+    ugrid_ = InputGrid(data_.u_lo, data_.u_hi, data_.eta_u);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(std::string("controller: bad grid: ") + e.what());
+  }
+  for (auto v : data_.inputs)
+    if (v != kLosing && v != kTarget && v >= ugrid_.size())
+      throw std::runtime_error("controller: input index out of range of the input grid");
+}
+
+std::int64_t GridController::locate(const double* x, int k) const {
+  const IndexBox& b = data_.boxes[static_cast<size_t>(k)];
+  std::int64_t idx[kMaxDim];
+  for (int i = 0; i < data_.n; ++i) {
+    if (!std::isfinite(x[i])) return -1;
+    idx[i] = grid_.index(i, x[i]);
+  }
+  if (!b.contains(idx)) return -1;
+  return b.linear(idx);
+}
+
+bool GridController::winning(const double* x, int k) const {
+  if (data_.time_invariant) k = 0;
+  if (k < 0 || k >= static_cast<int>(data_.boxes.size())) return false;
+  const std::int64_t l = locate(x, k);
+  if (l < 0) return false;
+  if (k >= data_.tables()) return true;
+  return data_.inputs[static_cast<size_t>(data_.offsets[k] + l)] != kLosing;
+}
+
+ControlStatus GridController::input(const double* x, int k, double* u) const {
+  if (data_.time_invariant) k = 0;
+  if (k < 0 || k >= data_.tables()) return ControlStatus::OutsideHorizon;
+  const std::int64_t l = locate(x, k);
+  if (l < 0) return ControlStatus::OutsideDomain;
+  const std::uint16_t j = data_.inputs[static_cast<size_t>(data_.offsets[k] + l)];
+  if (j == kLosing) return ControlStatus::OutsideDomain;
+  if (j == kTarget) return ControlStatus::OutsideHorizon;
+  ugrid_.value(j, u);
+  return ControlStatus::Ok;
+}
+
+void GridController::write(const std::string& path) const { write_controller(data_, path); }
+
+}  // namespace marsyn::abcd

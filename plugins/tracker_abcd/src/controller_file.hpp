@@ -1,0 +1,72 @@
+#pragma once
+// The synthesized controller as data, its versioned binary file, and the O(1) lookup.
+//
+// File layout (little-endian, docs/tracker.md): 8-byte magic "MARSYNCT", u32 format version,
+// u64 payload size, payload, u64 FNV-1a hash of the payload. The payload holds the dynamics type,
+// agent, dimensions, grid origin and eta_x, eps, W, tau, the input grid, and per step the tube's
+// index box followed (for steps with inputs) by one u16 input index per tube cell.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "input_grid.hpp"
+#include "marsyn/tracker.hpp"
+#include "uniform_grid.hpp"
+
+namespace marsyn::abcd {
+
+inline constexpr std::uint16_t kLosing = 0xFFFF;  // cell not in the winning set
+inline constexpr std::uint16_t kTarget = 0xFFFE;  // whole-domain mode: target reached, no input needed
+inline constexpr std::uint32_t kFormatVersion = 1;
+
+struct ControllerData {
+  std::string dynamics_type, agent;
+  int n = 0, m = 0;
+  bool time_invariant = false;  // whole-domain mode: one table, used at every k
+  double tau = 0.0;
+  std::vector<double> origin, eta_x, eps, w;
+  std::vector<double> u_lo, u_hi, eta_u;
+  // Tracking: boxes for steps 0..T, inputs for steps 0..T-1 (step T needs no input).
+  // Whole-domain: one box and one table.
+  std::vector<IndexBox> boxes;
+  std::vector<std::int64_t> offsets;  // start of each table in `inputs`
+  std::vector<std::uint16_t> inputs;
+
+  int tables() const { return static_cast<int>(offsets.size()); }
+};
+
+class GridController : public marsyn::Controller {
+ public:
+  explicit GridController(ControllerData d);
+  int state_dim() const override { return data_.n; }
+  int input_dim() const override { return data_.m; }
+  int horizon() const override { return data_.time_invariant ? -1 : static_cast<int>(data_.boxes.size()) - 1; }
+  // Ok: x's cell is winning at k and u is its stored input. OutsideHorizon: k beyond the tables
+  // (tracking: k >= T, the spec is already met at T), or the whole-domain target is reached.
+  ControlStatus input(const double* x, int k, double* u) const override;
+  void write(const std::string& path) const override;
+
+  // Is x's cell winning at step k (step T: in the tube)?
+  bool winning(const double* x, int k) const;
+  const ControllerData& data() const { return data_; }
+  const UniformGrid& grid() const { return grid_; }
+  const InputGrid& input_grid() const { return ugrid_; }
+
+ private:
+  // Index of x's cell in table k, or -1 outside the step's box.
+  std::int64_t locate(const double* x, int k) const;
+
+  ControllerData data_;
+  UniformGrid grid_;
+  InputGrid ugrid_;
+};
+
+std::string serialize(const ControllerData& d);
+ControllerData deserialize(const std::string& bytes, const std::string& what);
+void write_controller(const ControllerData& d, const std::string& path);
+// Throws std::runtime_error naming the file and the defect on a corrupt, truncated or
+// mismatched file.
+std::shared_ptr<const GridController> read_controller(const std::string& path);
+
+}  // namespace marsyn::abcd

@@ -1,0 +1,49 @@
+#pragma once
+// Sound one-period successor boxes: for a box of initial states, a constant input u and every
+// measurable disturbance with values in [-W, W], a box containing every state reachable after
+// tau. The argument is in docs/soundness.md; the code follows it step by step.
+#include <vector>
+
+#include "marsyn/dynamics.hpp"
+#include "marsyn/interval.hpp"
+#include "marsyn/tracker.hpp"
+
+namespace marsyn::abcd {
+
+struct SuccessorOptions {
+  double tau = 0.1;
+  int substeps = 2;          // h = tau / substeps for the enclosure
+  int taylor_terms = 10;     // terms of the matrix exponential series before the tail bound (<= 16)
+  int picard_iterations = 12;
+};
+
+// Optional model-specific bound: marsyn::SuccessorBoundHook (tracker.hpp). Each successor box
+// is the intersection of the generic box and the hook's box, so the hook can only tighten; it
+// is tested with the same sampler (docs/soundness.md, "model hooks").
+using SuccessorHook = marsyn::SuccessorBoundHook;
+
+class SuccessorBox {
+ public:
+  SuccessorBox(const Dynamics& f, std::vector<double> w, SuccessorOptions opt, const SuccessorHook* hook = nullptr);
+
+  // Returns false when no a priori enclosure was found (treat as "no successor": the input is
+  // never used from this cell). lo/hi get n doubles each.
+  bool compute(const Interval* cell, const double* u, double* lo, double* hi) const;
+
+  const SuccessorOptions& options() const { return opt_; }
+  const Dynamics& dynamics() const { return f_; }
+  const std::vector<double>& w() const { return w_; }
+
+ private:
+  bool apriori(const Interval* x, const Interval* u, const Interval* w, const Interval& h, Interval* out) const;
+  bool growth(const double* L, double* beta, double h_lo, double h_up) const;
+  void jacobian(const Interval* x, const Interval* u, Interval* value, Interval* jac) const;
+
+  const Dynamics& f_;
+  int n_, m_;
+  std::vector<double> w_;
+  SuccessorOptions opt_;
+  const SuccessorHook* hook_;
+};
+
+}  // namespace marsyn::abcd

@@ -1,0 +1,28 @@
+#pragma once
+// Phi_track synthesis over the tube (one backward sweep) and the whole-domain reach-avoid
+// fixed point, both on the same sound successor boxes.
+#include "controller_file.hpp"
+#include "marsyn/tracker.hpp"
+#include "successor_box.hpp"
+
+namespace marsyn::abcd {
+
+struct SynthesisOptions {
+  int threads = 1;
+  SuccessorOptions successor;
+  // Skip an input from a column when the RK4 image of the column's centre (w = 0) lands outside
+  // the next tube, before computing its box: the exact centre image lies in every sound
+  // successor box, so such a box cannot be inside; the margin absorbs the RK4 error. It only
+  // avoids work and can never admit an input.
+  bool prefilter = true;
+  int prefilter_substeps = 2;
+  const SuccessorHook* hook = nullptr;
+  double memory_budget_bytes = 8e9;
+};
+
+TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o);
+TrackResult synthesize_reach_avoid(const ReachAvoidProblem& p, const SynthesisOptions& o);
+
+long long peak_rss_bytes();
+
+}  // namespace marsyn::abcd
