@@ -138,8 +138,10 @@ int run_bench(const std::string& examples_list, const std::string& planners_list
         for (const auto& a : agents) ok += a.track.status == TrackerStatus::Controller;
         tracking = std::to_string(ok) + "/" + std::to_string(agents.size()) + " agents";
       }
-      rows.push_back({{ex, name, o.feasible ? "yes" : "no", num(o.total_time_s), std::to_string(o.result.iterations),
-                       num(o.result.cost), num(o.check.min_margin), std::to_string(o.horizon), tracking}});
+      const bool has_plan = !o.plan.u.empty();
+      rows.push_back({{ex, name, o.feasible ? "yes" : "no (" + std::string(to_string(o.result.status)) + ")",
+                       num(o.total_time_s), std::to_string(o.result.iterations), has_plan ? num(o.result.cost) : "-",
+                       has_plan ? num(o.check.min_margin) : "-", std::to_string(o.horizon), tracking}});
     }
   }
   emit(out_dir, head, rows);
