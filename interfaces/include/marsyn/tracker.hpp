@@ -3,6 +3,7 @@
 // eps-box around its nominal state at every step k, for every disturbance in W (Phi_track,
 // paper eq. 1). A Tracker is an immutable model; track() is const and re-entrant, so agents can
 // be processed in parallel.
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -72,6 +73,11 @@ struct ReachAvoidProblem {
   Eigen::VectorXd eta_x, eta_u, w;
   Box input_bounds;
   double tau = 0.1;
+  // Optional: true when the closed cell [lo, hi] (state_dim() numbers each) may meet the avoid
+  // set; such cells are never winning unless in the target. It must over-approximate (answer
+  // true when unsure) for the controller to be sound. Declared last so that a tracker built
+  // without it never reads it.
+  std::function<bool(const double* lo, const double* hi)> unsafe;
 };
 
 struct TrackerStats {

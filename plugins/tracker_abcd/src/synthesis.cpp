@@ -401,7 +401,17 @@ TrackResult synthesize_reach_avoid(const ReachAvoidProblem& p, const SynthesisOp
       win[static_cast<size_t>(l)] = 1;
       d.inputs[static_cast<size_t>(l)] = kTarget;
     } else if (safe.contains(idx)) {
-      candidate[static_cast<size_t>(l)] = 1;
+      bool ok = true;
+      if (p.unsafe) {
+        double lo[kMaxDim], hi[kMaxDim];
+        for (int i = 0; i < n; ++i) {
+          const Interval c = g.cell(i, idx[i]);  // outward-rounded cell bounds
+          lo[i] = c.lower();
+          hi[i] = c.upper();
+        }
+        ok = !p.unsafe(lo, hi);
+      }
+      candidate[static_cast<size_t>(l)] = ok ? 1 : 0;
     }
   }
   SuccessorBox sb(f, d.w, o.successor, o.hook);

@@ -43,6 +43,8 @@ struct GlobalAbcdEstimate {
   double state_input_pairs = 0;  // N_g: product grid cells x product inputs over the full domain
   double memory_bytes_estimate = 0;
   std::string status;            // "skipped: ..." or the outcome of an attempt
+  double time_s = 0;             // of the attempt
+  long long boxes_computed = 0;
 };
 
 struct SolveOutcome {

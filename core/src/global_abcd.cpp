@@ -1,0 +1,107 @@
+#include "marsyn/core/global_abcd.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <memory>
+
+#include "marsyn/core/product_dynamics.hpp"
+#include "marsyn/scalar.hpp"
+
+namespace marsyn {
+namespace {
+
+// Smallest gap between two closed intervals (0 when they meet).
+double gap(double alo, double ahi, double blo, double bhi) { return std::max({0.0, blo - ahi, alo - bhi}); }
+
+double box_distance(const double* a, const double* b, Norm norm) {  // boxes as {xlo, ylo, xhi, yhi}
+  const double gx = gap(a[0], a[2], b[0], b[2]), gy = gap(a[1], a[3], b[1], b[3]);
+  return norm == Norm::Inf ? std::max(gx, gy) : std::sqrt(gx * gx + gy * gy);
+}
+
+}  // namespace
+
+std::function<bool(const double*, const double*)> product_unsafe(const Problem& pb) {
+  std::vector<std::array<double, 4>> obstacle_boxes;
+  for (const auto& o : pb.obstacles) {
+    std::array<double, 4> b{1e300, 1e300, -1e300, -1e300};
+    for (const auto& v : o.vertices) {
+      b[0] = std::min(b[0], v.x());
+      b[1] = std::min(b[1], v.y());
+      b[2] = std::max(b[2], v.x());
+      b[3] = std::max(b[3], v.y());
+    }
+    obstacle_boxes.push_back(b);  // contains the polygon: distances to it are never larger
+  }
+  return [&pb, obstacle_boxes](const double* lo, const double* hi) {
+    std::vector<std::array<double, 4>> ws;
+    int off = 0;
+    for (const auto& a : pb.agents) {
+      std::vector<Interval> x(a.n());
+      for (int i = 0; i < a.n(); ++i) x[i] = Interval(lo[off + i], hi[off + i]);
+      Interval p[2];
+      workspace_point<Interval>(*a.dynamics, a.workspace, x.data(), p);
+      ws.push_back({p[0].lower(), p[1].lower(), p[0].upper(), p[1].upper()});
+      off += a.n();
+    }
+    for (const auto& w : ws)
+      for (const auto& o : obstacle_boxes)
+        if (box_distance(w.data(), o.data(), pb.delta_norm) < pb.delta) return true;
+    if (pb.pairwise_collision)
+      for (std::size_t i = 0; i < ws.size(); ++i)
+        for (std::size_t j = i + 1; j < ws.size(); ++j)
+          if (box_distance(ws[i].data(), ws[j].data(), pb.delta_norm) < pb.delta) return true;
+    return false;
+  };
+}
+
+GlobalAbcdRun run_global_abcd(const Problem& pb, const Tracker& tracker, int threads, double budget) {
+  const auto t0 = std::chrono::steady_clock::now();
+  GlobalAbcdRun run;
+  ReachAvoidProblem rp;
+  rp.dynamics = std::make_shared<ProductDynamics>(pb.agents);
+  const int n = pb.product_state_dim(), m = pb.product_input_dim();
+  rp.domain = {Eigen::VectorXd(n), Eigen::VectorXd(n)};
+  rp.target = rp.domain;
+  rp.eta_x.resize(n);
+  rp.w.resize(n);
+  rp.eta_u.resize(m);
+  rp.input_bounds = {Eigen::VectorXd(m), Eigen::VectorXd(m)};
+  int xo = 0, uo = 0;
+  for (const auto& a : pb.agents) {
+    rp.domain.lo.segment(xo, a.n()) = a.state_bounds.lo;
+    rp.domain.hi.segment(xo, a.n()) = a.state_bounds.hi;
+    rp.target.lo.segment(xo, a.n()) = a.goal.lo;
+    rp.target.hi.segment(xo, a.n()) = a.goal.hi;
+    rp.eta_x.segment(xo, a.n()) = a.eta_x;
+    rp.w.segment(xo, a.n()) = a.w;
+    rp.eta_u.segment(uo, a.m()) = a.eta_u;
+    rp.input_bounds.lo.segment(uo, a.m()) = a.input_bounds.lo;
+    rp.input_bounds.hi.segment(uo, a.m()) = a.input_bounds.hi;
+    xo += a.n();
+    uo += a.m();
+  }
+  rp.safe = rp.domain;
+  rp.tau = pb.tau;
+  rp.unsafe = product_unsafe(pb);
+  TrackOptions to;
+  to.threads = threads;
+  to.memory_budget_bytes = budget;
+  const TrackResult r = tracker.reach_avoid(rp, to);
+  run.boxes_computed = r.stats.boxes_computed;
+  if (r.status == TrackerStatus::Controller && r.controller) {
+    Eigen::VectorXd x0(n), u(m);
+    xo = 0;
+    for (const auto& a : pb.agents) {
+      x0.segment(xo, a.n()) = a.x0;
+      xo += a.n();
+    }
+    run.initial_state_winning = r.controller->input(x0.data(), 0, u.data()) == ControlStatus::Ok;
+    run.status = run.initial_state_winning ? "controller: x0 winning" : "controller, but x0 is not winning";
+  } else {
+    run.status = std::string(to_string(r.status)) + (r.message.empty() ? "" : ": " + r.message);
+  }
+  run.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return run;
+}
+
+}  // namespace marsyn
