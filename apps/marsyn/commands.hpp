@@ -10,7 +10,7 @@ int run_check(const std::string& config);
 int run_plan(const std::string& config, const std::string& out_dir);
 int run_track(const std::string& config, const std::string& agent, const std::string& plan_file,
               const std::string& out_dir, int threads);
-int run_solve(const std::string& config, const std::string& out_dir, int runs, int threads);
+int run_solve(const std::string& config, const std::string& out_dir, int runs, int threads, double global_budget);
 int run_simulate(const std::string& config, const std::string& controllers_dir, const std::string& mode,
                  unsigned long seed, const std::string& out_file);
 int run_bench(const std::string& examples, const std::string& planners, const std::string& stage, bool track,

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
 
   std::string config, out, agent, plan_file, controllers, mode = "uniform", sim_out;
   int threads = 2, runs = 1000;
+  double global_budget = 2e9;
   unsigned long seed = 1;
   auto* check = app.add_subcommand("check", "load and validate a problem file, print a summary");
   check->add_option("CONFIG", config, "problem file (YAML)")->required();
@@ -45,6 +46,9 @@ int main(int argc, char** argv) {
   solve->add_option("--out", out, "output folder (default marsyn-out/<problem name>)");
   solve->add_option("--runs", runs, "closed-loop verification runs (default 1000)")->check(CLI::Range(5, 10000000));
   solve->add_option("--threads", threads, "threads (default 2)")->check(CLI::Range(1, 256));
+  solve->add_option("--global-budget", global_budget,
+                    "memory budget [bytes] under which the global ABCD baseline is attempted (default 2e9; 0: never)")
+      ->check(CLI::Range(0.0, 1e15));
 
   auto* simulate = app.add_subcommand("simulate", "replay the closed loop of all agents with their controllers");
   simulate->add_option("CONFIG", config, "problem file (YAML)")->required();
@@ -79,7 +83,7 @@ int main(int argc, char** argv) {
 #ifdef MARSYN_WITH_PIPELINE
     if (*plan) return marsyn::cli::run_plan(config, out);
     if (*track) return marsyn::cli::run_track(config, agent, plan_file, out, threads);
-    if (*solve) return marsyn::cli::run_solve(config.empty() ? marsyn::cli::default_example() : config, out, runs, threads);
+    if (*solve) return marsyn::cli::run_solve(config.empty() ? marsyn::cli::default_example() : config, out, runs, threads, global_budget);
     if (*simulate) return marsyn::cli::run_simulate(config, controllers, mode, seed, sim_out);
     if (*bench)
       return marsyn::cli::run_bench(bench_examples, bench_planners, bench_stage, !no_track, runs, threads, bench_out);

@@ -150,11 +150,12 @@ int run_track(const std::string& config, const std::string& agent, const std::st
   return 1;
 }
 
-int run_solve(const std::string& config, const std::string& out_requested, int runs, int threads) {
+int run_solve(const std::string& config, const std::string& out_requested, int runs, int threads, double global_budget) {
   const LoadedProblem lp = load_problem(config);
   SolveOptions so;
   so.verification_runs = runs;
   so.threads = threads;
+  so.global_memory_budget_bytes = global_budget;
   so.log = log_line;
   log_line("[solve] " + lp.problem.name + ": " + std::to_string(lp.problem.agents.size()) + " agents, planner " +
            lp.problem.planner.name + ", tracker " + lp.problem.tracker.name);

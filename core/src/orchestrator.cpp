@@ -264,7 +264,10 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
 
   out.global = estimate_global_abcd(pb);
   if (out.global.memory_bytes_estimate > opt.global_memory_budget_bytes) {
-    out.global.status = "skipped: the estimate exceeds the memory budget";
+    out.global.status = opt.global_memory_budget_bytes <= 0 ? "skipped: disabled (--global-budget 0)"
+                                                             : "skipped: the estimate exceeds the memory budget";
+  } else if (pb.agents.size() < 2) {
+    out.global.status = "skipped: a single agent has no product to abstract";
   } else if (!pb.formation.empty()) {
     out.global.status = "skipped: formation constraints are not supported by the global baseline";
   } else {

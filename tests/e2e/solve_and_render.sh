@@ -12,6 +12,10 @@ grep -q '"status": "verified"' "$scratch/out/result.json" || { echo "not verifie
 grep -q '"violations": 0' "$scratch/out/result.json" || { echo "violations in verification"; exit 1; }
 for f in report.html plan.json result.json; do test -s "$scratch/out/$f" || { echo "missing $f"; exit 1; }; done
 ls "$scratch/out"/*.ctrl > /dev/null || { echo "no controller files"; exit 1; }
+# The controllers replay from their files alone (no tracker state): `marsyn simulate`.
+"$exe" simulate "$example" --controllers "$scratch/out" --disturbance switching --seed 3 > "$scratch/sim.txt" 2>&1 || {
+  echo "marsyn simulate failed:"; cat "$scratch/sim.txt"; exit 1; }
+grep -q "specification satisfied" "$scratch/sim.txt" && grep -q "(inside)" "$scratch/sim.txt" || { cat "$scratch/sim.txt"; exit 1; }
 
 browser=$(command -v chromium || command -v chromium-browser || true)
 if [ -z "$browser" ]; then echo "chromium is not installed (scripts/install-deps.sh installs it)"; exit 1; fi
