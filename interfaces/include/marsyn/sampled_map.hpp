@@ -3,6 +3,7 @@
 // with a constant disturbance w added to the right-hand side. Templated so that the same code
 // gives states (double) and exact discrete Jacobians (DualD). It is an approximation of the
 // flow; trackers never rely on it for soundness (they enclose the flow, docs/soundness.md).
+#include <array>
 #include <vector>
 
 #include "marsyn/dynamics.hpp"
@@ -13,7 +14,17 @@ template <class S>
 void rk4_step(const Dynamics& f, const S* x, const S* u, const double* w, double tau, int substeps,
               S* out) {
   const int n = f.state_dim();
-  std::vector<S> k1(n), k2(n), k3(n), k4(n), y(n), xs(x, x + n);
+  // Planner rollouts call this T x N times per line-search trial: agent-sized systems use stack
+  // storage, only larger ones (a product of agents) the heap.
+  std::array<S, 6 * kMaxDual> stack_storage;
+  std::vector<S> heap_storage;
+  S* storage = stack_storage.data();
+  if (n > kMaxDual) {
+    heap_storage.resize(static_cast<std::size_t>(6 * n));
+    storage = heap_storage.data();
+  }
+  S *k1 = storage, *k2 = k1 + n, *k3 = k2 + n, *k4 = k3 + n, *y = k4 + n, *xs = y + n;
+  for (int i = 0; i < n; ++i) xs[i] = x[i];
   const double h = tau / substeps;
   auto rhs = [&](const S* state, S* d) {
     f.field(state, u, d);
@@ -21,13 +32,13 @@ void rk4_step(const Dynamics& f, const S* x, const S* u, const double* w, double
       for (int i = 0; i < n; ++i) d[i] = d[i] + w[i];
   };
   for (int s = 0; s < substeps; ++s) {
-    rhs(xs.data(), k1.data());
+    rhs(xs, k1);
     for (int i = 0; i < n; ++i) y[i] = xs[i] + (0.5 * h) * k1[i];
-    rhs(y.data(), k2.data());
+    rhs(y, k2);
     for (int i = 0; i < n; ++i) y[i] = xs[i] + (0.5 * h) * k2[i];
-    rhs(y.data(), k3.data());
+    rhs(y, k3);
     for (int i = 0; i < n; ++i) y[i] = xs[i] + h * k3[i];
-    rhs(y.data(), k4.data());
+    rhs(y, k4);
     for (int i = 0; i < n; ++i) xs[i] = xs[i] + (h / 6.0) * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
   }
   for (int i = 0; i < n; ++i) out[i] = xs[i];

@@ -5,24 +5,6 @@
 
 namespace marsyn::altro {
 
-void rk4_step_fixed(const Dynamics& f, const double* x, const double* u, double tau, int substeps, double* out) {
-  const int n = f.state_dim();
-  double k1[kMaxDual], k2[kMaxDual], k3[kMaxDual], k4[kMaxDual], y[kMaxDual], xs[kMaxDual];
-  for (int i = 0; i < n; ++i) xs[i] = x[i];
-  const double h = tau / substeps;
-  for (int s = 0; s < substeps; ++s) {
-    f.field(xs, u, k1);
-    for (int i = 0; i < n; ++i) y[i] = xs[i] + (0.5 * h) * k1[i];
-    f.field(y, u, k2);
-    for (int i = 0; i < n; ++i) y[i] = xs[i] + (0.5 * h) * k2[i];
-    f.field(y, u, k3);
-    for (int i = 0; i < n; ++i) y[i] = xs[i] + h * k3[i];
-    f.field(y, u, k4);
-    for (int i = 0; i < n; ++i) xs[i] = xs[i] + (h / 6.0) * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-  }
-  for (int i = 0; i < n; ++i) out[i] = xs[i];
-}
-
 namespace {
 
 template <int NX, int W>

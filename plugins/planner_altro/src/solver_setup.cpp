@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "marsyn/sampled_map.hpp"
 #include "rk4.hpp"
 
 namespace marsyn::altro::detail {
@@ -56,7 +57,8 @@ void Solver::layout() {
 }
 
 void Solver::step_agent(const AgentBlock& a, const Vec& x, const Vec& u, Vec& out) const {
-  rk4_step_fixed(*a.dyn, x.data() + a.xo, u.data() + a.uo, prob_.tau, prob_.rk4_substeps, out.data() + a.xo);
+  rk4_step<double>(*a.dyn, x.data() + a.xo, u.data() + a.uo, nullptr, prob_.tau, prob_.rk4_substeps,
+                   out.data() + a.xo);
 }
 
 void Solver::initial_guess() {

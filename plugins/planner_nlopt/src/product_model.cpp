@@ -12,24 +12,6 @@ double now_seconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-void rk4_step_fixed(const Dynamics& f, const double* x, const double* u, double tau, int substeps, double* out) {
-  const int n = f.state_dim();
-  double k1[kMaxDual], k2[kMaxDual], k3[kMaxDual], k4[kMaxDual], y[kMaxDual], xs[kMaxDual];
-  for (int i = 0; i < n; ++i) xs[i] = x[i];
-  const double h = tau / substeps;
-  for (int s = 0; s < substeps; ++s) {
-    f.field(xs, u, k1);
-    for (int i = 0; i < n; ++i) y[i] = xs[i] + (0.5 * h) * k1[i];
-    f.field(y, u, k2);
-    for (int i = 0; i < n; ++i) y[i] = xs[i] + (0.5 * h) * k2[i];
-    f.field(y, u, k3);
-    for (int i = 0; i < n; ++i) y[i] = xs[i] + h * k3[i];
-    f.field(y, u, k4);
-    for (int i = 0; i < n; ++i) xs[i] = xs[i] + (h / 6.0) * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-  }
-  for (int i = 0; i < n; ++i) out[i] = xs[i];
-}
-
 void RowSet::add_lower(int coord, double lo) {
   items_.push_back({nullptr, coord, -1.0, lo});
   rows_ += 1;
@@ -140,7 +122,8 @@ ProductModel::ProductModel(const PlanningProblem& p) : pp(p) {
 }
 
 void ProductModel::step(const double* x, const double* u, double* out) const {
-  for (const auto& a : agents) rk4_step_fixed(*a.dyn, x + a.xo, u + a.uo, tau, substeps, out + a.xo);
+  // The exact check re-simulates with the same function, so plans here reproduce bit for bit.
+  for (const auto& a : agents) rk4_step<double>(*a.dyn, x + a.xo, u + a.uo, nullptr, tau, substeps, out + a.xo);
 }
 
 void ProductModel::jacobians(const double* x, const double* u, Eigen::MatrixXd& A, Eigen::MatrixXd& B) const {

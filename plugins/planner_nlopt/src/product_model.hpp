@@ -68,10 +68,6 @@ class ProductModel {
   std::vector<Eigen::VectorXd> initial_inputs() const;
 };
 
-// The RK4 map exactly as marsyn::rk4_step<double> computes it, without its heap buffers; the
-// exact check re-simulates with that function, so plans computed here reproduce bit for bit.
-void rk4_step_fixed(const Dynamics& f, const double* x, const double* u, double tau, int substeps, double* out);
-
 double now_seconds();
 
 }  // namespace marsyn::plan5
