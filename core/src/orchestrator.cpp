@@ -10,6 +10,7 @@
 #include <sstream>
 #include <thread>
 
+#include "marsyn/core/agent_checks.hpp"
 #include "marsyn/core/global_abcd.hpp"
 #include "marsyn/core/report_html.hpp"
 
@@ -26,18 +27,6 @@ std::string vec(const Eigen::VectorXd& v) {
   s << "(";
   for (Eigen::Index i = 0; i < v.size(); ++i) s << (i ? "," : "") << v[i];
   return s.str() + ")";
-}
-
-// The loader's per-agent checks that a parameter change could break.
-bool consistent(const AgentSpec& a) {
-  for (int i = 0; i < a.n(); ++i) {
-    const double lo = a.state_bounds.lo[i], hi = a.state_bounds.hi[i];
-    if (a.x0[i] - a.eps[i] < lo || a.x0[i] + a.eps[i] > hi) return false;
-    if (a.goal.lo[i] + a.eps[i] > a.goal.hi[i] - a.eps[i]) return false;
-    const double cell_lo = lo + std::floor((a.x0[i] - lo) / a.eta_x[i]) * a.eta_x[i];
-    if (cell_lo < a.x0[i] - a.eps[i] || cell_lo + a.eta_x[i] > a.x0[i] + a.eps[i]) return false;
-  }
-  return true;
 }
 
 }  // namespace
@@ -196,7 +185,7 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
         AgentSpec b = a;
         b.eps *= 0.8;
         b.eta_x = b.eta_x.cwiseMin(b.eps);
-        if (consistent(b)) {
+        if (agent_consistent(b)) {
           a = b;
           changed = true;
         }
@@ -252,7 +241,7 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
         b.eta_x *= 0.75;
         b.eta_u *= 0.75;
       }
-      if (consistent(b)) {
+      if (agent_consistent(b)) {
         pb.agents[i] = b;
         changed = true;
       }

@@ -5,6 +5,7 @@
 #include <map>
 #include <sstream>
 
+#include "marsyn/core/agent_checks.hpp"
 #include "yaml_reader.hpp"
 
 namespace fs = std::filesystem;
@@ -172,33 +173,35 @@ Workspace read_workspace(const Field& f, const Dynamics& dyn) {
   return ws;
 }
 
-void validate_agent(const AgentSpec& a, const Field& x0f, const Field& goalf, const Field& epsf, const Field& etaf) {
+void validate_agent(const AgentSpec& a, const Field& x0f, const Field& goalf, const Field& etaf) {
   const auto names = a.dynamics->state_names();
   for (int i = 0; i < a.n(); ++i) {
     const std::string coord = "'" + names[i] + "'";
     const std::size_t si = static_cast<std::size_t>(i);
     const double lo = a.state_bounds.lo[i], hi = a.state_bounds.hi[i];
-    if (a.x0[i] < lo || a.x0[i] > hi)
-      x0f[si].fail("x0 = " + fmt(a.x0[i]) + " in " + coord + " lies outside the state bounds [" + fmt(lo) + ", " +
-                   fmt(hi) + "]");
-    if (a.x0[i] - a.eps[i] < lo || a.x0[i] + a.eps[i] > hi)
-      x0f[si].fail("the tube around x0 leaves the state bounds in " + coord + ": x0 +- eps = [" +
-                   fmt(a.x0[i] - a.eps[i]) + ", " + fmt(a.x0[i] + a.eps[i]) + "] is not inside [" + fmt(lo) + ", " +
-                   fmt(hi) + "]");
-    // The tracker's grid is aligned at the state bounds' lower corner; x0's cell must lie inside
-    // the eps-box around x0 or the tube starts without x0's cell.
-    const double cell_lo = lo + std::floor((a.x0[i] - lo) / a.eta_x[i]) * a.eta_x[i];
-    const double cell_hi = cell_lo + a.eta_x[i];
-    if (cell_lo < a.x0[i] - a.eps[i] || cell_hi > a.x0[i] + a.eps[i])
-      etaf[si].fail("x0's grid cell [" + fmt(cell_lo) + ", " + fmt(cell_hi) + "] in " + coord +
-                    " does not fit inside the tube [x0 - eps, x0 + eps] = [" + fmt(a.x0[i] - a.eps[i]) + ", " +
-                    fmt(a.x0[i] + a.eps[i]) + "]; choose eta_x <= eps (" + fmt(a.eps[i]) + ")");
-    if (a.goal.lo[i] + a.eps[i] > a.goal.hi[i] - a.eps[i])
-      goalf.fail("the goal shrunk by eps is empty in " + coord + ": [" + fmt(a.goal.lo[i]) + " + " + fmt(a.eps[i]) +
-                 ", " + fmt(a.goal.hi[i]) + " - " + fmt(a.eps[i]) + "] = [" + fmt(a.goal.lo[i] + a.eps[i]) + ", " +
-                 fmt(a.goal.hi[i] - a.eps[i]) + "]; enlarge the goal or reduce eps");
+    switch (agent_defect(a, i)) {
+      case AgentDefect::None:
+        break;
+      case AgentDefect::X0OutsideBounds:
+        x0f[si].fail("x0 = " + fmt(a.x0[i]) + " in " + coord + " lies outside the state bounds [" + fmt(lo) + ", " +
+                     fmt(hi) + "]");
+      case AgentDefect::TubeOutsideBounds:
+        x0f[si].fail("the tube around x0 leaves the state bounds in " + coord + ": x0 +- eps = [" +
+                     fmt(a.x0[i] - a.eps[i]) + ", " + fmt(a.x0[i] + a.eps[i]) + "] is not inside [" + fmt(lo) +
+                     ", " + fmt(hi) + "]");
+      case AgentDefect::X0CellOutsideTube: {
+        const CellBounds cell = x0_cell(a, i);
+        etaf[si].fail("x0's grid cell [" + fmt(cell.lo) + ", " + fmt(cell.hi) + "] in " + coord +
+                      " does not fit inside the tube [x0 - eps, x0 + eps] = [" + fmt(a.x0[i] - a.eps[i]) + ", " +
+                      fmt(a.x0[i] + a.eps[i]) + "]; choose eta_x <= eps (" + fmt(a.eps[i]) + ")");
+      }
+      case AgentDefect::GoalEmpty:
+        goalf.fail("the goal shrunk by eps is empty in " + coord + ": [" + fmt(a.goal.lo[i]) + " + " +
+                   fmt(a.eps[i]) + ", " + fmt(a.goal.hi[i]) + " - " + fmt(a.eps[i]) + "] = [" +
+                   fmt(a.goal.lo[i] + a.eps[i]) + ", " + fmt(a.goal.hi[i] - a.eps[i]) +
+                   "]; enlarge the goal or reduce eps");
+    }
   }
-  (void)epsf;
 }
 
 Obstacle read_obstacle(const Field& f, std::size_t index) {
@@ -367,8 +370,7 @@ LoadedProblem load_problem(const std::string& path) {
     a.state_bounds = read_box(agent_required(af, defaults, "state_bounds"), n, sn);
     a.input_bounds = read_box(agent_required(af, defaults, "input_bounds"), m, sm);
     a.w = agent_required(af, defaults, "disturbance").non_negative_vector(n, sn);
-    Field epsf = agent_required(af, defaults, "eps");
-    a.eps = epsf.positive_vector(n, sn);
+    a.eps = agent_required(af, defaults, "eps").positive_vector(n, sn);
     Field etaf = agent_required(af, defaults, "eta_x");
     a.eta_x = etaf.positive_vector(n, sn);
     a.eta_u = agent_required(af, defaults, "eta_u").positive_vector(m, sm);
@@ -380,7 +382,7 @@ LoadedProblem load_problem(const std::string& path) {
     } else {
       a.workspace.index = {0, n > 1 ? 1 : -1};
     }
-    validate_agent(a, x0f, goalf, epsf, etaf);
+    validate_agent(a, x0f, goalf, etaf);
     pb.agents.push_back(std::move(a));
   }
 

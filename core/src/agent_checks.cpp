@@ -1,0 +1,29 @@
+#include "marsyn/core/agent_checks.hpp"
+
+#include <cmath>
+
+namespace marsyn {
+
+CellBounds x0_cell(const AgentSpec& a, int i) {
+  const double lo = a.state_bounds.lo[i];
+  const double cell_lo = lo + std::floor((a.x0[i] - lo) / a.eta_x[i]) * a.eta_x[i];
+  return {cell_lo, cell_lo + a.eta_x[i]};
+}
+
+AgentDefect agent_defect(const AgentSpec& a, int i) {
+  const double lo = a.state_bounds.lo[i], hi = a.state_bounds.hi[i];
+  if (a.x0[i] < lo || a.x0[i] > hi) return AgentDefect::X0OutsideBounds;
+  if (a.x0[i] - a.eps[i] < lo || a.x0[i] + a.eps[i] > hi) return AgentDefect::TubeOutsideBounds;
+  const CellBounds cell = x0_cell(a, i);
+  if (cell.lo < a.x0[i] - a.eps[i] || cell.hi > a.x0[i] + a.eps[i]) return AgentDefect::X0CellOutsideTube;
+  if (a.goal.lo[i] + a.eps[i] > a.goal.hi[i] - a.eps[i]) return AgentDefect::GoalEmpty;
+  return AgentDefect::None;
+}
+
+bool agent_consistent(const AgentSpec& a) {
+  for (int i = 0; i < a.n(); ++i)
+    if (agent_defect(a, i) != AgentDefect::None) return false;
+  return true;
+}
+
+}  // namespace marsyn
