@@ -17,7 +17,7 @@ using yaml::Field;
 
 const std::vector<std::string> kTopKeys = {
     "name",  "description", "tau",     "horizon",      "rk4_substeps", "delta",     "delta_norm",
-    "pairwise_collision", "planner", "tracker", "plugin_paths", "defaults", "agents", "obstacles",
+    "pairwise_collision", "planner", "tracker", "collision", "plugin_paths", "defaults", "agents", "obstacles",
     "formation"};
 const std::vector<std::string> kAgentKeys = {"name",         "dynamics",    "x0",    "goal",
                                              "state_bounds", "input_bounds", "disturbance", "eps",
@@ -285,6 +285,56 @@ void read_formation(const Field& f, Problem& pb) {
     if (fp.mu <= 0 || fp.lambda - fp.mu < 0) f.fail("formation tolerance mu must be positive and below lambda");
 }
 
+// Obstacles as a distance plugin's `polygons` parameter: vertex count, then x, y per vertex.
+std::vector<double> polygon_param(const std::vector<std::vector<Eigen::Vector2d>>& polygons) {
+  std::vector<double> flat;
+  for (const auto& poly : polygons) {
+    flat.push_back(static_cast<double>(poly.size()));
+    for (const auto& v : poly) flat.insert(flat.end(), {v.x(), v.y()});
+  }
+  return flat;
+}
+
+// `collision`: `exact` (core's own geometry, the default) or a distance plugin such as `fcl`,
+// which then computes the obstacle distances the planners' constraints use. Creating it once on
+// the problem's own obstacles here makes a broken plugin fail at load time, not mid-plan.
+void read_collision(const Field& f, LoadedProblem& out) {
+  Problem& pb = out.problem;
+  const PluginField pf = read_plugin_field(f, "name");
+  if (pf.name == "exact") {
+    if (pf.params_field.present()) pf.params_field.fail("core's exact geometry takes no parameters");
+    return;
+  }
+  const PluginRegistry& reg = *out.registry;
+  const PluginInfo* info = reg.find(PluginKind<DistanceModel>::name, pf.name);
+  if (!info) {
+    std::string msg = unknown_plugin(reg, PluginKind<DistanceModel>::name, pf.name);
+    pf.name_field.fail(msg + " (or 'exact' for core's own geometry)");
+  }
+  Params user = read_params(pf.params_field, *info);
+  for (const char* reserved : {"polygons", "boxes"})
+    if (user.has(reserved))
+      pf.params_field.child(reserved).fail("set by marsyn from the problem's `obstacles`; remove it here");
+  std::vector<std::vector<Eigen::Vector2d>> own;
+  for (const auto& o : pb.obstacles) own.push_back(o.vertices);
+  auto registry = out.registry;
+  const std::string name = pf.name;
+  pb.distance_model = [registry, name, user](const std::vector<std::vector<Eigen::Vector2d>>& polygons) {
+    Params p = user;
+    p.set("polygons", polygon_param(polygons));
+    return std::shared_ptr<const DistanceModel>(registry->create<DistanceModel>(name, p));
+  };
+  try {
+    pb.distance_model(own);
+  } catch (const ParamError& e) {
+    pf.name_field.fail(std::string("the plugin rejected the problem's obstacles: ") + e.what());
+  } catch (const std::exception& e) {
+    pf.name_field.fail(std::string("the plugin could not be created: ") + e.what());
+  }
+  pb.collision.name = name;
+  pb.collision.params = user;
+}
+
 }  // namespace
 
 LoadedProblem load_problem(const std::string& path) {
@@ -409,6 +459,7 @@ LoadedProblem load_problem(const std::string& path) {
     else choice.params = create_plugin<Tracker>(*out.registry, pf).second;
     (std::string(kind) == "planner" ? pb.planner : pb.tracker) = choice;
   }
+  if (Field f = top.child("collision"); f.present()) read_collision(f, out);
   return out;
 }
 

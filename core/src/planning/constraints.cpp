@@ -75,10 +75,14 @@ struct PairGeometry {
 }  // namespace
 
 ObstacleConstraint::ObstacleConstraint(std::string name, const AgentSpec& agent, int offset, Polygon obstacle,
-                                       std::shared_ptr<const MarginTable> margins, double grow, double clearance)
+                                       std::shared_ptr<const MarginTable> margins, double grow, double clearance,
+                                       const DistanceModelFactory& distance)
     : name_(std::move(name)), agent_(&agent), support_(range_support(offset, agent.n())),
       obstacle_(std::move(obstacle)), margins_(std::move(margins)), grow_(grow), clearance_(clearance) {
-  if (margins_->constant()) grown_ = grow_by_box(obstacle_, margins_->max().x + grow_, margins_->max().y + grow_);
+  if (margins_->constant()) {
+    grown_ = grow_by_box(obstacle_, margins_->max().x + grow_, margins_->max().y + grow_);
+    if (distance) distance_ = distance({grown_});
+  }
 }
 
 void ObstacleConstraint::evaluate(const double* x, double* g, double* jac) const {
@@ -89,7 +93,9 @@ void ObstacleConstraint::evaluate(const double* x, double* g, double* jac) const
   workspace_point_jacobian(*agent_, xa, p, jac ? J : nullptr);
   Eigen::Vector2d grad;
   double sd;
-  if (margins_->constant()) {
+  if (distance_) {
+    sd = distance_->distance(0, p, grad.data());
+  } else if (margins_->constant()) {
     sd = signed_distance(grown_, Eigen::Vector2d(p[0], p[1]), &grad);
   } else {
     const WorkspaceMargin m = margins_->at(xa);
@@ -203,7 +209,7 @@ PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOpti
       const auto& obs = problem.obstacles[o];
       pp.constraints.push_back(std::make_shared<ObstacleConstraint>(
           "obstacle " + (obs.name.empty() ? std::to_string(o) : obs.name) + " vs " + a.name, a, xo[i], obs.vertices,
-          margin[i], inf ? delta : 0.0, (inf ? 0.0 : delta) + opt.buffer));
+          margin[i], inf ? delta : 0.0, (inf ? 0.0 : delta) + opt.buffer, problem.distance_model));
     }
   }
   if (problem.pairwise_collision)

@@ -1,6 +1,7 @@
 #pragma once
 // The problem value types every stage reads (architecture: plain values flowing one way).
 // Units: states and inputs in the model's units; time in seconds (tau) or steps (k, horizon).
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -8,6 +9,7 @@
 #include <Eigen/Core>
 
 #include "marsyn/box.hpp"
+#include "marsyn/constraint.hpp"
 #include "marsyn/dynamics.hpp"
 #include "marsyn/params.hpp"
 
@@ -74,6 +76,12 @@ struct FormationPair {
   double mu = 0.0;      // tolerance: lambda - mu <= d_ij <= lambda + mu
 };
 
+// Builds a distance provider (e.g. the "fcl" plugin) over planar obstacles: convex polygons,
+// counter-clockwise, numbered in the order given. The problem loader makes one from the config's
+// `collision` choice; when empty, planners use core's exact polygon geometry.
+using DistanceModelFactory =
+    std::function<std::shared_ptr<const DistanceModel>(const std::vector<std::vector<Eigen::Vector2d>>& polygons)>;
+
 struct Problem {
   std::string name;
   std::string source;  // the file it was loaded from
@@ -88,6 +96,8 @@ struct Problem {
   int rk4_substeps = 4;    // substeps of the sampled map f_tau used by planners and simulation
   PluginChoice planner;
   PluginChoice tracker;
+  PluginChoice collision;              // name empty: core's exact geometry
+  DistanceModelFactory distance_model;  // set with a collision plugin
   std::vector<std::string> plugin_paths;
 
   int product_state_dim() const {

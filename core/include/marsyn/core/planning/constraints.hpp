@@ -34,8 +34,12 @@ class ObstacleConstraint final : public Constraint {
  public:
   // Keeps the workspace point outside the obstacle grown by the margin box (+ `grow`, delta for
   // the inf-norm) by at least `clearance` in the Euclidean norm.
+  // With `distance` (built over the grown obstacle, a collision plugin), the signed distance comes
+  // from it; only for constant margins, where the grown polygon is fixed.
   ObstacleConstraint(std::string name, const AgentSpec& agent, int offset, Polygon obstacle,
-                     std::shared_ptr<const MarginTable> margins, double grow, double clearance);
+                     std::shared_ptr<const MarginTable> margins, double grow, double clearance,
+                     const DistanceModelFactory& distance = {});
+  bool uses_distance_model() const { return distance_ != nullptr; }
   std::string name() const override { return name_; }
   int size() const override { return 1; }
   ConstraintStage stage() const override { return ConstraintStage::AllSteps; }
@@ -49,6 +53,7 @@ class ObstacleConstraint final : public Constraint {
   Polygon obstacle_, grown_;  // grown_: precomputed for a constant margin
   std::shared_ptr<const MarginTable> margins_;
   double grow_, clearance_;
+  std::shared_ptr<const DistanceModel> distance_;
 };
 
 class PairConstraint final : public Constraint {
