@@ -1,6 +1,7 @@
 #include "marsyn/core/planning/constraints.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "marsyn/dual.hpp"
@@ -72,6 +73,46 @@ struct PairGeometry {
   }
 };
 
+
+// The workspace point's constant Jacobian (2 x n, row-major) for a linear workspace: the second
+// derivative of a constraint is then D' (d^2 g / dd^2) D with no curvature term.
+void linear_point_jacobian(const AgentSpec& a, double* J) {
+  const int n = a.n();
+  for (int i = 0; i < 2 * n; ++i) J[i] = 0.0;
+  for (int c = 0; c < 2; ++c)
+    if (a.workspace.index[c] >= 0) J[c * n + a.workspace.index[c]] = 1.0;
+}
+
+// H (cols x cols, row-major) += D' S D with D = [J_a, -J_b] (2 x cols) and S symmetric 2 x 2.
+void add_congruence(const double* Ja, int na, const double* Jb, int nb, const double S[4], double* H) {
+  const int cols = na + nb;
+  double D[2 * 2 * kMaxDual];
+  for (int c = 0; c < 2; ++c) {
+    for (int i = 0; i < na; ++i) D[c * cols + i] = Ja[c * na + i];
+    for (int i = 0; i < nb; ++i) D[c * cols + na + i] = -Jb[c * nb + i];
+  }
+  for (int p = 0; p < cols; ++p)
+    for (int q = 0; q < cols; ++q) {
+      double v = 0.0;
+      for (int r = 0; r < 2; ++r)
+        for (int t = 0; t < 2; ++t) v += D[r * cols + p] * S[r * 2 + t] * D[t * cols + q];
+      H[p * cols + q] += v;
+    }
+}
+
+// (I - n n') / |d|: the second derivative of the Euclidean norm at d != 0.
+void norm_curvature(const double* d, double scale, double S[4]) {
+  const double len = std::hypot(d[0], d[1]);
+  if (len < 1e-12) {
+    S[0] = S[1] = S[2] = S[3] = 0.0;
+    return;
+  }
+  const double nx = d[0] / len, ny = d[1] / len;
+  S[0] = scale * (1 - nx * nx) / len;
+  S[1] = S[2] = scale * (-nx * ny) / len;
+  S[3] = scale * (1 - ny * ny) / len;
+}
+
 }  // namespace
 
 ObstacleConstraint::ObstacleConstraint(std::string name, const AgentSpec& agent, int offset, Polygon obstacle,
@@ -104,6 +145,36 @@ void ObstacleConstraint::evaluate(const double* x, double* g, double* jac) const
   g[0] = clearance_ - sd;
   if (jac)
     for (int i = 0; i < n; ++i) jac[i] = -(grad[0] * J[i] + grad[1] * J[n + i]);
+}
+
+bool ObstacleConstraint::hessian(const double* x, const double* w, double* H) const {
+  // A nonlinear footprint adds a curvature term this class cannot evaluate; a state-dependent
+  // margin has no fixed grown polygon.
+  if (!agent_->workspace.linear() || !margins_->constant()) return false;
+  const int n = agent_->n();
+  double p[2], J[2 * kMaxDual];
+  workspace_point(*agent_->dynamics, agent_->workspace, x + support_[0], p);
+  linear_point_jacobian(*agent_, J);
+  // sd is the distance to the nearest edge (linear in p) unless the nearest feature is a vertex
+  // v outside, where it is |p - v|. The Hessian is taken on core's grown polygon also when a
+  // distance plugin supplies the value: both describe the same polygon.
+  const Eigen::Vector2d q(p[0], p[1]);
+  const double sd = signed_distance(grown_, q);
+  if (sd <= 0) return true;
+  double best = std::numeric_limits<double>::infinity();
+  Eigen::Vector2d nearest;
+  for (const auto& v : grown_)
+    if ((q - v).norm() < best) {
+      best = (q - v).norm();
+      nearest = v;
+    }
+  if (best - sd > 1e-12 * (1.0 + sd)) return true;  // an edge is nearer: sd is linear here
+  const double d[2] = {q.x() - nearest.x(), q.y() - nearest.y()};
+  double S[4];
+  norm_curvature(d, -w[0], S);  // g = clearance - sd
+  double zero[2 * kMaxDual] = {};
+  add_congruence(J, n, zero, 0, S, H);
+  return true;
 }
 
 PairConstraint::PairConstraint(std::string name, const AgentSpec& a, int offset_a, const AgentSpec& b,
@@ -147,6 +218,37 @@ void PairConstraint::evaluate(const double* x, double* g, double* jac) const {
   if (jac) geo.chain(gd, na, nb, jac);
 }
 
+bool PairConstraint::hessian(const double* x, const double* w, double* H) const {
+  if (!a_->workspace.linear() || !b_->workspace.linear()) return false;
+  const int na = a_->n(), nb = b_->n();
+  const double *xa = x + support_[0], *xb = x + support_[na];
+  const PairGeometry geo(*a_, *b_, xa, xb, false);
+  double Ja[2 * kMaxDual], Jb[2 * kMaxDual];
+  linear_point_jacobian(*a_, Ja);
+  linear_point_jacobian(*b_, Jb);
+  const WorkspaceMargin m1 = ma_->at(xa), m2 = mb_->at(xb);
+  double S[4] = {0, 0, 0, 0};
+  if (norm_ == Norm::Two) {
+    norm_curvature(geo.d, -w[0], S);
+  } else {
+    // g = scale (1 - M): M is piecewise linear outside the smoothed corner; inside it the only
+    // curvature is sigma''(z) along z's gradient v in d.
+    const double rx = delta_ + m1.x + m2.x, ry = delta_ + m1.y + m2.y;
+    const double sx = geo.d[0] / rx, sy = geo.d[1] / ry;
+    const double z = 0.5 * (std::abs(sx) - std::abs(sy)), az = std::abs(z), c = corner_;
+    if (az < c) {
+      const double sigma2 = (4 * c - 6 * az) / (c * c);
+      const double v[2] = {0.5 * (sx >= 0 ? 1 : -1) / rx, -0.5 * (sy >= 0 ? 1 : -1) / ry};
+      const double k = -w[0] * std::min(rx, ry) * sigma2;
+      S[0] = k * v[0] * v[0];
+      S[1] = S[2] = k * v[0] * v[1];
+      S[3] = k * v[1] * v[1];
+    }
+  }
+  add_congruence(Ja, na, Jb, nb, S, H);
+  return true;
+}
+
 FormationConstraint::FormationConstraint(std::string name, const AgentSpec& a, int offset_a, const AgentSpec& b,
                                          int offset_b, double lambda, double mu,
                                          std::shared_ptr<const MarginTable> ma, std::shared_ptr<const MarginTable> mb,
@@ -169,6 +271,19 @@ void FormationConstraint::evaluate(const double* x, double* g, double* jac) cons
     geo.chain(gd, na, nb, jac);
     geo.chain(gn, na, nb, jac + na + nb);
   }
+}
+
+bool FormationConstraint::hessian(const double* x, const double* w, double* H) const {
+  if (!a_->workspace.linear() || !b_->workspace.linear()) return false;
+  const int na = a_->n(), nb = b_->n();
+  const PairGeometry geo(*a_, *b_, x + support_[0], x + support_[na], false);
+  double Ja[2 * kMaxDual], Jb[2 * kMaxDual];
+  linear_point_jacobian(*a_, Ja);
+  linear_point_jacobian(*b_, Jb);
+  double S[4];
+  norm_curvature(geo.d, w[0] - w[1], S);  // g_0 = |d| - ..., g_1 = ... - |d|
+  add_congruence(Ja, na, Jb, nb, S, H);
+  return true;
 }
 
 PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOptions& opt) {

@@ -18,6 +18,14 @@ class Constraint {
   virtual const std::vector<int>& support() const = 0;
   // g (size()) at the product state x; jac (size() x support().size(), row-major) when non-null.
   virtual void evaluate(const double* x, double* g, double* jac) const = 0;
+  // Adds sum_r w[r] d^2 g_r / dx^2 (support x support, row-major) to H, for second-order
+  // planners. At the kinks of a piecewise-smooth g, the active piece's second derivative.
+  // Returns false, leaving H alone, when this constraint does not provide it (the planner then
+  // differences the Jacobian).
+  virtual bool hessian(const double* x, const double* w, double* H) const {
+    (void)x, (void)w, (void)H;
+    return false;
+  }
 };
 
 // A collision-geometry provider (the FCL plugin, or core's exact primitives): signed distance

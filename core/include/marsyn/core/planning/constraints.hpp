@@ -45,6 +45,7 @@ class ObstacleConstraint final : public Constraint {
   ConstraintStage stage() const override { return ConstraintStage::AllSteps; }
   const std::vector<int>& support() const override { return support_; }
   void evaluate(const double* x, double* g, double* jac) const override;
+  bool hessian(const double* x, const double* w, double* H) const override;
 
  private:
   std::string name_;
@@ -68,6 +69,7 @@ class PairConstraint final : public Constraint {
   ConstraintStage stage() const override { return ConstraintStage::AllSteps; }
   const std::vector<int>& support() const override { return support_; }
   void evaluate(const double* x, double* g, double* jac) const override;
+  bool hessian(const double* x, const double* w, double* H) const override;
 
  private:
   std::string name_;
@@ -90,6 +92,7 @@ class FormationConstraint final : public Constraint {
   ConstraintStage stage() const override { return ConstraintStage::AllSteps; }
   const std::vector<int>& support() const override { return support_; }
   void evaluate(const double* x, double* g, double* jac) const override;
+  bool hessian(const double* x, const double* w, double* H) const override;
 
  private:
   std::string name_;
