@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <stdexcept>
+#include <type_traits>
 
 namespace marsyn {
 
@@ -134,5 +135,17 @@ Dual<T> atan(const Dual<T>& a) {
   using std::atan;
   return dual_detail::chain(a, T(atan(a.v)), T(1.0) / (T(1.0) + a.v * a.v), 0);
 }
+
+// Second-order forward mode (forward over forward): every operation above is written for any
+// scalar T, so a Dual whose scalar is itself a Dual<double> carries first derivatives in both
+// layers and the exact second derivatives in the derivatives' derivatives. Derivatives are taken
+// with respect to the same `count` variables in both layers: y.d[a].d[b] = d^2 y / dz_a dz_b.
+using DualD2 = Dual<Dual<double>>;
+
+// Variable `slot` of `count` for second derivatives (seeded in both layers).
+inline DualD2 second_order_variable(double value, int slot, int count) {
+  return DualD2::variable(Dual<double>::variable(value, slot, count), slot, count);
+}
+inline double second_derivative(const DualD2& y, int a, int b) { return y.derivative(a).derivative(b); }
 
 }  // namespace marsyn

@@ -1,6 +1,7 @@
 #include "ipopt_solver.hpp"
 
 #include <IpIpoptApplication.hpp>
+#include <algorithm>
 #include <mutex>
 #include <sstream>
 
@@ -10,8 +11,9 @@ namespace marsyn::ipopt_planner {
 
 std::vector<ParamSpec> Options::specs() {
   return {
-      {"hessian", ParamType::String, "differenced", "differenced|limited-memory",
-       "Hessian of the Lagrangian: central differences of the exact AD Jacobians, or Ipopt's L-BFGS"},
+      {"hessian", ParamType::String, "exact", "exact|differenced|limited-memory",
+       "Hessian of the Lagrangian: AD second derivatives where the interfaces provide them (other blocks "
+       "differenced, see the result message), central differences of the exact AD Jacobians, or Ipopt's L-BFGS"},
       {"r_input", ParamType::Real, "0.01", "[0, inf)", "weight of the input energy 1/2 |u|^2"},
       {"q_terminal", ParamType::Real, "0", "[0, inf)", "weight of 1/2 |x_T - goal centre|^2"},
       {"tol", ParamType::Real, "1e-6", "(0, 1)", "Ipopt tol"},
@@ -27,6 +29,7 @@ std::vector<ParamSpec> Options::specs() {
        "interpolate: start the inputs at a least-squares fit to the guessed states (else 0)"},
       {"derivative_test", ParamType::String, "none", "none|first-order|second-order",
        "Ipopt's finite-difference check of the derivatives at the initial point (printed)"},
+      {"output_file", ParamType::String, "", "path", "Ipopt output_file (its log, at least print level 5 there)"},
       {"initial_guess", ParamType::String, "interpolate", "interpolate|rollout",
        "without a warm start: bent straight lines to the goal, or the states of zero inputs"},
   };
@@ -35,8 +38,8 @@ std::vector<ParamSpec> Options::specs() {
 Options Options::from(const Params& p) {
   Options o;
   o.hessian = p.text("hessian", o.hessian);
-  if (o.hessian != "differenced" && o.hessian != "limited-memory")
-    throw ParamError("hessian", "expected differenced or limited-memory");
+  if (o.hessian != "exact" && o.hessian != "differenced" && o.hessian != "limited-memory")
+    throw ParamError("hessian", "expected exact, differenced or limited-memory");
   o.r_input = p.real("r_input", o.r_input);
   o.q_terminal = p.real("q_terminal", o.q_terminal);
   o.tol = p.real("tol", o.tol);
@@ -50,6 +53,7 @@ Options Options::from(const Params& p) {
   if (o.mu_strategy != "adaptive" && o.mu_strategy != "monotone") throw ParamError("mu_strategy", "expected adaptive or monotone");
   o.fit_inputs = p.boolean("fit_inputs", o.fit_inputs);
   o.derivative_test = p.text("derivative_test", o.derivative_test);
+  o.output_file = p.text("output_file", o.output_file);
   o.initial_guess = p.text("initial_guess", o.initial_guess);
   if (o.initial_guess != "interpolate" && o.initial_guess != "rollout")
     throw ParamError("initial_guess", "expected interpolate or rollout");
@@ -69,7 +73,8 @@ std::mutex& ipopt_mutex() {
 }
 }  // namespace
 
-PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Options& o) {
+PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Options& o,
+                 std::vector<SecondOrderField> fields) {
   const double t0 = plan5::now_seconds();
   PlanResult res;
   if (!pp.problem || pp.horizon <= 0) {
@@ -78,7 +83,7 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
     return res;
   }
   plan5::ProductModel model(pp);
-  Ipopt::SmartPtr<ShootingNlp> nlp = new ShootingNlp(model, o, run, t0);
+  Ipopt::SmartPtr<ShootingNlp> nlp = new ShootingNlp(model, o, run, t0, std::move(fields));
   Ipopt::ApplicationReturnStatus st;
   int iterations = 0;
   {
@@ -96,7 +101,12 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
     if (o.derivative_test != "none") {
       app->Options()->SetStringValue("derivative_test", o.derivative_test);
       app->Options()->SetNumericValue("derivative_test_tol", 1e-4);
-      app->Options()->SetIntegerValue("print_level", std::max(o.print_level, 4));
+      // The checker's findings are printed: on the console unless they go to output_file.
+      if (o.output_file.empty()) app->Options()->SetIntegerValue("print_level", std::max(o.print_level, 4));
+    }
+    if (!o.output_file.empty()) {
+      app->Options()->SetStringValue("output_file", o.output_file);
+      app->Options()->SetIntegerValue("file_print_level", std::max(o.print_level, 5));
     }
     if (pp.warm_start) app->Options()->SetNumericValue("bound_push", 1e-6);
     st = app->Initialize();
@@ -135,7 +145,19 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
   for (const auto& u : U) res.cost += 0.5 * o.r_input * u.squaredNorm();
   const bool converged = st == Ipopt::Solve_Succeeded || st == Ipopt::Solved_To_Acceptable_Level;
   std::ostringstream os;
-  os << "ipopt status " << static_cast<int>(st) << " (" << o.hessian << " Hessian)";
+  os << "ipopt status " << static_cast<int>(st) << " (" << o.hessian << " Hessian";
+  if (o.hessian == "exact") {
+    // Blocks the interfaces cannot differentiate twice are differenced; say which.
+    const auto& b = nlp->hessian_blocks();
+    if (b.dynamics_differenced > 0)
+      os << "; dynamics blocks differenced: " << (interface_has_second_order_field() ? "no DualD2 field" : "marsyn::Dynamics has no DualD2 field");
+    if (b.constraints_differenced > 0)
+      os << "; constraint blocks differenced: "
+         << (interface_has_constraint_hessian() ? "no hessian()" : "marsyn::Constraint has no hessian()");
+  }
+  os << ")";
+  if (nlp->hessian_evaluations() > 0)
+    os << ", " << nlp->hessian_evaluations() << " Hessians in " << nlp->hessian_seconds() << " s";
   if (converged && res.max_violation <= o.feasibility_tolerance) {
     res.status = PlannerStatus::ExactSolution;
   } else if (nlp->timed_out()) {

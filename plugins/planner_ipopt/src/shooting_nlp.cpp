@@ -12,12 +12,14 @@ namespace marsyn::ipopt_planner {
 namespace {
 constexpr double kIpoptInf = 2e19;  // beyond Ipopt's default nlp_{lower,upper}_bound_inf
 double finite_or(double v, double inf) { return std::isfinite(v) ? v : inf; }
-// Central differences of exact Jacobians: error O(h^2), h near the cube root of machine epsilon.
-double fd_step(double v) { return 1e-5 * std::max(1.0, std::abs(v)); }
 }  // namespace
 
-ShootingNlp::ShootingNlp(const plan5::ProductModel& model, const Options& options, const PlanOptions& run, double t0)
-    : model_(model), o_(options), run_(run), t0_(t0), T_(model.T), n_(model.n), m_(model.m) {
+ShootingNlp::ShootingNlp(const plan5::ProductModel& model, const Options& options, const PlanOptions& run, double t0,
+                         std::vector<SecondOrderField> fields)
+    : model_(model), o_(options), run_(run), t0_(t0), T_(model.T), n_(model.n), m_(model.m), fields_(std::move(fields)) {
+  fields_.resize(model_.agents.size());
+  for (size_t i = 0; i < fields_.size(); ++i)
+    if (!fields_[i]) fields_[i] = second_order_field(*model_.agents[i].dyn);
   for (const auto& c : model_.pp.constraints) {
     if (c->stage() == ConstraintStage::Terminal) {
       terminal_.push_back(c.get());
@@ -294,75 +296,55 @@ bool ShootingNlp::eval_h(Index, const Number* z, bool, Number sigma, Index, cons
     std::copy(hcol_.begin(), hcol_.end(), jCol);
     return true;
   }
+  const double start = plan5::now_seconds();
+  const bool exact = o_.hessian == "exact";
+  blocks_ = {};
   size_t e = 0;
-  // Dynamics: d^2/dz^2 of -lambda_k' f_tau(x_k, u_k), per agent, by differencing the exact
-  // gradient -lambda_k' [A B].
-  double A[kMaxDual * kMaxDual], B[kMaxDual * kMaxDual];
+  hess_.resize(std::max<size_t>(hess_.size(), kMaxDual * kMaxDual));
+  double* H = hess_.data();
+  // Dynamics: the defect x_{k+1} - f_tau(x_k, u_k) is linear in x_{k+1}, so its curvature is
+  // -lambda_k' f_tau'' over (x_k^i, u_k^i), per agent; plus the input cost on the diagonal.
   for (int k = 0; k < T_; ++k) {
     const double* x = state(z, k);
     const double* u = z + uvar(k, 0);
-    for (const auto& a : model_.agents) {
-      const int w = a.n + a.m;
+    for (size_t i = 0; i < model_.agents.size(); ++i) {
+      const auto& a = model_.agents[i];
+      const int w = a.n + a.m, first = k >= 1 ? 0 : a.n;  // x_0 is not a variable
       const double* lam = lambda + k * n_ + a.xo;
-      std::vector<double> xu(w);
-      for (int b = 0; b < a.n; ++b) xu[b] = x[a.xo + b];
-      for (int c = 0; c < a.m; ++c) xu[a.n + c] = u[a.uo + c];
-      auto gradient = [&](const std::vector<double>& p, std::vector<double>& out) {
-        rk4_jacobians(*a.dyn, p.data(), p.data() + a.n, model_.tau, model_.substeps, nullptr, A, B);
-        for (int j = 0; j < w; ++j) {
-          double s = 0.0;
-          for (int r = 0; r < a.n; ++r) s += lam[r] * (j < a.n ? A[r * a.n + j] : B[r * a.m + j - a.n]);
-          out[j] = -s;
-        }
-      };
-      Eigen::MatrixXd H(w, w);
-      std::vector<double> gp(w), gm(w), p = xu;
-      const int first = k >= 1 ? 0 : a.n;  // x_0 is not a variable
-      H.setZero();
-      for (int j = first; j < w; ++j) {
-        const double h = fd_step(xu[j]);
-        p[j] = xu[j] + h;
-        gradient(p, gp);
-        p[j] = xu[j] - h;
-        gradient(p, gm);
-        p[j] = xu[j];
-        for (int r = 0; r < w; ++r) H(r, j) = (gp[r] - gm[r]) / (2 * h);
+      if (exact && fields_[i]) {
+        rk4_weighted_hessian(fields_[i], a.n, a.m, x + a.xo, u + a.uo, lam, model_.tau, model_.substeps, H);
+        ++blocks_.dynamics_exact;
+      } else {
+        differenced_dynamics_hessian(*a.dyn, x + a.xo, u + a.uo, lam, model_.tau, model_.substeps, first, H);
+        ++blocks_.dynamics_differenced;
       }
-      H = 0.5 * (H + H.transpose()).eval();
-      for (int pi = first; pi < w; ++pi)
-        for (int qi = first; qi <= pi; ++qi) v[e++] = H(pi, qi) + (pi == qi && pi >= a.n ? sigma * o_.r_input : 0.0);
+      for (int p = first; p < w; ++p)
+        for (int q = first; q <= p; ++q) v[e++] = -H[p * w + q] + (p == q && p >= a.n ? sigma * o_.r_input : 0.0);
     }
   }
-  // Constraints: d^2/dx^2 of lambda' g(x_k) over each support, by differencing its Jacobian.
-  std::vector<double> xs(n_), g(16), jp, jm;
+  // Constraints: lambda' g(x_k) over each support.
   auto blocks_of = [&](const std::vector<const Constraint*>& list, int base, int k) {
     for (const auto* c : list) {
-      const auto& s = c->support();
-      const int w = static_cast<int>(s.size()), rows = c->size();
-      g.resize(std::max<size_t>(g.size(), rows));
-      jp.resize(static_cast<size_t>(rows) * w);
-      jm.resize(jp.size());
-      std::copy(state(z, k), state(z, k) + n_, xs.begin());
-      Eigen::MatrixXd H = Eigen::MatrixXd::Zero(w, w);
-      for (int j = 0; j < w; ++j) {
-        const double x0 = xs[s[j]], h = fd_step(x0);
-        xs[s[j]] = x0 + h;
-        c->evaluate(xs.data(), g.data(), jp.data());
-        xs[s[j]] = x0 - h;
-        c->evaluate(xs.data(), g.data(), jm.data());
-        xs[s[j]] = x0;
-        for (int r = 0; r < rows; ++r)
-          for (int q = 0; q < w; ++q) H(q, j) += lambda[base + r] * (jp[r * w + q] - jm[r * w + q]) / (2 * h);
+      const int w = static_cast<int>(c->support().size());
+      hess_.resize(std::max<size_t>(hess_.size(), static_cast<size_t>(w) * w));
+      H = hess_.data();
+      std::fill(H, H + w * w, 0.0);
+      if (exact && constraint_hessian(*c, state(z, k), lambda + base, H)) {
+        ++blocks_.constraints_exact;
+      } else {
+        differenced_constraint_hessian(*c, state(z, k), n_, lambda + base, H);
+        ++blocks_.constraints_differenced;
       }
-      H = 0.5 * (H + H.transpose()).eval();
       for (int p = 0; p < w; ++p)
-        for (int q = 0; q <= p; ++q) v[e++] = H(p, q);
-      base += rows;
+        for (int q = 0; q <= p; ++q) v[e++] = H[p * w + q];
+      base += c->size();
     }
   };
   for (int k = 1; k <= T_; ++k) blocks_of(path_, T_ * n_ + (k - 1) * path_rows_, k);
   blocks_of(terminal_, T_ * n_ + T_ * path_rows_, T_);
   for (int i = 0; i < n_; ++i) v[e++] = sigma * o_.q_terminal;
+  ++h_evals_;
+  h_seconds_ += plan5::now_seconds() - start;
   return true;
 }
 

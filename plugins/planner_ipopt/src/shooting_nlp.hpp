@@ -6,6 +6,7 @@
 
 #include "ipopt_solver.hpp"
 #include "planner_nlopt/src/product_model.hpp"
+#include "second_order.hpp"
 
 namespace marsyn::ipopt_planner {
 
@@ -14,7 +15,10 @@ class ShootingNlp : public Ipopt::TNLP {
   using Index = Ipopt::Index;
   using Number = Ipopt::Number;
 
-  ShootingNlp(const plan5::ProductModel& model, const Options& options, const PlanOptions& run, double t0);
+  // `fields`: one per agent, the vector field with nested duals for exact dynamics blocks; empty
+  // (or an empty entry) takes what marsyn::Dynamics offers (second_order.hpp).
+  ShootingNlp(const plan5::ProductModel& model, const Options& options, const PlanOptions& run, double t0,
+              std::vector<SecondOrderField> fields = {});
 
   bool get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag, IndexStyleEnum& style) override;
   bool get_bounds_info(Index n, Number* x_l, Number* x_u, Index m, Number* g_l, Number* g_u) override;
@@ -40,6 +44,13 @@ class ShootingNlp : public Ipopt::TNLP {
   Ipopt::SolverReturn status() const { return status_; }
   bool timed_out() const { return timed_out_; }
   int iterations() const { return iterations_; }
+  // How the blocks of the last eval_h were computed (AD second derivatives or differences).
+  struct HessianBlocks {
+    long dynamics_exact = 0, dynamics_differenced = 0, constraints_exact = 0, constraints_differenced = 0;
+  };
+  int hessian_evaluations() const { return h_evals_; }
+  double hessian_seconds() const { return h_seconds_; }
+  const HessianBlocks& hessian_blocks() const { return blocks_; }
 
  private:
   int xvar(int k, int i) const { return (k - 1) * n_ + i; }  // k >= 1
@@ -61,6 +72,11 @@ class ShootingNlp : public Ipopt::TNLP {
   std::vector<double> z_cache_;
   std::vector<Eigen::VectorXd> next_;
   std::vector<std::vector<double>> jac_;  // [k * agents + i]: n_i x (n_i + m_i)
+  std::vector<SecondOrderField> fields_;
+  std::vector<double> hess_;  // one block of eval_h
+  HessianBlocks blocks_;
+  int h_evals_ = 0;
+  double h_seconds_ = 0.0;
   std::vector<Eigen::VectorXd> solution_u_;
   Ipopt::SolverReturn status_ = Ipopt::INTERNAL_ERROR;
   bool timed_out_ = false;

@@ -79,17 +79,8 @@ TEST(IpoptPlanner, ConcurrentSolvesAreSerializedAndBothSucceed) {
   EXPECT_TRUE(b.feasible);
 }
 
-TEST(IpoptPlanner, DISABLED_DerivativeCheck) {
-  ipopt_planner::Options o;
-  o.derivative_test = "second-order";
-  o.max_iterations = 1;
-  const auto p = testproblems::unicycle_crossing(20, true);
-  auto pp = planning::assemble(p, p.horizon);
-  ipopt_planner::solve(pp, {}, o);
-}
-
 TEST(IpoptPlanner, RejectsBadParameters) {
   Params p;
-  p.set("hessian", std::string("exact"));
+  p.set("hessian", std::string("newton"));
   EXPECT_THROW(ipopt_planner::Options::from(p), ParamError);
 }
