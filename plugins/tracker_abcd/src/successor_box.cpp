@@ -10,11 +10,19 @@
 namespace marsyn::abcd {
 namespace {
 
-using boost::numeric::hull;
-using boost::numeric::subset;
+// The series below sums non-negative terms with the FPU rounding upward (section 4c of
+// docs/soundness.md); nothing in that block calls libm or an interval operation. The previous
+// mode comes back on every exit path.
+class UpwardScope {
+ public:
+  UpwardScope() : saved_(std::fegetround()) { std::fesetround(FE_UPWARD); }
+  ~UpwardScope() { std::fesetround(saved_); }
+  UpwardScope(const UpwardScope&) = delete;
+  UpwardScope& operator=(const UpwardScope&) = delete;
 
-// Upper bound of |x| over the interval.
-double mag(const Interval& x) { return std::max(-x.lower(), x.upper()); }
+ private:
+  int saved_;
+};
 
 }  // namespace
 
@@ -32,25 +40,25 @@ SuccessorBox::SuccessorBox(const Dynamics& f, std::vector<double> w, SuccessorOp
 // Picard a priori enclosure over one substep. If X + [0, h] (F(B, u) + W) is contained in B,
 // every solution from X stays in that candidate over [0, h] (Schauder fixed point on C([0,h], B)
 // and uniqueness for a locally Lipschitz field with a measurable disturbance).
-bool SuccessorBox::apriori(const Interval* x, const Interval* u, const Interval* w, const Interval& h,
-                           Interval* out) const {
-  const Interval t(0.0, h.upper());
-  Interval b[kMaxDim], fb[kMaxDim], cand[kMaxDim];
+bool SuccessorBox::apriori(const FastInterval* x, const FastInterval* u, const FastInterval* w, const FastInterval& h,
+                           FastInterval* out) const {
+  const FastInterval t(0.0, h.upper());
+  FastInterval b[kMaxDim], fb[kMaxDim], cand[kMaxDim];
   f_.field(x, u, fb);
   for (int i = 0; i < n_; ++i) b[i] = x[i] + t * (fb[i] + w[i]);
   for (int it = 0; it < opt_.picard_iterations; ++it) {
     // Inflation makes the containment test succeed after a few rounds for a smooth field.
     for (int i = 0; i < n_; ++i) {
-      const double r = 0.1 * boost::numeric::width(b[i]) + 1e-12 * (1.0 + mag(b[i]));
-      b[i] = Interval(b[i].lower() - r, b[i].upper() + r);
+      const double r = 0.1 * width(b[i]) + 1e-12 * (1.0 + mag(b[i]));
+      b[i] = FastInterval(b[i].lower() - r, b[i].upper() + r);
       if (!std::isfinite(b[i].lower()) || !std::isfinite(b[i].upper())) return false;
     }
     f_.field(b, u, fb);
     bool inside = true;
     for (int i = 0; i < n_; ++i) {
       cand[i] = x[i] + t * (fb[i] + w[i]);
-      // Boost treats an interval with a NaN bound as empty, hence a subset of anything: reject
-      // non-finite candidates explicitly.
+      // An interval with a NaN bound is empty (hence a subset of anything) and an infinite one
+      // bounds nothing: reject non-finite candidates explicitly.
       if (!std::isfinite(cand[i].lower()) || !std::isfinite(cand[i].upper())) return false;
       if (!subset(cand[i], b[i])) inside = false;
     }
@@ -63,10 +71,10 @@ bool SuccessorBox::apriori(const Interval* x, const Interval* u, const Interval*
   return false;
 }
 
-void SuccessorBox::jacobian(const Interval* x, const Interval* u, Interval* value, Interval* jac) const {
-  DualI xd[kMaxDim], ud[kMaxDim], out[kMaxDim];
-  for (int i = 0; i < n_; ++i) xd[i] = DualI::variable(x[i], i, n_);
-  for (int j = 0; j < m_; ++j) ud[j] = DualI(u[j]);
+void SuccessorBox::jacobian(const FastInterval* x, const FastInterval* u, FastInterval* value, FastInterval* jac) const {
+  DualFI xd[kMaxDim], ud[kMaxDim], out[kMaxDim];
+  for (int i = 0; i < n_; ++i) xd[i] = DualFI::variable(x[i], i, n_);
+  for (int j = 0; j < m_; ++j) ud[j] = DualFI(u[j]);
   f_.field(xd, ud, out);
   for (int i = 0; i < n_; ++i) {
     if (value) value[i] = out[i].v;
@@ -84,10 +92,10 @@ bool SuccessorBox::growth(const double* L, double* beta, double h_lo, double h_u
   const int n = n_, K = opt_.taylor_terms;
   double c = 0.0;
   for (int i = 0; i < n; ++i) c = std::max(c, -L[i * n + i]);
-  // exp(-c h) rounded up: libm exp is within 2 ulp; detail::widen_up adds a 4 ulp margin.
-  const double decay = c > 0 ? std::min(1.0, detail::widen_up(std::exp(-((Interval(c) * Interval(h_lo)).lower())))) : 1.0;
-  const int saved = std::fegetround();
-  std::fesetround(FE_UPWARD);
+  // exp(-c h) rounded up: libm exp (called in round-to-nearest) is within 2 ulp;
+  // detail::widen_up adds a 4 ulp margin. -c h is rounded up as -(c h rounded down).
+  const double decay = c > 0 ? std::min(1.0, detail::widen_up(std::exp(-fast_detail::mul_down(c, h_lo)))) : 1.0;
+  const UpwardScope upward;
   double M[kMaxDim * kMaxDim], norm = 0.0;
   for (int i = 0; i < n; ++i) {
     double row = 0.0;
@@ -143,32 +151,35 @@ bool SuccessorBox::growth(const double* L, double* beta, double h_lo, double h_u
       for (int i = 0; i < n; ++i) beta[i] = decay * ab[i] + aw[i] + tail;
     }
   }
-  std::fesetround(saved);
   return ok;
 }
 
 bool SuccessorBox::compute(const Interval* cell, const double* u, double* lo, double* hi) const {
+  // FastInterval's error-free transformations need round-to-nearest; so does every plain double
+  // operation here and in the model's field (constants, libm calls), as in a double evaluation.
+  const RoundToNearestScope nearest;
   const int n = n_;
-  Interval U[kMaxDim], W[kMaxDim];
-  for (int j = 0; j < m_; ++j) U[j] = Interval(u[j]);
+  FastInterval U[kMaxDim], W[kMaxDim];
+  for (int j = 0; j < m_; ++j) U[j] = FastInterval(u[j]);
   for (int i = 0; i < n; ++i) {
-    W[i] = Interval(-w_[i], w_[i]);
+    W[i] = FastInterval(-w_[i], w_[i]);
   }
   // C encloses the disturbance-free solution from the cell's centre c; beta bounds every true
   // state's distance to it.
-  Interval C[kMaxDim];
+  FastInterval C[kMaxDim];
   double beta[kMaxDim];
   for (int i = 0; i < n; ++i) {
-    const double c = boost::numeric::median(cell[i]);
-    C[i] = Interval(c);
-    const Interval d = cell[i] - C[i];
+    const FastInterval ci(cell[i]);
+    const double c = median(ci);
+    C[i] = FastInterval(c);
+    const FastInterval d = ci - C[i];
     beta[i] = mag(d);
   }
-  const Interval h = Interval(opt_.tau) / Interval(static_cast<double>(opt_.substeps));
-  const Interval half_h2 = h * h / Interval(2.0);
-  Interval X[kMaxDim], B[kMaxDim], Fc[kMaxDim], FC[kMaxDim], J[kMaxDim * kMaxDim], next[kMaxDim];
+  const FastInterval h = FastInterval(opt_.tau) / FastInterval(static_cast<double>(opt_.substeps));
+  const FastInterval half_h2 = h * h / FastInterval(2.0);
+  FastInterval X[kMaxDim], B[kMaxDim], Fc[kMaxDim], FC[kMaxDim], J[kMaxDim * kMaxDim], next[kMaxDim];
   for (int s = 0; s < opt_.substeps; ++s) {
-    for (int i = 0; i < n; ++i) X[i] = C[i] + Interval(-beta[i], beta[i]);
+    for (int i = 0; i < n; ++i) X[i] = C[i] + FastInterval(-beta[i], beta[i]);
     if (!apriori(X, U, W, h, B)) return false;
 
     // One Jacobian enclosure over B serves both halves: B holds every true trajectory and, as
@@ -179,7 +190,7 @@ bool SuccessorBox::compute(const Interval* cell, const double* u, double* lo, do
     // trajectory, which stays in B.
     f_.field(C, U, FC);
     for (int i = 0; i < n; ++i) {
-      Interval xdd(0.0);
+      FastInterval xdd(0.0);
       for (int j = 0; j < n; ++j) xdd += J[i * n + j] * Fc[j];
       next[i] = C[i] + h * FC[i] + half_h2 * xdd;
     }
@@ -196,8 +207,8 @@ bool SuccessorBox::compute(const Interval* cell, const double* u, double* lo, do
     for (int i = 0; i < n; ++i) C[i] = next[i];
   }
   for (int i = 0; i < n; ++i) {
-    lo[i] = (C[i] - Interval(beta[i])).lower();
-    hi[i] = (C[i] + Interval(beta[i])).upper();
+    lo[i] = (C[i] - FastInterval(beta[i])).lower();
+    hi[i] = (C[i] + FastInterval(beta[i])).upper();
     if (!std::isfinite(lo[i]) || !std::isfinite(hi[i])) return false;
   }
   if (hook_) {

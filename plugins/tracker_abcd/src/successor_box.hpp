@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "marsyn/dynamics.hpp"
+#include "marsyn/fast_interval.hpp"
 #include "marsyn/interval.hpp"
 #include "marsyn/tracker.hpp"
 
@@ -27,7 +28,8 @@ class SuccessorBox {
   SuccessorBox(const Dynamics& f, std::vector<double> w, SuccessorOptions opt, const SuccessorHook* hook = nullptr);
 
   // Returns false when no a priori enclosure was found (treat as "no successor": the input is
-  // never used from this cell). lo/hi get n doubles each.
+  // never used from this cell). lo/hi get n doubles each. Runs in round-to-nearest whatever the
+  // caller's rounding mode, which is restored on return and on exceptions.
   bool compute(const Interval* cell, const double* u, double* lo, double* hi) const;
 
   const SuccessorOptions& options() const { return opt_; }
@@ -35,9 +37,10 @@ class SuccessorBox {
   const std::vector<double>& w() const { return w_; }
 
  private:
-  bool apriori(const Interval* x, const Interval* u, const Interval* w, const Interval& h, Interval* out) const;
+  bool apriori(const FastInterval* x, const FastInterval* u, const FastInterval* w, const FastInterval& h,
+               FastInterval* out) const;
   bool growth(const double* L, double* beta, double h_lo, double h_up) const;
-  void jacobian(const Interval* x, const Interval* u, Interval* value, Interval* jac) const;
+  void jacobian(const FastInterval* x, const FastInterval* u, FastInterval* value, FastInterval* jac) const;
 
   const Dynamics& f_;
   int n_, m_;

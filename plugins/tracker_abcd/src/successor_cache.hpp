@@ -29,7 +29,7 @@ inline constexpr double kShiftSlack = 1e-6;
 // as "no successor" (it could never fit a tube of that many fewer cells anyway), such a probe
 // as absent.
 struct RelBox {
-  std::uint8_t probed = 0;  // probe stages done: 1 the centre, 2 the corners too
+  std::uint8_t probed = 0;  // probes done (SuccessorTable::probe): 1 the centre, then corners
   bool boxed = false;
   bool ok = false;      // box computed and bounded (false: never use this input from this cell)
   bool has_hull = false;
@@ -164,9 +164,16 @@ class SuccessorTable {
     return insert(idx, j, RelBox{});
   }
 
-  // Stage 1 probes the centre only (cheap rejection); stage 2 adds the corners.
-  void probe(RelBox& e, const std::int64_t* idx, std::int64_t j, int stage) {
-    if (e.probed >= stage) return;
+  // Probes in a fixed order: p = 0 the centre, then the corners (corner_bits). total_probes()
+  // of them make the full hull; the hull of a prefix is a subset of it.
+  int total_probes() const { return 1 + (n_ <= 4 ? (1 << n_) : 2); }
+
+  // Extends e's probe hull with probes e.probed .. upto-1 (a no-op when already done). Callers
+  // may stop early on a rejection: the entry remembers how far it got and later calls resume, so
+  // the hull after the last probe never depends on when or by whom it was extended.
+  void probe(RelBox& e, const std::int64_t* idx, std::int64_t j, int upto) {
+    upto = std::min(upto, total_probes());
+    if (e.probed >= upto) return;
     ++probes_;
     const Dynamics& f = sb_.dynamics();
     double u[kMaxDim], x[kMaxDim], w[kMaxDim], img[kMaxDim], clo[kMaxDim], chi[kMaxDim];
@@ -176,13 +183,8 @@ class SuccessorTable {
       clo[i] = inv_[i] ? -0.5 * g_.eta()[i] : g_.origin()[i] + static_cast<double>(idx[i]) * g_.eta()[i];
       chi[i] = clo[i] + g_.eta()[i];
     }
-    // Probe p = 0 is the centre; p >= 1 is corner (p - 1) as a bit pattern (bit i set: upper),
-    // or for n > 4 only the all-lower and all-upper corners.
-    const int corners = n_ <= 4 ? (1 << n_) : 2;
-    const int first_p = e.probed == 0 ? 0 : 1, last_p = stage == 1 ? 0 : corners;
-    for (int p = first_p; p <= last_p; ++p) {
-      std::uint32_t bits = 0;
-      if (p > 0) bits = n_ <= 4 ? static_cast<std::uint32_t>(p - 1) : (p == 1 ? 0u : 0xFFu);
+    for (int p = e.probed; p < upto; ++p) {
+      const std::uint32_t bits = p > 0 ? corner_bits(p) : 0u;
       for (int i = 0; i < n_; ++i) {
         const bool up = (bits >> i) & 1u;
         x[i] = p == 0 ? 0.5 * (clo[i] + chi[i]) : (up ? chi[i] : clo[i]);
@@ -212,7 +214,7 @@ class SuccessorTable {
       }
       e.has_hull = true;
     }
-    e.probed = static_cast<std::uint8_t>(stage);
+    e.probed = static_cast<std::uint8_t>(upto);
   }
 
   void box(RelBox& e, const std::int64_t* idx, std::int64_t j) {
@@ -305,6 +307,16 @@ class SuccessorTable {
     k.a = words[0] | (words[1] << 24) | ((words[2] & 0xFFFF) << 48);
     k.b = (words[2] >> 16) | (words[3] << 8) | (static_cast<std::uint64_t>(j) << 32);
     return true;
+  }
+
+  // Corner of probe p >= 1 as a bit pattern (bit i set: upper bound, disturbance +W_i). The two
+  // opposite corners come first: they usually span most of the hull, so a rejection needs few
+  // probes. For n > 4 only those two are probed.
+  std::uint32_t corner_bits(int p) const {
+    const std::uint32_t all = n_ <= 4 ? (1u << n_) - 1u : 0xFFu;
+    if (p == 1) return 0u;
+    if (p == 2) return all;
+    return static_cast<std::uint32_t>(p - 2);  // 1 .. all-1
   }
 
   void rk4(const Dynamics& f, const double* x0, const double* u, const double* w, double* out) const {

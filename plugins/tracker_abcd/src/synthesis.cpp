@@ -246,27 +246,44 @@ TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o
           if (!ep) ep = &fresh;
           IndexBox R = rowbox;  // rows that may still win with input j
           if (o.prefilter) {
-            bool rejected = false;
-            for (int stage = 1; stage <= 2 && !rejected; ++stage) {
-              // Entries are stored once the centre probe passes (or always, keep_rejects).
-              if (stage == 2 && ep == &fresh) ep = &tab.insert(cidx, j, fresh);
-              RelBox& e = *ep;
-              tab.probe(e, cidx, j, stage);
-              if (!e.has_hull) continue;
-              if (!rows_inside(inv, cidx, e.hlo, e.hhi, bn, R)) {
-                rejected = true;
-                break;
-              }
-              // Some pending row must have its whole probe hull winning.
-              bool any = false;
+            // Rejected when the rows R narrowed by the probe hull's cover leave no pending row
+            // whose whole hull cover is winning. A larger hull only narrows R and grows the
+            // covers, so a rejection by part of the probes is a rejection by all of them.
+            auto rejects = [&](const RelBox& e, IndexBox& Rr) {
+              if (!rows_inside(inv, cidx, e.hlo, e.hhi, bn, Rr)) return true;
               IndexBox cov;
-              for (size_t q = 0; q < pend.size() && !any; ++q) {
+              for (size_t q = 0; q < pend.size(); ++q) {
                 const std::int64_t* ri = &pidx[static_cast<size_t>(pend[q] * n)];
-                if (!in_box(R, ri)) continue;
+                if (!in_box(Rr, ri)) continue;
                 tab.cover(e.hlo, e.hhi, ri, cov);
-                any = ws.all_winning(cov);
+                if (ws.all_winning(cov)) return false;
               }
-              if (!any) rejected = true;
+              return true;
+            };
+            // Stage 1: the centre alone (cheap rejection).
+            tab.probe(*ep, cidx, j, 1);
+            bool rejected = ep->has_hull && rejects(*ep, R);
+            if (!rejected) {
+              // Stage 2: the corners. Entries are stored once the centre probe passes (or
+              // always, keep_rejects). Partial hulls (after 2, 4, 8 corners) are tried on a copy
+              // of R, so only a rejection can end the stage early; the decision to go on to
+              // the box is always taken with the full hull, exactly as without the early exit.
+              if (ep == &fresh) ep = &tab.insert(cidx, j, fresh);
+              RelBox& e = *ep;
+              const int total = tab.total_probes();
+              for (int upto : {3, 5, 9}) {
+                if (upto >= total || e.probed >= upto) continue;
+                tab.probe(e, cidx, j, upto);
+                IndexBox Rt = R;
+                if (e.has_hull && rejects(e, Rt)) {
+                  rejected = true;
+                  break;
+                }
+              }
+              if (!rejected) {
+                tab.probe(e, cidx, j, total);
+                rejected = e.has_hull && rejects(e, R);
+              }
             }
             if (rejected) continue;
           }
