@@ -92,4 +92,12 @@ TEST(ConstraintHessian, Formation) {
   EXPECT_EQ(counts.at("formation").curved, counts.at("formation").checked);
 }
 
+TEST(ConstraintHessian, NonlinearFootprintCurvature) {
+  // The crane's pendulum tip: the pair constraint adds the footprint's own second derivative.
+  const auto counts = check_example("crane_vehicle.yaml", 200);
+  ASSERT_TRUE(counts.count("collision"));
+  EXPECT_EQ(counts.at("collision").checked, 200);
+  EXPECT_GT(counts.at("collision").curved, 0);
+}
+
 }  // namespace

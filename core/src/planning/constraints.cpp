@@ -1,5 +1,6 @@
 #include "marsyn/core/planning/constraints.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -113,6 +114,23 @@ void norm_curvature(const double* d, double scale, double S[4]) {
   S[3] = scale * (1 - ny * ny) / len;
 }
 
+// P[c] (n x n, row-major, P = 2 x n x n) = d^2 p_c / dx^2 of the agent's workspace point: zero
+// for a linear workspace, forward-over-forward AD of the footprint otherwise. False when the
+// model has no second-order evaluation.
+bool footprint_hessian(const AgentSpec& a, const double* x, double* P) {
+  const int n = a.n();
+  std::fill(P, P + 2 * n * n, 0.0);
+  if (a.workspace.linear()) return true;
+  if (!a.dynamics->has_second_order()) return false;
+  DualD2 xd[kMaxDual], pd[2];
+  for (int i = 0; i < n; ++i) xd[i] = second_order_variable(x[i], i, n);
+  a.dynamics->footprint(a.workspace.footprint, xd, pd);
+  for (int c = 0; c < 2; ++c)
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) P[(c * n + i) * n + j] = second_derivative(pd[c], i, j);
+  return true;
+}
+
 }  // namespace
 
 ObstacleConstraint::ObstacleConstraint(std::string name, const AgentSpec& agent, int offset, Polygon obstacle,
@@ -183,56 +201,59 @@ PairConstraint::PairConstraint(std::string name, const AgentSpec& a, int offset_
     : name_(std::move(name)), a_(&a), b_(&b), support_(range_support(offset_a, a.n(), offset_b, b.n())),
       norm_(norm), delta_(delta), ma_(std::move(ma)), mb_(std::move(mb)), corner_(corner), buffer_(buffer) {}
 
+double PairConstraint::value(const double* d, const double* xa, const double* xb, double* gd) const {
+  // The margins are piecewise constant in the state: their variation is not differentiated.
+  const WorkspaceMargin m1 = ma_->at(xa), m2 = mb_->at(xb);
+  if (norm_ == Norm::Two) {
+    const double len = std::hypot(d[0], d[1]);
+    const double inv = len > 1e-12 ? 1.0 / len : 0.0;
+    gd[0] = -d[0] * inv;
+    gd[1] = -d[1] * inv;
+    return delta_ + m1.two() + m2.two() + buffer_ - len;
+  }
+  const double rx = delta_ + m1.x + m2.x, ry = delta_ + m1.y + m2.y;
+  const double sx = d[0] / rx, sy = d[1] / ry;
+  const double ax = std::abs(sx), ay = std::abs(sy);
+  // M(a, b) = (a + b)/2 + sigma((a - b)/2) <= max(a, b), where sigma is |z| smoothed below on
+  // |z| < c by z^2 (2c - |z|) / c^2 (C1, never above |z|): exact unless |a - b| < 2c.
+  const double z = 0.5 * (ax - ay), az = std::abs(z), c = corner_;
+  double sigma = az, dsigma = z >= 0 ? 1.0 : -1.0;
+  if (az < c) {
+    sigma = z * z * (2 * c - az) / (c * c);
+    dsigma = (z >= 0 ? 1.0 : -1.0) * (4 * c * az - 3 * z * z) / (c * c);
+  }
+  const double M = 0.5 * (ax + ay) + sigma;
+  const double dMx = (0.5 + 0.5 * dsigma) * (sx >= 0 ? 1 : -1), dMy = (0.5 - 0.5 * dsigma) * (sy >= 0 ? 1 : -1);
+  const double scale = std::min(rx, ry);
+  gd[0] = -scale * dMx / rx;
+  gd[1] = -scale * dMy / ry;
+  return scale * (1.0 - M) + buffer_;
+}
+
 void PairConstraint::evaluate(const double* x, double* g, double* jac) const {
   const int na = a_->n(), nb = b_->n();
   const double *xa = x + support_[0], *xb = x + support_[na];
   const PairGeometry geo(*a_, *b_, xa, xb, jac != nullptr);
-  // The margins are piecewise constant in the state: their variation is not differentiated.
-  const WorkspaceMargin m1 = ma_->at(xa), m2 = mb_->at(xb);
   double gd[2];
-  if (norm_ == Norm::Two) {
-    const double len = std::hypot(geo.d[0], geo.d[1]);
-    g[0] = delta_ + m1.two() + m2.two() + buffer_ - len;
-    const double inv = len > 1e-12 ? 1.0 / len : 0.0;
-    gd[0] = -geo.d[0] * inv;
-    gd[1] = -geo.d[1] * inv;
-  } else {
-    const double rx = delta_ + m1.x + m2.x, ry = delta_ + m1.y + m2.y;
-    const double sx = geo.d[0] / rx, sy = geo.d[1] / ry;
-    const double ax = std::abs(sx), ay = std::abs(sy);
-    // M(a, b) = (a + b)/2 + sigma((a - b)/2) <= max(a, b), where sigma is |z| smoothed below on
-    // |z| < c by z^2 (2c - |z|) / c^2 (C1, never above |z|): exact unless |a - b| < 2c.
-    const double z = 0.5 * (ax - ay), az = std::abs(z), c = corner_;
-    double sigma = az, dsigma = z >= 0 ? 1.0 : -1.0;
-    if (az < c) {
-      sigma = z * z * (2 * c - az) / (c * c);
-      dsigma = (z >= 0 ? 1.0 : -1.0) * (4 * c * az - 3 * z * z) / (c * c);
-    }
-    const double M = 0.5 * (ax + ay) + sigma;
-    const double dMx = (0.5 + 0.5 * dsigma) * (sx >= 0 ? 1 : -1), dMy = (0.5 - 0.5 * dsigma) * (sy >= 0 ? 1 : -1);
-    const double scale = std::min(rx, ry);
-    g[0] = scale * (1.0 - M) + buffer_;
-    gd[0] = -scale * dMx / rx;
-    gd[1] = -scale * dMy / ry;
-  }
+  g[0] = value(geo.d, xa, xb, gd);
   if (jac) geo.chain(gd, na, nb, jac);
 }
 
 bool PairConstraint::hessian(const double* x, const double* w, double* H) const {
-  if (!a_->workspace.linear() || !b_->workspace.linear()) return false;
   const int na = a_->n(), nb = b_->n();
   const double *xa = x + support_[0], *xb = x + support_[na];
-  const PairGeometry geo(*a_, *b_, xa, xb, false);
-  double Ja[2 * kMaxDual], Jb[2 * kMaxDual];
-  linear_point_jacobian(*a_, Ja);
-  linear_point_jacobian(*b_, Jb);
-  const WorkspaceMargin m1 = ma_->at(xa), m2 = mb_->at(xb);
+  double Pa[2 * kMaxDual * kMaxDual], Pb[2 * kMaxDual * kMaxDual];
+  if (!footprint_hessian(*a_, xa, Pa) || !footprint_hessian(*b_, xb, Pb)) return false;
+  const PairGeometry geo(*a_, *b_, xa, xb, true);
+  double gd[2];
+  value(geo.d, xa, xb, gd);
   double S[4] = {0, 0, 0, 0};
   if (norm_ == Norm::Two) {
     norm_curvature(geo.d, -w[0], S);
   } else {
     // g = scale (1 - M): M is piecewise linear outside the smoothed corner; inside it the only
     // curvature is sigma''(z) along z's gradient v in d.
+    const WorkspaceMargin m1 = ma_->at(xa), m2 = mb_->at(xb);
     const double rx = delta_ + m1.x + m2.x, ry = delta_ + m1.y + m2.y;
     const double sx = geo.d[0] / rx, sy = geo.d[1] / ry;
     const double z = 0.5 * (std::abs(sx) - std::abs(sy)), az = std::abs(z), c = corner_;
@@ -245,7 +266,15 @@ bool PairConstraint::hessian(const double* x, const double* w, double* H) const 
       S[3] = k * v[1] * v[1];
     }
   }
-  add_congruence(Ja, na, Jb, nb, S, H);
+  add_congruence(geo.Ja, na, geo.Jb, nb, S, H);
+  // A nonlinear footprint's own curvature: d = p_a - p_b, so dg/dp_a = gd and dg/dp_b = -gd.
+  const int cols = na + nb;
+  for (int c = 0; c < 2; ++c) {
+    for (int i = 0; i < na; ++i)
+      for (int j = 0; j < na; ++j) H[i * cols + j] += w[0] * gd[c] * Pa[(c * na + i) * na + j];
+    for (int i = 0; i < nb; ++i)
+      for (int j = 0; j < nb; ++j) H[(na + i) * cols + na + j] -= w[0] * gd[c] * Pb[(c * nb + i) * nb + j];
+  }
   return true;
 }
 

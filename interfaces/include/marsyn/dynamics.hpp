@@ -2,7 +2,9 @@
 // A control system x' = f(x, u) + w with w in the box [-W, W] (paper Sec. 2, additive
 // disturbance). Models write the vector field once, as a template over the scalar type, by
 // deriving from DynamicsModel<Model>; the same definition then serves simulation (double),
-// exact Jacobians (DualD) and sound enclosures (Interval, DualI).
+// exact Jacobians (DualD) and Hessians (DualD2), and sound enclosures (Interval, DualI; FastInterval, DualFI in hot
+// loops, see fast_interval.hpp).
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -25,6 +27,18 @@ class Dynamics {
   virtual void field(const DualD* x, const DualD* u, DualD* dx) const = 0;
   virtual void field(const Interval* x, const Interval* u, Interval* dx) const = 0;
   virtual void field(const DualI* x, const DualI* u, DualI* dx) const = 0;
+  // The same enclosures with FastInterval (valid in round-to-nearest). DynamicsModel evaluates
+  // the templated field directly; a Dynamics written by hand inherits these conversions through
+  // the Interval overloads, which are just as sound, only slower.
+  virtual void field(const FastInterval* x, const FastInterval* u, FastInterval* dx) const;
+  virtual void field(const DualFI* x, const DualFI* u, DualFI* dx) const;
+  // Exact second derivatives (forward over forward AD) for second-order planners. DynamicsModel
+  // provides them; a Dynamics written by hand reports false here, and planners then difference
+  // first derivatives instead.
+  virtual bool has_second_order() const { return false; }
+  virtual void field(const DualD2* /*x*/, const DualD2* /*u*/, DualD2* /*dx*/) const {
+    throw std::logic_error("this dynamics model has no second-order (DualD2) field");
+  }
 
   // State coordinates f does not read. Translating the state along them translates every
   // solution by the same amount, which trackers exploit to reuse successor boxes.
@@ -39,7 +53,37 @@ class Dynamics {
   virtual void footprint(int /*which*/, const double* /*x*/, double* /*p*/) const {}
   virtual void footprint(int /*which*/, const DualD* /*x*/, DualD* /*p*/) const {}
   virtual void footprint(int /*which*/, const Interval* /*x*/, Interval* /*p*/) const {}
+  virtual void footprint(int /*which*/, const DualD2* /*x*/, DualD2* /*p*/) const {}
 };
+
+inline void Dynamics::field(const FastInterval* x, const FastInterval* u, FastInterval* dx) const {
+  const int n = state_dim(), m = input_dim();
+  std::vector<Interval> xi(static_cast<std::size_t>(n)), ui(static_cast<std::size_t>(m)), di(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) xi[i] = x[i].to_interval();
+  for (int j = 0; j < m; ++j) ui[j] = u[j].to_interval();
+  field(xi.data(), ui.data(), di.data());
+  for (int i = 0; i < n; ++i) dx[i] = FastInterval(di[i]);
+}
+
+inline void Dynamics::field(const DualFI* x, const DualFI* u, DualFI* dx) const {
+  const int n = state_dim(), m = input_dim();
+  auto to_i = [](const DualFI& a) {
+    DualI r(a.v.to_interval());
+    r.n = a.n;
+    for (int k = 0; k < a.n; ++k) r.d[k] = a.d[k].to_interval();
+    return r;
+  };
+  std::vector<DualI> xi(static_cast<std::size_t>(n)), ui(static_cast<std::size_t>(m)), di(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) xi[i] = to_i(x[i]);
+  for (int j = 0; j < m; ++j) ui[j] = to_i(u[j]);
+  field(xi.data(), ui.data(), di.data());
+  for (int i = 0; i < n; ++i) {
+    DualFI r{FastInterval(di[i].v)};
+    r.n = di[i].n;
+    for (int k = 0; k < di[i].n; ++k) r.d[k] = FastInterval(di[i].d[k]);
+    dx[i] = r;
+  }
+}
 
 // CRTP adapter: Model provides
 //   template <class S> void vector_field(const S* x, const S* u, S* dx) const;
@@ -54,6 +98,12 @@ class DynamicsModel : public Dynamics {
     self().vector_field(x, u, dx);
   }
   void field(const DualI* x, const DualI* u, DualI* dx) const final { self().vector_field(x, u, dx); }
+  void field(const FastInterval* x, const FastInterval* u, FastInterval* dx) const final {
+    self().vector_field(x, u, dx);
+  }
+  void field(const DualFI* x, const DualFI* u, DualFI* dx) const final { self().vector_field(x, u, dx); }
+  bool has_second_order() const final { return true; }
+  void field(const DualD2* x, const DualD2* u, DualD2* dx) const final { self().vector_field(x, u, dx); }
 
  public:
   // Models without a footprint inherit this no-op; those with one shadow it.
@@ -69,6 +119,7 @@ class DynamicsModel : public Dynamics {
   void footprint(int which, const Interval* x, Interval* p) const override {
     self().footprint_point(which, x, p);
   }
+  void footprint(int which, const DualD2* x, DualD2* p) const override { self().footprint_point(which, x, p); }
 
  private:
   const Model& self() const { return static_cast<const Model&>(*this); }

@@ -24,7 +24,7 @@
 #include "marsyn/tracker.hpp"
 
 // Bump whenever any interface header changes in a way that alters layout or vtables.
-#define MARSYN_PLUGIN_API_VERSION 1u
+#define MARSYN_PLUGIN_API_VERSION 2u  // 2: Dynamics FastInterval/DualFI/DualD2 overloads, Constraint::hessian
 
 namespace marsyn {
 

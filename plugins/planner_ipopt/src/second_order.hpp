@@ -6,9 +6,9 @@
 //    constraint offers one;
 //  * central differences of the exact AD first derivatives otherwise (and for `hessian:
 //    differenced`).
-// The plugin interfaces (marsyn::Dynamics, marsyn::Constraint) do not offer second derivatives
-// yet; the detection below switches the exact blocks on, with no edit here, once they do with
-// the signatures named in docs/planners.md.
+// The detection below finds the second-order hooks of the plugin interfaces (Dynamics' DualD2
+// field, Constraint::hessian) at compile time; a model or constraint may still decline at run
+// time, and its block is then differenced.
 #include <concepts>
 #include <functional>
 
@@ -27,6 +27,9 @@ concept HasSecondOrderField = requires(const D& f, const DualD2* x, DualD2* dx) 
 template <class D>
 SecondOrderField second_order_field(const D& f) {
   if constexpr (HasSecondOrderField<D>) {
+    // A Dynamics written by hand may not implement the overload (it would throw).
+    if constexpr (requires { f.has_second_order(); })
+      if (!f.has_second_order()) return {};
     return [&f](const DualD2* x, const DualD2* u, DualD2* dx) { f.field(x, u, dx); };
   } else {
     return {};

@@ -79,6 +79,8 @@ class PairConstraint final : public Constraint {
   double delta_;
   std::shared_ptr<const MarginTable> ma_, mb_;
   double corner_, buffer_;
+  // g at d = p_a - p_b, and dg/dd in gd[2].
+  double value(const double* d, const double* xa, const double* xb, double* gd) const;
 };
 
 class FormationConstraint final : public Constraint {
