@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "marsyn/core/planning/projector.hpp"
@@ -43,15 +44,14 @@ GlobalPlan extend(const Problem& problem, const GlobalPlan& p, int horizon) {
   return w;
 }
 
-}  // namespace
-
-PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearchOptions& options) {
-  const double t0 = now_s();
+// The horizon search of one planner: T, then longer horizons, each warm-started from the last.
+PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSearchOptions& options,
+                   std::optional<GlobalPlan> warm, double t0) {
   PlanOutcome best;
   best.check.min_margin = -std::numeric_limits<double>::infinity();
   int horizon = problem.horizon;
   if (horizon <= 0) throw std::invalid_argument("marsyn::planning::plan: the problem's horizon must be positive");
-  std::optional<GlobalPlan> warm;
+  if (warm) horizon = std::max(horizon, warm->horizon());
   for (int attempt = 0; attempt < std::max(1, options.max_attempts); ++attempt) {
     const double left = options.time_limit_s - (now_s() - t0);
     if (attempt > 0 && left <= 0) {
@@ -65,6 +65,7 @@ PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearc
     po.progress = options.progress;
     PlanResult res = planner.solve(pp, po);
     PlanAttempt a;
+    a.planner = planner.name();
     a.horizon = horizon;
     a.status = res.status;
     a.iterations = res.iterations;
@@ -81,8 +82,9 @@ PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearc
     }
     if (options.log) {
       std::ostringstream os;
-      os << "T = " << horizon << ": " << to_string(res.status) << " after " << res.iterations << " iterations, "
-         << res.solve_time_s << " s, violation " << res.max_violation << "; " << a.check.message;
+      os << (options.warm_start_planner ? a.planner + " " : std::string()) << "T = " << horizon << ": "
+         << to_string(res.status) << " after " << res.iterations << " iterations, " << res.solve_time_s
+         << " s, violation " << res.max_violation << "; " << a.check.message;
       if (!res.message.empty()) os << "; planner: " << res.message;
       options.log(os.str());
     }
@@ -99,6 +101,37 @@ PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearc
     if (!clean.u.empty()) warm = clean;
     horizon = std::max(horizon + 1, static_cast<int>(std::ceil(horizon * options.horizon_growth)));
   }
+  return best;
+}
+
+}  // namespace
+
+PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearchOptions& options) {
+  const double t0 = now_s();
+  std::optional<GlobalPlan> warm = options.warm_start;
+  if (warm && warm->u.empty()) warm.reset();
+  PlanOutcome first;
+  if (options.warm_start_planner) {
+    first = search(problem, *options.warm_start_planner, options, warm, t0);
+    if (!first.plan.u.empty()) warm = first.plan;
+    if (options.log)
+      options.log(options.warm_start_planner->name() + " -> " + planner.name() + ": " +
+                  (first.plan.u.empty() ? "no plan to start from, " + planner.name() + " starts cold"
+                                        : std::string(first.feasible ? "robust" : "best non-robust") + " plan (T = " +
+                                              std::to_string(first.horizon) + ") as the warm start"));
+  }
+  PlanOutcome best = search(problem, planner, options, warm, t0);
+  if (options.warm_start_planner) {
+    std::vector<PlanAttempt> all = first.attempts;
+    all.insert(all.end(), best.attempts.begin(), best.attempts.end());
+    // The first planner's robust plan passed the same exact check: better than none at all.
+    if (!best.feasible && first.feasible) {
+      if (options.log)
+        options.log(planner.name() + " found no robust plan; keeping " + options.warm_start_planner->name() + "'s");
+      best = std::move(first);
+    }
+    best.attempts = std::move(all);
+  }
   if (!best.plan.u.empty()) best.agents = ProductProjector().project(problem, best.plan);
   best.total_time_s = now_s() - t0;
   return best;
@@ -109,7 +142,8 @@ std::string summary(const Problem& problem, const PlanOutcome& o) {
   os << "problem " << (problem.name.empty() ? "(unnamed)" : problem.name) << ": " << problem.agents.size()
      << " agents, " << problem.product_state_dim() << " states, " << problem.product_input_dim() << " inputs\n";
   for (const auto& a : o.attempts)
-    os << "  T = " << a.horizon << ": " << to_string(a.status) << ", " << a.iterations << " iterations, "
+    os << "  " << (a.planner.empty() ? "" : a.planner + " ") << "T = " << a.horizon << ": " << to_string(a.status)
+       << ", " << a.iterations << " iterations, "
        << a.solve_time_s << " s, solver violation " << a.max_violation << ", "
        << (a.check.passed ? "robust" : "not robust") << " (margin " << a.check.min_margin << ")\n";
   os << (o.feasible ? "FEASIBLE" : "NO FEASIBLE PLAN") << ": horizon " << o.horizon << ", total " << o.total_time_s

@@ -18,6 +18,11 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
     bad.message = "bounds, goal or x0 do not match the product dimensions";
     return bad;
   }
+  if (!opt.q_state.empty() && static_cast<int>(opt.q_state.size()) != n) {
+    bad.message = "q_state has " + std::to_string(opt.q_state.size()) + " entries, the product system " +
+                  std::to_string(n) + " states";
+    return bad;
+  }
   for (const auto& a : pp.problem->agents)
     if (!a.dynamics || a.n() + a.m() > kMaxDual) {
       bad.message = "agent " + a.name + " has no dynamics or too many coordinates for the AD Jacobians";

@@ -32,6 +32,10 @@ struct Options {
   double q_track = 0.05;            // weight of the straight-line reference per state coordinate
   double r_input = 0.3;             // input weight
   double q_terminal = 10.0;         // terminal weight towards the goal centre
+  // Per product-state coordinate factors on q_track (empty: all 1). They let a problem ask for a
+  // calm plan, e.g. a crane whose swing angle and rate are kept near the hanging reference except
+  // where a constraint forces them away.
+  std::vector<double> q_state;
   double bend = 0.1;                // lateral bend of the reference, x path length (breaks symmetry)
   int polish_iterations = 10;         // final projection steps onto the active constraints
   double polish_start = 1e-2;          // tried before more penalty rounds below this violation

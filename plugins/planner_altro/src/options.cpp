@@ -1,5 +1,6 @@
 // The solver's typed parameters: declaration (for the loader and `marsyn plugins --params`) and
 // parsing with range checks.
+#include <cmath>
 #include <sstream>
 
 #include "altro_solver.hpp"
@@ -35,6 +36,8 @@ std::vector<ParamSpec> Options::specs() {
       {"q_track", ParamType::Real, s(d.q_track), "[0, inf)", "weight of the straight-line reference"},
       {"r_input", ParamType::Real, s(d.r_input), "(0, inf)", "input weight"},
       {"q_terminal", ParamType::Real, s(d.q_terminal), "[0, inf)", "terminal weight towards the goal centre"},
+      {"q_state", ParamType::RealVector, "[]", "[] or n numbers >= 0",
+       "factors on q_track per product state coordinate (agents in file order); [] for all 1"},
       {"bend", ParamType::Real, s(d.bend), "[0, inf)", "sideways bend of the reference per unit path length"},
       {"polish_iterations", ParamType::Int, s(d.polish_iterations), "[0, inf)",
        "final projection steps onto the active constraints (0: none)"},
@@ -86,6 +89,9 @@ Options Options::from(const Params& p) {
   pos("r_input", o.r_input, 0, true);
   pos("q_terminal", o.q_terminal, 0, false);
   pos("bend", o.bend, 0, false);
+  o.q_state = p.reals("q_state", o.q_state);
+  for (double w : o.q_state)
+    if (!(w >= 0) || !std::isfinite(w)) throw ParamError("q_state", "expected finite numbers >= 0");
   o.coupling = p.text("coupling", o.coupling);
   if (o.coupling != "exact" && o.coupling != "block" && o.coupling != "auto")
     throw ParamError("coupling", "expected exact, block or auto");

@@ -84,6 +84,7 @@ class Solver {
 
   std::vector<Vec> X_, U_, ref_;
   Vec goal_centre_;
+  Vec q_stage_;  // stage tracking weight per product coordinate: q_track x q_state
   // Multipliers: state bounds (lo, hi), input bounds, generic constraints, goal (terminal).
   std::vector<Vec> lam_xlo_, lam_xhi_, lam_ulo_, lam_uhi_, lam_c_;
   Vec lam_glo_, lam_ghi_, lam_t_;

@@ -9,9 +9,10 @@ namespace marsyn::altro::detail {
 double Solver::stage_cost(int k, const Vec& x, const Vec* u) const {
   double J = 0.0;
   const bool term = k == T_;
-  const double q = term ? opt_.q_terminal : opt_.q_track;
-  const Vec& target = term ? goal_centre_ : ref_[k];
-  J += 0.5 * q * (x - target).squaredNorm();
+  // Without q_state, the same arithmetic as before it existed (plans stay bit-identical).
+  if (term) J += 0.5 * opt_.q_terminal * (x - goal_centre_).squaredNorm();
+  else if (opt_.q_state.empty()) J += 0.5 * opt_.q_track * (x - ref_[k]).squaredNorm();
+  else J += 0.5 * (q_stage_.array() * (x - ref_[k]).array().square()).sum();
   if (u) {
     J += 0.5 * opt_.r_input * u->squaredNorm();
     for (int j = 0; j < m_; ++j) {

@@ -34,7 +34,6 @@ void Solver::expand_costs() {
   std::vector<double> g(64), jac;
   for (int k = 0; k <= T_; ++k) {
     const bool term = k == T_;
-    const double q = term ? opt_.q_terminal : opt_.q_track;
     const Vec& target = term ? goal_centre_ : ref_[k];
     const Vec& x = X_[k];
     for (int gi = 0; gi < G; ++gi) {
@@ -42,8 +41,9 @@ void Solver::expand_costs() {
       Mat& lxx = lxx_[k * G + gi];
       Vec& lx = lx_[k * G + gi];
       lxx.setZero(gr.n, gr.n);
-      lxx.diagonal().setConstant(q);
-      lx = q * (x.segment(gr.xo, gr.n) - target.segment(gr.xo, gr.n));
+      if (term) lxx.diagonal().setConstant(opt_.q_terminal);
+      else lxx.diagonal() = q_stage_.segment(gr.xo, gr.n);
+      lx = lxx.diagonal().cwiseProduct(x.segment(gr.xo, gr.n) - target.segment(gr.xo, gr.n));
       if (!term) {
         Vec& luu = luu_[k * G + gi];
         Vec& lu = lu_[k * G + gi];

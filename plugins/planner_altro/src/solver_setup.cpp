@@ -68,6 +68,8 @@ void Solver::initial_guess() {
     const bool lo = std::isfinite(G.lo[i]), hi = std::isfinite(G.hi[i]);
     goal_centre_[i] = lo && hi ? 0.5 * (G.lo[i] + G.hi[i]) : lo ? G.lo[i] : hi ? G.hi[i] : pp_.x0[i];
   }
+  q_stage_ = Vec::Constant(n_, opt_.q_track);
+  if (!opt_.q_state.empty()) q_stage_ = q_stage_.cwiseProduct(Eigen::Map<const Vec>(opt_.q_state.data(), n_));
   ref_.assign(T_ + 1, Vec(n_));
   for (int k = 0; k <= T_; ++k) {
     const double s = static_cast<double>(k) / T_;

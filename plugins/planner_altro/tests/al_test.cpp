@@ -157,3 +157,170 @@ TEST(AugmentedLagrangian, TimeLimitEndsWithTimeoutStatus) {
   EXPECT_EQ(r.status, PlannerStatus::Timeout) << r.message;
   EXPECT_EQ(r.plan.u.size(), 80u);  // the best plan so far comes back all the same
 }
+
+namespace {
+
+// A double integrator from rest at 0 to rest at 1 with loose inputs: the plan's shape is set by
+// the cost alone.
+Problem rest_to_rest(int T) {
+  Problem p;
+  AgentSpec a;
+  a.name = "car";
+  a.dynamics = std::make_shared<models::DoubleIntegrator>();
+  a.x0 = Eigen::Vector2d::Zero();
+  a.state_bounds = {Eigen::Vector2d(-5, -5), Eigen::Vector2d(5, 5)};
+  a.input_bounds = {Eigen::VectorXd::Constant(1, -100), Eigen::VectorXd::Constant(1, 100)};
+  a.goal = {Eigen::Vector2d(0.95, -0.05), Eigen::Vector2d(1.05, 0.05)};
+  a.eps = Eigen::Vector2d(0.01, 0.01);
+  a.workspace.index = {0, -1};
+  p.agents.push_back(a);
+  p.tau = 0.1;
+  p.horizon = T;
+  return p;
+}
+
+double largest_line_deviation(const GlobalPlan& plan) {
+  const int T = plan.horizon();
+  double d = 0.0;
+  for (int k = 0; k <= T; ++k) d = std::max(d, std::abs(plan.x[k][0] - static_cast<double>(k) / T));
+  return d;
+}
+
+}  // namespace
+
+TEST(StateWeights, AHeavyPositionWeightHoldsTheStraightLine) {
+  // The stage cost's reference is the straight line from x0 to the goal centre; q_state scales
+  // each coordinate's share. Weighting the position 1000x makes the plan hug the line.
+  const Problem p = rest_to_rest(40);
+  const auto pp = planning::assemble(p, 40);
+  altro::Options plain;
+  const auto a = altro::solve(pp, {}, plain);
+  altro::Options heavy;
+  heavy.q_state = {1000.0, 1.0};
+  const auto b = altro::solve(pp, {}, heavy);
+  ASSERT_EQ(a.status, PlannerStatus::ExactSolution) << a.message;
+  ASSERT_EQ(b.status, PlannerStatus::ExactSolution) << b.message;
+  const double da = largest_line_deviation(a.plan), db = largest_line_deviation(b.plan);
+  EXPECT_GT(da, 0.05);
+  EXPECT_LT(db, 0.5 * da) << "plain " << da << ", weighted " << db;
+  // All-ones factors are the plain cost.
+  altro::Options ones;
+  ones.q_state = {1.0, 1.0};
+  const auto c = altro::solve(pp, {}, ones);
+  for (int k = 0; k < 40; ++k) EXPECT_EQ(c.plan.u[k][0], a.plan.u[k][0]);
+}
+
+TEST(StateWeights, WrongLengthIsInvalidInputAndNegativeIsAParamError) {
+  const Problem p = rest_to_rest(20);
+  const auto pp = planning::assemble(p, 20);
+  altro::Options o;
+  o.q_state = {1.0, 1.0, 1.0};
+  const auto r = altro::solve(pp, {}, o);
+  EXPECT_EQ(r.status, PlannerStatus::InvalidInput);
+  EXPECT_NE(r.message.find("q_state"), std::string::npos) << r.message;
+  Params bad;
+  bad.set("q_state", std::vector<double>{1.0, -1.0});
+  try {
+    altro::Options::from(bad);
+    FAIL() << "accepted a negative weight";
+  } catch (const ParamError& e) {
+    EXPECT_EQ(e.field(), "q_state");
+  }
+  Params good;
+  good.set("q_state", std::vector<double>{2.0, 0.0});
+  EXPECT_EQ(altro::Options::from(good).q_state, (std::vector<double>{2.0, 0.0}));
+}
+
+namespace {
+
+// Records what the plan search hands it; answers with its warm start (echo) or with nothing.
+class Recorder : public Planner {
+ public:
+  explicit Recorder(bool echo) : echo_(echo) {}
+  std::string name() const override { return "recorder"; }
+  PlanResult solve(const PlanningProblem& p, const PlanOptions&) const override {
+    horizons.push_back(p.horizon);
+    warm.push_back(p.warm_start);
+    PlanResult r;
+    r.status = PlannerStatus::ApproximateSolution;
+    if (echo_ && p.warm_start) r.plan = *p.warm_start;
+    return r;
+  }
+  mutable std::vector<int> horizons;
+  mutable std::vector<std::optional<GlobalPlan>> warm;
+
+ private:
+  bool echo_;
+};
+
+Problem around_a_box() {
+  Problem p;
+  p.agents.push_back(unicycle("car", {0, 0, 0}, {10, 0, 0}));
+  p.obstacles.push_back(box(4, -0.5, 6, 0.5));
+  p.delta = 0.2;
+  p.tau = 0.1;
+  p.horizon = 80;
+  return p;
+}
+
+}  // namespace
+
+TEST(PlannerChain, TheFirstPlannersPlanIsTheWarmStartOfTheSecond) {
+  const Problem p = around_a_box();
+  const AltroPlanner first({});
+  const Recorder second(true);
+  planning::PlanSearchOptions so;
+  so.warm_start_planner = &first;
+  std::vector<std::string> log;
+  so.log = [&](const std::string& line) { log.push_back(line); };
+  const auto out = planning::plan(p, second, so);
+  ASSERT_EQ(second.warm.size(), 1u);
+  ASSERT_TRUE(second.warm[0].has_value());
+  const auto alone = planning::plan(p, first, {});
+  ASSERT_TRUE(alone.feasible);
+  ASSERT_EQ(second.warm[0]->u.size(), alone.plan.u.size());
+  for (size_t k = 0; k < alone.plan.u.size(); ++k) EXPECT_EQ(second.warm[0]->u[k], alone.plan.u[k]) << k;
+  // The echo of a robust plan is robust: the second planner's answer is the outcome.
+  EXPECT_TRUE(out.feasible) << planning::summary(p, out);
+  ASSERT_EQ(out.attempts.size(), 2u);
+  EXPECT_EQ(out.attempts[0].planner, "altro");
+  EXPECT_EQ(out.attempts[1].planner, "recorder");
+  EXPECT_EQ(out.result.status, PlannerStatus::ApproximateSolution);  // the recorder's result
+  EXPECT_NE(planning::summary(p, out).find("recorder T = 80"), std::string::npos);
+  bool announced = false;
+  for (const auto& l : log) announced |= l.find("altro -> recorder") != std::string::npos;
+  EXPECT_TRUE(announced);
+}
+
+TEST(PlannerChain, WhenTheSecondFailsTheFirstsRobustPlanIsKept) {
+  const Problem p = around_a_box();
+  const AltroPlanner first({});
+  const Recorder second(false);  // returns no inputs at all
+  planning::PlanSearchOptions so;
+  so.warm_start_planner = &first;
+  so.max_attempts = 2;
+  const auto out = planning::plan(p, second, so);
+  EXPECT_TRUE(out.feasible) << planning::summary(p, out);
+  EXPECT_EQ(out.result.status, PlannerStatus::ExactSolution);  // altro's
+  ASSERT_EQ(out.attempts.size(), 3u);  // altro's one, then the recorder's two horizons
+  EXPECT_EQ(out.attempts[0].planner, "altro");
+  EXPECT_EQ(out.attempts[2].planner, "recorder");
+  ASSERT_EQ(out.agents.size(), 1u);
+  EXPECT_EQ(out.agents[0].x.size(), 81u);
+  EXPECT_TRUE(planning::check_robust(p, out.plan).passed);
+}
+
+TEST(PlannerChain, AGivenWarmStartIsUsedAtItsOwnHorizon) {
+  Problem p = around_a_box();
+  const auto seed = planning::plan(p, AltroPlanner({}), {});
+  ASSERT_TRUE(seed.feasible);
+  p.horizon = 50;  // shorter than the seed: the search starts at the seed's 80 steps
+  const Recorder echo(true);
+  planning::PlanSearchOptions so;
+  so.warm_start = seed.plan;
+  const auto out = planning::plan(p, echo, so);
+  ASSERT_FALSE(echo.horizons.empty());
+  EXPECT_EQ(echo.horizons[0], 80);
+  EXPECT_TRUE(out.feasible) << planning::summary(p, out);
+  EXPECT_EQ(out.horizon, 80);
+}

@@ -2,6 +2,7 @@
 // What `marsyn plan` runs: assemble the eps-robust problem, solve it with a Planner, clamp and
 // re-simulate the inputs, run the exact check, and lengthen the horizon when that fails.
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,9 +19,18 @@ struct PlanSearchOptions {
   double time_limit_s = 300.0;   // for the whole search; each solve gets what is left
   std::function<void(const std::string&)> log;        // one line per attempt; may be empty
   std::function<void(const PlanProgress&)> progress;  // forwarded to the planner; may be empty
+  // An initial guess for the first attempt (inputs; the search starts at its horizon when that is
+  // longer than the problem's). Later attempts start from the previous attempt, as without it.
+  std::optional<GlobalPlan> warm_start;
+  // A planner chain: this planner's search runs first and its plan (the robust one, else the
+  // best attempt's) is the warm start of the main planner, e.g. a global sampler or an interior
+  // point method finding the shape, the default planner refining it under its own cost. When the
+  // main planner finds no robust plan, a robust plan of the first one is returned instead.
+  const Planner* warm_start_planner = nullptr;
 };
 
 struct PlanAttempt {
+  std::string planner;  // Planner::name()
   int horizon = 0;
   PlannerStatus status = PlannerStatus::Crash;
   int iterations = 0;
@@ -37,7 +47,7 @@ struct PlanOutcome {
   RobustCheck check;      // of the returned plan
   GlobalPlan plan;        // inputs clamped to U, states re-simulated from x0
   std::vector<NominalTrajectory> agents;  // the projection of `plan`
-  std::vector<PlanAttempt> attempts;
+  std::vector<PlanAttempt> attempts;  // a warm-start planner's first, then the main planner's
   double total_time_s = 0.0;
 };
 
