@@ -64,6 +64,12 @@ std::vector<NominalTrajectory> straight_line(const Problem& pb) {
   return out;
 }
 
+// The config's planner.warm_start, if any.
+std::shared_ptr<Planner> warm_start_planner(const LoadedProblem& lp) {
+  const auto& w = lp.problem.warm_start_planner;
+  return w.name.empty() ? nullptr : lp.registry->create<Planner>(w.name, w.params);
+}
+
 std::vector<NominalTrajectory> nominal_for(const LoadedProblem& lp, const std::string& plan_file) {
   if (plan_file == "straight-line") {
     log_line("[plan] straight line from x0 to the goal centre (ignores the dynamics, paper Sec. 3.5)");
@@ -72,8 +78,10 @@ std::vector<NominalTrajectory> nominal_for(const LoadedProblem& lp, const std::s
   if (!plan_file.empty()) return read_plan_json(plan_file, lp.problem);
   log_line("[plan] no --plan given: planning first with " + lp.problem.planner.name);
   auto planner = lp.registry->create<Planner>(lp.problem.planner.name, lp.problem.planner.params);
+  const auto warm = warm_start_planner(lp);
   planning::PlanSearchOptions po;
   po.log = [](const std::string& s) { log_line("[plan] " + s); };
+  po.warm_start_planner = warm.get();
   const planning::PlanOutcome out = planning::plan(lp.problem, *planner, po);
   if (!out.feasible) throw std::runtime_error("planning failed: " + out.check.message);
   return out.agents;
@@ -85,8 +93,10 @@ int run_plan(const std::string& config, const std::string& out_requested) {
   const LoadedProblem lp = load_problem(config);
   const Problem& pb = lp.problem;
   auto planner = lp.registry->create<Planner>(pb.planner.name, pb.planner.params);
+  const auto warm = warm_start_planner(lp);
   planning::PlanSearchOptions po;
   po.log = [](const std::string& s) { log_line("[plan] " + s); };
+  po.warm_start_planner = warm.get();
   const planning::PlanOutcome out = planning::plan(pb, *planner, po);
   const std::string dir = out_dir_for(out_requested, pb);
   fs::create_directories(dir);

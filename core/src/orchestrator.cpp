@@ -158,6 +158,9 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
     if (opt.log) opt.log(s);
   };
   const auto planner = reg.create<Planner>(pb.planner.name, pb.planner.params);
+  const auto warm_planner = pb.warm_start_planner.name.empty()
+                                ? nullptr
+                                : reg.create<Planner>(pb.warm_start_planner.name, pb.warm_start_planner.params);
   const auto tracker = reg.create<Tracker>(pb.tracker.name, pb.tracker.params);
 
   bool all_tracked = false;
@@ -168,6 +171,7 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
     planning::PlanSearchOptions po;
     po.time_limit_s = std::max(1.0, opt.time_limit_s - since(t_start));
     po.log = [&](const std::string& s) { log("[plan] " + s); };
+    po.warm_start_planner = warm_planner.get();
     std::ostringstream params;
     params << "T=" << pb.horizon;
     for (const auto& a : pb.agents) params << " eps[" << a.name << "]=" << vec(a.eps);

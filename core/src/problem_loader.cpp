@@ -91,10 +91,11 @@ struct PluginField {
   Field params_field;
 };
 
-PluginField read_plugin_field(const Field& f, const std::string& name_key) {
+PluginField read_plugin_field(const Field& f, const std::string& name_key, const std::string& extra_key = {}) {
   if (f.is_scalar()) return {f.text(), f, f.child("params")};
   f.expect_map();
-  f.allow_only({name_key, "params"});
+  if (extra_key.empty()) f.allow_only({name_key, "params"});
+  else f.allow_only({name_key, "params", extra_key});
   Field n = f.required(name_key);
   return {n.text(), n, f.child("params")};
 }
@@ -451,7 +452,7 @@ LoadedProblem load_problem(const std::string& path) {
       throw ConfigError(path, 0, 0, key,
                         std::string("no ") + kind + " given and the default '" + fallback +
                             "' is not installed; available: " + join(out.registry->names(kind)));
-    PluginField pf = f.present() ? read_plugin_field(f, "name")
+    PluginField pf = f.present() ? read_plugin_field(f, "name", std::string(kind) == "planner" ? "warm_start" : "")
                                  : PluginField{fallback, Field(YAML::Node(fallback), path, key), Field(YAML::Node(), path, key + std::string(".params"))};
     PluginChoice choice;
     choice.name = pf.name;
@@ -459,6 +460,13 @@ LoadedProblem load_problem(const std::string& path) {
     else choice.params = create_plugin<Tracker>(*out.registry, pf).second;
     (std::string(kind) == "planner" ? pb.planner : pb.tracker) = choice;
   }
+  // planner.warm_start: a planner whose plan starts the main one (docs/planner.md, chains).
+  if (Field p = top.child("planner"); p.present() && !p.is_scalar())
+    if (Field w = p.child("warm_start"); w.present()) {
+      const PluginField wf = read_plugin_field(w, "name");
+      pb.warm_start_planner.name = wf.name;
+      pb.warm_start_planner.params = create_plugin<Planner>(*out.registry, wf).second;
+    }
   if (Field f = top.child("collision"); f.present()) read_collision(f, out);
   return out;
 }

@@ -170,6 +170,11 @@ TEST(ConfigErrors, CollisionObstaclesComeFromTheProblem) {
                "collision.params", "core's exact geometry takes no parameters", 5);
 }
 
+TEST(ConfigErrors, UnknownWarmStartPlanner) {
+  expect_error("warm_start", replace(kValid, "delta: 0.2\n", "delta: 0.2\nplanner: {name: altro, warm_start: ipop}\n"),
+               "planner.warm_start", "unknown planner plugin 'ipop' (did you mean 'ipopt'?)", 5);
+}
+
 TEST(ConfigErrors, UnknownPluginParameter) {
   expect_error("param",
                replace(kValid, "  - name: b\n", "  - name: b\n    dynamics: {type: pendulum, params: {gain: 2}}\n"),

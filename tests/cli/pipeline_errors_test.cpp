@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "run.hpp"
 
@@ -62,4 +64,24 @@ TEST(PipelineErrors, SolveMissingConfigWritesNothing) {
 TEST(PipelineErrors, BenchUnknownStage) {
   const auto r = run_marsyn("bench --stage everything");
   EXPECT_EQ(r.code, 2) << r.err;
+}
+
+// planner.warm_start in a config: `marsyn plan` runs the first planner's search, then the main
+// planner from its plan, and lists both planners' attempts.
+TEST(PlannerChain, ConfigWarmStartRunsBothPlanners) {
+  std::ifstream in(kExample);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string yaml = text.str();
+  const auto pos = yaml.find("\nplanner: altro\n");
+  ASSERT_NE(pos, std::string::npos) << "the pendulum example no longer names altro";
+  yaml.replace(pos, 16, "\nplanner: {name: altro, warm_start: ipopt}\n");
+  const std::string cfg = write_temp("chain.yaml", yaml);
+  const std::string out = (std::filesystem::temp_directory_path() / "marsyn_chain_out").string();
+  const auto r = run_marsyn("plan " + cfg + " --out " + out);
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("  ipopt T = "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  altro T = "), std::string::npos) << r.out;
+  EXPECT_LT(r.out.find("  ipopt T = "), r.out.find("  altro T = ")) << r.out;
+  EXPECT_NE(r.err.find("ipopt -> altro: robust plan"), std::string::npos) << r.err;
 }

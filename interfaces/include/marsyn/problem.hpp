@@ -95,6 +95,7 @@ struct Problem {
   int horizon = 0;         // T [steps]
   int rk4_substeps = 4;    // substeps of the sampled map f_tau used by planners and simulation
   PluginChoice planner;
+  PluginChoice warm_start_planner;  // optional: its plan starts `planner` (name empty: none)
   PluginChoice tracker;
   PluginChoice collision;              // name empty: core's exact geometry
   DistanceModelFactory distance_model;  // set with a collision plugin
