@@ -185,6 +185,22 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
     std::printf("verification  %d closed-loop runs, %d violations, smallest margin %.4g\n", v.runs, v.violations, v.min_margin);
     std::printf("open loop     %d runs, %d violations, smallest margin %.4g (%s)\n", v.open_loop_runs,
                 v.open_loop_violations, v.open_loop_min_margin, v.open_loop_worst.c_str());
+    // Each run's parts, so that a collision shows even where a missed goal is the worst.
+    for (const auto& r : v.open_loop) {
+      std::string parts;
+      auto add = [&](const char* name, const OpenLoopRun::Part& p) {
+        if (p.step < 0) return;
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "%s%s %.3g (step %d)", parts.empty() ? "" : ", ", name, p.margin, p.step);
+        parts += buf;
+      };
+      add("obstacle", r.obstacle);
+      add("collision", r.collision);
+      add("formation", r.formation);
+      char goal[64];
+      std::snprintf(goal, sizeof goal, "%sgoal %.3g", parts.empty() ? "" : ", ", r.goal);
+      std::printf("  %-34s %s%s\n", r.label.c_str(), (parts + goal).c_str(), r.satisfied ? "" : "  VIOLATED");
+    }
   }
   std::printf("global ABCD   N_g = %.3g state-input pairs, >= %.3g bytes: %s\n", out.global.state_input_pairs,
               out.global.memory_bytes_estimate, out.global.status.c_str());

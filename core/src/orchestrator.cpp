@@ -300,6 +300,28 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
   return out;
 }
 
+namespace {
+
+// Per open-loop run, each part of the specification with its smallest margin and step (null
+// when the problem has no such part).
+nlohmann::json open_loop_runs_json(const std::vector<OpenLoopRun>& runs) {
+  using nlohmann::json;
+  auto part = [](const OpenLoopRun::Part& p) {
+    return p.step < 0 ? json(nullptr) : json{{"margin", p.margin}, {"step", p.step}};
+  };
+  json out = json::array();
+  for (const auto& r : runs)
+    out.push_back({{"disturbance", r.label},
+                   {"satisfied", r.satisfied},
+                   {"obstacle", part(r.obstacle)},
+                   {"collision", part(r.collision)},
+                   {"formation", part(r.formation)},
+                   {"goal_margin", r.goal < 1e299 ? json(r.goal) : json(nullptr)}});
+  return out;
+}
+
+}  // namespace
+
 nlohmann::json result_json(const SolveOutcome& o) {
   using nlohmann::json;
   json j;
@@ -348,7 +370,8 @@ nlohmann::json result_json(const SolveOutcome& o) {
   j["open_loop"] = {{"runs", v.open_loop_runs},
                     {"violations", v.open_loop_violations},
                     {"min_margin", o.verification_ran ? json(v.open_loop_min_margin) : json(nullptr)},
-                    {"worst", v.open_loop_worst}};
+                    {"worst", v.open_loop_worst},
+                    {"by_run", open_loop_runs_json(v.open_loop)}};
   j["global_abcd"] = {{"state_input_pairs", o.global.state_input_pairs},
                       {"memory_bytes_estimate", o.global.memory_bytes_estimate},
                       {"status", o.global.status},

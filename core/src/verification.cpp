@@ -109,6 +109,17 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
       rep.open_loop_min_margin = ev.min_margin;
       rep.open_loop_worst = ev.worst + " (" + paper_label(v) + ")";
     }
+    OpenLoopRun run;
+    run.label = paper_label(v);
+    run.satisfied = ev.satisfied;
+    run.goal = ev.goal_margin;
+    for (int k = 0; k < static_cast<int>(ev.per_step.size()); ++k) {
+      const StepMargins& m = ev.per_step[k];
+      for (auto [value, part] : {std::pair{m.obstacle, &run.obstacle}, std::pair{m.collision, &run.collision},
+                                 std::pair{m.formation, &run.formation}})
+        if (value < part->margin) *part = {value, k};
+    }
+    rep.open_loop.push_back(run);
     rep.kept.push_back({"open loop, constant disturbance " + paper_label(v), o.states, std::move(ev)});
   }
   rep.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

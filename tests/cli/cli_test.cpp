@@ -49,7 +49,8 @@ TEST_P(Examples, CheckAcceptsAndSummarizes) {
 
 INSTANTIATE_TEST_SUITE_P(CaseStudies, Examples,
                          ::testing::Values("multi_drone.yaml", "crane_vehicle.yaml", "lane_merging.yaml",
-                                           "formation.yaml", "pendulum.yaml"));
+                                           "formation.yaml", "pendulum.yaml", "crane_vehicle_swing.yaml",
+                                           "global_baseline.yaml"));
 
 TEST(Cli, MultiDroneSummaryHasTheProductDimensions) {
   auto r = run_marsyn(std::string("check ") + MARSYN_SOURCE_DIR + "/examples/multi_drone.yaml");

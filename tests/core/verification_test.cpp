@@ -89,6 +89,20 @@ TEST(Verification, OpenLoopDriftsIntoTheWallFeedbackDoesNot) {
   // Under +W for 4 s, open loop drifts by 0.5 * 0.5 * 16 = 4 m: into the wall.
   EXPECT_GE(rep.open_loop_violations, 1);
   EXPECT_NE(rep.open_loop_worst.find("obstacle wall vs car"), std::string::npos) << rep.open_loop_worst;
+  // Per run: the parts the problem has, with the step of their smallest margin.
+  ASSERT_EQ(rep.open_loop.size(), 4u);
+  int into_wall = 0;
+  for (const auto& r : rep.open_loop) {
+    EXPECT_GE(r.obstacle.step, 0) << r.label;
+    EXPECT_EQ(r.collision.step, -1) << "one agent: no pairs";
+    EXPECT_EQ(r.formation.step, -1);
+    EXPECT_LT(r.goal, 1e299);
+    if (r.obstacle.margin < 0) {
+      ++into_wall;
+      EXPECT_FALSE(r.satisfied);
+    }
+  }
+  EXPECT_GE(into_wall, 1);
 }
 
 TEST(Verification, ABrokenControllerIsCaught) {

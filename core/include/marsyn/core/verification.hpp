@@ -36,6 +36,18 @@ struct KeptRun {
   SpecEvaluation spec;
 };
 
+// One open-loop run: its smallest margin per part of the specification (1e300 when the problem
+// has no such part), so that a collision is visible even when a missed goal is worse.
+struct OpenLoopRun {
+  std::string label;  // the paper scenario, e.g. "(+W, -W, +W, ... (alternating))"
+  bool satisfied = true;
+  struct Part {
+    double margin = 1e300;
+    int step = -1;
+  } obstacle, collision, formation;
+  double goal = 1e300;  // at the final step
+};
+
 struct VerificationReport {
   int runs = 0;
   int violations = 0;          // runs violating the global specification
@@ -47,6 +59,7 @@ struct VerificationReport {
   int open_loop_violations = 0;
   double open_loop_min_margin = 1e300;
   std::string open_loop_worst;
+  std::vector<OpenLoopRun> open_loop;  // one per open-loop run
   std::vector<KeptRun> kept;   // nominal, worst feedback run, paper scenarios closed and open loop
   double time_s = 0;
 };
