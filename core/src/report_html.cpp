@@ -42,7 +42,8 @@ canvas{width:100%;border:1px solid #dae1e7;border-radius:4px;background:#fff}
 </section>
 <section><h2>Per-stage figures (paper Table 2 row)</h2><table id="t2"></table>
 <h2 style="margin-top:16px">Agents</h2><table id="ag"></table>
-<h2 style="margin-top:16px">Verification</h2><table id="ver"></table></section>
+<h2 style="margin-top:16px">Verification</h2><table id="ver"></table>
+<h2 style="margin-top:16px">Open loop, per run (smallest margin and its step; below 0 = violation)</h2><table id="olr"></table></section>
 <section class="wide"><h2>Distance to threshold over time (smallest margin over obstacles, collisions and formation; below 0 = violation)</h2>
 <div id="plot"></div><div class="legend" id="legend"></div></section>
 <section class="wide"><h2>Attempts of the outer search</h2><table id="att"></table></section>
@@ -74,6 +75,11 @@ table($('ag'), ['agent', 'tracker', 'N_l', 'boxes', 'abs [s]', 'syn [s]', 'memor
 const v = R.verification || {}, ol = R.open_loop || {};
 table($('ver'), ['', 'runs', 'violations', 'smallest margin'],
   [['feedback', fmt(v.runs, 0), fmt(v.violations, 0), fmt(v.min_margin)], ['open loop', fmt(ol.runs, 0), fmt(ol.violations, 0), fmt(ol.min_margin)]]);
+const part = p => p ? fmt(p.margin) + ' (k=' + p.step + ')' : '-';
+const mark = (x, text) => x !== null && x !== undefined && x < 0 ? '<b style="color:#e3342f">' + text + '</b>' : text;
+table($('olr'), ['disturbance', 'obstacle', 'collision', 'formation', 'goal'],
+  (ol.by_run || []).map(r => [r.disturbance, ...['obstacle', 'collision', 'formation'].map(k =>
+    mark(r[k] && r[k].margin, part(r[k]))), mark(r.goal_margin, fmt(r.goal_margin))]));
 table($('att'), ['#', 'stage', 'parameters', 'outcome', 'time [s]'],
   (R.attempts || []).map((a, i) => [i + 1, a.stage || '', a.parameters || '', a.outcome || '', fmt(a.time_s, 3)]));
 
