@@ -40,6 +40,17 @@ Obstacle box(double x0, double y0, double x1, double y1) {
   return o;
 }
 
+// A unicycle driving past a box: the obstacle case several tests share.
+Problem around_a_box() {
+  Problem p;
+  p.agents.push_back(unicycle("car", {0, 0, 0}, {10, 0, 0}));
+  p.obstacles.push_back(box(4, -0.5, 6, 0.5));
+  p.delta = 0.2;
+  p.tau = 0.1;
+  p.horizon = 80;
+  return p;
+}
+
 }  // namespace
 
 TEST(AugmentedLagrangian, MinimumEnergyReachIsTheKnownOptimum) {
@@ -87,12 +98,7 @@ TEST(AugmentedLagrangian, MinimumEnergyReachIsTheKnownOptimum) {
 }
 
 TEST(AugmentedLagrangian, DrivesAroundAnObstacleAndPassesTheExactCheck) {
-  Problem p;
-  p.agents.push_back(unicycle("car", {0, 0, 0}, {10, 0, 0}));
-  p.obstacles.push_back(box(4, -0.5, 6, 0.5));
-  p.delta = 0.2;
-  p.tau = 0.1;
-  p.horizon = 80;
+  const Problem p = around_a_box();
   const auto out = planning::plan(p, AltroPlanner({}), {});
   ASSERT_TRUE(out.feasible) << planning::summary(p, out);
   EXPECT_GE(out.check.min_margin, 0.0);
@@ -252,16 +258,6 @@ class Recorder : public Planner {
  private:
   bool echo_;
 };
-
-Problem around_a_box() {
-  Problem p;
-  p.agents.push_back(unicycle("car", {0, 0, 0}, {10, 0, 0}));
-  p.obstacles.push_back(box(4, -0.5, 6, 0.5));
-  p.delta = 0.2;
-  p.tau = 0.1;
-  p.horizon = 80;
-  return p;
-}
 
 }  // namespace
 
