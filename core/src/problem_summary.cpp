@@ -33,7 +33,8 @@ std::string summarize(const Problem& pb) {
   s << "time      tau = " << pb.tau << " s, horizon T = " << pb.horizon << " steps (" << pb.tau * pb.horizon
     << " s)\n";
   s << "safety    delta = " << pb.delta << " (" << (pb.delta_norm == Norm::Inf ? "inf-norm" : "2-norm") << ")\n";
-  s << "plugins   planner " << pb.planner.name << ", tracker " << pb.tracker.name << ", obstacle distances "
+  s << "plugins   planner "
+    << (pb.warm_start_planner.name.empty() ? "" : pb.warm_start_planner.name + " -> ") << pb.planner.name << ", tracker " << pb.tracker.name << ", obstacle distances "
     << (pb.collision.name.empty() ? "exact (core)" : pb.collision.name) << "\n\n";
   s << std::left << std::setw(12) << "agent" << std::setw(19) << "dynamics" << std::setw(7) << "n x m"
     << std::setw(31) << "eps" << std::setw(33) << "eta_x" << "tube cells/step\n";
