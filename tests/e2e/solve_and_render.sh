@@ -34,4 +34,5 @@ timeout 120 "$browser" $flags --virtual-time-budget=3000 --dump-dom "file://$scr
 grep -q 'class="badge ok">VERIFIED' "$scratch/dom.html" || { echo "the page did not show the verdict"; exit 1; }
 grep -q '<polyline' "$scratch/dom.html" || grep -q 'no obstacle, collision or formation' "$scratch/dom.html" || {
   echo "the margin plot is missing"; exit 1; }
+grep -q '<td>+W for all agents</td>' "$scratch/dom.html" || { echo "the open-loop table per run is missing"; exit 1; }
 echo "solved, verified, and the report renders ($size-byte screenshot)"
