@@ -75,15 +75,6 @@ struct PairGeometry {
 };
 
 
-// The workspace point's constant Jacobian (2 x n, row-major) for a linear workspace: the second
-// derivative of a constraint is then D' (d^2 g / dd^2) D with no curvature term.
-void linear_point_jacobian(const AgentSpec& a, double* J) {
-  const int n = a.n();
-  for (int i = 0; i < 2 * n; ++i) J[i] = 0.0;
-  for (int c = 0; c < 2; ++c)
-    if (a.workspace.index[c] >= 0) J[c * n + a.workspace.index[c]] = 1.0;
-}
-
 // H (cols x cols, row-major) += D' S D with D = [J_a, -J_b] (2 x cols) and S symmetric 2 x 2.
 void add_congruence(const double* Ja, int na, const double* Jb, int nb, const double S[4], double* H) {
   const int cols = na + nb;
@@ -131,6 +122,19 @@ bool footprint_hessian(const AgentSpec& a, const double* x, double* P) {
   return true;
 }
 
+// H (cols = na + nb) += the workspace points' own curvature for d = p_a - p_b, given the
+// weighted gradient gw = sum_r w_r dg_r/dd (so dg/dp_a = gw, dg/dp_b = -gw) and P from
+// footprint_hessian.
+void add_footprint_curvature(const double* Pa, int na, const double* Pb, int nb, const double gw[2], double* H) {
+  const int cols = na + nb;
+  for (int c = 0; c < 2; ++c) {
+    for (int i = 0; i < na; ++i)
+      for (int j = 0; j < na; ++j) H[i * cols + j] += gw[c] * Pa[(c * na + i) * na + j];
+    for (int i = 0; i < nb; ++i)
+      for (int j = 0; j < nb; ++j) H[(na + i) * cols + na + j] -= gw[c] * Pb[(c * nb + i) * nb + j];
+  }
+}
+
 }  // namespace
 
 ObstacleConstraint::ObstacleConstraint(std::string name, const AgentSpec& agent, int offset, Polygon obstacle,
@@ -171,8 +175,7 @@ bool ObstacleConstraint::hessian(const double* x, const double* w, double* H) co
   if (!agent_->workspace.linear() || !margins_->constant()) return false;
   const int n = agent_->n();
   double p[2], J[2 * kMaxDual];
-  workspace_point(*agent_->dynamics, agent_->workspace, x + support_[0], p);
-  linear_point_jacobian(*agent_, J);
+  workspace_point_jacobian(*agent_, x + support_[0], p, J);
   // sd is the distance to the nearest edge (linear in p) unless the nearest feature is a vertex
   // v outside, where it is |p - v|. The Hessian is taken on core's grown polygon also when a
   // distance plugin supplies the value: both describe the same polygon.
@@ -267,14 +270,8 @@ bool PairConstraint::hessian(const double* x, const double* w, double* H) const 
     }
   }
   add_congruence(geo.Ja, na, geo.Jb, nb, S, H);
-  // A nonlinear footprint's own curvature: d = p_a - p_b, so dg/dp_a = gd and dg/dp_b = -gd.
-  const int cols = na + nb;
-  for (int c = 0; c < 2; ++c) {
-    for (int i = 0; i < na; ++i)
-      for (int j = 0; j < na; ++j) H[i * cols + j] += w[0] * gd[c] * Pa[(c * na + i) * na + j];
-    for (int i = 0; i < nb; ++i)
-      for (int j = 0; j < nb; ++j) H[(na + i) * cols + na + j] -= w[0] * gd[c] * Pb[(c * nb + i) * nb + j];
-  }
+  const double gw[2] = {w[0] * gd[0], w[0] * gd[1]};
+  add_footprint_curvature(Pa, na, Pb, nb, gw, H);
   return true;
 }
 
@@ -303,15 +300,20 @@ void FormationConstraint::evaluate(const double* x, double* g, double* jac) cons
 }
 
 bool FormationConstraint::hessian(const double* x, const double* w, double* H) const {
-  if (!a_->workspace.linear() || !b_->workspace.linear()) return false;
   const int na = a_->n(), nb = b_->n();
-  const PairGeometry geo(*a_, *b_, x + support_[0], x + support_[na], false);
-  double Ja[2 * kMaxDual], Jb[2 * kMaxDual];
-  linear_point_jacobian(*a_, Ja);
-  linear_point_jacobian(*b_, Jb);
+  const double *xa = x + support_[0], *xb = x + support_[na];
+  double Pa[2 * kMaxDual * kMaxDual], Pb[2 * kMaxDual * kMaxDual];
+  if (!footprint_hessian(*a_, xa, Pa) || !footprint_hessian(*b_, xb, Pb)) return false;
+  const PairGeometry geo(*a_, *b_, xa, xb, true);
+  // g_0 = |d| - ..., g_1 = ... - |d|: both rows through |d|, weighted w_0 - w_1.
+  const double k = w[0] - w[1];
   double S[4];
-  norm_curvature(geo.d, w[0] - w[1], S);  // g_0 = |d| - ..., g_1 = ... - |d|
-  add_congruence(Ja, na, Jb, nb, S, H);
+  norm_curvature(geo.d, k, S);
+  add_congruence(geo.Ja, na, geo.Jb, nb, S, H);
+  const double len = std::hypot(geo.d[0], geo.d[1]);
+  const double inv = len > 1e-12 ? 1.0 / len : 0.0;
+  const double gw[2] = {k * geo.d[0] * inv, k * geo.d[1] * inv};
+  add_footprint_curvature(Pa, na, Pb, nb, gw, H);
   return true;
 }
 
