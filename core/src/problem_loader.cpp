@@ -17,7 +17,7 @@ using yaml::Field;
 
 const std::vector<std::string> kTopKeys = {
     "name",  "description", "tau",     "horizon",      "rk4_substeps", "delta",     "delta_norm",
-    "pairwise_collision", "planner", "tracker", "collision", "plugin_paths", "defaults", "agents", "obstacles",
+    "pairwise_collision", "guarantee", "planner", "tracker", "collision", "plugin_paths", "defaults", "agents", "obstacles",
     "formation"};
 const std::vector<std::string> kAgentKeys = {"name",         "dynamics",    "x0",    "goal",
                                              "state_bounds", "input_bounds", "disturbance", "eps",
@@ -380,6 +380,12 @@ LoadedProblem load_problem(const std::string& path) {
     else f.fail("expected 'inf' or '2', got '" + s + "'");
   }
   if (Field f = top.child("pairwise_collision"); f.present()) pb.pairwise_collision = f.boolean();
+  if (Field f = top.child("guarantee"); f.present()) {
+    const std::string s = f.text();
+    if (s == "continuous") pb.guarantee = Guarantee::Continuous;
+    else if (s == "sampled") pb.guarantee = Guarantee::Sampled;
+    else f.fail("expected 'continuous' (safe for every t, the default) or 'sampled' (only at t = k tau, the paper's semantics), got '" + s + "'");
+  }
 
   const Field defaults = top.child("defaults");
   if (defaults.present()) {

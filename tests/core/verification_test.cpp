@@ -24,9 +24,12 @@ class LinearFeedback : public marsyn::Controller {
     return marsyn::ControlStatus::Ok;
   }
   void write(const std::string&) const override {}
+  // A test controller with no continuous-time certificate.
+  const std::vector<marsyn::PeriodEnclosure>& period_enclosures() const override { return none_; }
 
  private:
   marsyn::NominalTrajectory nom_;
+  std::vector<marsyn::PeriodEnclosure> none_;
 };
 
 struct Fixture {

@@ -82,6 +82,13 @@ struct FormationPair {
 using DistanceModelFactory =
     std::function<std::shared_ptr<const DistanceModel>(const std::vector<std::vector<Eigen::Vector2d>>& polygons)>;
 
+// Which times the safety part of the specification (state bounds, obstacles, collisions,
+// formation) is guaranteed for: every t in [0, T tau] (default), or only the sampling instants
+// t = k tau (the paper's discrete-time semantics, kept for comparison with its Table 2).
+enum class Guarantee { Continuous, Sampled };
+
+inline const char* to_string(Guarantee g) { return g == Guarantee::Continuous ? "continuous" : "sampled"; }
+
 struct Problem {
   std::string name;
   std::string source;  // the file it was loaded from
@@ -90,6 +97,7 @@ struct Problem {
   double delta = 0.0;      // safety distance to obstacles and between agents
   Norm delta_norm = Norm::Inf;
   bool pairwise_collision = true;
+  Guarantee guarantee = Guarantee::Continuous;
   std::vector<FormationPair> formation;
   double tau = 0.1;        // sampling time [s]
   int horizon = 0;         // T [steps]

@@ -32,6 +32,19 @@ inline const char* to_string(TrackerStatus s) {
 
 enum class ControlStatus { Ok, OutsideDomain, OutsideHorizon };
 
+// Where the closed loop can be during part of a sampling period (the continuous-time guarantee,
+// docs/soundness.md "Continuous time"): for every initial state in a winning cell of step 0,
+// every measurable disturbance in [-W, W] and every t in [t0, t1] (seconds from the start of the
+// horizon, t0 >= k tau and t1 <= (k+1) tau for the step k it belongs to), the state lies in
+// `state` and the agent's workspace point in `workspace` (2 intervals). A step's enclosures
+// cover its whole period; consecutive enclosures share their end points.
+struct PeriodEnclosure {
+  int step = 0;
+  double t0 = 0.0, t1 = 0.0;
+  Box state;
+  Box workspace;
+};
+
 // A synthesized controller. input() answers in O(1).
 class Controller {
  public:
@@ -41,6 +54,9 @@ class Controller {
   virtual int horizon() const = 0;  // steps k = 0..horizon(); time-invariant controllers: -1
   virtual ControlStatus input(const double* x, int k, double* u) const = 0;
   virtual void write(const std::string& path) const = 0;  // throws std::runtime_error on I/O failure
+  // Sound enclosures of the closed loop between the samples, ordered by time, covering
+  // [0, horizon() tau]; empty when the tracker gives no continuous-time guarantee.
+  virtual const std::vector<PeriodEnclosure>& period_enclosures() const = 0;
 };
 
 // Optional model-specific successor bound. A Dynamics implementation may also derive from this
@@ -63,6 +79,7 @@ struct TrackingProblem {
   Box input_bounds;
   Box state_bounds;
   double tau = 0.1;
+  Workspace workspace;  // the agent's workspace map, for the workspace part of period enclosures
 };
 
 // Whole-domain mode (global ABCD baseline): reach `target` while staying in `safe`, over the box

@@ -32,6 +32,8 @@ struct ControllerData {
   std::vector<IndexBox> boxes;
   std::vector<std::int64_t> offsets;  // start of each table in `inputs`
   std::vector<std::uint16_t> inputs;
+  // Continuous time: sound enclosures of the closed loop between samples (tracking only).
+  std::vector<PeriodEnclosure> enclosures;
 
   int tables() const { return static_cast<int>(offsets.size()); }
 };
@@ -46,6 +48,7 @@ class GridController : public marsyn::Controller {
   // (tracking: k >= T, the spec is already met at T), or the whole-domain target is reached.
   ControlStatus input(const double* x, int k, double* u) const override;
   void write(const std::string& path) const override;
+  const std::vector<PeriodEnclosure>& period_enclosures() const override { return data_.enclosures; }
 
   // Is x's cell winning at step k (step T: in the tube)?
   bool winning(const double* x, int k) const;
