@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "marsyn/controller_export.hpp"
 #include "marsyn/export.hpp"
 #include "marsyn/problem.hpp"
 
@@ -57,6 +58,14 @@ class Controller {
   // Sound enclosures of the closed loop between the samples, ordered by time, covering
   // [0, horizon() tau]; empty when the tracker gives no continuous-time guarantee.
   virtual const std::vector<PeriodEnclosure>& period_enclosures() const = 0;
+  // Writes the controller in another format (controller_export.hpp, docs/deploy.md). Failures
+  // (unsupported format, bad prefix, I/O) are reported in the result, never thrown.
+  virtual ExportResult export_to(const ExportRequest& request) const {
+    ExportResult r;
+    r.message = "this controller does not support export";
+    (void)request;
+    return r;
+  }
 };
 
 // Optional model-specific successor bound. A Dynamics implementation may also derive from this

@@ -49,6 +49,8 @@ class GridController : public marsyn::Controller {
   ControlStatus input(const double* x, int k, double* u) const override;
   void write(const std::string& path) const override;
   const std::vector<PeriodEnclosure>& period_enclosures() const override { return data_.enclosures; }
+  // C99 or SCOTS v0.2 (export_c.cpp, export_scs.cpp, docs/deploy.md).
+  ExportResult export_to(const ExportRequest& request) const override;
 
   // Is x's cell winning at step k (step T: in the tube)?
   bool winning(const double* x, int k) const;

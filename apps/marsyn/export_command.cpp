@@ -1,0 +1,96 @@
+// `marsyn export`: a controller file (or every <agent>.ctrl of a `solve` folder) as C99 or in
+// SCOTS' format, through the tracker plugin that wrote it (Controller::export_to). Every failure
+// is bad input here (a missing or corrupt file, a bad prefix, an unwritable folder): one line on
+// stderr and exit code 2.
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "commands.hpp"
+#include "marsyn/core/plugin_registry.hpp"
+#include "marsyn/core/problem_loader.hpp"
+#include "marsyn/tracker.hpp"
+
+namespace fs = std::filesystem;
+
+namespace marsyn::cli {
+namespace {
+
+int fail(const std::string& what) {
+  std::cerr << "error: " << what << "\n";
+  return 2;
+}
+
+bool c_identifier(const std::string& s) {
+  if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+  return std::all_of(s.begin(), s.end(), [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'; });
+}
+
+}  // namespace
+
+int run_export(const std::vector<std::string>& inputs, const std::string& format, const std::string& out_dir,
+               const std::string& prefix, const std::string& encoding, const std::string& tracker_name) {
+  if (format != "c" && format != "scs") return fail("--format: unknown format '" + format + "'; expected c or scs");
+  if (encoding != "auto" && encoding != "dense" && encoding != "rle")
+    return fail("--encoding: unknown encoding '" + encoding + "'; expected auto, dense or rle");
+  if (!prefix.empty() && !c_identifier(prefix))
+    return fail("--prefix: '" + prefix + "' is not a C identifier ([A-Za-z_][A-Za-z0-9_]*)");
+
+  std::vector<std::string> files;
+  for (const auto& in : inputs) {
+    std::error_code ec;
+    if (fs::is_directory(in, ec)) {
+      std::vector<std::string> found;
+      for (const auto& e : fs::directory_iterator(in, ec))
+        if (e.path().extension() == ".ctrl") found.push_back(e.path().string());
+      if (found.empty()) return fail(in + ": a folder without controller files (*.ctrl)");
+      std::sort(found.begin(), found.end());
+      files.insert(files.end(), found.begin(), found.end());
+    } else if (fs::exists(in, ec)) {
+      files.push_back(in);
+    } else {
+      return fail("cannot open controller file " + in + " (no such file or folder)");
+    }
+  }
+  if (!prefix.empty() && files.size() > 1)
+    return fail("--prefix names one controller's symbols; " + std::to_string(files.size()) + " controllers given");
+
+  PluginRegistry registry;
+  std::shared_ptr<Tracker> tracker;
+  try {
+    tracker = registry.create<Tracker>(tracker_name);
+  } catch (const std::exception&) {
+    std::string names;
+    for (const auto& n : registry.names("tracker")) names += (names.empty() ? "" : ", ") + n;
+    return fail("--tracker: no tracker plugin named '" + tracker_name + "' (found: " + (names.empty() ? "none" : names) + ")");
+  }
+  const std::string dir = out_dir.empty() ? "." : out_dir;
+  long long total = 0;
+  for (const auto& file : files) {
+    std::shared_ptr<const Controller> ctrl;
+    try {
+      ctrl = tracker->read_controller(file);
+    } catch (const std::exception& e) {
+      return fail(e.what());
+    }
+    ExportRequest req;
+    req.format = format;
+    req.out_dir = dir;
+    req.prefix = prefix;
+    req.encoding = encoding;
+    req.source = fs::path(file).filename().string();
+    const ExportResult r = ctrl->export_to(req);
+    if (!r.ok) return fail(file + ": " + r.message);
+    std::printf("%s\n", r.message.c_str());
+    for (const auto& f : r.files) std::printf("  wrote %s\n", f.c_str());
+    total += r.const_data_bytes;
+  }
+  if (format == "c")
+    std::printf("const data (flash) %lld bytes in %zu controller%s, plus the lookup code (docs/deploy.md)\n", total,
+                files.size(), files.size() == 1 ? "" : "s");
+  return 0;
+}
+
+}  // namespace marsyn::cli
