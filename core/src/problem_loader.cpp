@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "marsyn/core/agent_checks.hpp"
+#include "equations/equation_yaml.hpp"
 #include "yaml_reader.hpp"
 
 namespace fs = std::filesystem;
@@ -413,9 +414,16 @@ LoadedProblem load_problem(const std::string& path) {
       name.fail("duplicate agent name '" + a.name + "' (also agents[" + std::to_string(it->second) + "])");
     seen[a.name] = idx;
 
-    const PluginField dyn = read_plugin_field(agent_required(af, defaults, "dynamics"), "type");
-    a.dynamics_type = dyn.name;
-    a.dynamics = create_plugin<Dynamics>(*out.registry, dyn).first;
+    // A plugin name, or equations written in the file (core/src/equations, issue 15).
+    const Field dyn_field = agent_required(af, defaults, "dynamics");
+    if (equations::is_equation_model(dyn_field, defaults.child("dynamics"))) {
+      a.dynamics = equations::load_equation_dynamics(dyn_field, defaults.child("dynamics"));
+      a.dynamics_type = a.dynamics->type();
+    } else {
+      const PluginField dyn = read_plugin_field(dyn_field, "type");
+      a.dynamics_type = dyn.name;
+      a.dynamics = create_plugin<Dynamics>(*out.registry, dyn).first;
+    }
     const int n = a.dynamics->state_dim(), m = a.dynamics->input_dim();
     const std::string sn = "the dynamics '" + a.dynamics_type + "' has " + std::to_string(n) + " states";
     const std::string sm = "the dynamics '" + a.dynamics_type + "' has " + std::to_string(m) + " inputs";

@@ -1,0 +1,147 @@
+// Equation models as a user meets them: `marsyn check` accepts them, and every error class of
+// issue 15 is one located line `error: FILE:LINE:COLUMN: PATH: message` with exit code 2, the
+// column pointing into the expression where the error is.
+#include <gtest/gtest.h>
+
+#include "run.hpp"
+
+using marsyn::test::run_marsyn;
+using marsyn::test::write_temp;
+
+namespace {
+
+const std::string kValid = R"(name: eq
+tau: 0.1
+horizon: 20
+defaults:
+  dynamics:
+    states: [x, y, theta]
+    inputs: [v, omega]
+    constants: {k: 1.0}
+    field:
+      x: v * cos(theta)
+      y: v * sin(theta)
+      theta: k * omega
+    footprints:
+      nose: [x + 0.3 * cos(theta), y + 0.3 * sin(theta)]
+  state_bounds: {lo: [-1, -1, -2], hi: [11, 11, 3]}
+  input_bounds: {lo: [-2, -2], hi: [2, 2]}
+  disturbance: [0, 0.02, 0.02]
+  eps: [0.2, 0.2, 0.24]
+  eta_x: [0.025, 0.025, 0.03]
+  eta_u: [0.3, 0.3]
+  workspace: {position: [0, 1]}
+agents:
+  - name: a
+    x0: [0, 2, 0]
+    goal: {center: [5, 2, 0], radius: [0.3, 0.3, 0.4]}
+  - name: b
+    dynamics: {params: {k: 0.5}}
+    x0: [0, 6, 0]
+    goal: {center: [5, 6, 0], radius: [0.3, 0.3, 0.4]}
+    workspace: {footprint: nose}
+)";
+
+std::string replace(std::string text, const std::string& from, const std::string& to) {
+  const auto pos = text.find(from);
+  EXPECT_NE(pos, std::string::npos) << "fixture does not contain: " << from;
+  if (pos != std::string::npos) text.replace(pos, from.size(), to);
+  return text;
+}
+
+// 1-based line and column of the first occurrence of `needle` (at its `offset`-th character).
+std::pair<int, int> where(const std::string& text, const std::string& needle, std::size_t offset = 0) {
+  const auto pos = text.find(needle);
+  EXPECT_NE(pos, std::string::npos) << needle;
+  const auto at = pos + offset;
+  const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
+  const auto line_start = text.rfind('\n', at - 1);
+  const int col = static_cast<int>(at - (line_start == std::string::npos ? 0 : line_start + 1)) + 1;
+  return {line, col};
+}
+
+void expect_error(const std::string& name, const std::string& yaml, std::pair<int, int> at, const std::string& path,
+                  const std::string& message) {
+  const std::string file = write_temp(name + ".yaml", yaml);
+  const auto r = run_marsyn("check " + file);
+  EXPECT_EQ(r.code, 2) << r.out << r.err;
+  const std::string want = "error: " + file + ":" + std::to_string(at.first) + ":" + std::to_string(at.second) + ": " +
+                           path + ": ";
+  EXPECT_EQ(r.err.rfind(want, 0), 0u) << "expected the prefix " << want << "\ngot: " << r.err;
+  EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "exactly one message: " << r.err;
+}
+
+}  // namespace
+
+TEST(EquationsCli, ValidFileIsAcceptedWithAStableType) {
+  const std::string file = write_temp("eq_valid.yaml", kValid);
+  const auto r = run_marsyn("check " + file);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("equations:"), std::string::npos) << r.out;
+  // The two agents differ in k: two different model types; the same file gives the same types.
+  const auto again = run_marsyn("check " + file);
+  EXPECT_EQ(r.out, again.out);
+}
+
+TEST(EquationsCli, ExampleIsAccepted) {
+  const auto r = run_marsyn(std::string("check ") + MARSYN_SOURCE_DIR + "/examples/unicycle_equations.yaml");
+  EXPECT_EQ(r.code, 0) << r.err;
+}
+
+TEST(EquationsCli, UnknownSymbolPointsAtTheName) {
+  const std::string y = replace(kValid, "x: v * cos(theta)", "x: v * cos(thetta)");
+  expect_error("eq_unknown", y, where(y, "thetta"), "defaults.dynamics.field.x", "unknown symbol 'thetta'");
+}
+
+TEST(EquationsCli, SyntaxErrorPointsAtTheColumn) {
+  const std::string y = replace(kValid, "y: v * sin(theta)", "y: v * sin(theta))");
+  expect_error("eq_syntax", y, where(y, "v * sin(theta))", 14), "defaults.dynamics.field.y",
+               "syntax error at column 15 of the expression: unexpected ')'");
+}
+
+TEST(EquationsCli, QuotedAndBlockScalarsAreMappedToo) {
+  const std::string q = replace(kValid, "y: v * sin(theta)", "y: \"v * sin(theta) +\"");
+  expect_error("eq_quoted", q, where(q, "v * sin(theta) +\"", 16), "defaults.dynamics.field.y",
+               "syntax error at column 17 of the expression: unexpected end");
+  const std::string b = replace(kValid, "      y: v * sin(theta)\n", "      y: |\n        v *\n          sin(thetaa)\n");
+  expect_error("eq_block", b, where(b, "thetaa"), "defaults.dynamics.field.y", "unknown symbol 'thetaa'");
+}
+
+TEST(EquationsCli, StateWithoutEquation) {
+  const std::string y = replace(kValid, "      theta: k * omega\n", "");
+  expect_error("eq_missing", y, where(y, "x: v * cos"), "defaults.dynamics.field", "the state 'theta' has no equation");
+}
+
+TEST(EquationsCli, NameUsedTwice) {
+  const std::string y = replace(kValid, "inputs: [v, omega]", "inputs: [v, x]");
+  expect_error("eq_twice", y, where(y, "x]"), "defaults.dynamics.inputs[1]", "the name 'x' is used twice (also a state)");
+}
+
+TEST(EquationsCli, UnsupportedFunction) {
+  const std::string y = replace(kValid, "theta: k * omega", "theta: k * abs(omega)");
+  expect_error("eq_function", y, where(y, "abs("), "defaults.dynamics.field.theta",
+               "unsupported function 'abs' (supported: sin, cos, tan, exp, log, sqrt, atan)");
+}
+
+TEST(EquationsCli, NonFiniteConstant) {
+  const std::string y = replace(kValid, "constants: {k: 1.0}", "constants: {k: .inf}");
+  expect_error("eq_inf", y, where(y, ".inf"), "defaults.dynamics.constants.k", "the constant 'k' is not finite");
+  const std::string z = replace(kValid, "x: v * cos(theta)", "x: v * cos(theta) + 1e400");
+  expect_error("eq_big", z, where(z, "1e400"), "defaults.dynamics.field.x", "outside the range of finite doubles");
+}
+
+TEST(EquationsCli, PerAgentConstantsAreChecked) {
+  const std::string y = replace(kValid, "{params: {k: 0.5}}", "{params: {kk: 0.5}}");
+  expect_error("eq_param", y, where(y, "kk"), "agents[1].dynamics.params.kk", "unknown constant 'kk' (did you mean 'k'?)");
+  const std::string z = replace(kValid, "{params: {k: 0.5}}", "{params: {k: .nan}}");
+  expect_error("eq_param_nan", z, where(z, ".nan"), "agents[1].dynamics.params.k", "the constant 'k' is not finite");
+}
+
+TEST(EquationsCli, FootprintsAreStateFunctionsAndNamed) {
+  const std::string y = replace(kValid, "y + 0.3 * sin(theta)]", "y + 0.3 * v]");
+  expect_error("eq_fp_input", y, where(y, "y + 0.3 * v]"), "defaults.dynamics.footprints.nose[1]",
+               "a footprint is a function of the state only; this coordinate reads the input 'v'");
+  const std::string z = replace(kValid, "{footprint: nose}", "{footprint: tail}");
+  expect_error("eq_fp_name", z, where(z, "tail"), "agents[1].workspace.footprint", "has no footprint 'tail'; it has: nose");
+}
