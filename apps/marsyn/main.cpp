@@ -3,6 +3,7 @@
 // fails (no plan, no controller, a violation) ends with exit code 1.
 #include <CLI/CLI.hpp>
 
+#include <cstdlib>
 #include <iostream>
 
 #include "commands.hpp"
@@ -15,6 +16,12 @@ int main(int argc, char** argv) {
       "(plan globally, project per agent, track locally with a sound abstraction)"};
   app.set_version_flag("--version", std::string("marsyn ") + MARSYN_VERSION);
   app.require_subcommand(1);
+  // Options of the top level may also follow the subcommand (`marsyn check --memory-budget 4G x.yaml`).
+  app.fallthrough();
+  std::string memory_budget;
+  app.add_option("--memory-budget", memory_budget,
+                 "memory the stages may plan to use, checked against estimates when a problem is loaded: bytes, or "
+                 "with K/M/G/T (default: half of the physical memory; same as env MARSYN_MEMORY_BUDGET)");
 
   bool show_params = false;
   auto* plugins = app.add_subcommand("plugins", "list every plugin found: kind, name, library");
@@ -87,6 +94,10 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : 2;
   }
 
+  // One place for the budget: the loader reads MARSYN_MEMORY_BUDGET (and rejects a bad value
+  // with a located message).
+  if (!memory_budget.empty()) setenv("MARSYN_MEMORY_BUDGET", memory_budget.c_str(), 1);
+
   try {
     if (*plugins) return marsyn::cli::run_plugins(show_params);
     if (*check) return marsyn::cli::run_check(config);
@@ -104,10 +115,10 @@ int main(int argc, char** argv) {
     std::cerr << "error: " << e.what() << "\n";
     return 2;
   } catch (const marsyn::ParamError& e) {
-    std::cerr << "error: parameter " << e.field() << ": " << e.what() << "\n";
+    std::cerr << "error: parameter " << marsyn::printable(e.field()) << ": " << marsyn::printable(e.what()) << "\n";
     return 2;
   } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
+    std::cerr << "error: " << marsyn::printable(e.what()) << "\n";
     return 1;
   }
   return 2;

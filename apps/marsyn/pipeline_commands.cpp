@@ -11,6 +11,7 @@
 #include "marsyn/core/closed_loop.hpp"
 #include "marsyn/core/config_error.hpp"
 #include "marsyn/core/orchestrator.hpp"
+#include "marsyn/core/output_folder.hpp"
 #include "marsyn/core/plan_file.hpp"
 #include "marsyn/core/planning/plan.hpp"
 #include "marsyn/core/problem_loader.hpp"
@@ -98,12 +99,18 @@ int run_plan(const std::string& config, const std::string& out_requested) {
   po.log = [](const std::string& s) { log_line("[plan] " + s); };
   po.warm_start_planner = warm.get();
   const planning::PlanOutcome out = planning::plan(pb, *planner, po);
-  const std::string dir = out_dir_for(out_requested, pb);
-  fs::create_directories(dir);
-  planning::write_plan_json((fs::path(dir) / "plan.json").string(), pb, out);
-  const auto csvs = planning::write_agent_csvs(dir, pb, out);
+  // Output rule (docs/problem-format.md): plan.json always (feasible or not, with the reason);
+  // the per-agent CSVs only for a feasible plan.
+  const OutputFolder folder(out_dir_for(out_requested, pb));
+  const std::string plan_json = folder.path("plan.json");
+  planning::write_plan_json(plan_json, pb, out);
+  std::size_t csvs = 0;
+  if (out.feasible) {
+    for (const auto& a : pb.agents) folder.path(a.name + ".csv");  // every CSV name checked first
+    csvs = planning::write_agent_csvs(folder.dir().string(), pb, out).size();
+  }
   std::cout << planning::summary(pb, out);
-  std::cout << "wrote " << (fs::path(dir) / "plan.json").string() << " and " << csvs.size() << " CSV files\n";
+  std::cout << "wrote " << plan_json << " and " << csvs << " CSV files\n";
   return out.feasible ? 0 : 1;
 }
 
@@ -143,16 +150,15 @@ int run_track(const std::string& config, const std::string& agent, const std::st
     std::printf("winning cells/step  k=0: %lld, fewest %lld (k=%zu), most %lld\n", s.winning_cells_per_step.front(), lo,
                 at, hi);
   }
-  const std::string dir = out_dir_for(out_requested, pb);
-  fs::create_directories(dir);
+  const OutputFolder folder(out_dir_for(out_requested, pb));
   {
-    std::ofstream f(fs::path(dir) / (a.name + ".track.json"));
+    std::ofstream f(folder.path(a.name + ".track.json"));
     f << "{\"agent\": \"" << a.name << "\", \"status\": \"" << to_string(r.status) << "\", \"winning_cells_per_step\": [";
     for (std::size_t k = 0; k < s.winning_cells_per_step.size(); ++k) f << (k ? ", " : "") << s.winning_cells_per_step[k];
     f << "]}\n";
   }
   if (r.status == TrackerStatus::Controller && r.controller) {
-    const std::string file = (fs::path(dir) / (a.name + ".ctrl")).string();
+    const std::string file = folder.path(a.name + ".ctrl");
     r.controller->write(file);
     std::printf("controller          %s\n", file.c_str());
     return 0;
@@ -234,7 +240,8 @@ int run_simulate(const std::string& config, const std::string& controllers_dir, 
   SimulationSetup setup{&pb, nominal, ctrls, 20};
   const ClosedLoopRun run = simulate(setup, {mode, seed, 0});
   const SpecEvaluation ev = SpecMonitor(pb).evaluate(run.states);
-  const std::string path = out_file.empty() ? (fs::path(controllers_dir) / ("simulation-" + mode_text + ".csv")).string() : out_file;
+  const std::string path =
+      out_file.empty() ? OutputFolder(controllers_dir).path("simulation-" + mode_text + ".csv") : out_file;
   std::ofstream f(path);
   f << "k,t";
   for (const auto& a : pb.agents)

@@ -1,5 +1,6 @@
 #include "marsyn/core/agent_checks.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace marsyn {
@@ -17,6 +18,8 @@ AgentDefect agent_defect(const AgentSpec& a, int i) {
   const CellBounds cell = x0_cell(a, i);
   if (cell.lo < a.x0[i] - a.eps[i] || cell.hi > a.x0[i] + a.eps[i]) return AgentDefect::X0CellOutsideTube;
   if (a.goal.lo[i] + a.eps[i] > a.goal.hi[i] - a.eps[i]) return AgentDefect::GoalEmpty;
+  if (a.goal.hi[i] < lo || a.goal.lo[i] > hi) return AgentDefect::GoalOutsideBounds;
+  if (std::max(a.goal.lo[i], lo) + a.eps[i] > std::min(a.goal.hi[i], hi) - a.eps[i]) return AgentDefect::GoalUnreachable;
   return AgentDefect::None;
 }
 

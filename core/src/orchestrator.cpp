@@ -12,6 +12,7 @@
 
 #include "marsyn/core/agent_checks.hpp"
 #include "marsyn/core/global_abcd.hpp"
+#include "marsyn/core/output_folder.hpp"
 #include "marsyn/core/report_html.hpp"
 
 namespace fs = std::filesystem;
@@ -389,17 +390,25 @@ namespace {
 std::vector<std::string> write_into(const std::string& dir, SolveOutcome& o);
 }
 
-// Everything is written into a staging folder that replaces `dir` only when complete, so a
-// failure part-way never leaves a half-written result that looks like a finished one.
+// The output rule (docs/problem-format.md, "Output files"): a verified solve writes result.json,
+// report.html, plan.json and one <agent>.ctrl per agent; a failed one writes only result.json
+// (status "failed" and the reason) and report.html. Everything goes through OutputFolder (plain
+// names, checked after path resolution to lie in `dir`). Files are staged in a hidden folder
+// inside `dir` and moved in only when all are written, so a failure part-way never leaves a
+// half-written result; marsyn's own earlier files for this problem are replaced, nothing else in
+// `dir` is touched.
 std::vector<std::string> write_solve_outputs(const std::string& dir, SolveOutcome& o) {
-  const fs::path target = fs::path(dir);
-  const fs::path staging = target.string() + ".partial";
+  const OutputFolder folder(dir);
+  const fs::path staging = folder.path(".marsyn-partial");
   fs::remove_all(staging);
-  fs::create_directories(staging);
+  fs::create_directory(staging);
   try {
     auto files = write_into(staging.string(), o);
-    fs::remove_all(target);
-    fs::rename(staging, target);
+    std::vector<std::string> previous = {"result.json", "report.html", "plan.json"};
+    for (const auto& a : o.problem.agents) previous.push_back(a.name + ".ctrl");
+    for (const auto& f : previous) fs::remove(folder.path(f));
+    for (const auto& f : files) fs::rename(staging / f, folder.path(f));
+    fs::remove_all(staging);
     return files;
   } catch (...) {
     std::error_code ec;
@@ -411,13 +420,15 @@ std::vector<std::string> write_solve_outputs(const std::string& dir, SolveOutcom
 namespace {
 std::vector<std::string> write_into(const std::string& dir, SolveOutcome& o) {
   std::vector<std::string> files;
+  const bool failed = !o.verified;  // a failure writes only result.json and report.html
+  for (auto& a : o.agents) a.controller_file.clear();
   for (auto& a : o.agents) {
-    if (!a.track.controller) continue;
+    if (failed || !a.track.controller) continue;
     a.controller_file = a.name + ".ctrl";
     a.track.controller->write((fs::path(dir) / a.controller_file).string());
     files.push_back(a.controller_file);
   }
-  if (!o.plan.plan.u.empty()) {
+  if (!failed && !o.plan.plan.u.empty()) {
     planning::write_plan_json((fs::path(dir) / "plan.json").string(), o.problem, o.plan);
     files.push_back("plan.json");
   }

@@ -5,7 +5,11 @@
 #include <map>
 #include <sstream>
 
+#include <climits>
+
 #include "marsyn/core/agent_checks.hpp"
+#include "marsyn/core/input_limits.hpp"
+#include "marsyn/core/planning/geometry.hpp"
 #include "equations/equation_yaml.hpp"
 #include "yaml_reader.hpp"
 
@@ -58,6 +62,60 @@ std::string unknown_plugin(const PluginRegistry& reg, const std::string& kind, c
   return msg;
 }
 
+// A declared range such as "[1, inf)", "[0, 12]" or "-1 or [0, inf)"; false when the text is
+// not of that form (the range is then documentation only).
+bool in_declared_range(const std::string& range, long v, bool* understood) {
+  *understood = false;
+  auto trim = [](std::string t) {
+    while (!t.empty() && t.front() == ' ') t.erase(0, 1);
+    while (!t.empty() && t.back() == ' ') t.pop_back();
+    return t;
+  };
+  auto number = [&](const std::string& t, double* out) {
+    const std::string u = trim(t);
+    if (u == "inf" || u == "+inf") return *out = INFINITY, true;
+    if (u == "-inf") return *out = -INFINITY, true;
+    if (u.empty()) return false;
+    char* end = nullptr;
+    *out = std::strtod(u.c_str(), &end);
+    return end && *end == '\0';
+  };
+  std::vector<std::string> parts;
+  std::string rest = range;
+  for (std::size_t at; (at = rest.find(" or ")) != std::string::npos; rest = rest.substr(at + 4))
+    parts.push_back(rest.substr(0, at));
+  parts.push_back(rest);
+  bool inside = false;
+  for (const auto& raw : parts) {
+    const std::string p = trim(raw);
+    double a = 0, b = 0;
+    if (number(p, &a)) {
+      inside = inside || static_cast<double>(v) == a;
+      continue;
+    }
+    const auto comma = p.find(',');
+    if (p.size() < 5 || comma == std::string::npos || (p.front() != '[' && p.front() != '(') ||
+        (p.back() != ']' && p.back() != ')') || !number(p.substr(1, comma - 1), &a) ||
+        !number(p.substr(comma + 1, p.size() - comma - 2), &b))
+      return true;  // not understood: no check
+    const double x = static_cast<double>(v);
+    inside = inside || ((p.front() == '[' ? x >= a : x > a) && (p.back() == ']' ? x <= b : x < b));
+  }
+  *understood = true;
+  return inside;
+}
+
+// Integer parameters are range-checked here, before a plugin narrows them (plugins store them as
+// int): the 32-bit range first, then the range the plugin declares.
+long checked_integer(const Field& v, const ParamSpec& spec, const PluginInfo& info) {
+  const long x = v.integer_in(INT_MIN, INT_MAX, "integer plugin parameters are 32-bit");
+  bool understood = false;
+  if (!in_declared_range(spec.range, x, &understood) && understood)
+    v.fail("expected an integer in " + spec.range + " (the range the " + info.kind + " '" + info.name +
+           "' declares), got " + std::to_string(x));
+  return x;
+}
+
 Params read_params(const Field& f, const PluginInfo& info) {
   Params params;
   if (!f.present()) return params;
@@ -72,7 +130,7 @@ Params read_params(const Field& f, const PluginInfo& info) {
     if (!v.present()) continue;
     switch (spec.type) {
       case ParamType::Bool: params.set(spec.name, v.boolean()); break;
-      case ParamType::Int: params.set(spec.name, v.integer()); break;
+      case ParamType::Int: params.set(spec.name, checked_integer(v, spec, info)); break;
       case ParamType::Real: params.set(spec.name, v.real()); break;
       case ParamType::String: params.set(spec.name, v.text()); break;
       case ParamType::RealVector: {
@@ -202,8 +260,88 @@ void validate_agent(const AgentSpec& a, const Field& x0f, const Field& goalf, co
                    fmt(a.eps[i]) + ", " + fmt(a.goal.hi[i]) + " - " + fmt(a.eps[i]) + "] = [" +
                    fmt(a.goal.lo[i] + a.eps[i]) + ", " + fmt(a.goal.hi[i] - a.eps[i]) +
                    "]; enlarge the goal or reduce eps");
+      case AgentDefect::GoalOutsideBounds:
+        goalf.fail("the goal [" + fmt(a.goal.lo[i]) + ", " + fmt(a.goal.hi[i]) + "] in " + coord +
+                   " lies outside the state bounds [" + fmt(lo) + ", " + fmt(hi) + "]");
+      case AgentDefect::GoalUnreachable:
+        goalf.fail("no eps-robust final state in " + coord + ": the goal shrunk by eps [" +
+                   fmt(a.goal.lo[i] + a.eps[i]) + ", " + fmt(a.goal.hi[i] - a.eps[i]) +
+                   "] and the state bounds shrunk by eps [" + fmt(lo + a.eps[i]) + ", " + fmt(hi - a.eps[i]) +
+                   "] do not overlap; move the goal inside the state bounds or reduce eps");
     }
   }
+}
+
+// The tracker's grid and storage for one agent, before any stage allocates them.
+void check_agent_resources(const AgentSpec& a, int horizon, const Field& etaf, const Field& etauf) {
+  const auto names = a.dynamics->state_names();
+  for (int i = 0; i < a.n(); ++i) {
+    const double cells = (a.state_bounds.hi[i] - a.state_bounds.lo[i]) / a.eta_x[i];
+    if (!(cells <= kMaxGridCellsPerCoordinate))
+      etaf[static_cast<std::size_t>(i)].fail("eta_x = " + fmt(a.eta_x[i]) + " makes " + fmt(cells) + " grid cells across the state bounds in '" +
+                                             names[i] + "'; at most " + fmt(kMaxGridCellsPerCoordinate) + " are supported");
+  }
+  std::string source;
+  const double budget = memory_budget_bytes(&source);
+  const MemoryEstimate st = tracker_state_memory(a, horizon);
+  if (!(st.bytes <= budget))
+    etaf.fail("the tracker would need about " + format_bytes(st.bytes) + " for this agent (" + st.detail +
+              "), more than the memory budget of " + format_bytes(budget) + " (" + source + "); enlarge eta_x");
+  const MemoryEstimate in = tracker_input_memory(a);
+  if (!(in.bytes <= budget))
+    etauf.fail("the tracker would need about " + format_bytes(in.bytes) + " for this agent's inputs (" + in.detail +
+               "), more than the memory budget of " + format_bytes(budget) + " (" + source + "); enlarge eta_u");
+}
+
+// The real specification at k = 0, with the exact geometry of the robustness check
+// (planning/geometry.hpp): each agent's workspace point at x0 keeps delta from every obstacle and
+// from every other agent. A start violating it can never be planned for.
+double inf_distance(const planning::Polygon& poly, const Eigen::Vector2d& p, double upper) {
+  // The r with p on the boundary of poly grown by the box (r, r): bisection on the exact test.
+  double lo = 0, hi = upper;
+  for (int it = 0; it < 60; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (planning::signed_distance(planning::grow_by_box(poly, mid, mid), p) < 0 ? hi : lo) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+std::string point(const Eigen::Vector2d& p) { return "(" + fmt(p.x()) + ", " + fmt(p.y()) + ")"; }
+
+void check_start_geometry(const Problem& pb, const std::vector<Field>& x0_fields) {
+  const bool inf = pb.delta_norm == Norm::Inf;
+  const std::string norm = inf ? "inf-norm" : "Euclidean";
+  std::vector<Eigen::Vector2d> p(pb.agents.size());
+  for (std::size_t i = 0; i < pb.agents.size(); ++i) {
+    const AgentSpec& a = pb.agents[i];
+    workspace_point(*a.dynamics, a.workspace, a.x0.data(), p[i].data());
+    if (!p[i].allFinite()) x0_fields[i].fail("the workspace point of x0 is not finite: " + point(p[i]));
+  }
+  for (std::size_t i = 0; i < pb.agents.size(); ++i) {
+    const AgentSpec& a = pb.agents[i];
+    for (const auto& o : pb.obstacles) {
+      const double inside = planning::signed_distance(o.vertices, p[i]);
+      const std::string what = "x0 puts " + a.name + "'s workspace point " + point(p[i]);
+      if (inside < 0) x0_fields[i].fail(what + " inside obstacle '" + o.name + "'");
+      const bool near = inf ? planning::signed_distance(planning::grow_by_box(o.vertices, pb.delta, pb.delta), p[i]) < 0
+                            : inside < pb.delta;
+      if (near) {
+        const double d = inf ? inf_distance(o.vertices, p[i], pb.delta) : inside;
+        x0_fields[i].fail(what + " at " + norm + " distance " + fmt(d) + " from obstacle '" + o.name +
+                          "', less than delta = " + fmt(pb.delta) + " (inside the obstacle grown by delta)");
+      }
+    }
+  }
+  if (!pb.pairwise_collision) return;
+  for (std::size_t j = 0; j < pb.agents.size(); ++j)
+    for (std::size_t i = 0; i < j; ++i) {
+      const Eigen::Vector2d d = p[j] - p[i];
+      const double dist = inf ? d.cwiseAbs().maxCoeff() : d.norm();
+      if (dist < pb.delta)
+        x0_fields[j].fail("x0 puts " + pb.agents[j].name + " at " + point(p[j]) + ", " + norm + " distance " + fmt(dist) +
+                          " from " + pb.agents[i].name + " at " + point(p[i]) + " (agents[" + std::to_string(i) +
+                          "]), less than delta = " + fmt(pb.delta));
+    }
 }
 
 Obstacle read_obstacle(const Field& f, std::size_t index) {
@@ -211,6 +349,8 @@ Obstacle read_obstacle(const Field& f, std::size_t index) {
   f.allow_only({"name", "box", "polygon"});
   Obstacle o;
   o.name = f.child("name").present() ? f.child("name").text() : "obstacle" + std::to_string(index);
+  if (f.child("name").present())
+    if (const std::string why = name_defect(o.name); !why.empty()) f.child("name").fail(why);
   const bool has_box = f.child("box").present(), has_poly = f.child("polygon").present();
   if (has_box == has_poly) f.fail("expected exactly one of 'box' or 'polygon'");
   if (has_box) {
@@ -348,7 +488,9 @@ LoadedProblem load_problem(const std::string& path) {
   LoadedProblem out;
   Problem& pb = out.problem;
   pb.source = path;
-  pb.name = top.child("name").present() ? top.child("name").text() : fs::path(path).stem().string();
+  pb.name = top.child("name").present() ? top.child("name").text() : name_from_stem(fs::path(path).stem().string());
+  if (top.child("name").present())
+    if (const std::string why = name_defect(pb.name); !why.empty()) top.child("name").fail(why);
 
   // Plugins first: the dynamics decide every dimension checked below.
   const fs::path base = fs::path(path).parent_path();
@@ -371,8 +513,9 @@ LoadedProblem load_problem(const std::string& path) {
   }
 
   pb.tau = top.required("tau").positive();
-  pb.horizon = static_cast<int>(top.required("horizon").positive_integer());
-  if (Field f = top.child("rk4_substeps"); f.present()) pb.rk4_substeps = static_cast<int>(f.positive_integer());
+  pb.horizon = static_cast<int>(top.required("horizon").integer_in(1, kMaxHorizon, "steps"));
+  if (Field f = top.child("rk4_substeps"); f.present())
+    pb.rk4_substeps = static_cast<int>(f.integer_in(1, kMaxRk4Substeps, "RK4 substeps per step"));
   if (Field f = top.child("delta"); f.present()) pb.delta = f.non_negative();
   if (Field f = top.child("delta_norm"); f.present()) {
     const std::string s = f.text();
@@ -399,9 +542,12 @@ LoadedProblem load_problem(const std::string& path) {
   Field agents = top.required("agents");
   const auto agent_fields = agents.items();
   if (agent_fields.empty()) agents.fail("expected at least one agent");
+  if (agent_fields.size() > kMaxAgents)
+    agents.fail("expected at most " + std::to_string(kMaxAgents) + " agents, got " + std::to_string(agent_fields.size()));
   const bool spatial = has_obstacles || top.child("formation").present() ||
                        (pb.pairwise_collision && agent_fields.size() > 1);
   std::map<std::string, std::size_t> seen;
+  std::vector<Field> x0_fields;
   for (std::size_t idx = 0; idx < agent_fields.size(); ++idx) {
     const Field& af = agent_fields[idx];
     af.expect_map();
@@ -409,7 +555,7 @@ LoadedProblem load_problem(const std::string& path) {
     AgentSpec a;
     Field name = af.required("name");
     a.name = name.text();
-    if (a.name.empty()) name.fail("expected a non-empty name");
+    if (const std::string why = name_defect(a.name); !why.empty()) name.fail(why);
     if (auto it = seen.find(a.name); it != seen.end())
       name.fail("duplicate agent name '" + a.name + "' (also agents[" + std::to_string(it->second) + "])");
     seen[a.name] = idx;
@@ -438,7 +584,8 @@ LoadedProblem load_problem(const std::string& path) {
     a.eps = agent_required(af, defaults, "eps").positive_vector(n, sn);
     Field etaf = agent_required(af, defaults, "eta_x");
     a.eta_x = etaf.positive_vector(n, sn);
-    a.eta_u = agent_required(af, defaults, "eta_u").positive_vector(m, sm);
+    Field etauf = agent_required(af, defaults, "eta_u");
+    a.eta_u = etauf.positive_vector(m, sm);
     if (Field ws = agent_field(af, defaults, "workspace"); ws.present()) {
       a.workspace = read_workspace(ws, *a.dynamics);
     } else if (spatial) {
@@ -448,6 +595,8 @@ LoadedProblem load_problem(const std::string& path) {
       a.workspace.index = {0, n > 1 ? 1 : -1};
     }
     validate_agent(a, x0f, goalf, etaf);
+    check_agent_resources(a, pb.horizon, etaf, etauf);
+    x0_fields.push_back(x0f);
     pb.agents.push_back(std::move(a));
   }
 
@@ -456,6 +605,20 @@ LoadedProblem load_problem(const std::string& path) {
     for (std::size_t i = 0; i < obs.size(); ++i) pb.obstacles.push_back(read_obstacle(obs[i], i));
   }
   if (Field f = top.child("formation"); f.present()) read_formation(f, pb);
+  check_start_geometry(pb, x0_fields);
+  {
+    std::string source;
+    const double budget = memory_budget_bytes(&source);
+    const MemoryEstimate e = planner_memory(pb);
+    if (!(e.bytes <= budget)) {
+      // Blame the horizon when a horizon of 1000 steps would fit, the agent count otherwise.
+      const bool pairs = e.bytes / (pb.horizon + 1.0) * 1001 > budget;
+      (pairs ? top.child("agents") : top.child("horizon"))
+          .fail("planning would need about " + format_bytes(e.bytes) + " (" + e.detail + "), more than the memory budget of " +
+                format_bytes(budget) + " (" + source + "); " +
+                (pairs ? "use fewer agents" : "shorten the horizon"));
+    }
+  }
 
   // Planner and tracker: defaults when absent; always checked against the installed plugins so
   // that a typo fails here rather than after minutes of work.

@@ -1,8 +1,14 @@
 #include "yaml_reader.hpp"
 
+#include <yaml-cpp/depthguard.h>
+
+#include <climits>
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <tuple>
 
 namespace marsyn::yaml {
 
@@ -119,6 +125,21 @@ long Field::positive_integer() const {
   return v;
 }
 
+long Field::integer_in(long lo, long hi, const std::string& why) const {
+  if (!present() || !is_scalar()) fail("expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  long v = 0;
+  try {
+    v = node_.as<long>();
+  } catch (const YAML::Exception&) {
+    fail("expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" + node_.Scalar() + "'" +
+         (why.empty() ? "" : " (" + why + ")"));
+  }
+  if (v < lo || v > hi)
+    fail("expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + std::to_string(v) +
+         (why.empty() ? "" : " (" + why + ")"));
+  return v;
+}
+
 bool Field::boolean() const {
   if (!present() || !is_scalar()) fail("expected true or false");
   try {
@@ -157,18 +178,132 @@ Eigen::VectorXd Field::non_negative_vector(int expected, const std::string& why)
   return v;
 }
 
-YAML::Node load_file(const std::string& file) {
-  std::ifstream in(file);
+namespace {
+
+// Reads at most `limit` + 1 bytes, after refusing what is not a regular file: a directory, a
+// device such as /dev/zero, a pipe or a socket would otherwise be read until memory runs out or
+// misreported as an empty file.
+std::string read_limited(const std::string& file, std::uintmax_t limit) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::status(file, ec);
+  if (ec || !fs::exists(st)) throw ConfigError(file, 0, 0, "", "cannot read the file (missing or unreadable)");
+  if (fs::is_directory(st)) throw ConfigError(file, 0, 0, "", "is a directory; expected a YAML problem file");
+  if (!fs::is_regular_file(st))
+    throw ConfigError(file, 0, 0, "", "is not a regular file (a device, pipe or socket); expected a YAML problem file");
+  const std::uintmax_t size = fs::file_size(file, ec);
+  auto too_big = [&](const std::string& what) {
+    return ConfigError(file, 0, 0, "",
+                       "the file is " + what + " bytes; a problem file may have at most " + std::to_string(limit) +
+                           " bytes (" + std::to_string(limit >> 20) + " MiB)");
+  };
+  if (!ec && size > limit) throw too_big(std::to_string(size));
+  std::ifstream in(file, std::ios::binary);
   if (!in) throw ConfigError(file, 0, 0, "", "cannot read the file (missing or unreadable)");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  try {
-    YAML::Node root = YAML::Load(ss.str());
-    if (!root.IsDefined() || root.IsNull()) throw ConfigError(file, 0, 0, "", "the file is empty");
-    return root;
-  } catch (const YAML::ParserException& e) {
-    throw ConfigError(file, e.mark.line + 1, e.mark.column + 1, "", "YAML syntax error: " + e.msg);
+  std::string text;
+  char buf[65536];
+  while (in) {
+    in.read(buf, sizeof buf);
+    text.append(buf, static_cast<std::size_t>(in.gcount()));
+    if (text.size() > limit) throw too_big("more than " + std::to_string(limit));
   }
+  if (in.bad()) throw ConfigError(file, 0, 0, "", "cannot read the file (a read error)");
+  return text;
+}
+
+// Line and column (1-based) of byte `pos` of `text`.
+std::pair<int, int> position(const std::string& text, std::size_t pos) {
+  int line = 1, col = 1;
+  for (std::size_t i = 0; i < pos && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      col = 1;
+    } else {
+      ++col;
+    }
+  }
+  return {line, col};
+}
+
+std::string key_path(const std::string& parent, const std::string& key) {
+  return parent.empty() ? key : parent + "." + key;
+}
+
+// yaml-cpp 0.7 keeps the first of two equal keys silently and turns a complex key into an
+// exception far from the file; walking the tree once after parsing rejects both with the key's
+// location. `budget` bounds the walk: aliases can make a small file expand exponentially.
+void check_tree(const YAML::Node& node, const std::string& file, const std::string& path, long& budget) {
+  if (--budget < 0) {
+    const YAML::Mark m = node.Mark();
+    throw ConfigError(file, m.line + 1, m.column + 1, path,
+                      "the document expands to more than " + std::to_string(kMaxYamlNodes) +
+                          " YAML nodes (aliases repeating large parts?); a problem file is far smaller");
+  }
+  if (node.IsMap()) {
+    std::vector<std::pair<std::string, YAML::Mark>> seen;
+    for (const auto& kv : node) {
+      const YAML::Mark km = kv.first.Mark();
+      if (!kv.first.IsScalar())
+        throw ConfigError(file, km.line + 1, km.column + 1, path,
+                          std::string("expected a plain name as the mapping key, got a ") +
+                              (kv.first.IsMap() ? "mapping" : kv.first.IsSequence() ? "list" : "null") +
+                              " (complex keys '? ...' are not part of the format)");
+      const std::string key = kv.first.Scalar();
+      for (const auto& [k, m] : seen)
+        if (k == key)
+          throw ConfigError(file, km.line + 1, km.column + 1, key_path(path, key),
+                            "duplicate key '" + key + "' (first given at line " + std::to_string(m.line + 1) +
+                                ", column " + std::to_string(m.column + 1) + "); give each key once");
+      seen.emplace_back(key, km);
+      check_tree(kv.second, file, key_path(path, key), budget);
+    }
+  } else if (node.IsSequence()) {
+    std::size_t i = 0;
+    for (const auto& item : node) check_tree(item, file, path + "[" + std::to_string(i++) + "]", budget);
+  }
+}
+
+}  // namespace
+
+YAML::Node load_file(const std::string& file) {
+  const std::string text = read_limited(file, kMaxConfigBytes);
+  if (const auto nul = text.find('\0'); nul != std::string::npos) {
+    const auto [line, col] = position(text, nul);
+    throw ConfigError(file, line, col, "", "the file contains a NUL byte: a binary file, not a YAML problem file");
+  }
+  std::vector<YAML::Node> docs;
+  try {
+    docs = YAML::LoadAll(text);
+  } catch (const YAML::DeepRecursion& e) {
+    throw ConfigError(file, e.mark.line + 1, e.mark.column + 1, "",
+                      "nesting deeper than " + std::to_string(e.depth()) +
+                          " levels of lists or mappings; a problem file needs only a few");
+  } catch (const YAML::Exception& e) {
+    if (e.mark.line >= 0) throw ConfigError(file, e.mark.line + 1, e.mark.column + 1, "", "YAML syntax error: " + e.msg);
+    throw ConfigError(file, 0, 0, "", "YAML syntax error: " + e.msg);
+  } catch (const std::exception& e) {
+    throw ConfigError(file, 0, 0, "", std::string("the file could not be parsed as YAML: ") + e.what());
+  }
+  if (docs.size() > 1) {
+    // The second document's start: its node's mark, or for an empty document the '---' line.
+    YAML::Mark m = docs[1].Mark();
+    int line = m.line >= 0 ? m.line + 1 : 0, col = m.column >= 0 ? m.column + 1 : 0;
+    if (line == 0) {
+      std::size_t at = text.rfind("\n---"), first = text.find("\n---");
+      if (text.rfind("---", 0) == 0 && first != std::string::npos) at = first;
+      if (at != std::string::npos) std::tie(line, col) = position(text, at + 1);
+    }
+    throw ConfigError(file, line, col, "",
+                      "a second YAML document (after '---' or '...'); a problem file holds exactly one document");
+  }
+  if (docs.empty() || !docs[0].IsDefined() || docs[0].IsNull()) throw ConfigError(file, 0, 0, "", "the file is empty");
+  long budget = kMaxYamlNodes;
+  try {
+    check_tree(docs[0], file, "", budget);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(file, e.mark.line + 1, e.mark.column + 1, "", std::string("malformed YAML: ") + e.msg);
+  }
+  return docs[0];
 }
 
 namespace {

@@ -3,6 +3,7 @@
 // field path (agents[3].eta_x), so every rejection can say exactly where and what was expected.
 #include <yaml-cpp/yaml.h>
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -46,6 +47,8 @@ class Field {
   double non_negative() const;          // finite and >= 0
   long integer() const;
   long positive_integer() const;
+  // An integer in [lo, hi]; `why` explains the bound ("at most 1000 substeps").
+  long integer_in(long lo, long hi, const std::string& why) const;
   bool boolean() const;
   std::string text() const;
   bool is_null_scalar() const { return defined() && node_.IsNull(); }
@@ -65,7 +68,14 @@ class Field {
   YAML::Mark parent_mark_;
 };
 
-// Parses a file; unreadable files and syntax errors become ConfigErrors.
+// Limits of the format (docs/problem-format.md, "Checks"): bytes of a problem file, and YAML
+// nodes after alias expansion.
+inline constexpr std::uintmax_t kMaxConfigBytes = 16u << 20;
+inline constexpr long kMaxYamlNodes = 2'000'000;
+
+// Parses a file: exactly one YAML document, at most kMaxConfigBytes, a regular file, no NUL bytes,
+// no duplicate or complex mapping keys. Every failure (unreadable, a directory or device, syntax,
+// nesting too deep) becomes a ConfigError naming the file and, where known, line and column.
 YAML::Node load_file(const std::string& file);
 
 std::string nearest(const std::string& word, const std::vector<std::string>& candidates);

@@ -13,6 +13,8 @@ enum class AgentDefect {
   TubeOutsideBounds,  // x0 +- eps not in X
   X0CellOutsideTube,  // x0's grid cell not inside [x0 - eps, x0 + eps]: the tube would start without it
   GoalEmpty,          // Goal shrunk by eps is empty
+  GoalOutsideBounds,  // Goal and X do not overlap
+  GoalUnreachable,    // Goal shrunk by eps and X shrunk by eps do not overlap: no eps-robust final state
 };
 
 struct CellBounds {
