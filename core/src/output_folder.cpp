@@ -25,6 +25,12 @@ std::string OutputFolder::path(const std::string& file) const {
     throw ConfigError(requested_, 0, 0, "--out",
                       "refusing to write '" + file + "': an output file must be a plain name inside the output folder");
   std::error_code ec;
+  // weakly_canonical stops at the first missing component, so a dangling link would pass as
+  // a plain new file (and the write would create its target): refuse those outright.
+  if (fs::is_symlink(fs::symlink_status(resolved_ / f, ec)) && !fs::exists(resolved_ / f, ec))
+    throw ConfigError(requested_, 0, 0, "--out",
+                      "refusing to write '" + file + "': it is a symbolic link to " +
+                          fs::read_symlink(resolved_ / f, ec).string() + ", which does not exist");
   const fs::path resolved = fs::weakly_canonical(resolved_ / f, ec);
   if (ec || resolved.parent_path() != resolved_)
     throw ConfigError(requested_, 0, 0, "--out",

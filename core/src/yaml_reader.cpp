@@ -134,6 +134,7 @@ long Field::integer_in(long lo, long hi, const std::string& why) const {
     fail("expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" + node_.Scalar() + "'" +
          (why.empty() ? "" : " (" + why + ")"));
   }
+  if (lo == 1 && v < lo) fail("expected a positive integer (at most " + std::to_string(hi) + "), got " + std::to_string(v));
   if (v < lo || v > hi)
     fail("expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + std::to_string(v) +
          (why.empty() ? "" : " (" + why + ")"));
