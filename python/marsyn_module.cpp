@@ -1,0 +1,594 @@
+// The `marsyn` Python module (docs/python.md): thin bindings over core's public API
+// (core/include/marsyn/core/*.hpp). Problems load with the same validation and located errors as
+// the CLI (marsyn.ConfigError); plans, tracking results and solve outcomes come back as dicts with
+// states as numpy arrays; controllers evaluate C(x, k) vectorised over many states.
+//
+// Threads: every long call releases the GIL; progress lines reach the Python callback (or the
+// "marsyn" logger) with the GIL re-acquired, from whichever thread produced them.
+#include <dlfcn.h>
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <limits>
+
+#include "marsyn/core/closed_loop.hpp"
+#include "marsyn/core/config_error.hpp"
+#include "marsyn/core/plan_file.hpp"
+#include "marsyn/core/plugin_registry.hpp"
+#include "marsyn/core/problem_loader.hpp"
+#include "marsyn/core/problem_summary.hpp"
+#include "marsyn/core/spec_monitor.hpp"
+#include "marsyn/error.hpp"
+#include "marsyn/tracker.hpp"
+#ifdef MARSYN_HAVE_PLANNING
+#include "marsyn/core/orchestrator.hpp"
+#include "marsyn/core/planning/plan.hpp"
+#endif
+
+namespace py = pybind11;
+namespace fs = std::filesystem;
+using namespace marsyn;
+
+namespace {
+
+// A loaded problem; its registry keeps the plugin libraries loaded.
+struct PyProblem {
+  std::shared_ptr<LoadedProblem> lp;
+};
+
+// A controller and whatever keeps its plugin library loaded (the tracker or the registry).
+struct PyController {
+  std::shared_ptr<const Controller> c;
+  std::shared_ptr<const void> keep;
+  std::string agent;
+};
+
+py::array_t<double> matrix(const std::vector<Eigen::VectorXd>& rows, int cols) {
+  py::array_t<double> a({static_cast<py::ssize_t>(rows.size()), static_cast<py::ssize_t>(cols)});
+  auto v = a.mutable_unchecked<2>();
+  for (size_t r = 0; r < rows.size(); ++r)
+    for (int c = 0; c < cols; ++c) v(static_cast<py::ssize_t>(r), c) = c < rows[r].size() ? rows[r][c] : NAN;
+  return a;
+}
+py::array_t<double> vector(const Eigen::VectorXd& x) {
+  py::array_t<double> a(x.size());
+  for (Eigen::Index i = 0; i < x.size(); ++i) a.mutable_at(i) = x[i];
+  return a;
+}
+Eigen::VectorXd to_eigen(const py::handle& h) {
+  const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(h);
+  if (!a || a.ndim() != 1) throw py::value_error("expected a 1-d array of numbers");
+  Eigen::VectorXd v(a.shape(0));
+  for (py::ssize_t i = 0; i < a.shape(0); ++i) v[i] = a.at(i);
+  return v;
+}
+
+// Progress lines to `log` (a callable) or, when None, to logging.getLogger("marsyn").info.
+std::function<void(const std::string&)> progress(py::object log) {
+  if (log.is_none()) log = py::module_::import("logging").attr("getLogger")("marsyn").attr("info");
+  // The callable is released with the GIL held, whichever thread drops the last copy.
+  std::shared_ptr<py::object> holder(new py::object(std::move(log)), [](py::object* p) {
+    py::gil_scoped_acquire gil;
+    delete p;
+  });
+  return [holder](const std::string& line) {
+    py::gil_scoped_acquire gil;
+    try {
+      (*holder)(line);
+    } catch (py::error_already_set& e) {
+      e.discard_as_unraisable("marsyn progress callback");
+    }
+  };
+}
+
+py::dict agent_dict(const AgentSpec& a) {
+  py::dict d;
+  d["name"] = a.name;
+  d["dynamics"] = a.dynamics_type;
+  d["state_names"] = a.dynamics->state_names();
+  d["input_names"] = a.dynamics->input_names();
+  d["x0"] = vector(a.x0);
+  d["goal"] = py::make_tuple(vector(a.goal.lo), vector(a.goal.hi));
+  d["state_bounds"] = py::make_tuple(vector(a.state_bounds.lo), vector(a.state_bounds.hi));
+  d["input_bounds"] = py::make_tuple(vector(a.input_bounds.lo), vector(a.input_bounds.hi));
+  d["w"] = vector(a.w);
+  d["eps"] = vector(a.eps);
+  d["eta_x"] = vector(a.eta_x);
+  d["eta_u"] = vector(a.eta_u);
+  return d;
+}
+
+// {agent: {"x": (T+1, n), "u": (T, m)}}
+py::dict nominal_dict(const Problem& pb, const std::vector<NominalTrajectory>& nominal) {
+  py::dict d;
+  for (size_t i = 0; i < nominal.size() && i < pb.agents.size(); ++i) {
+    py::dict a;
+    a["x"] = matrix(nominal[i].x, pb.agents[i].n());
+    a["u"] = matrix(nominal[i].u, pb.agents[i].m());
+    d[py::str(pb.agents[i].name)] = a;
+  }
+  return d;
+}
+
+// A plan given as a dict from plan()/solve() ({"agents": {...}} or the agents dict itself), or a
+// plan.json path; None means "plan now" where the caller allows it.
+std::vector<NominalTrajectory> nominal_from(const Problem& pb, const py::object& plan) {
+  if (py::isinstance<py::str>(plan) || py::hasattr(plan, "__fspath__"))
+    return read_plan_json(py::str(py::module_::import("os").attr("fspath")(plan)).cast<std::string>(), pb);
+  if (!py::isinstance<py::dict>(plan)) throw py::type_error("plan: expected a dict from marsyn.plan/solve or a plan.json path");
+  py::dict d = plan.cast<py::dict>();
+  if (d.contains("agents") && py::isinstance<py::dict>(d["agents"])) d = d["agents"].cast<py::dict>();
+  std::vector<NominalTrajectory> out;
+  for (const auto& a : pb.agents) {
+    if (!d.contains(a.name.c_str())) throw py::key_error("plan has no agent '" + a.name + "'");
+    py::dict ad = d[a.name.c_str()].cast<py::dict>();
+    NominalTrajectory t;
+    t.agent = a.name;
+    const auto x = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(ad["x"]);
+    const auto u = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(ad["u"]);
+    if (!x || x.ndim() != 2 || x.shape(1) != a.n()) throw py::value_error("plan: " + a.name + "'s x must be (T+1, n)");
+    if (!u || u.ndim() != 2 || (u.shape(0) > 0 && u.shape(1) != a.m()) || u.shape(0) + 1 != x.shape(0))
+      throw py::value_error("plan: " + a.name + "'s u must be (T, m)");
+    for (py::ssize_t r = 0; r < x.shape(0); ++r) {
+      Eigen::VectorXd v(a.n());
+      for (int c = 0; c < a.n(); ++c) v[c] = x.at(r, c);
+      t.x.push_back(v);
+    }
+    for (py::ssize_t r = 0; r < u.shape(0); ++r) {
+      Eigen::VectorXd v(a.m());
+      for (int c = 0; c < a.m(); ++c) v[c] = u.at(r, c);
+      t.u.push_back(v);
+    }
+    out.push_back(std::move(t));
+  }
+  return out;
+}
+
+py::dict stats_dict(const TrackerStats& s) {
+  py::dict d;
+  d["tube_cells"] = s.tube_cells;
+  d["state_input_pairs"] = s.state_input_pairs;
+  d["boxes_computed"] = s.boxes_computed;
+  d["abstraction_time_s"] = s.abstraction_time_s;
+  d["synthesis_time_s"] = s.synthesis_time_s;
+  d["peak_memory_bytes"] = s.peak_memory_bytes;
+  d["winning_cells_per_step"] = s.winning_cells_per_step;
+  d["initial_state_winning"] = s.initial_state_winning;
+  return d;
+}
+
+py::object json_to_python(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
+
+// C(x, k) over many states: x of shape (N, n) or (n,), k an int or N ints. Returns (u, status):
+// u of shape (N, m) (NaN where there is no input), status int8 0 ok, 1 outside domain, 2 outside horizon.
+py::tuple evaluate(const PyController& pc, py::array_t<double, py::array::c_style | py::array::forcecast> x, py::object k) {
+  const Controller& c = *pc.c;
+  const int n = c.state_dim(), m = c.input_dim();
+  const bool single = x.ndim() == 1;
+  if (!(x.ndim() == 2 || single) || x.shape(x.ndim() - 1) != n)
+    throw py::value_error("x: expected shape (N, " + std::to_string(n) + ") or (" + std::to_string(n) + ",)");
+  const py::ssize_t N = single ? 1 : x.shape(0);
+  py::array_t<long long, py::array::c_style | py::array::forcecast> ks;
+  if (py::isinstance<py::int_>(k)) {
+    ks = py::array_t<long long, py::array::c_style | py::array::forcecast>(N);
+    for (py::ssize_t i = 0; i < N; ++i) ks.mutable_at(i) = k.cast<long long>();
+  } else {
+    ks = py::array_t<long long, py::array::c_style | py::array::forcecast>::ensure(k);
+    if (!ks || ks.ndim() != 1 || ks.shape(0) != N) throw py::value_error("k: expected an int or N ints");
+  }
+  py::array_t<double> u({N, static_cast<py::ssize_t>(m)});
+  py::array_t<std::int8_t> status(N);
+  const double* xp = x.data();
+  const long long* kp = ks.data();
+  double* up = u.mutable_data();
+  std::int8_t* sp = status.mutable_data();
+  {
+    py::gil_scoped_release release;
+    for (py::ssize_t i = 0; i < N; ++i) {
+      const long long kk = kp[i];
+      const int ki = kk < std::numeric_limits<int>::min() ? std::numeric_limits<int>::min()
+                     : kk > std::numeric_limits<int>::max() ? std::numeric_limits<int>::max()
+                                                            : static_cast<int>(kk);
+      const ControlStatus s = c.input(xp + i * n, ki, up + i * m);
+      sp[i] = static_cast<std::int8_t>(s);
+      if (s != ControlStatus::Ok)
+        for (int j = 0; j < m; ++j) up[i * m + j] = NAN;
+    }
+  }
+  if (single) return py::make_tuple(u[py::int_(0)], status[py::int_(0)]);
+  return py::make_tuple(u, status);
+}
+
+std::vector<std::shared_ptr<const Controller>> controllers_from(const Problem& pb, const py::object& obj,
+                                                                std::vector<std::shared_ptr<const void>>& keep,
+                                                                const std::shared_ptr<LoadedProblem>& lp) {
+  std::vector<std::shared_ptr<const Controller>> out;
+  if (py::isinstance<py::str>(obj) || py::hasattr(obj, "__fspath__")) {
+    const std::string dir = py::str(py::module_::import("os").attr("fspath")(obj)).cast<std::string>();
+    auto tracker = lp->registry->create<Tracker>(pb.tracker.name, pb.tracker.params);
+    keep.push_back(tracker);
+    for (const auto& a : pb.agents) {
+      const std::string file = (fs::path(dir) / (a.name + ".ctrl")).string();
+      try {
+        out.push_back(tracker->read_controller(file));
+      } catch (const std::exception& e) {
+        throw ConfigError(file, 0, 0, "", e.what());
+      }
+    }
+    return out;
+  }
+  if (py::isinstance<py::dict>(obj)) {
+    py::dict d = obj.cast<py::dict>();
+    for (const auto& a : pb.agents) {
+      if (!d.contains(a.name.c_str())) throw py::key_error("controllers: no controller for agent '" + a.name + "'");
+      const auto& pc = d[a.name.c_str()].cast<const PyController&>();
+      out.push_back(pc.c);
+      keep.push_back(pc.keep);
+    }
+    return out;
+  }
+  for (const auto& item : obj) {
+    const auto& pc = item.cast<const PyController&>();
+    out.push_back(pc.c);
+    keep.push_back(pc.keep);
+  }
+  if (out.size() != pb.agents.size()) throw py::value_error("controllers: one per agent expected");
+  return out;
+}
+
+// Plugins are found next to the module: in the build tree the build's plugin folder, installed
+// PREFIX/lib/marsyn/plugins (the module lives in PREFIX/lib/pythonX.Y/...-packages).
+void add_module_plugin_paths() {
+  Dl_info info{};
+  if (!dladdr(reinterpret_cast<void*>(&add_module_plugin_paths), &info) || !info.dli_fname) return;
+  std::error_code ec;
+  const fs::path here = fs::weakly_canonical(fs::path(info.dli_fname), ec).parent_path();
+  std::vector<fs::path> candidates;
+#ifdef MARSYN_BUILD_MODULE_DIR
+  if (fs::weakly_canonical(fs::path(MARSYN_BUILD_MODULE_DIR), ec) == here) candidates.emplace_back(MARSYN_BUILD_PLUGIN_DIR);
+#endif
+  candidates.push_back(here / "../../marsyn/plugins");
+  std::string path;
+  if (const char* env = std::getenv("MARSYN_PLUGIN_PATH")) path = env;
+  for (const auto& c : candidates)
+    if (fs::is_directory(c, ec)) path += (path.empty() ? "" : ":") + fs::weakly_canonical(c, ec).string();
+  if (!path.empty()) setenv("MARSYN_PLUGIN_PATH", path.c_str(), 1);
+}
+
+}  // namespace
+
+PYBIND11_MODULE(marsyn, m) {
+  m.doc() = "marsyn: formally guaranteed, decentralized controllers for multi-agent reach-avoid problems (docs/python.md)";
+  add_module_plugin_paths();
+  m.attr("OK") = 0;
+  m.attr("OUTSIDE_DOMAIN") = 1;
+  m.attr("OUTSIDE_HORIZON") = 2;
+#ifdef MARSYN_VERSION
+  m.attr("__version__") = MARSYN_VERSION;
+#endif
+
+  static py::handle config_error =
+      py::exception<ConfigError>(m, "ConfigError", PyExc_ValueError).release();
+  static py::handle param_error = py::exception<ParamError>(m, "ParamError", PyExc_ValueError).release();
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const ConfigError& e) {
+      py::object ex = py::reinterpret_borrow<py::object>(config_error)(e.what());
+      ex.attr("file") = e.file();
+      ex.attr("line") = e.line();
+      ex.attr("column") = e.column();
+      ex.attr("path") = e.path();
+      ex.attr("message") = e.message();
+      PyErr_SetObject(config_error.ptr(), ex.ptr());
+    } catch (const ParamError& e) {
+      py::object ex = py::reinterpret_borrow<py::object>(param_error)(std::string("parameter ") + e.field() + ": " + e.what());
+      ex.attr("field") = e.field();
+      PyErr_SetObject(param_error.ptr(), ex.ptr());
+    }
+  });
+
+  m.def(
+      "plugins",
+      []() {
+        PluginRegistry registry;
+        py::list out;
+        for (const auto& i : registry.plugins()) {
+          py::dict d;
+          d["kind"] = i.kind;
+          d["name"] = i.name;
+          d["summary"] = i.summary;
+          d["library"] = i.library_path;
+          py::list params;
+          for (const auto& p : i.params) {
+            py::dict pd;
+            pd["name"] = p.name;
+            pd["type"] = to_string(p.type);
+            pd["default"] = p.default_value;
+            pd["range"] = p.range;
+            pd["doc"] = p.doc;
+            params.append(pd);
+          }
+          d["params"] = params;
+          out.append(d);
+        }
+        return out;
+      },
+      "Every plugin found (kind, name, summary, library, params), as `marsyn plugins --params`.");
+
+  py::class_<PyProblem>(m, "Problem", "A loaded and validated problem (marsyn.load).")
+      .def_property_readonly("name", [](const PyProblem& p) { return p.lp->problem.name; })
+      .def_property_readonly("source", [](const PyProblem& p) { return p.lp->problem.source; })
+      .def_property_readonly("horizon", [](const PyProblem& p) { return p.lp->problem.horizon; })
+      .def_property_readonly("tau", [](const PyProblem& p) { return p.lp->problem.tau; })
+      .def_property_readonly("planner", [](const PyProblem& p) { return p.lp->problem.planner.name; })
+      .def_property_readonly("tracker", [](const PyProblem& p) { return p.lp->problem.tracker.name; })
+      .def_property_readonly("agents",
+                             [](const PyProblem& p) {
+                               py::list l;
+                               for (const auto& a : p.lp->problem.agents) l.append(agent_dict(a));
+                               return l;
+                             })
+      .def("summary", [](const PyProblem& p) { return summarize(p.lp->problem); }, "The summary `marsyn check` prints.")
+      .def("__repr__", [](const PyProblem& p) {
+        return "<marsyn.Problem '" + p.lp->problem.name + "': " + std::to_string(p.lp->problem.agents.size()) + " agents, T=" +
+               std::to_string(p.lp->problem.horizon) + ">";
+      });
+
+  m.def(
+      "load",
+      [](const py::object& path) {
+        const std::string file = py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
+        return PyProblem{std::make_shared<LoadedProblem>(load_problem(file))};
+      },
+      py::arg("path"),
+      "Load and validate a problem file. Bad input raises marsyn.ConfigError with the CLI's located message "
+      "(attributes file, line, column, path, message).");
+
+  py::class_<PyController>(m, "Controller", "A synthesized controller C(x, k).")
+      .def_property_readonly("state_dim", [](const PyController& c) { return c.c->state_dim(); })
+      .def_property_readonly("input_dim", [](const PyController& c) { return c.c->input_dim(); })
+      .def_property_readonly("horizon", [](const PyController& c) { return c.c->horizon(); },
+                             "T (inputs for k = 0..T-1), or -1 for a time-invariant controller")
+      .def_property_readonly("agent", [](const PyController& c) { return c.agent; })
+      .def("input", &evaluate, py::arg("x"), py::arg("k"),
+           "C(x, k) for x of shape (N, n) (or (n,)) and k an int or N ints. Returns (u, status): u (N, m) with NaN where "
+           "there is no input, status int8: marsyn.OK, OUTSIDE_DOMAIN or OUTSIDE_HORIZON.")
+      .def("__call__", &evaluate, py::arg("x"), py::arg("k"))
+      .def("write", [](const PyController& c, const std::string& path) { c.c->write(path); }, py::arg("path"),
+           "Write the controller file (the tracker's format).")
+      .def(
+          "export",
+          [](const PyController& c, const std::string& format, const std::string& out, const std::string& prefix,
+             const std::string& encoding) {
+            ExportRequest req;
+            req.format = format;
+            req.out_dir = out;
+            req.prefix = prefix;
+            req.encoding = encoding;
+            const ExportResult r = c.c->export_to(req);
+            if (!r.ok) throw py::value_error(r.message);
+            py::dict d;
+            d["files"] = r.files;
+            d["message"] = r.message;
+            d["const_data_bytes"] = r.const_data_bytes;
+            d["dense_bytes"] = r.dense_bytes;
+            d["rle_bytes"] = r.rle_bytes;
+            d["encoding"] = r.encoding;
+            d["entries"] = r.entries;
+            return d;
+          },
+          py::arg("format"), py::arg("out") = ".", py::arg("prefix") = "", py::arg("encoding") = "auto",
+          "As `marsyn export`: format 'c' or 'scs' (docs/deploy.md).")
+      .def("__repr__", [](const PyController& c) {
+        return "<marsyn.Controller" + (c.agent.empty() ? std::string() : " '" + c.agent + "'") + ": n=" +
+               std::to_string(c.c->state_dim()) + ", m=" + std::to_string(c.c->input_dim()) +
+               ", horizon=" + std::to_string(c.c->horizon()) + ">";
+      });
+
+  m.def(
+      "read_controller",
+      [](const py::object& path, const std::string& tracker_name) {
+        const std::string file = py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
+        auto registry = std::make_shared<PluginRegistry>();
+        auto tracker = registry->create<Tracker>(tracker_name);
+        PyController pc;
+        try {
+          pc.c = tracker->read_controller(file);
+        } catch (const std::exception& e) {
+          throw ConfigError(file, 0, 0, "", e.what());
+        }
+        pc.keep = tracker;
+        pc.agent = fs::path(file).stem().string();
+        return pc;
+      },
+      py::arg("path"), py::arg("tracker") = "abcd",
+      "Read a controller file written by a tracker plugin (default abcd); a corrupt file raises ConfigError.");
+
+#ifdef MARSYN_HAVE_PLANNING
+  m.def(
+      "plan",
+      [](const PyProblem& p, py::object log) {
+        const auto& lp = *p.lp;
+        const Problem& pb = lp.problem;
+        auto planner = lp.registry->create<Planner>(pb.planner.name, pb.planner.params);
+        std::shared_ptr<Planner> warm;
+        if (!pb.warm_start_planner.name.empty())
+          warm = lp.registry->create<Planner>(pb.warm_start_planner.name, pb.warm_start_planner.params);
+        planning::PlanSearchOptions po;
+        po.log = progress(log);
+        po.warm_start_planner = warm.get();
+        planning::PlanOutcome out;
+        {
+          py::gil_scoped_release release;
+          out = planning::plan(pb, *planner, po);
+          po.log = nullptr;
+        }
+        py::dict d;
+        d["feasible"] = out.feasible;
+        d["horizon"] = out.horizon;
+        d["status"] = to_string(out.result.status);
+        d["message"] = out.result.message;
+        d["min_margin"] = out.check.min_margin;
+        d["worst"] = out.check.worst;
+        d["time_s"] = out.total_time_s;
+        d["iterations"] = out.result.iterations;
+        d["x"] = matrix(out.plan.x, out.plan.x.empty() ? 0 : static_cast<int>(out.plan.x.front().size()));
+        d["u"] = matrix(out.plan.u, out.plan.u.empty() ? 0 : static_cast<int>(out.plan.u.front().size()));
+        d["agents"] = nominal_dict(pb, out.agents);
+        d["summary"] = planning::summary(pb, out);
+        return d;
+      },
+      py::arg("problem"), py::arg("log") = py::none(),
+      "The eps-robust plan, as `marsyn plan`: dict with feasible, horizon, status, min_margin, time_s, x (T+1, N), "
+      "u (T, M), agents {name: {x, u}}. Progress lines go to `log` (a callable) or the 'marsyn' logger.");
+
+  m.def(
+      "track",
+      [](const PyProblem& p, const std::string& agent, py::object plan, int threads, py::object log) {
+        const auto& lp = *p.lp;
+        const Problem& pb = lp.problem;
+        int index = -1;
+        for (size_t i = 0; i < pb.agents.size(); ++i)
+          if (pb.agents[i].name == agent) index = static_cast<int>(i);
+        if (index < 0) throw ConfigError(pb.source, 0, 0, "agent", "no agent named '" + agent + "'");
+        std::vector<NominalTrajectory> nominal;
+        if (plan.is_none()) {
+          auto planner = lp.registry->create<Planner>(pb.planner.name, pb.planner.params);
+          std::shared_ptr<Planner> warm;
+          if (!pb.warm_start_planner.name.empty())
+            warm = lp.registry->create<Planner>(pb.warm_start_planner.name, pb.warm_start_planner.params);
+          planning::PlanSearchOptions po;
+          po.log = progress(log);
+          po.warm_start_planner = warm.get();
+          planning::PlanOutcome out;
+          {
+            py::gil_scoped_release release;
+            out = planning::plan(pb, *planner, po);
+            po.log = nullptr;
+          }
+          if (!out.feasible) throw std::runtime_error("planning failed: " + out.check.message);
+          nominal = out.agents;
+        } else {
+          nominal = nominal_from(pb, plan);
+        }
+        auto tracker = lp.registry->create<Tracker>(pb.tracker.name, pb.tracker.params);
+        const TrackingProblem tp = tracking_problem(pb, index, nominal[static_cast<size_t>(index)]);
+        TrackOptions to;
+        to.threads = threads;
+        TrackResult r;
+        {
+          py::gil_scoped_release release;
+          r = tracker->track(tp, to);
+        }
+        py::dict d;
+        d["agent"] = agent;
+        d["status"] = to_string(r.status);
+        d["message"] = r.message;
+        d["stats"] = stats_dict(r.stats);
+        if (r.controller) d["controller"] = PyController{r.controller, tracker, agent};
+        else d["controller"] = py::none();
+        d["nominal"] = nominal_dict(pb, nominal)[py::str(agent)];
+        return d;
+      },
+      py::arg("problem"), py::arg("agent"), py::arg("plan") = py::none(), py::arg("threads") = 2,
+      py::arg("log") = py::none(),
+      "One agent's controller, as `marsyn track`: plan is a dict from plan()/solve(), a plan.json path, or None (plan "
+      "now). Returns {agent, status, message, stats, controller, nominal}.");
+
+  m.def(
+      "solve",
+      [](const PyProblem& p, int runs, int threads, double global_budget, py::object out, py::object log) {
+        SolveOptions so;
+        so.verification_runs = runs;
+        so.threads = threads;
+        so.global_memory_budget_bytes = global_budget;
+        so.log = progress(log);
+        SolveOutcome outcome;
+        {
+          py::gil_scoped_release release;
+          outcome = solve(*p.lp, so);
+          so.log = nullptr;
+        }
+        py::list files;
+        if (!out.is_none()) {
+          const std::string dir = py::str(py::module_::import("os").attr("fspath")(out)).cast<std::string>();
+          for (const auto& f : write_solve_outputs(dir, outcome)) files.append(f);
+        }
+        py::dict d = json_to_python(result_json(outcome)).cast<py::dict>();
+        d["verified"] = outcome.verified;
+        d["files"] = files;
+        d["nominal"] = nominal_dict(outcome.problem, outcome.plan.agents);
+        py::dict ctrls;
+        for (const auto& a : outcome.agents)
+          if (a.track.controller) ctrls[py::str(a.name)] = PyController{a.track.controller, p.lp, a.name};
+        d["controllers"] = ctrls;
+        return d;
+      },
+      py::arg("problem"), py::arg("runs") = 1000, py::arg("threads") = 2, py::arg("global_budget") = 2e9,
+      py::arg("out") = py::none(), py::arg("log") = py::none(),
+      "Everything, as `marsyn solve`: the result.json fields as a dict, plus verified, nominal {name: {x, u}} (numpy), "
+      "controllers {name: Controller} and, with out=DIR, the files written there.");
+#endif
+
+  m.def(
+      "simulate",
+      [](const PyProblem& p, py::object controllers, py::object plan, const std::string& disturbance, std::uint64_t seed,
+         int substeps) {
+        const Problem& pb = p.lp->problem;
+        DisturbanceMode mode;
+        try {
+          mode = parse_disturbance_mode(disturbance);
+        } catch (const std::invalid_argument& e) {
+          throw py::value_error(e.what());
+        }
+        std::vector<std::shared_ptr<const void>> keep;
+        std::vector<std::shared_ptr<const Controller>> ctrls;
+        if (!controllers.is_none()) ctrls = controllers_from(pb, controllers, keep, p.lp);
+        if (plan.is_none()) {
+          if (!(py::isinstance<py::str>(controllers) || py::hasattr(controllers, "__fspath__")))
+            throw py::value_error("plan: required unless controllers is a solve folder (its plan.json)");
+          plan = py::module_::import("os").attr("path").attr("join")(controllers, "plan.json");
+        }
+        SimulationSetup setup{&pb, nominal_from(pb, plan), ctrls, substeps};
+        ClosedLoopRun run;
+        SpecEvaluation ev;
+        {
+          py::gil_scoped_release release;
+          run = simulate(setup, {mode, seed, 0});
+          ev = SpecMonitor(pb).evaluate(run.states);
+        }
+        py::dict d;
+        const int width = run.states.empty() ? 0 : static_cast<int>(run.states.front().size());
+        d["states"] = matrix(run.states, width);
+        py::dict per_agent;
+        int offset = 0;
+        for (const auto& a : pb.agents) {
+          std::vector<Eigen::VectorXd> xs;
+          for (const auto& s : run.states) xs.push_back(s.segment(offset, a.n()));
+          per_agent[py::str(a.name)] = matrix(xs, a.n());
+          offset += a.n();
+        }
+        d["agents"] = per_agent;
+        d["disturbance"] = to_string(mode);
+        d["closed_loop"] = !ctrls.empty();
+        d["satisfied"] = ev.satisfied;
+        d["min_margin"] = ev.min_margin;
+        d["worst"] = ev.worst;
+        d["max_tube_excess"] = run.max_tube_excess;
+        d["outside_domain_agent"] =
+            run.outside_domain_agent >= 0 ? py::object(py::str(pb.agents[static_cast<size_t>(run.outside_domain_agent)].name)) : py::none();
+        d["outside_domain_step"] = run.outside_domain_step;
+        return d;
+      },
+      py::arg("problem"), py::arg("controllers"), py::arg("plan") = py::none(), py::arg("disturbance") = "uniform",
+      py::arg("seed") = 1, py::arg("substeps") = 20,
+      "All agents' closed loop (or open loop with controllers=None) under a disturbance mode (none, vertex, paper, "
+      "uniform, switching), as `marsyn simulate`. controllers: {name: Controller}, a list, or a solve folder. Returns "
+      "states (T+1, N), agents {name: (T+1, n)}, satisfied, min_margin, worst, max_tube_excess, outside_domain_*.");
+}
