@@ -12,6 +12,7 @@
 #include "marsyn/core/config_error.hpp"
 #include "marsyn/core/orchestrator.hpp"
 #include "marsyn/core/output_folder.hpp"
+#include "marsyn/core/output_folder.hpp"
 #include "marsyn/core/plan_file.hpp"
 #include "marsyn/core/planning/plan.hpp"
 #include "marsyn/core/problem_loader.hpp"
@@ -177,7 +178,7 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
            lp.problem.planner.name + ", tracker " + lp.problem.tracker.name);
   SolveOutcome out = solve(lp, so);
   const std::string dir = out_dir_for(out_requested, lp.problem);
-  write_solve_outputs(dir, out);
+  const std::vector<std::string> written = write_solve_outputs(dir, out);
   const auto& v = out.verification;
   std::printf("\nstatus        %s%s%s\n", out.verified ? "VERIFIED" : "FAILED", out.failure.empty() ? "" : ": ",
               out.failure.c_str());
@@ -211,7 +212,9 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
   std::printf("global ABCD   N_g = %.3g state-input pairs, >= %.3g bytes: %s\n", out.global.state_input_pairs,
               out.global.memory_bytes_estimate, out.global.status.c_str());
   std::printf("total         %.2f s, peak memory %.1f MB\n", out.total_time_s, peak_rss_mb());
-  std::printf("output        %s/{result.json, report.html, plan.json, <agent>.ctrl}\n", dir.c_str());
+  std::string listed;
+  for (const auto& f : written) listed += (listed.empty() ? "" : ", ") + f;
+  std::printf("output        %s/{%s}\n", dir.c_str(), listed.c_str());
   return out.verified ? 0 : 1;
 }
 
