@@ -12,7 +12,6 @@
 #include "marsyn/core/config_error.hpp"
 #include "marsyn/core/orchestrator.hpp"
 #include "marsyn/core/output_folder.hpp"
-#include "marsyn/core/output_folder.hpp"
 #include "marsyn/core/plan_file.hpp"
 #include "marsyn/core/planning/plan.hpp"
 #include "marsyn/core/problem_loader.hpp"
