@@ -122,7 +122,8 @@ std::vector<NominalTrajectory> nominal_from(const Problem& pb, const py::object&
     return read_plan_json(py::str(py::module_::import("os").attr("fspath")(plan)).cast<std::string>(), pb);
   if (!py::isinstance<py::dict>(plan)) throw py::type_error("plan: expected a dict from marsyn.plan/solve or a plan.json path");
   py::dict d = plan.cast<py::dict>();
-  if (d.contains("agents") && py::isinstance<py::dict>(d["agents"])) d = d["agents"].cast<py::dict>();
+  if (d.contains("nominal") && py::isinstance<py::dict>(d["nominal"])) d = d["nominal"].cast<py::dict>();  // solve()
+  else if (d.contains("agents") && py::isinstance<py::dict>(d["agents"])) d = d["agents"].cast<py::dict>();  // plan()
   std::vector<NominalTrajectory> out;
   for (const auto& a : pb.agents) {
     if (!d.contains(a.name.c_str())) throw py::key_error("plan has no agent '" + a.name + "'");
