@@ -137,6 +137,9 @@ int run_track(const std::string& config, const std::string& agent, const std::st
   std::printf("synthesis time      %.3f s\n", s.synthesis_time_s);
   std::printf("peak memory         %.1f MB (tracker), %.1f MB (process)\n", s.peak_memory_bytes / 1048576.0, peak_rss_mb());
   std::printf("x0's cell winning   %s\n", s.initial_state_winning ? "yes" : "no");
+  if (r.controller)
+    std::printf("period enclosures   %zu (%d per period, %.3f s): between the samples\n",
+                r.controller->period_enclosures().size(), s.enclosure_substeps, s.enclosure_time_s);
   if (!s.winning_cells_per_step.empty()) {
     long long lo = s.winning_cells_per_step.front(), hi = lo;
     std::size_t at = 0;
@@ -181,14 +184,23 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
   const auto& v = out.verification;
   std::printf("\nstatus        %s%s%s\n", out.verified ? "VERIFIED" : "FAILED", out.failure.empty() ? "" : ": ",
               out.failure.c_str());
-  std::printf("plan          %s, T = %d, %.3f s, smallest robust margin %.4g\n", out.plan.feasible ? "feasible" : "infeasible",
+  std::printf("guarantee     %s\n", out.problem.guarantee == Guarantee::Continuous
+                                        ? "continuous: safe for every t in [0, T tau], between the samples too"
+                                        : "sampled: safe at t = k tau only (the paper's semantics)");
+  std::printf("plan          %s, T = %d, %.3f s, smallest robust margin %.4g", out.plan.feasible ? "feasible" : "infeasible",
               out.plan.horizon, out.plan.total_time_s, out.plan.check.min_margin);
+  if (out.plan.check.continuous)
+    std::printf(" (at the samples %.4g, between them %.4g)", out.plan.check.sampled_margin, out.plan.check.between_margin);
+  std::printf("\n");
   for (const auto& a : out.agents)
     std::printf("  %-12s %-14s N_l %-10.3g boxes %-8lld %.3f s\n", a.name.c_str(), to_string(a.track.status),
                 a.track.stats.state_input_pairs, a.track.stats.boxes_computed,
                 a.track.stats.abstraction_time_s + a.track.stats.synthesis_time_s);
+  if (out.certification_ran) std::printf("certification %s\n", out.certification.message.c_str());
   if (out.verification_ran) {
-    std::printf("verification  %d closed-loop runs, %d violations, smallest margin %.4g\n", v.runs, v.violations, v.min_margin);
+    std::printf("verification  %d closed-loop runs, %d violations, smallest margin %.4g at the samples, %.4g between "
+                "them (dense, every %.3g s)\n",
+                v.runs, v.violations, v.sampled_min_margin, v.between.min(), v.dense_resolution_s);
     std::printf("open loop     %d runs, %d violations, smallest margin %.4g (%s)\n", v.open_loop_runs,
                 v.open_loop_violations, v.open_loop_min_margin, v.open_loop_worst.c_str());
     // Each run's parts, so that a collision shows even where a missed goal is the worst.
@@ -239,9 +251,12 @@ int run_simulate(const std::string& config, const std::string& controllers_dir, 
       throw ConfigError(file, 0, 0, "", e.what());
     }
   }
-  SimulationSetup setup{&pb, nominal, ctrls, 20};
+  const SpecMonitor monitor(pb);
+  SimulationSetup setup{&pb, nominal, ctrls, 20, &monitor, true};
   const ClosedLoopRun run = simulate(setup, {mode, seed, 0});
-  const SpecEvaluation ev = SpecMonitor(pb).evaluate(run.states);
+  const SpecEvaluation ev = monitor.evaluate(run.states);
+  const bool continuous = pb.guarantee == Guarantee::Continuous;
+  const bool between_ok = run.between.min() >= 0;
   const std::string path =
       out_file.empty() ? OutputFolder(controllers_dir).path("simulation-" + mode_text + ".csv") : out_file;
   std::ofstream f(path);
@@ -249,21 +264,29 @@ int run_simulate(const std::string& config, const std::string& controllers_dir, 
   for (const auto& a : pb.agents)
     for (const auto& s : a.dynamics->state_names()) f << "," << a.name << "." << s;
   f << "\n";
-  for (std::size_t k = 0; k < run.states.size(); ++k) {
-    f << k << "," << k * pb.tau;
-    for (Eigen::Index c = 0; c < run.states[k].size(); ++c) f << "," << run.states[k][c];
+  // Dense output: every integration substep (k is the last sample at or before t).
+  for (std::size_t q = 0; q < run.dense_states.size(); ++q) {
+    const double t = run.dense_t[q];
+    f << static_cast<long>(q / 20) << "," << t;
+    for (Eigen::Index c = 0; c < run.dense_states[q].size(); ++c) f << "," << run.dense_states[q][c];
     f << "\n";
   }
   std::printf("disturbance   %s (seed %lu)\n", to_string(mode), seed);
-  std::printf("specification %s, smallest margin %.4g (%s)\n", ev.satisfied ? "satisfied" : "VIOLATED", ev.min_margin,
+  std::printf("guarantee     %s\n", to_string(pb.guarantee));
+  std::printf("at samples    %s, smallest margin %.4g (%s)\n", ev.satisfied ? "satisfied" : "VIOLATED", ev.min_margin,
               ev.worst.c_str());
+  std::printf("between       %s, smallest margin %.4g (%s at t = %.4g s; checked every %.4g s)\n",
+              between_ok ? "satisfied" : "VIOLATED", run.between.min(), run.between_worst.c_str(), run.between_worst_t,
+              pb.tau / 20);
+  std::printf("specification %s%s\n", ev.satisfied && (between_ok || !continuous) ? "satisfied" : "VIOLATED",
+              continuous ? " (continuous time)" : " (at the samples; guarantee: sampled)");
   std::printf("tube          largest deviation %.3f of eps%s\n", run.max_tube_excess,
               run.max_tube_excess <= 1.0 ? " (inside)" : " (LEFT THE TUBE)");
   if (run.outside_domain_agent >= 0)
     std::printf("controller    %s had no input at step %d\n", pb.agents[run.outside_domain_agent].name.c_str(),
                 run.outside_domain_step);
   std::printf("trajectory    %s\n", path.c_str());
-  return ev.satisfied && run.outside_domain_agent < 0 ? 0 : 1;
+  return ev.satisfied && (between_ok || !continuous) && run.outside_domain_agent < 0 ? 0 : 1;
 }
 
 }  // namespace marsyn::cli

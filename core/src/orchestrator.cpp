@@ -45,6 +45,7 @@ TrackingProblem tracking_problem(const Problem& pb, int index, const NominalTraj
   tp.input_bounds = a.input_bounds;
   tp.state_bounds = a.state_bounds;
   tp.tau = pb.tau;
+  tp.workspace = a.workspace;
   return tp;
 }
 
@@ -165,7 +166,9 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
   const auto tracker = reg.create<Tracker>(pb.tracker.name, pb.tracker.params);
 
   bool all_tracked = false;
+  bool certified = false;
   bool replan = true;  // false when only grids changed: the plan stays valid
+  double plan_buffer = planning::AssemblyOptions{}.buffer;  // grows when certification falls short
   for (int iter = 0; iter < opt.max_outer_iterations && since(t_start) < opt.time_limit_s; ++iter) {
     if (replan) {
     // 1. Plan (the planning stage lengthens the horizon itself when T fails).
@@ -173,8 +176,10 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
     po.time_limit_s = std::max(1.0, opt.time_limit_s - since(t_start));
     po.log = [&](const std::string& s) { log("[plan] " + s); };
     po.warm_start_planner = warm_planner.get();
+    po.assembly.buffer = plan_buffer;
     std::ostringstream params;
     params << "T=" << pb.horizon;
+    if (plan_buffer != planning::AssemblyOptions{}.buffer) params << " buffer=" << plan_buffer;
     for (const auto& a : pb.agents) params << " eps[" << a.name << "]=" << vec(a.eps);
     log("[plan] " + pb.planner.name + " on the product system (" + std::to_string(pb.product_state_dim()) +
         " states, " + std::to_string(pb.product_input_dim()) + " inputs)");
@@ -221,7 +226,32 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
       }
     }
     log("[track] all agents in " + std::to_string(since(t_track)) + " s");
-    if (all_tracked) break;
+    if (all_tracked) {
+      if (pb.guarantee == Guarantee::Sampled) break;
+      // 4. Certify the spec on the period enclosures (continuous time).
+      std::vector<std::shared_ptr<const Controller>> ctrls;
+      for (const auto& a : out.agents) ctrls.push_back(a.track.controller);
+      out.certification = certify(pb, ctrls);
+      out.certification_ran = true;
+      log("[certify] " + out.certification.message);
+      out.attempts.push_back({"certify", std::to_string(out.certification.enclosures) + " period enclosures",
+                              out.certification.message, out.certification.time_s});
+      certified = out.certification.certified;
+      if (certified) break;
+      out.failure = "certification failed: " + out.certification.message;
+      const double shortfall = -out.certification.min_margin;
+      if (!std::isfinite(shortfall) || !(shortfall > 0)) break;
+      // Remark 2 between the samples: more room in the robust plan where the tubes' period
+      // enclosures came too close, then track again.
+      plan_buffer += 1.5 * shortfall;
+      replan = true;
+      all_tracked = false;
+      std::string who;
+      for (int i : out.certification.failing_agents) who += " " + pb.agents[i].name;
+      log("[search] period enclosures short by " + std::to_string(shortfall) + " (agents" + who +
+          "); re-planning with constraint buffer " + std::to_string(plan_buffer));
+      continue;
+    }
     // Only "no controller" is a reason to change parameters; bad input or an exhausted budget
     // would fail the same way again.
     bool searchable = true;
@@ -275,7 +305,7 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
     log("[global] " + g.status + " in " + std::to_string(g.time_s) + " s");
   }
 
-  if (out.plan.feasible && all_tracked) {
+  if (out.plan.feasible && all_tracked && (certified || pb.guarantee == Guarantee::Sampled)) {
     std::vector<std::shared_ptr<const Controller>> ctrls;
     for (const auto& a : out.agents) ctrls.push_back(a.track.controller);
     VerificationOptions vo;
@@ -295,6 +325,8 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
                             std::to_string(out.verification.violations) + " violations",
                             out.verification.time_s});
     out.verified = out.verification.violations == 0 && out.verification.tube_violations == 0;
+    // A closed-loop run cannot certify; it can only refute. "verified" rests on the trackers'
+    // guarantee (and, in continuous time, on the certificate above).
     out.failure = out.verified ? "" : "verification found violations (a soundness bug): " + out.verification.worst;
   }
   out.total_time_s = since(t_start);
@@ -329,13 +361,18 @@ nlohmann::json result_json(const SolveOutcome& o) {
   j["status"] = o.verified ? "verified" : "failed";
   if (!o.failure.empty()) j["failure"] = o.failure;
   j["problem"] = o.problem.name;
+  // Which times the result holds for: every t in [0, T tau], or only t = k tau.
+  j["guarantee"] = to_string(o.problem.guarantee);
   j["plan"] = {{"planner", o.problem.planner.name},
                {"status", o.plan.feasible ? "feasible" : to_string(o.plan.result.status)},
                {"time_s", o.plan.total_time_s},
                {"horizon", o.plan.horizon},
                {"iterations", o.plan.result.iterations},
                {"min_robust_margin", o.plan.check.min_margin},
-               {"worst_constraint", o.plan.check.worst}};
+               {"worst_constraint", o.plan.check.worst},
+               {"sampled_robust_margin", o.plan.check.sampled_margin},
+               {"between_samples_robust_margin",
+                o.plan.check.continuous ? json(o.plan.check.between_margin) : json(nullptr)}};
   json agents = json::array();
   for (std::size_t i = 0; i < o.agents.size(); ++i) {
     const auto& a = o.agents[i];
@@ -347,7 +384,10 @@ nlohmann::json result_json(const SolveOutcome& o) {
               {"abstraction_time_s", s.abstraction_time_s},
               {"synthesis_time_s", s.synthesis_time_s},
               {"peak_memory_bytes", s.peak_memory_bytes},
-              {"initial_state_winning", s.initial_state_winning}};
+              {"initial_state_winning", s.initial_state_winning},
+              {"enclosure_substeps", s.enclosure_substeps},
+              {"enclosure_time_s", s.enclosure_time_s},
+              {"period_enclosures", a.track.controller ? json(a.track.controller->period_enclosures().size()) : json(0)}};
     if (!a.track.message.empty()) t["message"] = a.track.message;
     const AgentSpec& spec = o.problem.agents[i];
     agents.push_back({{"name", a.name},
@@ -359,8 +399,34 @@ nlohmann::json result_json(const SolveOutcome& o) {
                       {"controller", a.controller_file.empty() ? json(nullptr) : json(a.controller_file)}});
   }
   j["agents"] = agents;
+  const auto& c = o.certification;
+  auto part = [](const CertifiedPart& p) {
+    return std::isfinite(p.margin) ? json{{"margin", p.margin}, {"where", p.where}, {"step", p.step}}
+                                   : json(nullptr);
+  };
+  j["certification"] = {{"ran", o.certification_ran},
+                        {"certified", c.certified},
+                        {"message", c.message},
+                        {"period_enclosures", c.enclosures},
+                        {"min_margin", o.certification_ran && std::isfinite(c.min_margin) ? json(c.min_margin) : json(nullptr)},
+                        {"state_bounds", part(c.state_bounds)},
+                        {"obstacle", part(c.obstacle)},
+                        {"collision", part(c.collision)},
+                        {"formation", part(c.formation)},
+                        {"time_s", c.time_s}};
   const auto& v = o.verification;
+  auto margin = [](double m) { return m < 1e299 ? json(m) : json(nullptr); };
   j["verification"] = {{"ran", o.verification_ran},
+                       {"guarantee", v.continuous ? "continuous" : "sampled"},
+                       {"dense_resolution_s", v.dense_resolution_s},
+                       {"sampled_min_margin", o.verification_ran ? margin(v.sampled_min_margin) : json(nullptr)},
+                       {"between_samples",
+                        {{"min_margin", o.verification_ran ? margin(v.between.min()) : json(nullptr)},
+                         {"obstacle", margin(v.between.obstacle)},
+                         {"collision", margin(v.between.collision)},
+                         {"formation", margin(v.between.formation)},
+                         {"violating_runs", v.between_violations},
+                         {"worst", v.between_worst}}},
                        {"runs", v.runs},
                        {"violations", v.violations},
                        {"tube_violations", v.tube_violations},
@@ -439,7 +505,10 @@ std::vector<std::string> write_into(const std::string& dir, SolveOutcome& o) {
     if (!f) throw std::runtime_error("cannot write " + (fs::path(dir) / "result.json").string());
   }
   files.push_back("result.json");
-  const nlohmann::json scene = report_scene(o.problem, o.plan.agents, o.verification_ran ? &o.verification : nullptr);
+  std::vector<const std::vector<PeriodEnclosure>*> enclosures;
+  for (const auto& a : o.agents) enclosures.push_back(a.track.controller ? &a.track.controller->period_enclosures() : nullptr);
+  const nlohmann::json scene =
+      report_scene(o.problem, o.plan.agents, o.verification_ran ? &o.verification : nullptr, enclosures);
   write_report_html((fs::path(dir) / "report.html").string(), result, scene);
   files.push_back("report.html");
   return files;

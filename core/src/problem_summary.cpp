@@ -33,6 +33,10 @@ std::string summarize(const Problem& pb) {
   s << "time      tau = " << pb.tau << " s, horizon T = " << pb.horizon << " steps (" << pb.tau * pb.horizon
     << " s)\n";
   s << "safety    delta = " << pb.delta << " (" << (pb.delta_norm == Norm::Inf ? "inf-norm" : "2-norm") << ")\n";
+  s << "guarantee " << (pb.guarantee == Guarantee::Continuous
+                            ? "continuous (every t in [0, T tau], between the samples too)"
+                            : "sampled (t = k tau only, the paper's semantics)")
+    << "\n";
   s << "plugins   planner "
     << (pb.warm_start_planner.name.empty() ? "" : pb.warm_start_planner.name + " -> ") << pb.planner.name << ", tracker " << pb.tracker.name << ", obstacle distances "
     << (pb.collision.name.empty() ? "exact (core)" : pb.collision.name) << "\n\n";

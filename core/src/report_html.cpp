@@ -38,13 +38,14 @@ canvas{width:100%;border:1px solid #dae1e7;border-radius:4px;background:#fff}
 <div class="controls"><button id="play">pause</button><input id="k" type="range" min="0" value="0">
 <span id="kt"></span></div>
 <div class="controls"><label>run <select id="run"></select></label></div>
-<div class="muted">Filled boxes: each agent's eps-tube at the current step (workspace projection, sound); dots: the selected simulated run; thin lines: nominal plan; green dashed: goals; grey: obstacles.</div>
+<div class="muted">Filled boxes: each agent's eps-tube at the current sample (workspace projection, sound); outlined boxes: the certified enclosures of the closed loop between this sample and the next (continuous time); dots: the selected simulated run; thin lines: nominal plan; green dashed: goals; grey: obstacles.</div>
 </section>
 <section><h2>Per-stage figures (paper Table 2 row)</h2><table id="t2"></table>
 <h2 style="margin-top:16px">Agents</h2><table id="ag"></table>
-<h2 style="margin-top:16px">Verification</h2><table id="ver"></table>
+<h2 style="margin-top:16px">Guarantee and certificate</h2><table id="cert"></table>
+<h2 style="margin-top:16px">Verification (closed-loop runs: evidence, not proof)</h2><table id="ver"></table>
 <h2 style="margin-top:16px">Open loop, per run (smallest margin and its step; below 0 = violation)</h2><table id="olr"></table></section>
-<section class="wide"><h2>Distance to threshold over time (smallest margin over obstacles, collisions and formation; below 0 = violation)</h2>
+<section class="wide"><h2>Distance to threshold over continuous time (smallest margin over obstacles, collisions and formation at every integration substep; below 0 = violation)</h2>
 <div id="plot"></div><div class="legend" id="legend"></div></section>
 <section class="wide"><h2>Attempts of the outer search</h2><table id="att"></table></section>
 </main>
@@ -57,7 +58,9 @@ $('title').textContent = 'marsyn: ' + (R.problem || '');
 const verified = R.status === 'verified';
 $('badge').textContent = verified ? 'VERIFIED' : 'FAILED';
 $('badge').className = 'badge ' + (verified ? 'ok' : 'bad');
-$('sub').textContent = (R.agents ? R.agents.length : 0) + ' agents, total ' + fmt(R.total_time_s, 2) + ' s';
+$('sub').textContent = (R.agents ? R.agents.length : 0) + ' agents, total ' + fmt(R.total_time_s, 2) + ' s, guarantee: ' +
+  (R.guarantee === 'sampled' ? 'sampled (t = k tau only)' : 'continuous (every t in [0, T tau])');
+const mark = (x, text) => x !== null && x !== undefined && x < 0 ? '<b style="color:#e3342f">' + text + '</b>' : text;
 function table(el, head, rows) {
   el.innerHTML = '<tr>' + head.map(h => '<th>' + h + '</th>').join('') + '</tr>' +
     rows.map(r => '<tr>' + r.map(c => '<td>' + c + '</td>').join('') + '</tr>').join('');
@@ -72,11 +75,17 @@ table($('t2'), ['T_plan [s]', 'N_l', 'T_abs [s]', 'T_syn [s]', 'N_g', 'global AB
 table($('ag'), ['agent', 'tracker', 'N_l', 'boxes', 'abs [s]', 'syn [s]', 'memory [MB]', 'x0 winning'],
   ags.map(a => { const t = a.tracker || {}; return [a.name, t.status, fmt(t.state_input_pairs, 0), fmt(t.boxes_computed, 0),
     fmt(t.abstraction_time_s, 3), fmt(t.synthesis_time_s, 3), fmt((t.peak_memory_bytes || 0) / 1048576, 1), t.initial_state_winning ? 'yes' : 'no']; }));
-const v = R.verification || {}, ol = R.open_loop || {};
-table($('ver'), ['', 'runs', 'violations', 'smallest margin'],
-  [['feedback', fmt(v.runs, 0), fmt(v.violations, 0), fmt(v.min_margin)], ['open loop', fmt(ol.runs, 0), fmt(ol.violations, 0), fmt(ol.min_margin)]]);
+const v = R.verification || {}, ol = R.open_loop || {}, ce = R.certification || {}, pl = R.plan || {};
+const cpart = p => p ? mark(p.margin, fmt(p.margin)) + ' <span class="muted">' + p.where + ', k=' + p.step + '</span>' : '-';
+table($('cert'), ['', 'value'], [
+  ['guarantee', R.guarantee === 'sampled' ? 'sampled: at t = k tau only (paper semantics)' : 'continuous: every t in [0, T tau]'],
+  ['plan: robust margin at the samples / between them', fmt(pl.sampled_robust_margin) + ' / ' + fmt(pl.between_samples_robust_margin)],
+  ['certificate on the period enclosures', ce.ran ? (ce.certified ? 'certified' : '<b style="color:#e3342f">not certified</b>') + ' (' + fmt(ce.period_enclosures, 0) + ' enclosures)' : (R.guarantee === 'sampled' ? 'not required' : 'did not run')],
+  ['  state bounds', cpart(ce.state_bounds)], ['  obstacles', cpart(ce.obstacle)], ['  collisions', cpart(ce.collision)], ['  formation', cpart(ce.formation)]]);
+const bs = v.between_samples || {};
+table($('ver'), ['', 'runs', 'violations', 'margin at samples', 'margin between (dense)'],
+  [['feedback', fmt(v.runs, 0), fmt(v.violations, 0), fmt(v.sampled_min_margin), mark(bs.min_margin, fmt(bs.min_margin))], ['open loop', fmt(ol.runs, 0), fmt(ol.violations, 0), fmt(ol.min_margin), '-']]);
 const part = p => p ? fmt(p.margin) + ' (k=' + p.step + ')' : '-';
-const mark = (x, text) => x !== null && x !== undefined && x < 0 ? '<b style="color:#e3342f">' + text + '</b>' : text;
 table($('olr'), ['disturbance', 'obstacle', 'collision', 'formation', 'goal'],
   (ol.by_run || []).map(r => [r.disturbance, ...['obstacle', 'collision', 'formation'].map(k =>
     mark(r[k] && r[k].margin, part(r[k]))), mark(r.goal_margin, fmt(r.goal_margin))]));
@@ -114,6 +123,8 @@ function draw(k) {
     a.nominal.forEach((p, j) => j ? ctx.lineTo(X(p[0]), Y(p[1])) : ctx.moveTo(X(p[0]), Y(p[1]))); ctx.stroke();
     const b = a.tube[Math.min(k, a.tube.length - 1)];
     if (b) { ctx.globalAlpha = 0.25; ctx.fillStyle = c; ctx.fillRect(X(b[0]), Y(b[3]), (b[2] - b[0]) * scale, (b[3] - b[1]) * scale); }
+    const pe = (a.enclosures || [])[k];
+    if (pe) { ctx.globalAlpha = 0.7; ctx.strokeStyle = c; ctx.lineWidth = 1; pe.forEach(e => ctx.strokeRect(X(e[0]), Y(e[3]), (e[2] - e[0]) * scale, (e[3] - e[1]) * scale)); }
     ctx.globalAlpha = 1;
   });
   const r = (S.runs || [])[+$('run').value];
@@ -136,6 +147,8 @@ draw(0);
 // Margin plot (SVG).
 (function plot() {
   if (!(S.runs || []).length) { $('plot').innerHTML = '<p class="muted">No closed-loop runs: verification runs only when every agent has a controller (see the attempts below).</p>'; return; }
+  // Dense margins (every integration substep) where the run has them, else the samples.
+  (S.runs || []).forEach(r => { if (r.dense && r.dense.length > r.margin.length) r.margin = r.dense; });
   const runs = (S.runs || []).filter(r => r.margin.length && r.margin.some(m => Math.abs(m) < 999));
   if (!runs.length) { $('plot').innerHTML = '<p class="muted">This problem has no obstacle, collision or formation constraints; only the goal is checked (see the verification table).</p>'; return; }
   const W = 1100, H = 300, L = 50, B = 30;
@@ -148,7 +161,8 @@ draw(0);
   s += '<line x1="' + L + '" x2="' + (W - 10) + '" y1="' + py(0) + '" y2="' + py(0) + '" stroke="#cc1f1a" stroke-dasharray="6 4"/>';
   s += '<text x="' + (W - 12) + '" y="' + (py(0) - 4) + '" text-anchor="end" fill="#cc1f1a">threshold (delta / formation tolerance)</text>';
   for (let t = 0; t <= 4; t++) { const m = lo + (hi - lo) * t / 4; s += '<text x="' + (L - 6) + '" y="' + (py(m) + 4) + '" text-anchor="end">' + m.toFixed(2) + '</text>'; }
-  for (let t = 0; t <= 5; t++) { const i = Math.round((n - 1) * t / 5); s += '<text x="' + px(i) + '" y="' + (H - 8) + '" text-anchor="middle">' + (i * S.tau).toFixed(1) + ' s</text>'; }
+  const T = S.agents.length ? S.agents[0].tube.length - 1 : 1;
+  for (let t = 0; t <= 5; t++) { const i = Math.round((n - 1) * t / 5); s += '<text x="' + px(i) + '" y="' + (H - 8) + '" text-anchor="middle">' + (i * T * S.tau / Math.max(1, n - 1)).toFixed(1) + ' s</text>'; }
   runs.forEach(r => { s += '<polyline fill="none" stroke-width="1.6" stroke="' + col(r) + '" points="' + r.margin.map((m, i) => px(i) + ',' + py(Math.max(lo, Math.min(hi, m)))).join(' ') + '"><title>' + r.label + '</title></polyline>'; });
   $('plot').innerHTML = s + '</svg>';
   $('legend').innerHTML = '<span><i style="background:#8795a1"></i>nominal plan</span><span><i style="background:#3490dc"></i>feedback under disturbance</span><span><i style="background:#e3342f"></i>open loop under disturbance (violating)</span><span><i style="background:#f6993f"></i>open loop under disturbance (satisfying)</span>';

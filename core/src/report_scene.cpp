@@ -20,7 +20,7 @@ nlohmann::json round4(double v) { return std::round(v * 1e4) / 1e4; }
 }  // namespace
 
 nlohmann::json report_scene(const Problem& pb, const std::vector<NominalTrajectory>& nominal,
-                            const VerificationReport* ver) {
+                            const VerificationReport* ver, const std::vector<const std::vector<PeriodEnclosure>*>& enc) {
   using nlohmann::json;
   json scene;
   scene["tau"] = pb.tau;
@@ -50,6 +50,15 @@ nlohmann::json report_scene(const Problem& pb, const std::vector<NominalTrajecto
       }
     ag["tube"] = tube;
     ag["nominal"] = path;
+    // [step][part] = workspace box of the closed loop during that part of the period.
+    json periods = json::array();
+    if (i < enc.size() && enc[i])
+      for (const PeriodEnclosure& e : *enc[i]) {
+        while (static_cast<int>(periods.size()) <= e.step) periods.push_back(json::array());
+        periods[static_cast<size_t>(e.step)].push_back({round4(e.workspace.lo[0]), round4(e.workspace.lo[1]),
+                                                         round4(e.workspace.hi[0]), round4(e.workspace.hi[1])});
+      }
+    ag["enclosures"] = periods;
     agents.push_back(ag);
   }
   scene["agents"] = agents;
@@ -65,6 +74,10 @@ nlohmann::json report_scene(const Problem& pb, const std::vector<NominalTrajecto
       json margins = json::array();
       for (const auto& m : kept.spec.per_step) margins.push_back(round4(std::max(-1e3, std::min(1e3, m.min()))));
       r["margin"] = margins;
+      // Dense in time (every integration substep): the continuous-time margin curve.
+      json dense = json::array();
+      for (const auto& m : kept.dense) dense.push_back(round4(std::max(-1e3, std::min(1e3, m.min()))));
+      r["dense"] = dense;
       json pts = json::array();  // [agent][step] = [x, y]
       for (std::size_t i = 0; i < pb.agents.size(); ++i) {
         json track = json::array();

@@ -95,19 +95,25 @@ StepMargins SpecMonitor::step(const Eigen::VectorXd& x, std::string* worst) cons
   std::vector<Eigen::Vector2d> pts(n);
   for (int i = 0; i < n; ++i) pts[i] = point(i, x);
   const bool inf = problem_.delta_norm == Norm::Inf;
+  // The name of the smallest margin is built once, at the end: this runs at every integration
+  // substep of every verification run.
   double best = 1e300;
-  auto note = [&](double v, const std::string& what) {
+  int kind = -1, wa = -1, wb = -1;
+  auto note = [&](double v, int k, int a, int b) {
     if (worst && v < best) {
       best = v;
-      *worst = what;
+      kind = k;
+      wa = a;
+      wb = b;
     }
   };
   for (int i = 0; i < n; ++i)
-    for (const auto& o : problem_.obstacles) {
-      const double d = (inf ? signed_distance_inf(o.vertices, pts[i]) : signed_distance_two(o.vertices, pts[i])) -
+    for (std::size_t o = 0; o < problem_.obstacles.size(); ++o) {
+      const auto& ob = problem_.obstacles[o];
+      const double d = (inf ? signed_distance_inf(ob.vertices, pts[i]) : signed_distance_two(ob.vertices, pts[i])) -
                        problem_.delta;
       m.obstacle = std::min(m.obstacle, d);
-      note(d, "obstacle " + o.name + " vs " + problem_.agents[i].name);
+      note(d, 0, static_cast<int>(o), i);
     }
   if (problem_.pairwise_collision)
     for (int i = 0; i < n; ++i)
@@ -115,12 +121,19 @@ StepMargins SpecMonitor::step(const Eigen::VectorXd& x, std::string* worst) cons
         const Eigen::Vector2d d = pts[i] - pts[j];
         const double v = (inf ? d.lpNorm<Eigen::Infinity>() : d.norm()) - problem_.delta;
         m.collision = std::min(m.collision, v);
-        note(v, "collision " + problem_.agents[i].name + " vs " + problem_.agents[j].name);
+        note(v, 1, i, j);
       }
-  for (const auto& f : problem_.formation) {
+  for (std::size_t q = 0; q < problem_.formation.size(); ++q) {
+    const auto& f = problem_.formation[q];
     const double v = f.mu - std::abs((pts[f.i] - pts[f.j]).norm() - f.lambda);
     m.formation = std::min(m.formation, v);
-    note(v, "formation " + problem_.agents[f.i].name + " - " + problem_.agents[f.j].name);
+    note(v, 2, f.i, f.j);
+  }
+  if (worst && kind >= 0) {
+    const auto& ag = problem_.agents;
+    if (kind == 0) *worst = "obstacle " + problem_.obstacles[static_cast<size_t>(wa)].name + " vs " + ag[wb].name;
+    else if (kind == 1) *worst = "collision " + ag[wa].name + " vs " + ag[wb].name;
+    else *worst = "formation " + ag[wa].name + " - " + ag[wb].name;
   }
   return m;
 }

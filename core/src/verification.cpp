@@ -11,11 +11,12 @@ std::vector<Scenario> verification_scenarios(int runs, std::uint64_t seed) {
   std::vector<Scenario> out;
   out.push_back({DisturbanceMode::None, seed, 0});
   for (int v = 0; v < 4; ++v) out.push_back({DisturbanceMode::PaperConstant, seed, v});
-  // The rest split evenly between constant vertices, uniform noise and vertex switching.
-  const DisturbanceMode cycle[3] = {DisturbanceMode::ConstantVertex, DisturbanceMode::UniformRandom,
-                                    DisturbanceMode::VertexSwitching};
+  // The rest split evenly between constant vertices, uniform noise, vertex switching and the
+  // adversary re-choosing its vertex at every integration substep.
+  const DisturbanceMode cycle[4] = {DisturbanceMode::ConstantVertex, DisturbanceMode::UniformRandom,
+                                    DisturbanceMode::VertexSwitching, DisturbanceMode::Adversarial};
   for (int r = static_cast<int>(out.size()); r < runs; ++r)
-    out.push_back({cycle[r % 3], seed + static_cast<std::uint64_t>(r) * 2654435761ULL, 0});
+    out.push_back({cycle[r % 4], seed + static_cast<std::uint64_t>(r) * 2654435761ULL, 0});
   return out;
 }
 
@@ -28,6 +29,14 @@ std::string paper_label(int variant) {
     default: return "-W for all agents";
   }
 }
+// A kept run with its dense margins (every substep, samples included).
+KeptRun keep(const SpecMonitor& monitor, std::string label, const ClosedLoopRun& run) {
+  KeptRun k{std::move(label), run.states, monitor.evaluate(run.states, true), run.dense_t, {}};
+  k.dense.reserve(run.dense_states.size());
+  for (const auto& x : run.dense_states) k.dense.push_back(monitor.step(x));
+  return k;
+}
+
 }  // namespace
 
 VerificationReport verify(const Problem& problem, const std::vector<NominalTrajectory>& nominal,
@@ -36,18 +45,18 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
   const auto t0 = std::chrono::steady_clock::now();
   VerificationReport rep;
   const SpecMonitor monitor(problem);
-  SimulationSetup closed{&problem, nominal, controllers, opt.fine_substeps};
-  SimulationSetup open{&problem, nominal, {}, opt.fine_substeps};
+  rep.continuous = problem.guarantee == Guarantee::Continuous;
+  rep.dense_resolution_s = problem.tau / std::max(1, opt.fine_substeps);
+  SimulationSetup closed{&problem, nominal, controllers, opt.fine_substeps, &monitor, false};
+  SimulationSetup open{&problem, nominal, {}, opt.fine_substeps, &monitor, false};
+  SimulationSetup closed_dense = closed, open_dense = open;
+  closed_dense.keep_dense = open_dense.keep_dense = true;
 
   // The nominal (undisturbed open loop) run, for the report's reference curves.
-  {
-    ClosedLoopRun nom = simulate(open, {DisturbanceMode::None, opt.seed, 0});
-    rep.kept.push_back({"nominal (no disturbance, open loop)", nom.states, monitor.evaluate(nom.states, true)});
-  }
+  rep.kept.push_back(keep(monitor, "nominal (no disturbance, open loop)", simulate(open_dense, {DisturbanceMode::None, opt.seed, 0})));
 
   const std::vector<Scenario> scenarios = verification_scenarios(std::max(opt.runs, 5), opt.seed);
   std::vector<RunSummary> results(scenarios.size());
-  std::vector<ClosedLoopRun> paper_runs(4);
   std::atomic<int> next{0}, done{0};
   std::mutex progress_mutex;
   auto worker = [&] {
@@ -56,16 +65,21 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
       const SpecEvaluation ev = monitor.evaluate(run.states);
       RunSummary& s = results[r];
       s.scenario = scenarios[r];
+      s.between = run.between;
       s.satisfied = ev.satisfied && run.outside_domain_agent < 0;
-      s.min_margin = ev.min_margin;
+      s.min_margin = s.sampled_margin = ev.min_margin;
       s.worst = ev.worst;
+      if (rep.continuous && run.between.min() < s.min_margin) {
+        s.min_margin = run.between.min();
+        s.worst = run.between_worst + " at t = " + std::to_string(run.between_worst_t) + " s (between samples)";
+      }
+      if (rep.continuous && run.between.min() < 0) s.satisfied = false;
       // A tiny tolerance only for the ratio's own rounding; the tube is closed.
       s.left_tube = run.max_tube_excess > 1.0 + 1e-12;
       s.outside_domain = run.outside_domain_agent >= 0;
       if (s.outside_domain)
         s.worst = "controller of " + problem.agents[run.outside_domain_agent].name + " had no input at step " +
                   std::to_string(run.outside_domain_step);
-      if (scenarios[r].mode == DisturbanceMode::PaperConstant) paper_runs[scenarios[r].variant] = std::move(run);
       const int d = ++done;
       if (opt.progress) {
         std::lock_guard<std::mutex> lock(progress_mutex);
@@ -85,6 +99,15 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
     if (!s.satisfied) ++rep.violations;
     if (s.left_tube) ++rep.tube_violations;
     if (s.outside_domain) ++rep.outside_domain;
+    if (s.between.min() < 0) ++rep.between_violations;
+    rep.sampled_min_margin = std::min(rep.sampled_min_margin, s.sampled_margin);
+    for (auto [v, part] : {std::pair{s.between.obstacle, &rep.between.obstacle},
+                           std::pair{s.between.collision, &rep.between.collision},
+                           std::pair{s.between.formation, &rep.between.formation}})
+      if (v < *part) {
+        *part = v;
+        if (v <= rep.between.min()) rep.between_worst = "run " + std::to_string(r) + " (" + to_string(s.scenario.mode) + ")";
+      }
     if (s.min_margin < rep.min_margin) {
       rep.min_margin = s.min_margin;
       rep.worst = s.worst + " (" + to_string(s.scenario.mode) + " disturbance, run " + std::to_string(r) + ")";
@@ -92,16 +115,13 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
     }
   }
   for (int v = 0; v < 4; ++v)
-    rep.kept.push_back({"feedback, constant disturbance " + paper_label(v), paper_runs[v].states,
-                        monitor.evaluate(paper_runs[v].states, true)});
-  {
-    ClosedLoopRun w = simulate(closed, scenarios[worst_run]);
-    rep.kept.push_back({std::string("feedback, worst run (") + to_string(scenarios[worst_run].mode) + ")", w.states,
-                        monitor.evaluate(w.states, true)});
-  }
+    rep.kept.push_back(keep(monitor, "feedback, constant disturbance " + paper_label(v),
+                            simulate(closed_dense, {DisturbanceMode::PaperConstant, opt.seed, v})));
+  rep.kept.push_back(keep(monitor, std::string("feedback, worst run (") + to_string(scenarios[worst_run].mode) + ")",
+                          simulate(closed_dense, scenarios[worst_run])));
   // Open loop under the paper's constant disturbances: what fails without feedback.
   for (int v = 0; v < 4; ++v) {
-    ClosedLoopRun o = simulate(open, {DisturbanceMode::PaperConstant, opt.seed, v});
+    ClosedLoopRun o = simulate(open_dense, {DisturbanceMode::PaperConstant, opt.seed, v});
     SpecEvaluation ev = monitor.evaluate(o.states, true);
     ++rep.open_loop_runs;
     if (!ev.satisfied) ++rep.open_loop_violations;
@@ -120,7 +140,9 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
         if (value < part->margin) *part = {value, k};
     }
     rep.open_loop.push_back(run);
-    rep.kept.push_back({"open loop, constant disturbance " + paper_label(v), o.states, std::move(ev)});
+    KeptRun kept = keep(monitor, "open loop, constant disturbance " + paper_label(v), o);
+    kept.spec = std::move(ev);
+    rep.kept.push_back(std::move(kept));
   }
   rep.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep;

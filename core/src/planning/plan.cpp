@@ -52,13 +52,19 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
   int horizon = problem.horizon;
   if (horizon <= 0) throw std::invalid_argument("marsyn::planning::plan: the problem's horizon must be positive");
   if (warm) horizon = std::max(horizon, warm->horizon());
-  for (int attempt = 0; attempt < std::max(1, options.max_attempts); ++attempt) {
+  // Continuous time: a plan robust at its samples whose flow cuts a corner between them is
+  // re-planned at the same horizon with every constraint's buffer grown by the shortfall
+  // (bounded), before a longer horizon is tried.
+  AssemblyOptions assembly = options.assembly;
+  int margin_retries = 0;
+  constexpr int kMaxMarginRetries = 3;
+  for (int attempt = 0; attempt < std::max(1, options.max_attempts) + margin_retries; ++attempt) {
     const double left = options.time_limit_s - (now_s() - t0);
     if (attempt > 0 && left <= 0) {
       if (options.log) options.log("time limit reached: no further horizons tried");
       break;
     }
-    PlanningProblem pp = assemble(problem, horizon, options.assembly);
+    PlanningProblem pp = assemble(problem, horizon, assembly);
     if (warm) pp.warm_start = extend(problem, *warm, horizon);
     PlanOptions po;
     po.time_limit_s = std::max(left, 1e-3);
@@ -99,6 +105,20 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
     }
     if (best.feasible) break;
     if (!clean.u.empty()) warm = clean;
+    const bool between_only = a.check.continuous && a.check.sampled_margin >= 0 && a.check.min_input_margin >= 0 &&
+                              a.check.between_margin < 0 && std::isfinite(a.check.between_margin);
+    if (between_only && margin_retries < kMaxMarginRetries) {
+      ++margin_retries;
+      assembly.buffer += 1.5 * -a.check.between_margin;
+      if (options.log) {
+        std::ostringstream os;
+        os << "robust at the samples, short by " << -a.check.between_margin << " between them ("
+           << a.check.worst_between << " after step " << a.check.worst_between_step
+           << "): re-planning T = " << horizon << " with constraint buffer " << assembly.buffer;
+        options.log(os.str());
+      }
+      continue;
+    }
     horizon = std::max(horizon + 1, static_cast<int>(std::ceil(horizon * options.horizon_growth)));
   }
   return best;

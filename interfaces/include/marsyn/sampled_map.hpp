@@ -12,7 +12,9 @@ namespace marsyn {
 
 template <class S>
 void rk4_step(const Dynamics& f, const S* x, const S* u, const double* w, double tau, int substeps,
-              S* out) {
+              S* out, int steps = -1) {
+  // steps >= 0: only the first `steps` of the substeps (dense output between the samples, with
+  // the same arithmetic as the whole step).
   const int n = f.state_dim();
   // Planner rollouts call this T x N times per line-search trial: agent-sized systems use stack
   // storage, only larger ones (a product of agents) the heap.
@@ -31,7 +33,8 @@ void rk4_step(const Dynamics& f, const S* x, const S* u, const double* w, double
     if (w)
       for (int i = 0; i < n; ++i) d[i] = d[i] + w[i];
   };
-  for (int s = 0; s < substeps; ++s) {
+  const int run = steps < 0 ? substeps : steps;
+  for (int s = 0; s < run; ++s) {
     rhs(xs, k1);
     for (int i = 0; i < n; ++i) y[i] = xs[i] + (0.5 * h) * k1[i];
     rhs(y, k2);

@@ -115,6 +115,8 @@ struct TrackerStats {
   long long peak_memory_bytes = 0;
   std::vector<long long> winning_cells_per_step;
   bool initial_state_winning = false;
+  double enclosure_time_s = 0.0;  // period enclosures (continuous time), after the sweep
+  int enclosure_substeps = 0;     // boxes per sampling period; 0: no enclosures
 };
 
 struct TrackOptions {

@@ -121,6 +121,17 @@ std::string serialize(const ControllerData& d) {
       for (std::int64_t c = 0; c < cells; ++c) p.u16(d.inputs[static_cast<size_t>(d.offsets[k] + c)]);
     }
   }
+  // Version 2: the period enclosures (continuous time).
+  p.u32(static_cast<std::uint32_t>(d.enclosures.size()));
+  for (const PeriodEnclosure& e : d.enclosures) {
+    p.u32(static_cast<std::uint32_t>(e.step));
+    p.f64(e.t0);
+    p.f64(e.t1);
+    for (int i = 0; i < d.n; ++i) p.f64(e.state.lo[i]);
+    for (int i = 0; i < d.n; ++i) p.f64(e.state.hi[i]);
+    for (int c = 0; c < 2; ++c) p.f64(e.workspace.lo[c]);
+    for (int c = 0; c < 2; ++c) p.f64(e.workspace.hi[c]);
+  }
   Writer f;
   for (char c : kMagic) f.u8(static_cast<std::uint8_t>(c));
   f.u32(kFormatVersion);
@@ -136,6 +147,10 @@ ControllerData deserialize(const std::string& s, const std::string& what) {
   if (s.size() < 28) fail("truncated header");
   Reader h(s, 8, s.size(), what);
   const std::uint32_t version = h.u32();
+  if (version == 1)
+    fail("format version 1 was written before controllers carried their enclosures between the samples "
+         "(continuous-time guarantee); re-run `marsyn solve` or `marsyn track` to write version " +
+         std::to_string(kFormatVersion));
   if (version != kFormatVersion)
     fail("format version " + std::to_string(version) + ", this reader understands " + std::to_string(kFormatVersion));
   const std::uint64_t size = h.uN(8);
@@ -180,6 +195,28 @@ ControllerData deserialize(const std::string& s, const std::string& what) {
       for (std::int64_t c = 0; c < cells; ++c) d.inputs.push_back(r.u16());
       total += cells;
     }
+  }
+  const std::uint32_t nenc = r.u32();
+  r.need(static_cast<size_t>(nenc) * static_cast<size_t>(20 + 16 * d.n + 32));
+  for (std::uint32_t q = 0; q < nenc; ++q) {
+    PeriodEnclosure e;
+    e.step = static_cast<int>(r.u32());
+    e.t0 = r.f64();
+    e.t1 = r.f64();
+    e.state.lo.resize(d.n);
+    e.state.hi.resize(d.n);
+    for (int i = 0; i < d.n; ++i) e.state.lo[i] = r.f64();
+    for (int i = 0; i < d.n; ++i) e.state.hi[i] = r.f64();
+    e.workspace.lo.resize(2);
+    e.workspace.hi.resize(2);
+    for (int c = 0; c < 2; ++c) e.workspace.lo[c] = r.f64();
+    for (int c = 0; c < 2; ++c) e.workspace.hi[c] = r.f64();
+    if (e.step < 0 || e.step >= static_cast<int>(ntables) || !(e.t0 <= e.t1)) fail("bad period enclosure");
+    for (int i = 0; i < d.n; ++i)
+      if (!(e.state.lo[i] <= e.state.hi[i])) fail("bad period enclosure");
+    for (int c = 0; c < 2; ++c)
+      if (!(e.workspace.lo[c] <= e.workspace.hi[c])) fail("bad period enclosure");
+    d.enclosures.push_back(std::move(e));
   }
   if (!r.done()) fail("trailing bytes in payload");
   return d;

@@ -4,7 +4,9 @@
 // File layout (little-endian, docs/tracker.md): 8-byte magic "MARSYNCT", u32 format version,
 // u64 payload size, payload, u64 FNV-1a hash of the payload. The payload holds the dynamics type,
 // agent, dimensions, grid origin and eta_x, eps, W, tau, the input grid, and per step the tube's
-// index box followed (for steps with inputs) by one u16 input index per tube cell.
+// index box followed (for steps with inputs) by one u16 input index per tube cell, then (version
+// 2) the period enclosures: u32 count, each u32 step, f64 t0, t1, state lo[n], hi[n], workspace
+// lo[2], hi[2].
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -18,7 +20,7 @@ namespace marsyn::abcd {
 
 inline constexpr std::uint16_t kLosing = 0xFFFF;  // cell not in the winning set
 inline constexpr std::uint16_t kTarget = 0xFFFE;  // whole-domain mode: target reached, no input needed
-inline constexpr std::uint32_t kFormatVersion = 1;
+inline constexpr std::uint32_t kFormatVersion = 2;  // 2: period enclosures
 
 struct ControllerData {
   std::string dynamics_type, agent;

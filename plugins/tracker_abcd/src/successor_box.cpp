@@ -154,10 +154,8 @@ bool SuccessorBox::growth(const double* L, double* beta, double h_lo, double h_u
   return ok;
 }
 
-bool SuccessorBox::compute(const Interval* cell, const double* u, double* lo, double* hi) const {
-  // FastInterval's error-free transformations need round-to-nearest; so does every plain double
-  // operation here and in the model's field (constants, libm calls), as in a double evaluation.
-  const RoundToNearestScope nearest;
+bool SuccessorBox::propagate(const Interval* cell, const double* u, int substeps, FastInterval* C, double* beta,
+                             FastInterval* apriori_boxes) const {
   const int n = n_;
   FastInterval U[kMaxDim], W[kMaxDim];
   for (int j = 0; j < m_; ++j) U[j] = FastInterval(u[j]);
@@ -166,8 +164,6 @@ bool SuccessorBox::compute(const Interval* cell, const double* u, double* lo, do
   }
   // C encloses the disturbance-free solution from the cell's centre c; beta bounds every true
   // state's distance to it.
-  FastInterval C[kMaxDim];
-  double beta[kMaxDim];
   for (int i = 0; i < n; ++i) {
     const FastInterval ci(cell[i]);
     const double c = median(ci);
@@ -175,12 +171,15 @@ bool SuccessorBox::compute(const Interval* cell, const double* u, double* lo, do
     const FastInterval d = ci - C[i];
     beta[i] = mag(d);
   }
-  const FastInterval h = FastInterval(opt_.tau) / FastInterval(static_cast<double>(opt_.substeps));
+  const FastInterval h = FastInterval(opt_.tau) / FastInterval(static_cast<double>(substeps));
   const FastInterval half_h2 = h * h / FastInterval(2.0);
   FastInterval X[kMaxDim], B[kMaxDim], Fc[kMaxDim], FC[kMaxDim], J[kMaxDim * kMaxDim], next[kMaxDim];
-  for (int s = 0; s < opt_.substeps; ++s) {
+  for (int s = 0; s < substeps; ++s) {
     for (int i = 0; i < n; ++i) X[i] = C[i] + FastInterval(-beta[i], beta[i]);
     if (!apriori(X, U, W, h, B)) return false;
+    // B holds every true state over the substep (docs/soundness.md, "Continuous time").
+    if (apriori_boxes)
+      for (int i = 0; i < n; ++i) apriori_boxes[s * n + i] = B[i];
 
     // One Jacobian enclosure over B serves both halves: B holds every true trajectory and, as
     // w = 0 is admissible and C lies in X, the centre trajectory too.
@@ -206,6 +205,17 @@ bool SuccessorBox::compute(const Interval* cell, const double* u, double* lo, do
     if (!growth(L, beta, h.lower(), h.upper())) return false;
     for (int i = 0; i < n; ++i) C[i] = next[i];
   }
+  return true;
+}
+
+bool SuccessorBox::compute(const Interval* cell, const double* u, double* lo, double* hi) const {
+  // FastInterval's error-free transformations need round-to-nearest; so does every plain double
+  // operation here and in the model's field (constants, libm calls), as in a double evaluation.
+  const RoundToNearestScope nearest;
+  const int n = n_;
+  FastInterval C[kMaxDim];
+  double beta[kMaxDim];
+  if (!propagate(cell, u, opt_.substeps, C, beta, nullptr)) return false;
   for (int i = 0; i < n; ++i) {
     lo[i] = (C[i] - FastInterval(beta[i])).lower();
     hi[i] = (C[i] + FastInterval(beta[i])).upper();
@@ -220,6 +230,20 @@ bool SuccessorBox::compute(const Interval* cell, const double* u, double* lo, do
       }
     }
   }
+  return true;
+}
+
+bool SuccessorBox::enclose(const Interval* cell, const double* u, int substeps, Interval* boxes) const {
+  if (substeps < 1 || substeps > kMaxEncloseSubsteps) return false;
+  FastInterval C[kMaxDim], B[kMaxEncloseSubsteps * kMaxDim];
+  double beta[kMaxDim];
+  {
+    const RoundToNearestScope nearest;
+    if (!propagate(cell, u, substeps, C, beta, B)) return false;
+    for (int k = 0; k < substeps * n_; ++k)
+      if (!std::isfinite(B[k].lower()) || !std::isfinite(B[k].upper())) return false;
+  }
+  for (int k = 0; k < substeps * n_; ++k) boxes[k] = Interval(B[k].lower(), B[k].upper());
   return true;
 }
 

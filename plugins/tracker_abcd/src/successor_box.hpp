@@ -32,11 +32,23 @@ class SuccessorBox {
   // caller's rounding mode, which is restored on return and on exceptions.
   bool compute(const Interval* cell, const double* u, double* lo, double* hi) const;
 
+  // Between the samples: boxes[m * n + i] (m < substeps) encloses coordinate i of every state
+  // the system can take during the m-th of `substeps` equal parts of the period, from any state
+  // in `cell` with the constant input u and any disturbance (the a priori enclosures of the same
+  // computation as compute(), docs/soundness.md "Continuous time"). False when no enclosure was
+  // found or substeps is outside [1, kMaxEncloseSubsteps].
+  static constexpr int kMaxEncloseSubsteps = 64;
+  bool enclose(const Interval* cell, const double* u, int substeps, Interval* boxes) const;
+
   const SuccessorOptions& options() const { return opt_; }
   const Dynamics& dynamics() const { return f_; }
   const std::vector<double>& w() const { return w_; }
 
  private:
+  // The substep loop shared by compute() and enclose(); C and beta as in docs/soundness.md §4,
+  // apriori_boxes (substeps x n) receives each substep's a priori box when non-null.
+  bool propagate(const Interval* cell, const double* u, int substeps, FastInterval* C, double* beta,
+                 FastInterval* apriori_boxes) const;
   bool apriori(const FastInterval* x, const FastInterval* u, const FastInterval* w, const FastInterval& h,
                FastInterval* out) const;
   bool growth(const double* L, double* beta, double h_lo, double h_up) const;

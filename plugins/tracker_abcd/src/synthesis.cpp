@@ -9,6 +9,7 @@
 #include <numeric>
 #include <thread>
 
+#include "period_enclosure.hpp"
 #include "successor_cache.hpp"
 #include "tube.hpp"
 
@@ -332,8 +333,26 @@ TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o
   st.abstraction_time_s = box_seconds / threads;
   st.synthesis_time_s = std::max(0.0, now_s() - t_start - st.abstraction_time_s);
 
+  // Between the samples: only for a complete sweep (the controller is used from step 0).
+  std::string enclosure_failure;
+  if (k < 0) {
+    const double t_enc = now_s();
+    EnclosureOptions eo;
+    eo.substeps = o.enclosure_substeps;
+    eo.threads = threads;
+    if (!compute_period_enclosures(p, inv, sb, eo, d, enclosure_failure)) d.enclosures.clear();
+    st.enclosure_time_s = now_s() - t_enc;
+    st.enclosure_substeps = o.enclosure_substeps;
+  }
+
   GridController ctl(std::move(d));
   st.initial_state_winning = k < 0 && ctl.winning(p.nominal.x[0].data(), 0);
+  if (st.initial_state_winning && !enclosure_failure.empty()) {
+    r.status = TrackerStatus::NoController;
+    r.message = "agent " + p.agent + ": x_0's cell is winning, but " + enclosure_failure;
+    st.peak_memory_bytes = peak_rss_bytes();
+    return r;
+  }
   st.peak_memory_bytes = peak_rss_bytes();
   if (st.initial_state_winning) {
     r.status = TrackerStatus::Controller;

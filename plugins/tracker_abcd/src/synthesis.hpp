@@ -18,6 +18,8 @@ struct SynthesisOptions {
   int prefilter_substeps = 2;
   const SuccessorHook* hook = nullptr;
   double memory_budget_bytes = 8e9;
+  // Parts of each sampling period with their own enclosure box (continuous-time guarantee).
+  int enclosure_substeps = 4;
 };
 
 TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o);

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "marsyn/core/spec_monitor.hpp"
 #include "marsyn/problem.hpp"
 #include "marsyn/tracker.hpp"
 
@@ -19,10 +20,14 @@ enum class DisturbanceMode {
   PaperConstant,     // agent i gets (-1)^i W (or its negation), held: the paper's Figs. 9-11
   UniformRandom,     // uniform in W, redrawn every sampling period
   VertexSwitching,   // a random vertex of W, redrawn every sampling period
+  Adversarial,       // re-chosen at every integration substep: the vertex of W pushing the agent's
+                     // workspace point toward its nearest obstacle or agent (position
+                     // coordinates of a linear workspace map; other coordinates a random vertex)
 };
 
 const char* to_string(DisturbanceMode m);
-// Parses "none", "vertex", "paper", "uniform", "switching"; throws std::invalid_argument.
+// Parses "none", "vertex", "paper", "uniform", "switching", "adversarial"; throws
+// std::invalid_argument.
 DisturbanceMode parse_disturbance_mode(const std::string& s);
 
 struct Scenario {
@@ -36,6 +41,15 @@ struct ClosedLoopRun {
   int outside_domain_agent = -1;        // first agent whose controller had no input
   int outside_domain_step = -1;
   double max_tube_excess = 0.0;  // max over agents, steps, coords of |x - nominal| / eps (<= 1 inside the tube)
+  // Dense in time (setup.between set): the real spec at every integration substep strictly
+  // between the samples (resolution tau / fine_substeps), smallest margin per part, and the
+  // time [s] of the smallest overall.
+  StepMargins between;
+  double between_worst_t = -1.0;
+  std::string between_worst;
+  // setup.keep_dense: the product state at every substep (samples included) and its time.
+  std::vector<double> dense_t;
+  std::vector<Eigen::VectorXd> dense_states;
 };
 
 struct SimulationSetup {
@@ -43,6 +57,8 @@ struct SimulationSetup {
   std::vector<NominalTrajectory> nominal;                // per agent
   std::vector<std::shared_ptr<const Controller>> controllers;  // per agent; empty: open loop
   int fine_substeps = 20;                                // RK4 steps per sampling period
+  const SpecMonitor* between = nullptr;  // evaluate the spec between the samples (dense) when set
+  bool keep_dense = false;
 };
 
 ClosedLoopRun simulate(const SimulationSetup& setup, const Scenario& scenario);

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "marsyn/core/certification.hpp"
 #include "marsyn/core/planning/plan.hpp"
 #include "marsyn/core/problem_loader.hpp"
 #include "marsyn/core/verification.hpp"
@@ -53,6 +54,8 @@ struct SolveOutcome {
   Problem problem;      // with the eps / eta / horizon finally used
   planning::PlanOutcome plan;
   std::vector<AgentOutcome> agents;
+  CertificationReport certification;  // continuous time: the spec on the period enclosures
+  bool certification_ran = false;
   VerificationReport verification;
   bool verification_ran = false;
   GlobalAbcdEstimate global;

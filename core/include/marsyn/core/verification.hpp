@@ -16,7 +16,7 @@ struct VerificationOptions {
   int runs = 1000;        // closed-loop runs in total (at least the 4 paper scenarios + 1 undisturbed)
   std::uint64_t seed = 1;
   int threads = 2;
-  int fine_substeps = 20;
+  int fine_substeps = 20;  // RK4 steps per period; the dense check's resolution is tau / fine_substeps
   std::function<void(int done, int total)> progress;  // may be empty
 };
 
@@ -27,6 +27,8 @@ struct RunSummary {
   std::string worst;
   bool left_tube = false;
   bool outside_domain = false;
+  StepMargins between;  // dense, strictly between the samples
+  double sampled_margin = 0;
 };
 
 // A run kept for plots and animations.
@@ -34,6 +36,9 @@ struct KeptRun {
   std::string label;  // e.g. "feedback, paper disturbance (+W, -W, ...)"
   std::vector<Eigen::VectorXd> states;
   SpecEvaluation spec;
+  // Dense in time: the margins at every integration substep (samples included) and their times.
+  std::vector<double> dense_t;
+  std::vector<StepMargins> dense;
 };
 
 // One open-loop run: its smallest margin per part of the specification (1e300 when the problem
@@ -53,8 +58,16 @@ struct VerificationReport {
   int violations = 0;          // runs violating the global specification
   int tube_violations = 0;     // runs where some agent left its tube (must be 0 for sound controllers)
   int outside_domain = 0;      // runs where some controller had no input for its state
-  double min_margin = 1e300;   // over all runs
+  double min_margin = 1e300;   // over all runs: at the samples, and (continuous) between them
   std::string worst;
+  // The guarantee the runs were judged by, and the two halves of min_margin: at the samples
+  // (goal included) and strictly between them (dense, resolution tau / fine_substeps).
+  bool continuous = true;
+  double sampled_min_margin = 1e300;
+  StepMargins between;  // smallest between-sample margin per part over all closed-loop runs
+  std::string between_worst;
+  int between_violations = 0;  // runs with a negative margin between the samples
+  double dense_resolution_s = 0;  // time between two densely checked states
   int open_loop_runs = 0;
   int open_loop_violations = 0;
   double open_loop_min_margin = 1e300;

@@ -2,6 +2,7 @@
 // The exact eps-robust check, independent of any solver: re-simulate the nominal inputs from x0
 // with the sampled map f_tau and verify, at every step k = 0..T, that every state within eps of
 // the nominal one satisfies the real specification (docs/planner.md, "Exact check").
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -21,12 +22,24 @@ struct RobustCheck {
   std::string worst_input;
   double max_state_mismatch = 0.0;  // |re-simulated x - plan.x|_inf, when the plan carries states
   std::string message;              // one line for humans
+  // Continuous time (problem.guarantee == Continuous): the same requirements on the eps-box
+  // around the exact disturbance-free flow between the samples, from enclosures of that flow
+  // (flow_enclosure.hpp) over kFlowParts parts of every period. min_margin above is the smaller
+  // of the sampled and the between-samples margins.
+  bool continuous = false;
+  double sampled_margin = 0.0;
+  double between_margin = std::numeric_limits<double>::infinity();
+  std::string worst_between;
+  int worst_between_step = -1;
 };
+
+inline constexpr int kFlowParts = 8;
 
 // x_0 = problem's x0, x_{k+1} = f_tau(x_k, u_k) (RK4, problem.rk4_substeps), no disturbance.
 std::vector<Eigen::VectorXd> simulate(const Problem& problem, const std::vector<Eigen::VectorXd>& inputs);
 
-// Re-simulates plan.u and checks the eps-robust spec along the result (plan.x is only compared).
+// Re-simulates plan.u and checks the eps-robust spec along the result (plan.x is only compared);
+// under the continuous guarantee also between the samples.
 RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan);
 
 }  // namespace marsyn::planning

@@ -1,0 +1,36 @@
+#pragma once
+// The certifier (architecture: between tracking and closed-loop verification): the safety part
+// of the specification checked on the trackers' period enclosures themselves, so that a problem
+// is VERIFIED for every time t in [0, T tau], not only at the samples (docs/soundness.md §7).
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "marsyn/problem.hpp"
+#include "marsyn/tracker.hpp"
+
+namespace marsyn {
+
+struct CertifiedPart {
+  double margin = std::numeric_limits<double>::infinity();  // sound lower bound; inf: no such part
+  std::string where;  // e.g. "obstacle block vs drone3"
+  int step = -1;      // the period [step tau, (step + 1) tau]
+};
+
+struct CertificationReport {
+  bool certified = false;
+  std::string message;  // one line
+  CertifiedPart state_bounds, obstacle, collision, formation;
+  double min_margin = std::numeric_limits<double>::infinity();
+  std::vector<int> failing_agents;  // indices of agents in a part with a negative margin
+  long long enclosures = 0;
+  double time_s = 0.0;
+};
+
+// Every agent's controller must carry period enclosures covering steps 0..T-1; pairs of agents
+// are compared on enclosures of overlapping parts of the same period (the agents share one
+// clock: every controller starts at t = 0 and switches at t = k tau).
+CertificationReport certify(const Problem& problem, const std::vector<std::shared_ptr<const Controller>>& controllers);
+
+}  // namespace marsyn

@@ -1,0 +1,27 @@
+#pragma once
+// The safety part of the specification evaluated on boxes instead of points: sound lower bounds,
+// rounding included, of how far a box of workspace points (or states) keeps each requirement.
+// The continuous-time check of a plan (robust_check) and the certification of the trackers'
+// period enclosures (certification.hpp) both read the spec through these functions, so "the
+// enclosures pass" and "the real spec holds" rest on one evaluator (docs/soundness.md, §7).
+#include "marsyn/box.hpp"
+#include "marsyn/core/planning/geometry.hpp"
+#include "marsyn/problem.hpp"
+
+namespace marsyn::planning {
+
+// A lower bound of dist(B, P) - delta in the given norm, for the workspace box B (2 coordinates)
+// and the convex polygon P: >= 0 implies every point of B keeps delta from P. Negative when B
+// meets P grown by delta (its magnitude is then only indicative).
+double box_obstacle_margin(const Box& workspace, const Polygon& obstacle, double delta, Norm norm);
+
+// A lower bound of dist(A, B) - delta between two workspace boxes.
+double box_pair_margin(const Box& a, const Box& b, double delta, Norm norm);
+
+// A lower bound of min(|p - q|_2 - (lambda - mu), (lambda + mu) - |p - q|_2) over p in A, q in B.
+double box_formation_margin(const Box& a, const Box& b, double lambda, double mu);
+
+// min over coordinates of (box.lo - X.lo, X.hi - box.hi): >= 0 iff the box lies in X.
+double box_inside_margin(const Box& box, const Box& X);
+
+}  // namespace marsyn::planning

@@ -1,0 +1,136 @@
+#include "marsyn/core/certification.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <functional>
+#include <set>
+#include <sstream>
+
+#include "marsyn/core/planning/box_margins.hpp"
+
+namespace marsyn {
+
+namespace {
+
+// Record a margin in a part; names are built only for new minima.
+void record(CertifiedPart& part, double margin, int step, const std::function<std::string()>& where) {
+  if (!(margin >= part.margin)) {
+    part.margin = std::isnan(margin) ? -std::numeric_limits<double>::infinity() : margin;
+    part.step = step;
+    part.where = where();
+  }
+}
+
+std::string fmt(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
+}  // namespace
+
+CertificationReport certify(const Problem& pb, const std::vector<std::shared_ptr<const Controller>>& ctrls) {
+  const auto t0 = std::chrono::steady_clock::now();
+  CertificationReport r;
+  const int N = static_cast<int>(pb.agents.size());
+  if (static_cast<int>(ctrls.size()) != N) {
+    r.message = "not certified: one controller per agent is needed";
+    return r;
+  }
+  // Per agent and step: the indices of its enclosures, and how many parts the period has.
+  int T = -1;
+  std::vector<std::vector<std::vector<const PeriodEnclosure*>>> by_step(N);
+  for (int i = 0; i < N; ++i) {
+    if (!ctrls[i]) {
+      r.message = "not certified: agent " + pb.agents[i].name + " has no controller";
+      return r;
+    }
+    const int Ti = ctrls[i]->horizon();
+    if (T < 0) T = Ti;
+    if (Ti != T || Ti < 0) {
+      r.message = "not certified: the agents' controllers have different horizons";
+      return r;
+    }
+    by_step[i].assign(static_cast<size_t>(T), {});
+    for (const PeriodEnclosure& e : ctrls[i]->period_enclosures())
+      if (e.step >= 0 && e.step < T) by_step[i][static_cast<size_t>(e.step)].push_back(&e);
+    for (int k = 0; k < T; ++k) {
+      auto& v = by_step[i][static_cast<size_t>(k)];
+      if (v.empty()) {
+        r.message = "not certified: the controller of " + pb.agents[i].name + " has no enclosure between samples " +
+                    std::to_string(k) + " and " + std::to_string(k + 1) +
+                    " (the tracker gives no continuous-time guarantee)";
+        r.failing_agents.push_back(i);
+        return r;
+      }
+      std::sort(v.begin(), v.end(), [](const PeriodEnclosure* a, const PeriodEnclosure* b) { return a->t0 < b->t0; });
+      r.enclosures += static_cast<long long>(v.size());
+    }
+  }
+  std::set<int> failing;
+  auto note = [&](double margin, std::initializer_list<int> agents) {
+    if (!(margin >= 0))
+      for (int a : agents) failing.insert(a);
+  };
+  for (int i = 0; i < N; ++i) {
+    const auto& a = pb.agents[i];
+    for (int k = 0; k < T; ++k)
+      for (const PeriodEnclosure* e : by_step[i][static_cast<size_t>(k)]) {
+        const double mb = planning::box_inside_margin(e->state, a.state_bounds);
+        record(r.state_bounds, mb, k, [&] { return "state bounds of " + a.name; });
+        note(mb, {i});
+        for (size_t o = 0; o < pb.obstacles.size(); ++o) {
+          const double mo = planning::box_obstacle_margin(e->workspace, pb.obstacles[o].vertices, pb.delta, pb.delta_norm);
+          record(r.obstacle, mo, k, [&] {
+            return "obstacle " + (pb.obstacles[o].name.empty() ? std::to_string(o) : pb.obstacles[o].name) + " vs " +
+                   a.name;
+          });
+          note(mo, {i});
+        }
+      }
+  }
+  // Part p of n parts covers [p/n, (p+1)/n] of the period (the trackers split it evenly, in real
+  // arithmetic); two parts are compared when their open time intervals meet: at any t some
+  // such pair holds both agents' states.
+  auto overlapping = [&](int i, int j, int k, const std::function<void(const PeriodEnclosure&, const PeriodEnclosure&)>& fn) {
+    const auto& A = by_step[i][static_cast<size_t>(k)];
+    const auto& B = by_step[j][static_cast<size_t>(k)];
+    const long long na = static_cast<long long>(A.size()), nb = static_cast<long long>(B.size());
+    for (long long p = 0; p < na; ++p)
+      for (long long q = 0; q < nb; ++q)
+        if (p * nb < (q + 1) * na && q * na < (p + 1) * nb) fn(*A[static_cast<size_t>(p)], *B[static_cast<size_t>(q)]);
+  };
+  if (pb.pairwise_collision)
+    for (int i = 0; i < N; ++i)
+      for (int j = i + 1; j < N; ++j)
+        for (int k = 0; k < T; ++k)
+          overlapping(i, j, k, [&](const PeriodEnclosure& ea, const PeriodEnclosure& eb) {
+            const double m = planning::box_pair_margin(ea.workspace, eb.workspace, pb.delta, pb.delta_norm);
+            record(r.collision, m, k, [&] { return "collision " + pb.agents[i].name + " vs " + pb.agents[j].name; });
+            note(m, {i, j});
+          });
+  for (const auto& f : pb.formation)
+    for (int k = 0; k < T; ++k)
+      overlapping(f.i, f.j, k, [&](const PeriodEnclosure& ea, const PeriodEnclosure& eb) {
+        const double m = planning::box_formation_margin(ea.workspace, eb.workspace, f.lambda, f.mu);
+        record(r.formation, m, k, [&] { return "formation " + pb.agents[f.i].name + " - " + pb.agents[f.j].name; });
+        note(m, {f.i, f.j});
+      });
+
+  const CertifiedPart* worst = nullptr;
+  for (const CertifiedPart* p : {&r.state_bounds, &r.obstacle, &r.collision, &r.formation})
+    if (!worst || p->margin < worst->margin) worst = p;
+  r.min_margin = worst->margin;
+  r.failing_agents.assign(failing.begin(), failing.end());
+  r.certified = r.min_margin >= 0;
+  std::ostringstream os;
+  os << (r.certified ? "certified in continuous time" : "NOT certified in continuous time") << ": " << r.enclosures
+     << " period enclosures, smallest margin " << fmt(r.min_margin);
+  if (worst->step >= 0)
+    os << " (" << worst->where << " between steps " << worst->step << " and " << worst->step + 1 << ")";
+  r.message = os.str();
+  r.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+}  // namespace marsyn

@@ -1,0 +1,153 @@
+#include "period_enclosure.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <unordered_map>
+#include <mutex>
+#include <thread>
+
+#include "input_grid.hpp"
+#include "uniform_grid.hpp"
+
+namespace marsyn::abcd {
+namespace {
+
+Interval hull(const Interval& a, const Interval& b) {
+  return Interval(std::min(a.lower(), b.lower()), std::max(a.upper(), b.upper()));
+}
+
+// Step k's enclosures, one per part of the period: the hull over the step's winning cells.
+struct StepBoxes {
+  std::vector<Interval> state;      // substeps x n
+  std::vector<Interval> workspace;  // substeps x 2
+  bool any = false;
+};
+
+void accumulate(StepBoxes& acc, const Interval* boxes, const Interval* ws, int substeps, int n) {
+  if (!acc.any) {
+    acc.state.assign(boxes, boxes + substeps * n);
+    acc.workspace.assign(ws, ws + substeps * 2);
+    acc.any = true;
+    return;
+  }
+  for (int k = 0; k < substeps * n; ++k) acc.state[k] = hull(acc.state[k], boxes[k]);
+  for (int k = 0; k < substeps * 2; ++k) acc.workspace[k] = hull(acc.workspace[k], ws[k]);
+}
+
+}  // namespace
+
+bool compute_period_enclosures(const TrackingProblem& p, const std::vector<bool>& inv, const SuccessorBox& sb,
+                               const EnclosureOptions& o, ControllerData& d, std::string& why) {
+  const int n = d.n, m = d.m, S = o.substeps;
+  const int T = d.tables();
+  if (S < 1 || S > SuccessorBox::kMaxEncloseSubsteps) {
+    why = "enclosure substeps outside [1, " + std::to_string(SuccessorBox::kMaxEncloseSubsteps) + "]";
+    return false;
+  }
+  const UniformGrid g(d.origin, d.eta_x);
+  const InputGrid ug(d.u_lo, d.u_hi, d.eta_u);
+  const Dynamics& f = *p.dynamics;
+  bool workspace_ok = p.workspace.linear() ? p.workspace.index.size() == 2 && p.workspace.offset.size() == 2
+                                           : p.workspace.footprint < static_cast<int>(f.footprints().size());
+  if (p.workspace.linear())
+    for (int c = 0; c < 2 && workspace_ok; ++c) workspace_ok = p.workspace.index[c] < n;
+  std::vector<StepBoxes> steps(static_cast<size_t>(T));
+  std::atomic<int> next{0};
+  std::atomic<bool> failed{false};
+  std::mutex why_lock;
+
+  auto work = [&]() {
+    std::vector<Interval> boxes(static_cast<size_t>(S * n)), ws(static_cast<size_t>(S * 2));
+    std::int64_t idx[kMaxDim];
+    double u[kMaxDim];
+    for (int k = next++; k < T && !failed; k = next++) {
+      const IndexBox& bk = d.boxes[static_cast<size_t>(k)];
+      const std::int64_t off = d.offsets[static_cast<size_t>(k)];
+      // Winning cells grouped by (their non-invariant indices, input): the group's invariant
+      // index range.
+      struct Range {
+        std::int64_t lo[kMaxDim], hi[kMaxDim];
+      };
+      std::unordered_map<std::uint64_t, Range> groups;
+      const std::int64_t cells = bk.size();
+      for (std::int64_t l = 0; l < cells; ++l) {
+        const std::uint16_t j = d.inputs[static_cast<size_t>(off + l)];
+        if (j == kLosing) continue;
+        bk.unlinear(l, idx);
+        std::uint64_t column = 0;  // linear index over the non-invariant coordinates
+        for (int i = 0; i < n; ++i)
+          if (!inv[i]) column = column * static_cast<std::uint64_t>(bk.extent(i)) + static_cast<std::uint64_t>(idx[i] - bk.lo[i]);
+        auto [it, fresh] = groups.try_emplace(column * 65536u + j);
+        for (int i = 0; i < n; ++i) {
+          if (fresh || idx[i] < it->second.lo[i]) it->second.lo[i] = idx[i];
+          if (fresh || idx[i] > it->second.hi[i]) it->second.hi[i] = idx[i];
+        }
+      }
+      StepBoxes& acc = steps[static_cast<size_t>(k)];
+      for (const auto& [key, range] : groups) {
+        const auto input = static_cast<std::uint16_t>(key % 65536u);
+        Interval cell[kMaxDim];
+        for (int i = 0; i < n; ++i) cell[i] = hull(g.cell(i, range.lo[i]), g.cell(i, range.hi[i]));
+        ug.value(input, u);
+        if (!sb.enclose(cell, u, S, boxes.data())) {
+          failed = true;
+          const std::lock_guard<std::mutex> lock(why_lock);
+          why = "no enclosure between the samples of step " + std::to_string(k) + " (input " +
+                std::to_string(input) + ")";
+          return;
+        }
+        for (int s = 0; s < S; ++s) {
+          if (workspace_ok)
+            workspace_point(f, p.workspace, &boxes[static_cast<size_t>(s * n)], &ws[static_cast<size_t>(s * 2)]);
+          else  // a workspace map this agent cannot evaluate: bound nothing rather than guess
+            ws[static_cast<size_t>(s * 2)] = ws[static_cast<size_t>(s * 2 + 1)] = Interval::whole();
+        }
+        accumulate(acc, boxes.data(), ws.data(), S, n);
+      }
+      if (!acc.any) {
+        failed = true;
+        const std::lock_guard<std::mutex> lock(why_lock);
+        why = "step " + std::to_string(k) + " has no winning cell";
+        return;
+      }
+    }
+  };
+  const int threads = std::max(1, std::min(o.threads, T));
+  if (threads <= 1) {
+    work();
+  } else {
+    std::vector<std::thread> pool;
+    for (int t = 0; t < threads; ++t) pool.emplace_back(work);
+    for (auto& th : pool) th.join();
+  }
+  if (failed) return false;
+
+  d.enclosures.clear();
+  d.enclosures.reserve(static_cast<size_t>(T * S));
+  for (int k = 0; k < T; ++k) {
+    const StepBoxes& acc = steps[static_cast<size_t>(k)];
+    for (int s = 0; s < S; ++s) {
+      PeriodEnclosure e;
+      e.step = k;
+      e.t0 = d.tau * (k + static_cast<double>(s) / S);
+      e.t1 = d.tau * (k + static_cast<double>(s + 1) / S);
+      e.state.lo.resize(n);
+      e.state.hi.resize(n);
+      for (int i = 0; i < n; ++i) {
+        e.state.lo[i] = acc.state[static_cast<size_t>(s * n + i)].lower();
+        e.state.hi[i] = acc.state[static_cast<size_t>(s * n + i)].upper();
+      }
+      e.workspace.lo.resize(2);
+      e.workspace.hi.resize(2);
+      for (int c = 0; c < 2; ++c) {
+        e.workspace.lo[c] = acc.workspace[static_cast<size_t>(s * 2 + c)].lower();
+        e.workspace.hi[c] = acc.workspace[static_cast<size_t>(s * 2 + c)].upper();
+      }
+      d.enclosures.push_back(std::move(e));
+    }
+  }
+  (void)m;
+  return true;
+}
+
+}  // namespace marsyn::abcd
