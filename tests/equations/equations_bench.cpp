@@ -70,12 +70,12 @@ int compare(const char* name, const Dynamics& plugin, const Dynamics& eq, const 
   const abcd::SuccessorBox a(plugin, wbound, opt), b(eq, wbound, opt);
   std::vector<double> boxes_a, boxes_b;
   double ra = 0, rb = 0;
-  for (int round = 0; round < 3; ++round) {  // interleaved; the best of three each
+  for (int round = 0; round < 5; ++round) {  // interleaved; the best of five each (shared machines)
     ra = std::max(ra, rate(a, work, seconds, round == 0 ? &boxes_a : nullptr));
     rb = std::max(rb, rate(b, work, seconds, round == 0 ? &boxes_b : nullptr));
   }
   const bool same = boxes_a == boxes_b;
-  std::printf("%-9s plugin %10.0f boxes/s   equations %10.0f boxes/s   plugin/equations time ratio %.2f   boxes %s\n",
+  std::printf("%-9s plugin %9.0f boxes/s   equations %9.0f boxes/s   time equations / plugin %.2f   boxes %s\n",
               name, ra, rb, ra / rb, same ? "bit-identical" : "DIFFER");
   return same ? 0 : 1;
 }

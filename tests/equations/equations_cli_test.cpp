@@ -145,3 +145,73 @@ TEST(EquationsCli, FootprintsAreStateFunctionsAndNamed) {
   const std::string z = replace(kValid, "{footprint: nose}", "{footprint: tail}");
   expect_error("eq_fp_name", z, where(z, "tail"), "agents[1].workspace.footprint", "has no footprint 'tail'; it has: nose");
 }
+
+namespace {
+
+// Two drones (the multi-drone settings on a smaller field), with `DYNAMICS` replaced.
+const std::string kPair = R"(name: pair
+tau: 0.1
+horizon: 60
+delta: 0.2
+defaults:
+  dynamics: DYNAMICS
+  state_bounds: {lo: [-1, -1, -2], hi: [7, 6, 2]}
+  input_bounds: {lo: [-2.4, -2.4], hi: [2.4, 2.4]}
+  disturbance: [0, 0.02, 0.02]
+  eps: [0.2, 0.2, 0.24]
+  eta_x: [0.025, 0.025, 0.03]
+  eta_u: [0.3, 0.3]
+  workspace: {position: [0, 1]}
+obstacles:
+  - {name: block, box: {lo: [2.5, 2], hi: [3.5, 3]}}
+agents:
+  - {name: low, x0: [0, 1, 0], goal: {center: [5, 1, 0], radius: [0.3, 0.3, 0.4]}}
+  - {name: high, x0: [0, 4, 0], goal: {center: [5, 4, 0], radius: [0.3, 0.3, 0.4]}}
+)";
+
+// A controller file without its dynamics type (a length-prefixed string after the header) and
+// its trailing checksum, which covers that type.
+std::string controller_body(const std::string& file, const std::string& type) {
+  const std::string c = marsyn::test::slurp(file);
+  const auto at = c.find(type);
+  EXPECT_NE(at, std::string::npos) << file << " does not name " << type;
+  if (at == std::string::npos || c.size() < at + type.size() + 8) return {};
+  return c.substr(at + type.size(), c.size() - 8 - at - type.size());
+}
+
+}  // namespace
+
+// The same plan and the same controller from the plugin and from its equations (the field is
+// bit-identical, so every successor box is).
+TEST(EquationsCli, SameControllerAsThePlugin) {
+  const std::string plugin = write_temp("pair_plugin.yaml", replace(kPair, "DYNAMICS", "unicycle"));
+  const std::string eq = write_temp(
+      "pair_equations.yaml",
+      replace(kPair, "DYNAMICS", "{states: [x, y, theta], inputs: [v, omega], field: {x: v * cos(theta), y: v * sin(theta), theta: omega}}"));
+  const std::string out = write_temp("pair_out_dummy", "");
+  const auto a = run_marsyn("track " + plugin + " --agent low --threads 1 --out " + out + "_plugin");
+  ASSERT_EQ(a.code, 0) << a.err;
+  const auto b = run_marsyn("track " + eq + " --agent low --threads 1 --out " + out + "_eq");
+  ASSERT_EQ(b.code, 0) << b.err;
+  const auto t = run_marsyn("check " + eq);
+  const auto pos = t.out.find("equations:");
+  ASSERT_NE(pos, std::string::npos) << t.out;
+  const std::string type = t.out.substr(pos, t.out.find_first_of(" \n", pos) - pos);
+  const std::string pa = controller_body(out + "_plugin/low.ctrl", "unicycle");
+  const std::string pb = controller_body(out + "_eq/low.ctrl", type);
+  EXPECT_GT(pa.size(), 1000u);
+  EXPECT_TRUE(pa == pb) << "controllers differ (" << pa.size() << " vs " << pb.size() << " bytes)";
+}
+
+// The example solves end to end with equation models only, and `simulate` re-creates the same
+// models from the file to replay the controllers.
+TEST(EquationsCli, ExampleSolvesAndSimulates) {
+  const std::string out = write_temp("eq_example_out_dummy", "") + "_dir";
+  const std::string example = std::string(MARSYN_SOURCE_DIR) + "/examples/unicycle_equations.yaml";
+  const auto r = run_marsyn("solve " + example + " --out " + out);
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("VERIFIED"), std::string::npos) << r.out;
+  const auto s = run_marsyn("simulate " + example + " --controllers " + out + " --disturbance switching");
+  EXPECT_EQ(s.code, 0) << s.out << s.err;
+  EXPECT_NE(s.out.find("specification satisfied"), std::string::npos) << s.out;
+}

@@ -35,7 +35,7 @@ std::string type_name(const EquationSpec& spec) {
   for (const auto& f : spec.field) add("f:" + f.name + "=" + f.text);
   for (const auto& f : spec.footprints) add("p:" + f.name + "=" + f.text[0] + "," + f.text[1]);
   char buf[32];
-  std::snprintf(buf, sizeof buf, "equations:%016llx", static_cast<unsigned long long>(h));
+  std::snprintf(buf, sizeof buf, "equations:%08llx", static_cast<unsigned long long>(h >> 32 ^ (h & 0xffffffffull)));
   return buf;
 }
 
