@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <set>
 
 #include "commands.hpp"
 #include "marsyn/core/plugin_registry.hpp"
@@ -68,6 +69,7 @@ int run_export(const std::vector<std::string>& inputs, const std::string& format
   }
   const std::string dir = out_dir.empty() ? "." : out_dir;
   long long total = 0;
+  std::set<fs::path> written;
   for (const auto& file : files) {
     std::shared_ptr<const Controller> ctrl;
     try {
@@ -83,6 +85,9 @@ int run_export(const std::vector<std::string>& inputs, const std::string& format
     req.source = fs::path(file).filename().string();
     const ExportResult r = ctrl->export_to(req);
     if (!r.ok) return fail(file + ": " + r.message);
+    for (const auto& f : r.files)
+      if (!written.insert(fs::weakly_canonical(f)).second)
+        return fail(file + ": writes " + f + " again (two agents' names give the same prefix); export them one by one with --prefix");
     std::printf("%s\n", r.message.c_str());
     for (const auto& f : r.files) std::printf("  wrote %s\n", f.c_str());
     total += r.const_data_bytes;
