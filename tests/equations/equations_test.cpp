@@ -355,6 +355,45 @@ TEST(EquationErrors, EachClassIsReportedWithItsPlace) {
   s = unicycle_spec();
   s.states[0] = "sin";
   expect_error(s, "states", 0, "reserved");
+  s = unicycle_spec();
+  s.field[2].text = std::string(5000, '(') + "omega" + std::string(5000, ')');
+  expect_error(s, "field", 2, "nested more than 200 levels");
+  s = unicycle_spec();
+  s.field[2].text = std::string(150, '(') + "omega" + std::string(150, ')');
+  EXPECT_NO_THROW(EquationDynamics{s});
+  std::string chain = "omega";
+  for (int i = 0; i < 3000; ++i) chain += "^1";
+  s.field[2].text = chain;
+  expect_error(s, "field", 2, "nested more than 200 levels");
+  s.field[2].text = "omega * " + std::string(3000, '-') + "1";
+  expect_error(s, "field", 2, "nested more than 200 levels");
+}
+
+}  // namespace
+
+namespace {
+
+// Random text from the expression alphabet: every input is either a model or an EquationError
+// whose offset lies inside the text; never a crash, another exception or a hang.
+TEST(EquationErrors, RandomTextIsRejectedCleanly) {
+  const std::string alphabet = "xvtheaomgincosqrlp0123456789.e+-*/^() ,_";
+  std::mt19937_64 rng(99);
+  int accepted = 0;
+  for (int t = 0; t < 5000; ++t) {
+    std::string text;
+    const int len = 1 + static_cast<int>(rng() % 24);
+    for (int i = 0; i < len; ++i) text += alphabet[rng() % alphabet.size()];
+    EquationSpec s = unicycle_spec();
+    s.field[2].text = text;
+    try {
+      EquationDynamics eq(s);
+      ++accepted;
+    } catch (const EquationError& e) {
+      EXPECT_GE(e.offset(), 0) << text;
+      EXPECT_LE(e.offset(), static_cast<long>(text.size())) << text;
+    }
+  }
+  EXPECT_GT(accepted, 0);
 }
 
 }  // namespace

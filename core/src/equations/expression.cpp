@@ -174,9 +174,21 @@ class Parser {
     }
   }
 
+  // Every nesting (parentheses, function arguments) passes through expr(), every sign and
+  // exponent through unary() and power(); the depth limit keeps a pathological expression from overflowing the stack.
+  struct Depth {
+    Parser& p;
+    explicit Depth(Parser& parser, std::size_t at) : p(parser) {
+      if (++p.depth_ > kMaxDepth) p.fail_plain(at, "the expression is nested more than " + std::to_string(kMaxDepth) + " levels deep");
+    }
+    ~Depth() { --p.depth_; }
+  };
+  static constexpr int kMaxDepth = 200;
+
   int expr() {
     skip();
     const std::size_t start = pos_;
+    const Depth guard(*this, start);
     int left = term();
     for (;;) {
       if (accept('+')) {
@@ -212,10 +224,14 @@ class Parser {
     skip();
     const std::size_t start = pos_;
     if (accept('-')) {
+      const Depth guard(*this, start);
       const int a = unary();
       return folded(start, [&] { return g_.unary(Op::Neg, a); });
     }
-    if (accept('+')) return unary();
+    if (accept('+')) {
+      const Depth guard(*this, start);
+      return unary();
+    }
     return power();
   }
 
@@ -226,6 +242,7 @@ class Parser {
     if (!accept('^')) return base;
     skip();
     const std::size_t at = pos_;
+    const Depth guard(*this, at);
     const int e = unary();
     const Node& en = g_[e];
     if (en.op != Op::Const)
@@ -305,6 +322,7 @@ class Parser {
   const std::map<std::string, int>& symbols_;
   const std::string& known_;
   std::size_t pos_ = 0;
+  int depth_ = 0;
 };
 
 }  // namespace
