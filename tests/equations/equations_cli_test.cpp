@@ -113,6 +113,20 @@ TEST(EquationsCli, StateWithoutEquation) {
   expect_error("eq_missing", y, where(y, "x: v * cos"), "defaults.dynamics.field", "the state 'theta' has no equation");
 }
 
+TEST(EquationsCli, EquationForSomethingElseThanAState) {
+  const std::string y = replace(kValid, "      theta: k * omega\n", "      theta: k * omega\n      omega: 1\n");
+  expect_error("eq_not_state", y, where(y, "omega: 1"), "defaults.dynamics.field.omega",
+               "'omega' is not a state; the field gives one equation per state (states: x, y, theta)");
+}
+
+TEST(EquationsCli, DefinitionsAreCheckedAndUsable) {
+  const std::string ok = replace(kValid, "    field:\n      x: v * cos(theta)", "    definitions: {c: cos(theta)}\n    field:\n      x: v * c");
+  const auto r = run_marsyn("check " + write_temp("eq_def_ok.yaml", ok));
+  EXPECT_EQ(r.code, 0) << r.err;
+  const std::string bad = replace(kValid, "    field:\n", "    definitions: {c: cos(tehta)}\n    field:\n");
+  expect_error("eq_def_bad", bad, where(bad, "tehta"), "defaults.dynamics.definitions.c", "unknown symbol 'tehta'");
+}
+
 TEST(EquationsCli, NameUsedTwice) {
   const std::string y = replace(kValid, "inputs: [v, omega]", "inputs: [v, x]");
   expect_error("eq_twice", y, where(y, "x]"), "defaults.dynamics.inputs[1]", "the name 'x' is used twice (also a state)");
