@@ -357,6 +357,34 @@ PYBIND11_MODULE(marsyn, m) {
       .def_property_readonly("horizon", [](const PyController& c) { return c.c->horizon(); },
                              "T (inputs for k = 0..T-1), or -1 for a time-invariant controller")
       .def_property_readonly("agent", [](const PyController& c) { return c.agent; })
+      .def_property_readonly(
+          "period_enclosures",
+          [](const PyController& c) {
+            const auto& es = c.c->period_enclosures();
+            std::vector<Eigen::VectorXd> slo, shi, wlo, whi;
+            py::array_t<int> step(static_cast<py::ssize_t>(es.size()));
+            py::array_t<double> t0(static_cast<py::ssize_t>(es.size())), t1(static_cast<py::ssize_t>(es.size()));
+            for (size_t i = 0; i < es.size(); ++i) {
+              step.mutable_at(static_cast<py::ssize_t>(i)) = es[i].step;
+              t0.mutable_at(static_cast<py::ssize_t>(i)) = es[i].t0;
+              t1.mutable_at(static_cast<py::ssize_t>(i)) = es[i].t1;
+              slo.push_back(es[i].state.lo);
+              shi.push_back(es[i].state.hi);
+              wlo.push_back(es[i].workspace.lo);
+              whi.push_back(es[i].workspace.hi);
+            }
+            py::dict d;
+            d["step"] = step;
+            d["t0"] = t0;
+            d["t1"] = t1;
+            d["state_lo"] = matrix(slo, c.c->state_dim());
+            d["state_hi"] = matrix(shi, c.c->state_dim());
+            d["workspace_lo"] = matrix(wlo, 2);
+            d["workspace_hi"] = matrix(whi, 2);
+            return d;
+          },
+          "Sound enclosures of the closed loop between the samples (continuous-time guarantee; empty arrays when the "
+          "tracker gives none): step, t0, t1 (E,), state_lo/state_hi (E, n), workspace_lo/workspace_hi (E, 2).")
       .def("input", &evaluate, py::arg("x"), py::arg("k"),
            "C(x, k) for x of shape (N, n) (or (n,)) and k an int or N ints. Returns (u, status): u (N, m) with NaN where "
            "there is no input, status int8: marsyn.OK, OUTSIDE_DOMAIN or OUTSIDE_HORIZON.")

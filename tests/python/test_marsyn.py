@@ -148,6 +148,12 @@ for mode in ("none", "switching", "uniform"):
     check(sim["states"].shape == (T + 1, 2), "simulate(): states (T+1, 2)")
     check(sim["satisfied"] and sim["max_tube_excess"] <= 1.0 and sim["outside_domain_agent"] is None,
           "closed loop under %s stays in the tube and meets the spec: %s" % (mode, {k_: sim[k_] for k_ in ("satisfied", "max_tube_excess", "worst")}))
+    # The sampled closed loop lies in the period enclosures starting at its sampling instants.
+    enc = ctrl.period_enclosures
+    starts = np.isclose(enc["t0"], enc["step"] * problem.tau, rtol=0, atol=1e-12)
+    xs = sim["agents"]["pendulum"][enc["step"][starts]]
+    check(enc["t0"].size > 0 and bool(np.all((xs >= enc["state_lo"][starts]) & (xs <= enc["state_hi"][starts]))),
+          "closed loop (%s) inside the period enclosures at the samples" % mode)
 sim_dir = marsyn.simulate(problem, cli_dir, disturbance="switching", seed=3)
 sim_obj = marsyn.simulate(problem, [cli_ctrl], plan, disturbance="switching", seed=3)
 check(np.array_equal(sim_dir["states"], sim_obj["states"]), "simulate() from a solve folder = with Controller objects")
