@@ -132,7 +132,7 @@ std::map<ControlStatus, int> check_c_against_cpp(const GridController& c, const 
   if (result_out) *result_out = r;
   const ControllerData& d = c.data();
   const fs::path exe = dir / "driver";
-  const std::string cc = std::string(MARSYN_C_COMPILER) + " -std=c99 -Wall -Wextra -Werror -pedantic -O2 -I" + dir.string() +
+  const std::string cc = std::string(MARSYN_C_COMPILER) + " -std=c99 -Wall -Wextra -Werror -pedantic -Wconversion -Wsign-conversion -Wshadow -O2 -I" + dir.string() +
                          " -DCTRL_INPUT=" + name + "_input \"-DCTRL_HEADER=\\\"" + name + ".h\\\"\" -DN=" + std::to_string(d.n) +
                          " -DM=" + std::to_string(d.m) + " " + (dir / (name + ".c")).string() + " " + MARSYN_EXPORT_DRIVER +
                          " -lm -o " + exe.string();
