@@ -84,9 +84,11 @@ TEST(EquationsCli, ValidFileIsAcceptedWithAStableType) {
   EXPECT_EQ(r.out, again.out);
 }
 
-TEST(EquationsCli, ExampleIsAccepted) {
-  const auto r = run_marsyn(std::string("check ") + MARSYN_SOURCE_DIR + "/examples/unicycle_equations.yaml");
-  EXPECT_EQ(r.code, 0) << r.err;
+TEST(EquationsCli, ExamplesAreAccepted) {
+  for (const char* example : {"unicycle_equations.yaml", "crane_vehicle_equations.yaml"}) {
+    const auto r = run_marsyn(std::string("check ") + MARSYN_SOURCE_DIR + "/examples/" + example);
+    EXPECT_EQ(r.code, 0) << example << ": " << r.err;
+  }
 }
 
 TEST(EquationsCli, UnknownSymbolPointsAtTheName) {
