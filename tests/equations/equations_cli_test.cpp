@@ -93,7 +93,8 @@ TEST(EquationsCli, ExamplesAreAccepted) {
 
 TEST(EquationsCli, UnknownSymbolPointsAtTheName) {
   const std::string y = replace(kValid, "x: v * cos(theta)", "x: v * cos(thetta)");
-  expect_error("eq_unknown", y, where(y, "thetta"), "defaults.dynamics.field.x", "unknown symbol 'thetta'");
+  expect_error("eq_unknown", y, where(y, "thetta"), "defaults.dynamics.field.x",
+               "unknown symbol 'thetta' (did you mean 'theta'?); states: x, y, theta; inputs: v, omega; constants: k; and pi");
 }
 
 TEST(EquationsCli, SyntaxErrorPointsAtTheColumn) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "../yaml_reader.hpp"  // yaml::nearest, for suggestions
 #include "scalar_ops.hpp"
 
 namespace marsyn::equations {
@@ -289,7 +290,10 @@ class Parser {
       if (name == "pi") return g_.constant(std::numbers::pi);
       for (const auto& f : functions())
         if (name == f.name) fail_plain(start, "'" + name + "' is a function: write " + name + "(...)");
-      fail_plain(start, "unknown symbol '" + name + "'; " + known_);
+      std::vector<std::string> names{"pi"};
+      for (const auto& [n, id] : symbols_) names.push_back(n);
+      const std::string near = yaml::nearest(name, names);
+      fail_plain(start, "unknown symbol '" + name + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)") + "; " + known_);
     }
     fail(pos_, "unexpected '" + std::string(1, c) + "' (expected a number, a name or '(')");
   }
