@@ -148,6 +148,23 @@ TEST(EquationsCli, NonFiniteConstant) {
   expect_error("eq_big", z, where(z, "1e400"), "defaults.dynamics.field.x", "outside the range of finite doubles");
 }
 
+// Constants: `constants` in the model, then its own `params`, then an agent's `params`; the
+// model type names the values, so three different values give three types.
+TEST(EquationsCli, PerAgentConstantsOverrideInOrder) {
+  std::string y = replace(kValid, "    constants: {k: 1.0}\n", "    constants: {k: 1.0}\n    params: {k: 2.0}\n");
+  y = replace(y, "  - name: a\n", "  - name: c\n    x0: [0, 8, 0]\n    goal: {center: [5, 8, 0], radius: [0.3, 0.3, 0.4]}\n    dynamics: {params: {k: 2.0}}\n  - name: a\n");
+  const auto r = run_marsyn("check " + write_temp("eq_params_order.yaml", y));
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto type_of = [&](const std::string& agent) {
+    const auto at = r.out.find("\n" + agent + " ");
+    EXPECT_NE(at, std::string::npos) << r.out;
+    const auto t = r.out.find("equations:", at);
+    return r.out.substr(t, 18);
+  };
+  EXPECT_EQ(type_of("a"), type_of("c")) << r.out;  // k = 2 from the model's params, and from c's
+  EXPECT_NE(type_of("a"), type_of("b")) << r.out;  // b sets k = 0.5
+}
+
 TEST(EquationsCli, PerAgentConstantsAreChecked) {
   const std::string y = replace(kValid, "{params: {k: 0.5}}", "{params: {kk: 0.5}}");
   expect_error("eq_param", y, where(y, "kk"), "agents[1].dynamics.params.kk", "unknown constant 'kk' (did you mean 'k'?)");

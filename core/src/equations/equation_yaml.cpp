@@ -118,7 +118,10 @@ std::shared_ptr<const Dynamics> load_equation_dynamics(const Field& agent_dynami
   const Field model = inherited ? default_dynamics : agent_dynamics;
   model.expect_map();
   model.allow_only(kKeys);
-  const Field params = inherited ? agent_dynamics.child("params") : model.child("params");
+  // The model's own `params`, then (when inherited) the agent's, which win.
+  std::vector<Entry> overrides = entries(model.child("params"));
+  if (inherited)
+    for (auto& e : entries(agent_dynamics.child("params"))) overrides.push_back(e);
 
   EquationSpec spec;
   Field states = model.required("states"), inputs = model.required("inputs");
@@ -126,14 +129,16 @@ std::shared_ptr<const Dynamics> load_equation_dynamics(const Field& agent_dynami
   for (const auto& s : state_f) spec.states.push_back(s.text());
   for (const auto& s : input_f) spec.inputs.push_back(s.text());
 
+  // Fields are never assigned to one another here: assigning a YAML::Node writes into the
+  // document. Where a constant's value came from is kept as a pointer into these vectors.
   const std::vector<Entry> constants = entries(model.child("constants"));
-  std::vector<Field> constant_at;
+  std::vector<const Field*> constant_at;
   for (const auto& c : constants) {
     spec.constants.emplace_back(c.name, constant_value(c.value, c.name));
-    constant_at.push_back(c.key);
+    constant_at.push_back(&c.key);
   }
   // Per-agent values, like a plugin's parameters: only declared constants, finite numbers.
-  for (const auto& p : entries(params)) {
+  for (const auto& p : overrides) {
     std::size_t i = 0;
     while (i < constants.size() && constants[i].name != p.name) ++i;
     if (i == constants.size()) {
@@ -147,7 +152,7 @@ std::shared_ptr<const Dynamics> load_equation_dynamics(const Field& agent_dynami
       p.key.fail(msg + "; the equations declare: " + (list.empty() ? "(no constants)" : list));
     }
     spec.constants[i].second = constant_value(p.value, p.name);
-    constant_at[i] = p.value;
+    constant_at[i] = &p.value;
   }
 
   const std::vector<Entry> definitions = entries(model.child("definitions"));
@@ -171,27 +176,18 @@ std::shared_ptr<const Dynamics> load_equation_dynamics(const Field& agent_dynami
     const std::size_t si = static_cast<std::size_t>(i);
     if (s == "states") (i >= 0 ? state_f[si] : states).fail(e.what());
     if (s == "inputs") (i >= 0 ? input_f[si] : inputs).fail(e.what());
-    if (s == "constants") constant_at[si].fail(e.what());
-    const Entry* entry = nullptr;
-    Field value = field;
-    std::string text;
-    if (s == "definitions") {
-      entry = &definitions[si];
-      value = entry->value;
-      text = spec.definitions[si].text;
-    } else if (s == "field") {
-      if (i < 0) field.fail(e.what());
-      entry = &equations[si];
-      value = entry->value;
-      text = spec.field[si].text;
-    } else if (s == "footprints") {
-      entry = &footprints[si];
-      value = entry->value[static_cast<std::size_t>(e.component())];
-      text = spec.footprints[si].text[static_cast<std::size_t>(e.component())];
-    }
+    if (s == "constants") constant_at[si]->fail(e.what());
+    if (s == "field" && i < 0) field.fail(e.what());
+    const Entry* entry = s == "definitions" ? &definitions[si]
+                         : s == "field"     ? &equations[si]
+                         : s == "footprints" ? &footprints[si]
+                                             : nullptr;
     if (!entry) model.fail(e.what());
-    if (e.offset() >= 0) fail_in_expression(value, text, e.offset(), e.what());
-    entry->key.fail(e.what());
+    if (e.offset() < 0) entry->key.fail(e.what());
+    if (s == "definitions") fail_in_expression(entry->value, spec.definitions[si].text, e.offset(), e.what());
+    if (s == "field") fail_in_expression(entry->value, spec.field[si].text, e.offset(), e.what());
+    const std::size_t c = static_cast<std::size_t>(e.component());
+    fail_in_expression(entry->value[c], spec.footprints[si].text[c], e.offset(), e.what());
   }
 }
 
