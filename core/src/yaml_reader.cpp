@@ -1,6 +1,8 @@
 #include "yaml_reader.hpp"
 
 #include <yaml-cpp/depthguard.h>
+#include <yaml-cpp/eventhandler.h>
+#include <yaml-cpp/parser.h>
 
 #include <climits>
 #include <cmath>
@@ -226,6 +228,54 @@ std::pair<int, int> position(const std::string& text, std::size_t pos) {
   return {line, col};
 }
 
+// yaml-cpp 0.7 never returns from some malformed input: a ',' outside a flow collection (a file
+// holding just ",") makes its parser emit null nodes forever, allocating until memory runs out
+// (found by fuzz/problem_loader_fuzzer). A first pass over the parser's events with a budget
+// proportional to the text turns that into a located error; a well-formed file produces far fewer
+// events than it has bytes.
+struct ParserStuck {
+  YAML::Mark mark;
+};
+
+class EventBudget : public YAML::EventHandler {
+ public:
+  explicit EventBudget(long budget) : left_(budget) {}
+  void OnDocumentStart(const YAML::Mark& m) override { tick(m); }
+  void OnDocumentEnd() override { tick(last_); }
+  void OnNull(const YAML::Mark& m, YAML::anchor_t) override { tick(m); }
+  void OnAlias(const YAML::Mark& m, YAML::anchor_t) override { tick(m); }
+  void OnScalar(const YAML::Mark& m, const std::string&, YAML::anchor_t, const std::string&) override { tick(m); }
+  void OnSequenceStart(const YAML::Mark& m, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {
+    tick(m);
+  }
+  void OnSequenceEnd() override { tick(last_); }
+  void OnMapStart(const YAML::Mark& m, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {
+    tick(m);
+  }
+  void OnMapEnd() override { tick(last_); }
+
+ private:
+  void tick(const YAML::Mark& m) {
+    last_ = m;
+    if (--left_ < 0) throw ParserStuck{m};
+  }
+  long left_;
+  YAML::Mark last_;
+};
+
+void check_parser_progress(const std::string& text, const std::string& file) {
+  std::istringstream in(text);
+  YAML::Parser parser(in);
+  EventBudget budget(4 * static_cast<long>(text.size()) + 64);
+  try {
+    while (parser.HandleNextDocument(budget)) {
+    }
+  } catch (const ParserStuck& e) {
+    throw ConfigError(file, e.mark.line >= 0 ? e.mark.line + 1 : 0, e.mark.column >= 0 ? e.mark.column + 1 : 0, "",
+                      "YAML syntax error: the parser makes no progress here (a ',' outside [...] or {...}?)");
+  }
+}
+
 std::string key_path(const std::string& parent, const std::string& key) {
   return parent.empty() ? key : parent + "." + key;
 }
@@ -274,7 +324,10 @@ YAML::Node load_file(const std::string& file) {
   }
   std::vector<YAML::Node> docs;
   try {
+    check_parser_progress(text, file);
     docs = YAML::LoadAll(text);
+  } catch (const ConfigError&) {
+    throw;
   } catch (const YAML::DeepRecursion& e) {
     throw ConfigError(file, e.mark.line + 1, e.mark.column + 1, "",
                       "nesting deeper than " + std::to_string(e.depth()) +
