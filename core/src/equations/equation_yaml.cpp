@@ -35,7 +35,8 @@ std::vector<Entry> entries(const Field& map) {
   if (!map.present()) return out;
   map.expect_map();
   for (const auto& kv : map.node()) {
-    const std::string name = kv.first.as<std::string>();
+    if (!kv.first.IsScalar()) Field(kv.first, map.file(), map.path(), map.node().Mark()).fail("expected a name as the key");
+    const std::string name = kv.first.Scalar();
     const std::string path = map.path() + "." + name;
     out.push_back({name, Field(kv.first, map.file(), path, map.node().Mark()), Field(kv.second, map.file(), path, map.node().Mark())});
   }
