@@ -71,7 +71,7 @@ class Field {
 // Limits of the format (docs/problem-format.md, "Checks"): bytes of a problem file, and YAML
 // nodes after alias expansion.
 inline constexpr std::uintmax_t kMaxConfigBytes = 16u << 20;
-inline constexpr long kMaxYamlNodes = 2'000'000;
+inline constexpr long kMaxYamlNodes = 500'000;
 
 // Parses a file: exactly one YAML document, at most kMaxConfigBytes, a regular file, no NUL bytes,
 // no duplicate or complex mapping keys. Every failure (unreadable, a directory or device, syntax,
