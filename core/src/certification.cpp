@@ -13,11 +13,16 @@ namespace marsyn {
 namespace {
 
 // Record a margin in a part; names are built only for new minima.
-void record(CertifiedPart& part, double margin, int step, const std::function<std::string()>& where) {
+void record(CertifiedPart& part, double margin, int step, const std::function<std::string()>& where,
+            std::map<std::string, double>& shortfalls) {
   if (!(margin >= part.margin)) {
     part.margin = std::isnan(margin) ? -std::numeric_limits<double>::infinity() : margin;
     part.step = step;
     part.where = where();
+  }
+  if (!(margin >= 0)) {
+    auto [it, fresh] = shortfalls.try_emplace(where(), margin);
+    if (!fresh) it->second = std::min(it->second, margin);
   }
 }
 
@@ -77,14 +82,14 @@ CertificationReport certify(const Problem& pb, const std::vector<std::shared_ptr
     for (int k = 0; k < T; ++k)
       for (const PeriodEnclosure* e : by_step[i][static_cast<size_t>(k)]) {
         const double mb = planning::box_inside_margin(e->state, a.state_bounds);
-        record(r.state_bounds, mb, k, [&] { return "state bounds of " + a.name; });
+        record(r.state_bounds, mb, k, [&] { return "state bounds of " + a.name; }, r.shortfalls);
         note(mb, {i});
         for (size_t o = 0; o < pb.obstacles.size(); ++o) {
           const double mo = planning::box_obstacle_margin(e->workspace, pb.obstacles[o].vertices, pb.delta, pb.delta_norm);
           record(r.obstacle, mo, k, [&] {
             return "obstacle " + (pb.obstacles[o].name.empty() ? std::to_string(o) : pb.obstacles[o].name) + " vs " +
                    a.name;
-          });
+          }, r.shortfalls);
           note(mo, {i});
         }
       }
@@ -106,14 +111,16 @@ CertificationReport certify(const Problem& pb, const std::vector<std::shared_ptr
         for (int k = 0; k < T; ++k)
           overlapping(i, j, k, [&](const PeriodEnclosure& ea, const PeriodEnclosure& eb) {
             const double m = planning::box_pair_margin(ea.workspace, eb.workspace, pb.delta, pb.delta_norm);
-            record(r.collision, m, k, [&] { return "collision " + pb.agents[i].name + " vs " + pb.agents[j].name; });
+            record(r.collision, m, k, [&] { return "collision " + pb.agents[i].name + " vs " + pb.agents[j].name; },
+                   r.shortfalls);
             note(m, {i, j});
           });
   for (const auto& f : pb.formation)
     for (int k = 0; k < T; ++k)
       overlapping(f.i, f.j, k, [&](const PeriodEnclosure& ea, const PeriodEnclosure& eb) {
         const double m = planning::box_formation_margin(ea.workspace, eb.workspace, f.lambda, f.mu);
-        record(r.formation, m, k, [&] { return "formation " + pb.agents[f.i].name + " - " + pb.agents[f.j].name; });
+        record(r.formation, m, k, [&] { return "formation " + pb.agents[f.i].name + " - " + pb.agents[f.j].name; },
+               r.shortfalls);
         note(m, {f.i, f.j});
       });
 

@@ -6,6 +6,7 @@
 #include <condition_variable>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <sstream>
 #include <thread>
@@ -168,7 +169,7 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
   bool all_tracked = false;
   bool certified = false;
   bool replan = true;  // false when only grids changed: the plan stays valid
-  double plan_buffer = planning::AssemblyOptions{}.buffer;  // grows when certification falls short
+  std::map<std::string, double> plan_extra;  // per constraint: grows where certification fell short
   for (int iter = 0; iter < opt.max_outer_iterations && since(t_start) < opt.time_limit_s; ++iter) {
     if (replan) {
     // 1. Plan (the planning stage lengthens the horizon itself when T fails).
@@ -176,10 +177,10 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
     po.time_limit_s = std::max(1.0, opt.time_limit_s - since(t_start));
     po.log = [&](const std::string& s) { log("[plan] " + s); };
     po.warm_start_planner = warm_planner.get();
-    po.assembly.buffer = plan_buffer;
+    po.assembly.extra = plan_extra;
     std::ostringstream params;
     params << "T=" << pb.horizon;
-    if (plan_buffer != planning::AssemblyOptions{}.buffer) params << " buffer=" << plan_buffer;
+    if (!plan_extra.empty()) params << " extra clearance for " << plan_extra.size() << " constraint(s)";
     for (const auto& a : pb.agents) params << " eps[" << a.name << "]=" << vec(a.eps);
     log("[plan] " + pb.planner.name + " on the product system (" + std::to_string(pb.product_state_dim()) +
         " states, " + std::to_string(pb.product_input_dim()) + " inputs)");
@@ -206,6 +207,7 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
       continue;
     }
     if (!out.plan.agents.empty()) pb.horizon = out.plan.horizon;
+    plan_extra = out.plan.extra;  // a later re-plan keeps the clearance this one needed
 
     }
     // 2-3. Project and track every agent.
@@ -241,15 +243,16 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
       out.failure = "certification failed: " + out.certification.message;
       const double shortfall = -out.certification.min_margin;
       if (!std::isfinite(shortfall) || !(shortfall > 0)) break;
-      // Remark 2 between the samples: more room in the robust plan where the tubes' period
-      // enclosures came too close, then track again.
-      plan_buffer += 1.5 * shortfall;
+      // Remark 2 between the samples: more room in the robust plan exactly where the tubes'
+      // period enclosures came too close (1.5 times the shortfall), then track again.
+      for (const auto& [name, m] : out.certification.shortfalls) plan_extra[name] += 1.5 * -m;
       replan = true;
       all_tracked = false;
       std::string who;
       for (int i : out.certification.failing_agents) who += " " + pb.agents[i].name;
-      log("[search] period enclosures short by " + std::to_string(shortfall) + " (agents" + who +
-          "); re-planning with constraint buffer " + std::to_string(plan_buffer));
+      log("[search] period enclosures short by " + std::to_string(shortfall) + " (agents" + who + "; " +
+          std::to_string(out.certification.shortfalls.size()) +
+          " requirement(s)); re-planning with more clearance for them");
       continue;
     }
     // Only "no controller" is a reason to change parameters; bad input or an exhausted budget

@@ -331,14 +331,19 @@ PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOpti
   pp.state_bounds = {Eigen::VectorXd(n), Eigen::VectorXd(n)};
   pp.goal = {Eigen::VectorXd(n), Eigen::VectorXd(n)};
   std::vector<std::shared_ptr<const MarginTable>> margin(N);
+  auto more = [&](const std::string& name) {
+    const auto it = opt.extra.find(name);
+    return it == opt.extra.end() ? 0.0 : it->second;
+  };
   for (int i = 0; i < N; ++i) {
     const auto& a = problem.agents[i];
     if (a.dynamics == nullptr || a.dynamics->state_dim() != a.n() || a.dynamics->input_dim() != a.m() ||
         a.eps.size() != a.n() || a.state_bounds.dim() != a.n() || a.goal.dim() != a.n())
       throw std::invalid_argument("marsyn::planning::assemble: inconsistent dimensions for agent " + a.name);
     const Eigen::VectorXd shrink = a.eps.array() + opt.buffer;
+    const Box X = a.state_bounds.shrunk(a.eps.array() + opt.buffer + more("state bounds of " + a.name));
     pp.x0.segment(xo[i], a.n()) = a.x0;
-    const Box X = a.state_bounds.shrunk(shrink), G = a.goal.shrunk(shrink);
+    const Box G = a.goal.shrunk(shrink);
     pp.state_bounds.lo.segment(xo[i], a.n()) = X.lo;
     pp.state_bounds.hi.segment(xo[i], a.n()) = X.hi;
     pp.goal.lo.segment(xo[i], a.n()) = G.lo;
@@ -353,26 +358,29 @@ PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOpti
     const auto& a = problem.agents[i];
     for (size_t o = 0; o < problem.obstacles.size(); ++o) {
       const auto& obs = problem.obstacles[o];
-      pp.constraints.push_back(std::make_shared<ObstacleConstraint>(
-          "obstacle " + (obs.name.empty() ? std::to_string(o) : obs.name) + " vs " + a.name, a, xo[i], obs.vertices,
-          margin[i], inf ? delta : 0.0, (inf ? 0.0 : delta) + opt.buffer, problem.distance_model));
+      const std::string name = "obstacle " + (obs.name.empty() ? std::to_string(o) : obs.name) + " vs " + a.name;
+      pp.constraints.push_back(std::make_shared<ObstacleConstraint>(name, a, xo[i], obs.vertices, margin[i],
+                                                                    inf ? delta : 0.0,
+                                                                    (inf ? 0.0 : delta) + opt.buffer + more(name),
+                                                                    problem.distance_model));
     }
   }
   if (problem.pairwise_collision)
     for (int i = 0; i < N; ++i)
       for (int j = i + 1; j < N; ++j) {
         const auto &a = problem.agents[i], &b = problem.agents[j];
-        pp.constraints.push_back(std::make_shared<PairConstraint>(
-            "collision " + a.name + " vs " + b.name, a, xo[i], b, xo[j], problem.delta_norm, delta, margin[i],
-            margin[j], opt.inf_norm_corner, opt.buffer));
+        const std::string name = "collision " + a.name + " vs " + b.name;
+        pp.constraints.push_back(std::make_shared<PairConstraint>(name, a, xo[i], b, xo[j], problem.delta_norm, delta,
+                                                                  margin[i], margin[j], opt.inf_norm_corner,
+                                                                  opt.buffer + more(name)));
       }
   for (const auto& f : problem.formation) {
     if (f.i < 0 || f.j < 0 || f.i >= N || f.j >= N || f.i == f.j)
       throw std::invalid_argument("marsyn::planning::assemble: formation pair with a bad agent index");
     const auto &a = problem.agents[f.i], &b = problem.agents[f.j];
-    pp.constraints.push_back(std::make_shared<FormationConstraint>("formation " + a.name + " - " + b.name, a,
-                                                                   xo[f.i], b, xo[f.j], f.lambda, f.mu, margin[f.i],
-                                                                   margin[f.j], opt.buffer));
+    const std::string name = "formation " + a.name + " - " + b.name;
+    pp.constraints.push_back(std::make_shared<FormationConstraint>(name, a, xo[f.i], b, xo[f.j], f.lambda, f.mu,
+                                                                   margin[f.i], margin[f.j], opt.buffer + more(name)));
   }
   return pp;
 }

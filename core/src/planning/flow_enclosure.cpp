@@ -13,19 +13,23 @@ bool finite(const Interval& v) { return std::isfinite(v.lower()) && std::isfinit
 
 }  // namespace
 
-bool nominal_flow_boxes(const Dynamics& f, const Eigen::VectorXd& x0, const Eigen::VectorXd& u, double tau, int parts,
-                        std::vector<Box>& out) {
+bool flow_boxes(const Dynamics& f, const Box& start, const Eigen::VectorXd& u, const Eigen::VectorXd& w, double tau,
+                int parts, std::vector<Box>& out) {
   const int n = f.state_dim(), m = f.input_dim();
-  if (x0.size() != n || u.size() != m || parts < 1 || !(tau > 0)) return false;
-  std::vector<Interval> X(n), U(m), B(n), FB(n), cand(n);
-  for (int i = 0; i < n; ++i) X[i] = Interval(x0[i]);
+  if (start.dim() != n || w.size() != n || u.size() != m || parts < 1 || !(tau > 0)) return false;
+  std::vector<Interval> X(n), U(m), B(n), FB(n), cand(n), W(n);
+  for (int i = 0; i < n; ++i) {
+    if (!(start.lo[i] <= start.hi[i])) return false;
+    X[i] = Interval(start.lo[i], start.hi[i]);
+    W[i] = Interval(-std::abs(w[i]), std::abs(w[i]));
+  }
   for (int j = 0; j < m; ++j) U[j] = Interval(u[j]);
   const Interval h = Interval(tau) / Interval(static_cast<double>(parts));
   const Interval t(0.0, h.upper());
   out.assign(static_cast<size_t>(parts), Box{Eigen::VectorXd(n), Eigen::VectorXd(n)});
   for (int s = 0; s < parts; ++s) {
     f.field(X.data(), U.data(), FB.data());
-    for (int i = 0; i < n; ++i) B[i] = X[i] + t * FB[i];
+    for (int i = 0; i < n; ++i) B[i] = X[i] + t * (FB[i] + W[i]);
     bool found = false;
     for (int it = 0; it < 20 && !found; ++it) {
       for (int i = 0; i < n; ++i) {
@@ -36,7 +40,7 @@ bool nominal_flow_boxes(const Dynamics& f, const Eigen::VectorXd& x0, const Eige
       f.field(B.data(), U.data(), FB.data());
       found = true;
       for (int i = 0; i < n; ++i) {
-        cand[i] = X[i] + t * FB[i];
+        cand[i] = X[i] + t * (FB[i] + W[i]);
         if (!finite(cand[i])) return false;
         if (!subset(cand[i], B[i])) found = false;
       }
@@ -48,7 +52,7 @@ bool nominal_flow_boxes(const Dynamics& f, const Eigen::VectorXd& x0, const Eige
       out[s].lo[i] = cand[i].lower();
       out[s].hi[i] = cand[i].upper();
       // x(t + h) = x(t) + integral of f over the part, which lies in h times the hull of F(B).
-      const Interval next = X[i] + h * FB[i];
+      const Interval next = X[i] + h * (FB[i] + W[i]);
       X[i] = Interval(std::max(next.lower(), cand[i].lower()), std::min(next.upper(), cand[i].upper()));
     }
   }

@@ -57,7 +57,7 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
   // (bounded), before a longer horizon is tried.
   AssemblyOptions assembly = options.assembly;
   int margin_retries = 0;
-  constexpr int kMaxMarginRetries = 3;
+  constexpr int kMaxMarginRetries = 5;
   for (int attempt = 0; attempt < std::max(1, options.max_attempts) + margin_retries; ++attempt) {
     const double left = options.time_limit_s - (now_s() - t0);
     if (attempt > 0 && left <= 0) {
@@ -97,6 +97,7 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
     best.attempts.push_back(a);
     const bool better = best.attempts.size() == 1 || a.check.passed || a.check.min_margin > best.check.min_margin;
     if (better && !best.feasible) {
+      best.extra = assembly.extra;
       best.horizon = horizon;
       best.result = std::move(res);
       best.check = a.check;
@@ -109,12 +110,18 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
                               a.check.between_margin < 0 && std::isfinite(a.check.between_margin);
     if (between_only && margin_retries < kMaxMarginRetries) {
       ++margin_retries;
-      assembly.buffer += 1.5 * -a.check.between_margin;
+      // More clearance for exactly the requirements that fell short: 1.5 times the shortfall, and
+      // at least half the knot-to-knot motion involved, since a point between two knots is
+      // within half their distance of one of them (any norm), so that much clearance at the knots
+      // covers a straight path between them.
+      for (const auto& [name, m] : a.check.between_shortfalls)
+        assembly.extra[name] += std::max(1.5 * -m.margin, 0.5 * m.motion);
       if (options.log) {
         std::ostringstream os;
         os << "robust at the samples, short by " << -a.check.between_margin << " between them ("
-           << a.check.worst_between << " after step " << a.check.worst_between_step
-           << "): re-planning T = " << horizon << " with constraint buffer " << assembly.buffer;
+           << a.check.worst_between << " after step " << a.check.worst_between_step << "; "
+           << a.check.between_shortfalls.size() << " requirement(s) short): re-planning T = " << horizon
+           << " with more clearance for them";
         options.log(os.str());
       }
       continue;

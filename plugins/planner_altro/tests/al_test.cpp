@@ -262,7 +262,10 @@ class Recorder : public Planner {
 }  // namespace
 
 TEST(PlannerChain, TheFirstPlannersPlanIsTheWarmStartOfTheSecond) {
-  const Problem p = around_a_box();
+  // The chain's bookkeeping (which planner ran, in which order, how many attempts) at the
+  // samples; continuous time adds same-horizon re-plans, tested in robust_check_test and e2e.
+  Problem p = around_a_box();
+  p.guarantee = Guarantee::Sampled;
   const AltroPlanner first({});
   const Recorder second(true);
   planning::PlanSearchOptions so;
@@ -289,7 +292,10 @@ TEST(PlannerChain, TheFirstPlannersPlanIsTheWarmStartOfTheSecond) {
 }
 
 TEST(PlannerChain, WhenTheSecondFailsTheFirstsRobustPlanIsKept) {
-  const Problem p = around_a_box();
+  // The chain's bookkeeping (which planner ran, in which order, how many attempts) at the
+  // samples; continuous time adds same-horizon re-plans, tested in robust_check_test and e2e.
+  Problem p = around_a_box();
+  p.guarantee = Guarantee::Sampled;
   const AltroPlanner first({});
   const Recorder second(false);  // returns no inputs at all
   planning::PlanSearchOptions so;

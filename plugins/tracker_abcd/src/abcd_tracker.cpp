@@ -13,7 +13,7 @@ AbcdTracker::AbcdTracker(const Params& p) {
   base_.prefilter = p.boolean("prefilter", true);
   base_.prefilter_substeps = static_cast<int>(p.integer("prefilter_substeps", 2));
   threads_ = static_cast<int>(p.integer("threads", 0));
-  base_.enclosure_substeps = static_cast<int>(p.integer("enclosure_substeps", 4));
+  base_.enclosure_substeps = static_cast<int>(p.integer("enclosure_substeps", 8));
   if (base_.enclosure_substeps < 1 || base_.enclosure_substeps > SuccessorBox::kMaxEncloseSubsteps)
     throw ParamError("enclosure_substeps", "expected an integer in [1, 64]");
   if (base_.successor.substeps < 1 || base_.successor.substeps > 1000)
@@ -37,7 +37,7 @@ std::vector<ParamSpec> AbcdTracker::param_specs() {
        "skip inputs whose RK4 centre image leaves the next tube before computing their box (work only)"},
       {"prefilter_substeps", ParamType::Int, "2", "[1, 1000]", "RK4 substeps of the prefilter's centre image"},
       {"threads", ParamType::Int, "0", "[0, 256]", "worker threads; 0: the run's thread option"},
-      {"enclosure_substeps", ParamType::Int, "4", "[1, 64]",
+      {"enclosure_substeps", ParamType::Int, "8", "[1, 64]",
        "boxes per sampling period enclosing the closed loop between samples (continuous-time guarantee; more: tighter)"},
   };
 }

@@ -4,9 +4,12 @@
 #include <atomic>
 #include <unordered_map>
 #include <mutex>
+#include <string>
 #include <thread>
 
 #include "input_grid.hpp"
+#include "marsyn/fast_interval.hpp"
+#include "successor_cache.hpp"
 #include "uniform_grid.hpp"
 
 namespace marsyn::abcd {
@@ -56,7 +59,15 @@ bool compute_period_enclosures(const TrackingProblem& p, const std::vector<bool>
   std::atomic<bool> failed{false};
   std::mutex why_lock;
 
+  // Canonical cell along invariant coordinates (docs/soundness.md §5 and §9): centred at 0 with
+  // radius eta (1/2 + kShiftSlack), which holds every cell enclosure minus its exact centre while
+  // the indices stay in the range synthesize_track checked (shift_valid).
+  double radius[kMaxDim] = {};
+  for (int i = 0; i < n; ++i)
+    if (inv[i]) radius[i] = (Interval(g.eta()[i]) * Interval(0.5 + kShiftSlack)).upper();
   auto work = [&]() {
+    const RoundToNearestScope nearest;  // FastInterval below needs round-to-nearest
+    std::unordered_map<std::string, std::vector<Interval>> cache;  // per thread: no locks
     std::vector<Interval> boxes(static_cast<size_t>(S * n)), ws(static_cast<size_t>(S * 2));
     std::int64_t idx[kMaxDim];
     double u[kMaxDim];
@@ -86,21 +97,55 @@ bool compute_period_enclosures(const TrackingProblem& p, const std::vector<bool>
       StepBoxes& acc = steps[static_cast<size_t>(k)];
       for (const auto& [key, range] : groups) {
         const auto input = static_cast<std::uint16_t>(key % 65536u);
-        Interval cell[kMaxDim];
-        for (int i = 0; i < n; ++i) cell[i] = hull(g.cell(i, range.lo[i]), g.cell(i, range.hi[i]));
-        ug.value(input, u);
-        if (!sb.enclose(cell, u, S, boxes.data())) {
-          failed = true;
-          const std::lock_guard<std::mutex> lock(why_lock);
-          why = "no enclosure between the samples of step " + std::to_string(k) + " (input " +
-                std::to_string(input) + ")";
-          return;
+        // The canonical cell's enclosure, per (non-invariant indices, input): every step reuses it.
+        std::string ckey(reinterpret_cast<const char*>(&input), sizeof input);
+        for (int i = 0; i < n; ++i)
+          if (!inv[i]) ckey.append(reinterpret_cast<const char*>(&range.lo[i]), sizeof range.lo[i]);
+        auto [cit, fresh] = cache.try_emplace(ckey);
+        if (fresh) {
+          Interval cell[kMaxDim];
+          for (int i = 0; i < n; ++i) cell[i] = inv[i] ? Interval(-radius[i], radius[i]) : g.cell(i, range.lo[i]);
+          ug.value(input, u);
+          cit->second.resize(static_cast<size_t>(S * n));
+          if (!sb.enclose(cell, u, S, cit->second.data())) {
+            failed = true;
+            const std::lock_guard<std::mutex> lock(why_lock);
+            why = "no enclosure between the samples of step " + std::to_string(k) + " (input " +
+                  std::to_string(input) + ")";
+            return;
+          }
         }
+        // Shifted to the group: along an invariant coordinate, the rows' exact centres
+        // o + (r + 1/2) eta for r in [lo, hi] plus the canonical box.
+        for (int s = 0; s < S; ++s)
+          for (int i = 0; i < n; ++i) {
+            const Interval& b = cit->second[static_cast<size_t>(s * n + i)];
+            if (!inv[i]) {
+              boxes[static_cast<size_t>(s * n + i)] = b;
+              continue;
+            }
+            // FastInterval: directed rounding without mode switches (RN holds here, see below).
+            const FastInterval eta(g.eta()[i]), o(g.origin()[i]);
+            const FastInterval c_lo = o + (FastInterval(static_cast<double>(range.lo[i])) + FastInterval(0.5)) * eta;
+            const FastInterval c_hi = o + (FastInterval(static_cast<double>(range.hi[i])) + FastInterval(0.5)) * eta;
+            boxes[static_cast<size_t>(s * n + i)] =
+                Interval((c_lo + FastInterval(b.lower())).lower(), (c_hi + FastInterval(b.upper())).upper());
+          }
         for (int s = 0; s < S; ++s) {
-          if (workspace_ok)
-            workspace_point(f, p.workspace, &boxes[static_cast<size_t>(s * n)], &ws[static_cast<size_t>(s * 2)]);
-          else  // a workspace map this agent cannot evaluate: bound nothing rather than guess
-            ws[static_cast<size_t>(s * 2)] = ws[static_cast<size_t>(s * 2 + 1)] = Interval::whole();
+          Interval* w = &ws[static_cast<size_t>(s * 2)];
+          const Interval* x = &boxes[static_cast<size_t>(s * n)];
+          if (!workspace_ok) {  // a workspace map this agent cannot evaluate: bound nothing rather than guess
+            w[0] = w[1] = Interval::whole();
+          } else if (p.workspace.linear()) {
+            for (int c = 0; c < 2; ++c) {
+              const int at = p.workspace.index[c];
+              const FastInterval v = at >= 0 ? FastInterval(x[at]) + FastInterval(p.workspace.offset[c])
+                                             : FastInterval(p.workspace.offset[c]);
+              w[c] = Interval(v.lower(), v.upper());
+            }
+          } else {
+            workspace_point(f, p.workspace, x, w);  // the model's footprint, in Boost intervals
+          }
         }
         accumulate(acc, boxes.data(), ws.data(), S, n);
       }

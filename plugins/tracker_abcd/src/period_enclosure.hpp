@@ -19,9 +19,11 @@ struct EnclosureOptions {
 };
 
 // Fills d.enclosures for steps 0..T-1 of a tracking controller. Cells that differ only along
-// coordinates the field does not read (`invariant`) share one enclosure computation over their
-// hull: translating the state along them translates every solution, so this is as tight as
-// one computation per cell. Returns false (with `why`) when some winning cell has no enclosure.
+// coordinates the field does not read (`invariant`, already restricted to indices where
+// SuccessorTable::shift_valid holds) share one enclosure of a canonical cell centred at 0 along
+// them, shifted by the cells' exact centres: translating the state along those coordinates
+// translates every solution, so one computation per (other indices, input) serves every row and
+// every step. Returns false (with `why`) when some winning cell has no enclosure.
 bool compute_period_enclosures(const TrackingProblem& p, const std::vector<bool>& invariant, const SuccessorBox& sb,
                                const EnclosureOptions& o, ControllerData& d, std::string& why);
 

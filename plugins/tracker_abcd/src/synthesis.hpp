@@ -19,7 +19,7 @@ struct SynthesisOptions {
   const SuccessorHook* hook = nullptr;
   double memory_budget_bytes = 8e9;
   // Parts of each sampling period with their own enclosure box (continuous-time guarantee).
-  int enclosure_substeps = 4;
+  int enclosure_substeps = 8;
 };
 
 TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o);

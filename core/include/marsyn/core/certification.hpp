@@ -3,6 +3,7 @@
 // of the specification checked on the trackers' period enclosures themselves, so that a problem
 // is VERIFIED for every time t in [0, T tau], not only at the samples (docs/soundness.md §7).
 #include <limits>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -24,6 +25,9 @@ struct CertificationReport {
   CertifiedPart state_bounds, obstacle, collision, formation;
   double min_margin = std::numeric_limits<double>::infinity();
   std::vector<int> failing_agents;  // indices of agents in a part with a negative margin
+  // Every requirement with a negative margin on the enclosures, by the planning constraint's
+  // name (planning::AssemblyOptions::extra), with its most negative margin.
+  std::map<std::string, double> shortfalls;
   long long enclosures = 0;
   double time_s = 0.0;
 };

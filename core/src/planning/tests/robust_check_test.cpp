@@ -52,15 +52,54 @@ GlobalPlan straight(int T, int agents) {
 
 }  // namespace
 
+// At the samples (the paper's semantics): the step where the margin is smallest.
 TEST(RobustCheck, AcceptsAClearMarginAndRejectsASlightViolation) {
-  const auto ok = check_robust(drive_to_wall(1.3 + 1e-3), straight(10, 1));
+  Problem clear = drive_to_wall(1.3 + 1e-3), close = drive_to_wall(1.3 - 1e-3);
+  clear.guarantee = close.guarantee = Guarantee::Sampled;
+  const auto ok = check_robust(clear, straight(10, 1));
   EXPECT_TRUE(ok.passed) << ok.message;
   EXPECT_NEAR(ok.min_margin, 1e-3, 1e-6);
-  const auto bad = check_robust(drive_to_wall(1.3 - 1e-3), straight(10, 1));
+  const auto bad = check_robust(close, straight(10, 1));
   EXPECT_FALSE(bad.passed);
   EXPECT_NEAR(bad.min_margin, -1e-3, 1e-6);
   EXPECT_EQ(bad.worst, "obstacle wall vs car");
   EXPECT_EQ(bad.worst_step, 10);
+  EXPECT_FALSE(bad.continuous);
+}
+
+// Continuous time (the default): driving straight at the wall, the motion between the samples
+// adds nothing to the last sample's margin (up to the flow enclosure's rounding), and the
+// violation is named by its period.
+TEST(RobustCheck, ContinuousTimeAlongAStraightApproach) {
+  const auto ok = check_robust(drive_to_wall(1.3 + 1e-3), straight(10, 1));
+  EXPECT_TRUE(ok.passed) << ok.message;
+  EXPECT_TRUE(ok.continuous);
+  EXPECT_NEAR(ok.min_margin, 1e-3, 1e-6);
+  EXPECT_NEAR(ok.between_margin, 1e-3, 1e-6);
+  const auto bad = check_robust(drive_to_wall(1.3 - 1e-3), straight(10, 1));
+  EXPECT_FALSE(bad.passed);
+  EXPECT_NEAR(bad.min_margin, -1e-3, 1e-6);
+  EXPECT_EQ(bad.worst_between, "obstacle wall vs car");
+  EXPECT_EQ(bad.worst_between_step, 9);
+  ASSERT_EQ(bad.between_shortfalls.count("obstacle wall vs car"), 1u);
+  EXPECT_NEAR(bad.between_shortfalls.at("obstacle wall vs car").motion, 0.1, 1e-9);
+}
+
+// A thin wall crossed between two samples: every sample is far from it (robust at the samples),
+// the flow between them is not.
+TEST(RobustCheck, ContinuousTimeSeesAWallCrossedBetweenSamples) {
+  Problem p = drive_to_wall(0.0);
+  p.tau = 1.0;
+  p.obstacles[0].vertices = {{0.45, -1}, {0.55, -1}, {0.55, 1}, {0.45, 1}};
+  GlobalPlan g = straight(2, 1);  // x = 0, 1, 2 at the samples
+  p.guarantee = Guarantee::Sampled;
+  EXPECT_TRUE(check_robust(p, g).passed) << check_robust(p, g).message;
+  p.guarantee = Guarantee::Continuous;
+  const auto r = check_robust(p, g);
+  EXPECT_FALSE(r.passed);
+  EXPECT_GE(r.sampled_margin, 0.0);
+  EXPECT_LT(r.between_margin, -0.3);  // the eps-box passes through the wall
+  EXPECT_EQ(r.worst_between_step, 0);
 }
 
 TEST(RobustCheck, PairMarginsAddBothEps) {

@@ -2,6 +2,7 @@
 // Assembly of the eps-robust planning problem (paper Sec. 3.1: Avoid grown by eps, Goal shrunk by
 // eps) from a Problem: bounds become boxes, workspace requirements become Constraint objects.
 // Formulas and the margin argument: docs/planner.md.
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -21,6 +22,10 @@ struct AssemblyOptions {
   // required distance: a smooth lower bound of max(|dx|/rx, |dy|/ry), exact when the two differ
   // by at least 2c, conservative by at most 4c/27 otherwise (docs/planner.md).
   double inf_norm_corner = 0.3;
+  // Extra slack for single constraints, by name ("obstacle <o> vs <agent>", "collision <a> vs
+  // <b>", "formation <a> - <b>", "state bounds of <agent>"): where a continuous-time check found
+  // the plan (or the trackers' period enclosures) too close between the samples.
+  std::map<std::string, double> extra;
 };
 
 // First product-state (input) coordinate of each agent; one more entry holds the total.

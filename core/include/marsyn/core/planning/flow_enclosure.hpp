@@ -10,11 +10,12 @@
 
 namespace marsyn::planning {
 
-// out[s] (s < parts) encloses x(t) for t in the s-th of `parts` equal parts of [0, tau], where
-// x' = f(x, u), x(0) = x0 (the exact flow, not RK4). Each part: a Picard a priori box B with
-// X + [0, h] F(B) inside B (docs/soundness.md §4a), then X' = (X + h F(B)) ∩ B. Returns false
-// when no a priori box is found (a part the check then cannot clear).
-bool nominal_flow_boxes(const Dynamics& f, const Eigen::VectorXd& x0, const Eigen::VectorXd& u, double tau, int parts,
-                        std::vector<Box>& out);
+// out[s] (s < parts) encloses x(t) for t in the s-th of `parts` equal parts of [0, tau], for
+// x' = f(x, u) + w(t), x(0) in the box `start`, every measurable w with values in [-w, w] (the
+// exact flow, not RK4). Each part: a Picard a priori box B with X + [0, h] (F(B) + W) inside B
+// (docs/soundness.md §4a), then X' = (X + h (F(B) + W)) ∩ B. Returns false when no a priori box
+// is found (a part the check then cannot clear).
+bool flow_boxes(const Dynamics& f, const Box& start, const Eigen::VectorXd& u, const Eigen::VectorXd& w, double tau,
+                int parts, std::vector<Box>& out);
 
 }  // namespace marsyn::planning

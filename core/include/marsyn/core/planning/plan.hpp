@@ -2,6 +2,7 @@
 // What `marsyn plan` runs: assemble the eps-robust problem, solve it with a Planner, clamp and
 // re-simulate the inputs, run the exact check, and lengthen the horizon when that fails.
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -49,6 +50,9 @@ struct PlanOutcome {
   std::vector<NominalTrajectory> agents;  // the projection of `plan`
   std::vector<PlanAttempt> attempts;  // a warm-start planner's first, then the main planner's
   double total_time_s = 0.0;
+  // The per-constraint clearance the returned plan was made with (options.assembly.extra plus
+  // what the continuous-time re-plans added), for a later re-plan to start from.
+  std::map<std::string, double> extra;
 };
 
 // Never throws for algorithmic failure (feasible == false then, with the best attempt's data);

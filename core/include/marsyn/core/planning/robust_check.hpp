@@ -3,12 +3,21 @@
 // with the sampled map f_tau and verify, at every step k = 0..T, that every state within eps of
 // the nominal one satisfies the real specification (docs/planner.md, "Exact check").
 #include <limits>
+#include <map>
 #include <string>
 #include <vector>
 
 #include "marsyn/problem.hpp"
 
 namespace marsyn::planning {
+
+// A requirement the continuous nominal misses between the samples: its most negative margin and
+// the largest knot-to-knot motion of the workspace points involved (in the problem's norm) over
+// the periods where it is missed.
+struct BetweenShortfall {
+  double margin = 0.0;
+  double motion = 0.0;
+};
 
 struct RobustCheck {
   bool passed = false;
@@ -22,15 +31,18 @@ struct RobustCheck {
   std::string worst_input;
   double max_state_mismatch = 0.0;  // |re-simulated x - plan.x|_inf, when the plan carries states
   std::string message;              // one line for humans
-  // Continuous time (problem.guarantee == Continuous): the same requirements on the eps-box
-  // around the exact disturbance-free flow between the samples, from enclosures of that flow
-  // (flow_enclosure.hpp) over kFlowParts parts of every period. min_margin above is the smaller
-  // of the sampled and the between-samples margins.
+  // Continuous time (problem.guarantee == Continuous): the same requirements between the
+  // samples, on the eps-box around enclosures (flow_enclosure.hpp, kFlowParts parts of every
+  // period) of the exact disturbance-free flow from x_k under u_k: the continuous nominal.
+  // min_margin above is the smaller of the sampled and the between-samples margins.
   bool continuous = false;
   double sampled_margin = 0.0;
   double between_margin = std::numeric_limits<double>::infinity();
   std::string worst_between;
   int worst_between_step = -1;
+  // Every requirement with a negative margin between the samples, by constraint name (as in
+  // AssemblyOptions::extra), with its most negative margin.
+  std::map<std::string, BetweenShortfall> between_shortfalls;
 };
 
 inline constexpr int kFlowParts = 8;
