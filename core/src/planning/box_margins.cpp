@@ -4,29 +4,58 @@
 #include <cmath>
 #include <limits>
 
-#include "marsyn/interval.hpp"
+#include "marsyn/fast_interval.hpp"
 
 namespace marsyn::planning {
 
+// Directed rounding from error-free transformations in round-to-nearest (fast_interval.hpp,
+// docs/soundness.md §2): no rounding-mode switches, which made the Boost.Interval version of
+// these loops the bulk of a continuous-time plan check. Each public function holds RN itself.
+using fast_detail::add_down;
+using fast_detail::add_up;
+using fast_detail::div_down;
+using fast_detail::mul_down;
+using fast_detail::mul_up;
+using fast_detail::sqrt_down;
+using fast_detail::sqrt_up;
+using fast_detail::sub_down;
+using fast_detail::sub_up;
+
 namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+bool finite_box(const Box& b) {
+  for (int i = 0; i < b.dim(); ++i)
+    if (!std::isfinite(b.lo[i]) || !std::isfinite(b.hi[i])) return false;
+  return true;
+}
 
 // For any direction a: min_{b in B} a.b - max_{p in P} a.p <= a.(b - p) <= ||a||_* ||b - p|| for
 // every b in B, p in P (Hölder, ||.||_* the dual norm: 1-norm for inf, 2-norm for 2), so
 // gap(a) / ||a||_* is a lower bound of dist(B, P) whatever a is. Directions therefore need no
-// exact arithmetic; only gap and the norm are evaluated in intervals. For convex polygons the
-// best direction is among the candidates used below (edge normals; for the 2-norm also
-// vertex-to-vertex directions), which makes the bound tight up to rounding.
+// exact arithmetic; only gap and the norm are evaluated with directed rounding. For convex
+// polygons the best direction is among the candidates used below (edge normals; for the 2-norm
+// also vertex-to-vertex directions), which makes the bound tight up to rounding.
 double separation(const Polygon& A, const Polygon& P, const Eigen::Vector2d& a, Norm norm) {
-  if (!(a.x() != 0.0 || a.y() != 0.0) || !std::isfinite(a.x()) || !std::isfinite(a.y()))
-    return -std::numeric_limits<double>::infinity();
-  double min_a = std::numeric_limits<double>::infinity(), max_p = -std::numeric_limits<double>::infinity();
-  for (const auto& v : A) min_a = std::min(min_a, (Interval(a.x()) * v.x() + Interval(a.y()) * v.y()).lower());
-  for (const auto& v : P) max_p = std::max(max_p, (Interval(a.x()) * v.x() + Interval(a.y()) * v.y()).upper());
-  const Interval gap = Interval(min_a) - Interval(max_p);
-  const Interval len = norm == Norm::Inf ? abs(Interval(a.x())) + abs(Interval(a.y()))
-                                         : sqrt(square(Interval(a.x())) + square(Interval(a.y())));
-  // gap / len bounded below: the lower end of the quotient interval.
-  return (gap / len).lower();
+  const double ax = a.x(), ay = a.y();
+  if (!(ax != 0.0 || ay != 0.0) || !std::isfinite(ax) || !std::isfinite(ay)) return -kInf;
+  double min_a = kInf, max_p = -kInf;
+  for (const auto& v : A) min_a = std::min(min_a, add_down(mul_down(ax, v.x()), mul_down(ay, v.y())));
+  for (const auto& v : P) max_p = std::max(max_p, add_up(mul_up(ax, v.x()), mul_up(ay, v.y())));
+  const double gap = sub_down(min_a, max_p);
+  if (!std::isfinite(gap)) return -kInf;
+  double len_lo, len_up;
+  if (norm == Norm::Inf) {
+    len_lo = add_down(std::abs(ax), std::abs(ay));
+    len_up = add_up(std::abs(ax), std::abs(ay));
+  } else {
+    len_lo = sqrt_down(add_down(mul_down(ax, ax), mul_down(ay, ay)));
+    len_up = sqrt_up(add_up(mul_up(ax, ax), mul_up(ay, ay)));
+  }
+  if (!(len_lo > 0)) return gap >= 0 ? 0.0 : -kInf;
+  // The lower end of gap / [len_lo, len_up]: divide by the largest length when gap >= 0.
+  return div_down(gap, gap >= 0 ? len_up : len_lo);
 }
 
 Polygon corners(const Box& b) {
@@ -35,7 +64,7 @@ Polygon corners(const Box& b) {
 
 // Lower bound of dist(A, P) for convex polygons (negative or -inf when they meet).
 double polygon_distance(const Polygon& A, const Polygon& P, Norm norm) {
-  double best = -std::numeric_limits<double>::infinity();
+  double best = -kInf;
   auto edges = [&](const Polygon& Q, bool q_is_a) {
     const size_t k = Q.size();
     for (size_t e = 0; e < k; ++e) {
@@ -54,45 +83,58 @@ double polygon_distance(const Polygon& A, const Polygon& P, Norm norm) {
   return best;
 }
 
+// Gap between the boxes along coordinate c (lower bound; negative when they overlap there).
+double gap_down(const Box& a, const Box& b, int c) {
+  return std::max(sub_down(a.lo[c], b.hi[c]), sub_down(b.lo[c], a.hi[c]));
+}
+
+// Lower bound of the distance between two boxes (negative: overlap depth, indicative only).
+double box_distance(const Box& a, const Box& b, Norm norm) {
+  const double gx = gap_down(a, b, 0), gy = gap_down(a, b, 1);
+  if (norm == Norm::Inf || (gx <= 0 && gy <= 0)) return std::max(gx, gy);
+  const double px = std::max(0.0, gx), py = std::max(0.0, gy);
+  return sqrt_down(add_down(mul_down(px, px), mul_down(py, py)));
+}
+
 }  // namespace
 
 double box_obstacle_margin(const Box& w, const Polygon& obstacle, double delta, Norm norm) {
-  if (obstacle.size() < 3) return std::numeric_limits<double>::infinity();
-  const double d = polygon_distance(corners(w), obstacle, norm);
-  return (Interval(d) - Interval(delta)).lower();
+  if (obstacle.size() < 3) return kInf;
+  if (!finite_box(w)) return -kInf;
+  const RoundToNearestScope nearest;
+  return sub_down(polygon_distance(corners(w), obstacle, norm), delta);
 }
 
 double box_pair_margin(const Box& a, const Box& b, double delta, Norm norm) {
-  // Gaps along x and y (exact directions): dist_inf = max(gx, gy); dist_2 = |(gx+, gy+)|.
-  Interval g[2];
-  for (int c = 0; c < 2; ++c) {
-    const Interval g1 = Interval(a.lo[c]) - Interval(b.hi[c]), g2 = Interval(b.lo[c]) - Interval(a.hi[c]);
-    g[c] = Interval(std::max(g1.lower(), g2.lower()), std::max(g1.upper(), g2.upper()));
-  }
-  if (norm == Norm::Inf) return (Interval(std::max(g[0].lower(), g[1].lower())) - Interval(delta)).lower();
-  const Interval px = Interval(std::max(0.0, g[0].lower())), py = Interval(std::max(0.0, g[1].lower()));
-  if (px.lower() <= 0 && py.lower() <= 0) return (Interval(std::max(g[0].lower(), g[1].lower())) - Interval(delta)).lower();
-  return (sqrt(square(px) + square(py)) - Interval(delta)).lower();
+  if (!finite_box(a) || !finite_box(b)) return -kInf;
+  const RoundToNearestScope nearest;
+  return sub_down(box_distance(a, b, norm), delta);
 }
 
 double box_formation_margin(const Box& a, const Box& b, double lambda, double mu) {
-  // Smallest distance: as for the pair margin (2-norm, delta 0); largest: the farthest corners.
-  const double dmin = std::max(0.0, box_pair_margin(a, b, 0.0, Norm::Two));
-  Interval far2(0.0);
+  if (!finite_box(a) || !finite_box(b)) return -kInf;
+  const RoundToNearestScope nearest;
+  // Smallest distance: as for the pair margin (2-norm); largest: the farthest corners.
+  const double dmin = std::max(0.0, box_distance(a, b, Norm::Two));
+  double far2 = 0.0;
   for (int c = 0; c < 2; ++c) {
-    const Interval s = max(abs(Interval(a.hi[c]) - Interval(b.lo[c])), abs(Interval(b.hi[c]) - Interval(a.lo[c])));
-    far2 += square(s);
+    const double s = std::max(std::abs(sub_up(a.hi[c], b.lo[c])), std::abs(sub_up(b.hi[c], a.lo[c])));
+    // |a.hi - b.lo| <= max(|up|, |down|); the larger of the upward-rounded magnitudes bounds both.
+    const double s2 = std::max(s, std::max(std::abs(sub_down(a.hi[c], b.lo[c])), std::abs(sub_down(b.hi[c], a.lo[c]))));
+    far2 = add_up(far2, mul_up(s2, s2));
   }
-  const double dmax = sqrt(far2).upper();
-  const Interval lo = Interval(lambda) - Interval(mu), hi = Interval(lambda) + Interval(mu);
-  return std::min((Interval(dmin) - lo).lower(), (hi - Interval(dmax)).lower());
+  const double dmax = sqrt_up(far2);
+  const double band_lo = add_up(lambda, -mu), band_hi = add_down(lambda, mu);
+  return std::min(sub_down(dmin, band_lo), sub_down(band_hi, dmax));
 }
 
 double box_inside_margin(const Box& box, const Box& X) {
-  double m = std::numeric_limits<double>::infinity();
+  double m = kInf;
+  const RoundToNearestScope nearest;
   for (int i = 0; i < X.dim(); ++i) {
-    m = std::min(m, (Interval(box.lo[i]) - Interval(X.lo[i])).lower());
-    m = std::min(m, (Interval(X.hi[i]) - Interval(box.hi[i])).lower());
+    if (!std::isfinite(box.lo[i]) || !std::isfinite(box.hi[i])) return -kInf;
+    m = std::min(m, sub_down(box.lo[i], X.lo[i]));
+    m = std::min(m, sub_down(X.hi[i], box.hi[i]));
   }
   return m;
 }

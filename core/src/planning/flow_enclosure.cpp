@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
-#include "marsyn/interval.hpp"
+#include "marsyn/fast_interval.hpp"
 
 namespace marsyn::planning {
 
 namespace {
 
-bool finite(const Interval& v) { return std::isfinite(v.lower()) && std::isfinite(v.upper()); }
+bool finite(const FastInterval& v) { return std::isfinite(v.lower()) && std::isfinite(v.upper()); }
 
 }  // namespace
 
@@ -17,24 +17,29 @@ bool flow_boxes(const Dynamics& f, const Box& start, const Eigen::VectorXd& u, c
                 int parts, std::vector<Box>& out) {
   const int n = f.state_dim(), m = f.input_dim();
   if (start.dim() != n || w.size() != n || u.size() != m || parts < 1 || !(tau > 0)) return false;
-  std::vector<Interval> X(n), U(m), B(n), FB(n), cand(n), W(n);
+  // FastInterval (directed rounding without mode switches) needs round-to-nearest, as do the
+  // model's plain double operations inside its interval field.
+  const RoundToNearestScope nearest;
+  std::vector<FastInterval> X(n), U(m), B(n), FB(n), cand(n), W(n);
   for (int i = 0; i < n; ++i) {
-    if (!(start.lo[i] <= start.hi[i])) return false;
-    X[i] = Interval(start.lo[i], start.hi[i]);
-    W[i] = Interval(-std::abs(w[i]), std::abs(w[i]));
+    if (!(start.lo[i] <= start.hi[i]) || !std::isfinite(start.lo[i]) || !std::isfinite(start.hi[i])) return false;
+    X[i] = FastInterval(start.lo[i], start.hi[i]);
+    W[i] = FastInterval(-std::abs(w[i]), std::abs(w[i]));
   }
-  for (int j = 0; j < m; ++j) U[j] = Interval(u[j]);
-  const Interval h = Interval(tau) / Interval(static_cast<double>(parts));
-  const Interval t(0.0, h.upper());
+  for (int j = 0; j < m; ++j) U[j] = FastInterval(u[j]);
+  const FastInterval h = FastInterval(tau) / FastInterval(static_cast<double>(parts));
+  const FastInterval t(0.0, h.upper());
   out.assign(static_cast<size_t>(parts), Box{Eigen::VectorXd(n), Eigen::VectorXd(n)});
   for (int s = 0; s < parts; ++s) {
     f.field(X.data(), U.data(), FB.data());
     for (int i = 0; i < n; ++i) B[i] = X[i] + t * (FB[i] + W[i]);
     bool found = false;
-    for (int it = 0; it < 20 && !found; ++it) {
+    for (int it = 0; it < 30 && !found; ++it) {
+      // Inflation (growing each round) makes the containment test succeed for a smooth field.
+      const double grow = 0.1 * (1 + it / 10);
       for (int i = 0; i < n; ++i) {
-        const double r = 0.1 * width(B[i]) + 1e-12 * (1.0 + norm(B[i]));
-        B[i] = Interval(B[i].lower() - r, B[i].upper() + r);
+        const double r = grow * width(B[i]) + 1e-12 * (1.0 + mag(B[i]));
+        B[i] = FastInterval(B[i].lower() - r, B[i].upper() + r);
         if (!finite(B[i])) return false;
       }
       f.field(B.data(), U.data(), FB.data());
@@ -51,9 +56,9 @@ bool flow_boxes(const Dynamics& f, const Box& start, const Eigen::VectorXd& u, c
     for (int i = 0; i < n; ++i) {
       out[s].lo[i] = cand[i].lower();
       out[s].hi[i] = cand[i].upper();
-      // x(t + h) = x(t) + integral of f over the part, which lies in h times the hull of F(B).
-      const Interval next = X[i] + h * (FB[i] + W[i]);
-      X[i] = Interval(std::max(next.lower(), cand[i].lower()), std::min(next.upper(), cand[i].upper()));
+      // x(t + h) = x(t) + the integral of f + w over the part, which lies in h (F(B) + W).
+      const FastInterval next = X[i] + h * (FB[i] + W[i]);
+      X[i] = FastInterval(std::max(next.lower(), cand[i].lower()), std::min(next.upper(), cand[i].upper()));
     }
   }
   return true;

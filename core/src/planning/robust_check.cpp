@@ -10,6 +10,7 @@
 #include "marsyn/core/planning/flow_enclosure.hpp"
 #include "marsyn/core/planning/geometry.hpp"
 #include "marsyn/core/planning/margins.hpp"
+#include "marsyn/fast_interval.hpp"
 #include "marsyn/interval.hpp"
 #include "marsyn/sampled_map.hpp"
 
@@ -100,16 +101,29 @@ void check_between_samples(const Problem& problem, const std::vector<Eigen::Vect
       xb.resize(a.n());
       for (int s = 0; s < P; ++s) {
         Box grown{Eigen::VectorXd(a.n()), Eigen::VectorXd(a.n())};
-        for (int c = 0; c < a.n(); ++c) {
-          grown.lo[c] = (Interval(flow[s].lo[c]) - Interval(a.eps[c])).lower();
-          grown.hi[c] = (Interval(flow[s].hi[c]) + Interval(a.eps[c])).upper();
-          xb[c] = Interval(grown.lo[c], grown.hi[c]);
+        {
+          const RoundToNearestScope nearest;  // fast_detail's directed rounding needs RN
+          for (int c = 0; c < a.n(); ++c) {
+            grown.lo[c] = fast_detail::sub_down(flow[s].lo[c], a.eps[c]);
+            grown.hi[c] = fast_detail::add_up(flow[s].hi[c], a.eps[c]);
+          }
         }
+        for (int c = 0; c < a.n(); ++c) xb[c] = Interval(grown.lo[c], grown.hi[c]);
         t.record(box_inside_margin(grown, a.state_bounds), k, [&] { return "state bounds of " + a.name; });
-        workspace_point(*a.dynamics, a.workspace, xb.data(), pb.data());
-        for (int c = 0; c < 2; ++c) {
-          ws[i][s].lo[c] = pb[c].lower();
-          ws[i][s].hi[c] = pb[c].upper();
+        if (a.workspace.linear()) {  // exact up to one directed addition, no interval type needed
+          const RoundToNearestScope nearest;
+          for (int c = 0; c < 2; ++c) {
+            const int at = a.workspace.index[c];
+            const double off = a.workspace.offset[c];
+            ws[i][s].lo[c] = at >= 0 ? fast_detail::add_down(grown.lo[at], off) : off;
+            ws[i][s].hi[c] = at >= 0 ? fast_detail::add_up(grown.hi[at], off) : off;
+          }
+        } else {
+          workspace_point(*a.dynamics, a.workspace, xb.data(), pb.data());
+          for (int c = 0; c < 2; ++c) {
+            ws[i][s].lo[c] = pb[c].lower();
+            ws[i][s].hi[c] = pb[c].upper();
+          }
         }
         for (size_t o = 0; o < problem.obstacles.size(); ++o)
           t.record(box_obstacle_margin(ws[i][s], problem.obstacles[o].vertices, problem.delta, problem.delta_norm), k,
