@@ -198,9 +198,13 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
                 a.track.stats.abstraction_time_s + a.track.stats.synthesis_time_s);
   if (out.certification_ran) std::printf("certification %s\n", out.certification.message.c_str());
   if (out.verification_ran) {
-    std::printf("verification  %d closed-loop runs, %d violations, smallest margin %.4g at the samples, %.4g between "
-                "them (dense, every %.3g s)\n",
-                v.runs, v.violations, v.sampled_min_margin, v.between.min(), v.dense_resolution_s);
+    if (v.between.min() < 1e299)
+      std::printf("verification  %d closed-loop runs, %d violations, smallest margin %.4g at the samples, %.4g between "
+                  "them (dense, every %.3g s)\n",
+                  v.runs, v.violations, v.sampled_min_margin, v.between.min(), v.dense_resolution_s);
+    else  // no obstacle, collision or formation: nothing to check between the samples but the bounds
+      std::printf("verification  %d closed-loop runs, %d violations, smallest margin %.4g\n", v.runs, v.violations,
+                  v.sampled_min_margin);
     std::printf("open loop     %d runs, %d violations, smallest margin %.4g (%s)\n", v.open_loop_runs,
                 v.open_loop_violations, v.open_loop_min_margin, v.open_loop_worst.c_str());
     // Each run's parts, so that a collision shows even where a missed goal is the worst.

@@ -81,9 +81,14 @@ CertificationReport certify(const Problem& pb, const std::vector<std::shared_ptr
     const auto& a = pb.agents[i];
     for (int k = 0; k < T; ++k)
       for (const PeriodEnclosure* e : by_step[i][static_cast<size_t>(k)]) {
-        const double mb = planning::box_inside_margin(e->state, a.state_bounds);
-        record(r.state_bounds, mb, k, [&] { return "state bounds of " + a.name; }, r.shortfalls);
-        note(mb, {i});
+        for (int c = 0; c < a.state_bounds.dim(); ++c) {
+          const double mb = planning::box_inside_margin(e->state, a.state_bounds, c);
+          record(r.state_bounds, mb, k, [&] {
+            const std::string coord = a.dynamics ? a.dynamics->state_names()[c] : "x" + std::to_string(c);
+            return "state bound " + coord + " of " + a.name;
+          }, r.shortfalls);
+          note(mb, {i});
+        }
         for (size_t o = 0; o < pb.obstacles.size(); ++o) {
           const double mo = planning::box_obstacle_margin(e->workspace, pb.obstacles[o].vertices, pb.delta, pb.delta_norm);
           record(r.obstacle, mo, k, [&] {

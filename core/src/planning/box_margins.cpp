@@ -128,10 +128,11 @@ double box_formation_margin(const Box& a, const Box& b, double lambda, double mu
   return std::min(sub_down(dmin, band_lo), sub_down(band_hi, dmax));
 }
 
-double box_inside_margin(const Box& box, const Box& X) {
+double box_inside_margin(const Box& box, const Box& X, int coord) {
   double m = kInf;
   const RoundToNearestScope nearest;
   for (int i = 0; i < X.dim(); ++i) {
+    if (coord >= 0 && i != coord) continue;
     if (!std::isfinite(box.lo[i]) || !std::isfinite(box.hi[i])) return -kInf;
     m = std::min(m, sub_down(box.lo[i], X.lo[i]));
     m = std::min(m, sub_down(X.hi[i], box.hi[i]));

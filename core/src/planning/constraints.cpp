@@ -341,7 +341,9 @@ PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOpti
         a.eps.size() != a.n() || a.state_bounds.dim() != a.n() || a.goal.dim() != a.n())
       throw std::invalid_argument("marsyn::planning::assemble: inconsistent dimensions for agent " + a.name);
     const Eigen::VectorXd shrink = a.eps.array() + opt.buffer;
-    const Box X = a.state_bounds.shrunk(a.eps.array() + opt.buffer + more("state bounds of " + a.name));
+    Eigen::VectorXd shrink_x = shrink;
+    for (int c = 0; c < a.n(); ++c) shrink_x[c] += more("state bound " + a.dynamics->state_names()[c] + " of " + a.name);
+    const Box X = a.state_bounds.shrunk(shrink_x);
     pp.x0.segment(xo[i], a.n()) = a.x0;
     const Box G = a.goal.shrunk(shrink);
     pp.state_bounds.lo.segment(xo[i], a.n()) = X.lo;

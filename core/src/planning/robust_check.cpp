@@ -109,7 +109,10 @@ void check_between_samples(const Problem& problem, const std::vector<Eigen::Vect
           }
         }
         for (int c = 0; c < a.n(); ++c) xb[c] = Interval(grown.lo[c], grown.hi[c]);
-        t.record(box_inside_margin(grown, a.state_bounds), k, [&] { return "state bounds of " + a.name; });
+        for (int c = 0; c < a.n(); ++c)
+          t.record(box_inside_margin(grown, a.state_bounds, c), k,
+                   [&] { return "state bound " + a.dynamics->state_names()[c] + " of " + a.name; },
+                   std::abs(x[k + 1][xo[i] + c] - x[k][xo[i] + c]));
         if (a.workspace.linear()) {  // exact up to one directed addition, no interval type needed
           const RoundToNearestScope nearest;
           for (int c = 0; c < 2; ++c) {

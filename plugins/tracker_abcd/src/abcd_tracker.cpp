@@ -16,6 +16,8 @@ AbcdTracker::AbcdTracker(const Params& p) {
   base_.enclosure_substeps = static_cast<int>(p.integer("enclosure_substeps", 8));
   if (base_.enclosure_substeps < 1 || base_.enclosure_substeps > SuccessorBox::kMaxEncloseSubsteps)
     throw ParamError("enclosure_substeps", "expected an integer in [1, 64]");
+  base_.enclosure_block = static_cast<int>(p.integer("enclosure_block", 4));
+  if (base_.enclosure_block < 1 || base_.enclosure_block > 64) throw ParamError("enclosure_block", "expected an integer in [1, 64]");
   if (base_.successor.substeps < 1 || base_.successor.substeps > 1000)
     throw ParamError("substeps", "expected an integer in [1, 1000]");
   if (base_.successor.taylor_terms < 4 || base_.successor.taylor_terms > 16)
@@ -39,6 +41,8 @@ std::vector<ParamSpec> AbcdTracker::param_specs() {
       {"threads", ParamType::Int, "0", "[0, 256]", "worker threads; 0: the run's thread option"},
       {"enclosure_substeps", ParamType::Int, "8", "[1, 64]",
        "boxes per sampling period enclosing the closed loop between samples (continuous-time guarantee; more: tighter)"},
+      {"enclosure_block", ParamType::Int, "4", "[1, 64]",
+       "cells per block enclosed together between samples, along coordinates the field reads (fewer: tighter, slower)"},
   };
 }
 

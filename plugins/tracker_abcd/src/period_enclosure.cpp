@@ -15,6 +15,8 @@
 namespace marsyn::abcd {
 namespace {
 
+std::int64_t floor_div(std::int64_t a, std::int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+
 Interval hull(const Interval& a, const Interval& b) {
   return Interval(std::min(a.lower(), b.lower()), std::max(a.upper(), b.upper()));
 }
@@ -41,7 +43,7 @@ void accumulate(StepBoxes& acc, const Interval* boxes, const Interval* ws, int s
 
 bool compute_period_enclosures(const TrackingProblem& p, const std::vector<bool>& inv, const SuccessorBox& sb,
                                const EnclosureOptions& o, ControllerData& d, std::string& why) {
-  const int n = d.n, m = d.m, S = o.substeps;
+  const int n = d.n, m = d.m, S = o.substeps, B = std::max(1, o.block);
   const int T = d.tables();
   if (S < 1 || S > SuccessorBox::kMaxEncloseSubsteps) {
     why = "enclosure substeps outside [1, " + std::to_string(SuccessorBox::kMaxEncloseSubsteps) + "]";
@@ -85,9 +87,15 @@ bool compute_period_enclosures(const TrackingProblem& p, const std::vector<bool>
         const std::uint16_t j = d.inputs[static_cast<size_t>(off + l)];
         if (j == kLosing) continue;
         bk.unlinear(l, idx);
-        std::uint64_t column = 0;  // linear index over the non-invariant coordinates
+        // Linear index of the cell's block over the non-invariant coordinates (blocks of B cells
+        // along each, aligned to multiples of B in absolute indices so that steps share them).
+        std::uint64_t column = 0;
         for (int i = 0; i < n; ++i)
-          if (!inv[i]) column = column * static_cast<std::uint64_t>(bk.extent(i)) + static_cast<std::uint64_t>(idx[i] - bk.lo[i]);
+          if (!inv[i]) {
+            const std::int64_t first = floor_div(bk.lo[i], B), last = floor_div(bk.hi[i], B);
+            column = column * static_cast<std::uint64_t>(last - first + 1) +
+                     static_cast<std::uint64_t>(floor_div(idx[i], B) - first);
+          }
         auto [it, fresh] = groups.try_emplace(column * 65536u + j);
         for (int i = 0; i < n; ++i) {
           if (fresh || idx[i] < it->second.lo[i]) it->second.lo[i] = idx[i];
@@ -99,12 +107,20 @@ bool compute_period_enclosures(const TrackingProblem& p, const std::vector<bool>
         const auto input = static_cast<std::uint16_t>(key % 65536u);
         // The canonical cell's enclosure, per (non-invariant indices, input): every step reuses it.
         std::string ckey(reinterpret_cast<const char*>(&input), sizeof input);
+        std::int64_t block[kMaxDim] = {};
         for (int i = 0; i < n; ++i)
-          if (!inv[i]) ckey.append(reinterpret_cast<const char*>(&range.lo[i]), sizeof range.lo[i]);
+          if (!inv[i]) {
+            block[i] = floor_div(range.lo[i], B);
+            ckey.append(reinterpret_cast<const char*>(&block[i]), sizeof block[i]);
+          }
         auto [cit, fresh] = cache.try_emplace(ckey);
         if (fresh) {
+          // The whole block (a superset of the group's cells in it), so that the entry is a
+          // function of its key alone.
           Interval cell[kMaxDim];
-          for (int i = 0; i < n; ++i) cell[i] = inv[i] ? Interval(-radius[i], radius[i]) : g.cell(i, range.lo[i]);
+          for (int i = 0; i < n; ++i)
+            cell[i] = inv[i] ? Interval(-radius[i], radius[i])
+                             : hull(g.cell(i, block[i] * B), g.cell(i, block[i] * B + B - 1));
           ug.value(input, u);
           cit->second.resize(static_cast<size_t>(S * n));
           if (!sb.enclose(cell, u, S, cit->second.data())) {

@@ -14,7 +14,10 @@
 namespace marsyn::abcd {
 
 struct EnclosureOptions {
-  int substeps = 4;  // parts of each period, each with its own box
+  int substeps = 8;  // parts of each period, each with its own box
+  // Cells sharing an input are enclosed together in blocks of `block` cells along each
+  // coordinate the field reads: fewer computations, boxes a few cells wider.
+  int block = 4;
   int threads = 1;
 };
 
@@ -23,7 +26,9 @@ struct EnclosureOptions {
 // SuccessorTable::shift_valid holds) share one enclosure of a canonical cell centred at 0 along
 // them, shifted by the cells' exact centres: translating the state along those coordinates
 // translates every solution, so one computation per (other indices, input) serves every row and
-// every step. Returns false (with `why`) when some winning cell has no enclosure.
+// every step. Along the other coordinates, cells with the same input are enclosed per block of
+// o.block cells (the whole block, aligned in absolute indices, so the entry serves every step).
+// Returns false (with `why`) when some winning cell has no enclosure.
 bool compute_period_enclosures(const TrackingProblem& p, const std::vector<bool>& invariant, const SuccessorBox& sb,
                                const EnclosureOptions& o, ControllerData& d, std::string& why);
 

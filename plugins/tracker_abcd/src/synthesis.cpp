@@ -339,6 +339,7 @@ TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o
     const double t_enc = now_s();
     EnclosureOptions eo;
     eo.substeps = o.enclosure_substeps;
+    eo.block = o.enclosure_block;
     eo.threads = threads;
     if (!compute_period_enclosures(p, inv, sb, eo, d, enclosure_failure)) d.enclosures.clear();
     st.enclosure_time_s = now_s() - t_enc;

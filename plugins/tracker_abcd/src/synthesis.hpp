@@ -20,6 +20,7 @@ struct SynthesisOptions {
   double memory_budget_bytes = 8e9;
   // Parts of each sampling period with their own enclosure box (continuous-time guarantee).
   int enclosure_substeps = 8;
+  int enclosure_block = 4;  // cells per block along non-invariant coordinates (period_enclosure.hpp)
 };
 
 TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o);

@@ -255,3 +255,11 @@ TEST(PeriodEnclosure, StoredEnclosuresShrunkLeakDrone) {
 TEST(PeriodEnclosure, StoredEnclosuresHoldTheClosedLoopVehicle) {
   expect_closed_loop_inside(scenarios::vehicle(), 0.0, false);
 }
+// No coordinate is invariant: cells are enclosed in blocks (enclosure_block).
+TEST(PeriodEnclosure, StoredEnclosuresHoldTheClosedLoopPendulum) {
+  expect_closed_loop_inside(scenarios::pendulum(60), 0.0, false);
+}
+// Three coordinates in blocks, one invariant (the trolley position).
+TEST(PeriodEnclosure, StoredEnclosuresHoldTheClosedLoopCrane) {
+  expect_closed_loop_inside(scenarios::crane(4), 0.0, false);
+}

@@ -21,7 +21,8 @@ double box_pair_margin(const Box& a, const Box& b, double delta, Norm norm);
 // A lower bound of min(|p - q|_2 - (lambda - mu), (lambda + mu) - |p - q|_2) over p in A, q in B.
 double box_formation_margin(const Box& a, const Box& b, double lambda, double mu);
 
-// min over coordinates of (box.lo - X.lo, X.hi - box.hi): >= 0 iff the box lies in X.
-double box_inside_margin(const Box& box, const Box& X);
+// min over coordinates of (box.lo - X.lo, X.hi - box.hi): >= 0 iff the box lies in X; with
+// coord >= 0, that coordinate only.
+double box_inside_margin(const Box& box, const Box& X, int coord = -1);
 
 }  // namespace marsyn::planning

@@ -23,7 +23,7 @@ struct AssemblyOptions {
   // by at least 2c, conservative by at most 4c/27 otherwise (docs/planner.md).
   double inf_norm_corner = 0.3;
   // Extra slack for single constraints, by name ("obstacle <o> vs <agent>", "collision <a> vs
-  // <b>", "formation <a> - <b>", "state bounds of <agent>"): where a continuous-time check found
+  // <b>", "formation <a> - <b>", "state bound <state name> of <agent>"): where a continuous-time check found
   // the plan (or the trackers' period enclosures) too close between the samples.
   std::map<std::string, double> extra;
 };
