@@ -212,14 +212,11 @@ ClosedLoopRun simulate(const SimulationSetup& s, const Scenario& scenario) {
           run.dense_states.push_back(prod);
         }
         if (s.between) {
-          StepMargins m = s.between->step(prod);
-          if (m.min() < run.between.min()) {
+          const double before = run.between.min();
+          if (s.between->accumulate(prod, run.between) && run.between.min() < before) {
             run.between_worst_t = (k + static_cast<double>(sub + 1) / S) * pb.tau;
-            m = s.between->step(prod, &run.between_worst);  // named only for a new minimum
+            s.between->step(prod, &run.between_worst);  // named only for a new minimum
           }
-          run.between.obstacle = std::min(run.between.obstacle, m.obstacle);
-          run.between.collision = std::min(run.between.collision, m.collision);
-          run.between.formation = std::min(run.between.formation, m.formation);
         }
       }
     }

@@ -80,6 +80,50 @@ SpecMonitor::SpecMonitor(const Problem& problem) : problem_(problem) {
     offset_.push_back(off);
     off += a.n();
   }
+  for (const auto& o : problem.obstacles) {
+    Eigen::Vector4d b(1e300, 1e300, -1e300, -1e300);
+    for (const auto& v : o.vertices) {
+      b[0] = std::min(b[0], v.x());
+      b[1] = std::min(b[1], v.y());
+      b[2] = std::max(b[2], v.x());
+      b[3] = std::max(b[3], v.y());
+    }
+    bbox_.push_back(b);
+  }
+}
+
+bool SpecMonitor::accumulate(const Eigen::VectorXd& x, StepMargins& running) const {
+  const StepMargins before = running;
+  const int n = static_cast<int>(problem_.agents.size());
+  const bool inf = problem_.delta_norm == Norm::Inf;
+  thread_local std::vector<Eigen::Vector2d> pts;
+  pts.resize(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) pts[i] = point(i, x);
+  for (int i = 0; i < n; ++i)
+    for (std::size_t o = 0; o < problem_.obstacles.size(); ++o) {
+      // Outside its bounding box, a point is at least as far from the obstacle as from the box.
+      const Eigen::Vector4d& b = bbox_[o];
+      const double gx = std::max(b[0] - pts[i].x(), pts[i].x() - b[2]), gy = std::max(b[1] - pts[i].y(), pts[i].y() - b[3]);
+      if (gx > 0 || gy > 0) {
+        const double px = std::max(gx, 0.0), py = std::max(gy, 0.0);
+        const double lb = (inf ? std::max(px, py) : std::sqrt(px * px + py * py)) - problem_.delta;
+        if (lb >= running.obstacle) continue;
+      }
+      const auto& ob = problem_.obstacles[o];
+      const double d = (inf ? signed_distance_inf(ob.vertices, pts[i]) : signed_distance_two(ob.vertices, pts[i])) -
+                       problem_.delta;
+      running.obstacle = std::min(running.obstacle, d);
+    }
+  if (problem_.pairwise_collision)
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j) {
+        const Eigen::Vector2d d = pts[i] - pts[j];
+        running.collision = std::min(running.collision, (inf ? d.lpNorm<Eigen::Infinity>() : d.norm()) - problem_.delta);
+      }
+  for (const auto& f : problem_.formation)
+    running.formation = std::min(running.formation, f.mu - std::abs((pts[f.i] - pts[f.j]).norm() - f.lambda));
+  return running.obstacle < before.obstacle || running.collision < before.collision ||
+         running.formation < before.formation;
 }
 
 Eigen::Vector2d SpecMonitor::point(int agent, const Eigen::VectorXd& x) const {
