@@ -46,6 +46,14 @@ struct PyController {
   std::shared_ptr<const Controller> c;
   std::shared_ptr<const void> keep;
   std::string agent;
+  // The controller's destructor is code in its plugin library: release it while `keep` still
+  // holds that library (members are destroyed in reverse order, `keep` before `c`).
+  ~PyController() { c.reset(); }
+  PyController() = default;
+  PyController(std::shared_ptr<const Controller> ctl, std::shared_ptr<const void> k, std::string name)
+      : c(std::move(ctl)), keep(std::move(k)), agent(std::move(name)) {}
+  PyController(const PyController&) = default;
+  PyController& operator=(const PyController&) = default;
 };
 
 py::array_t<double> matrix(const std::vector<Eigen::VectorXd>& rows, int cols) {

@@ -1,6 +1,7 @@
 #include "marsyn/core/certification.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <functional>
 #include <set>
@@ -69,6 +70,19 @@ CertificationReport certify(const Problem& pb, const std::vector<std::shared_ptr
         return r;
       }
       std::sort(v.begin(), v.end(), [](const PeriodEnclosure* a, const PeriodEnclosure* b) { return a->t0 < b->t0; });
+      // Parts are compared by index below, which needs the tracker's split of the period into
+      // equal parts (tracker.hpp): refuse anything else rather than assume it.
+      const double n = static_cast<double>(v.size()), tol = 1e-9 * pb.tau;
+      for (size_t p = 0; p < v.size(); ++p) {
+        const double t0 = pb.tau * (k + p / n), t1 = pb.tau * (k + (p + 1) / n);
+        if (!(std::abs(v[p]->t0 - t0) <= tol && std::abs(v[p]->t1 - t1) <= tol)) {
+          r.message = "not certified: the enclosures of " + pb.agents[i].name + " between samples " +
+                      std::to_string(k) + " and " + std::to_string(k + 1) +
+                      " do not split the period into equal parts covering it";
+          r.failing_agents.push_back(i);
+          return r;
+        }
+      }
       r.enclosures += static_cast<long long>(v.size());
     }
   }

@@ -117,3 +117,25 @@ TEST(Certification, ControllerWithoutEnclosuresIsRefused) {
   EXPECT_FALSE(r.certified);
   EXPECT_NE(r.message.find("no enclosure"), std::string::npos) << r.message;
 }
+
+// Parts of unequal length (allowed by nothing but a careless tracker) are refused: comparing by
+// index would pair different times.
+TEST(Certification, UnevenPartsAreRefused) {
+  Problem pb = problem(2);
+  std::vector<PeriodEnclosure> a, b;
+  for (int p = 0; p < 2; ++p) {
+    PeriodEnclosure e;
+    e.step = 0;
+    e.t0 = p == 0 ? 0.0 : 0.09;
+    e.t1 = p == 0 ? 0.09 : 0.1;
+    e.state = e.workspace = box2(10.0 * p, 0, 10.0 * p + 0.1, 0.1);
+    a.push_back(e);
+    e.t0 = p == 0 ? 0.0 : 0.01;
+    e.t1 = p == 0 ? 0.01 : 0.1;
+    e.state = e.workspace = box2(p == 0 ? 20.0 : 0.0, 0, (p == 0 ? 20.0 : 0.0) + 0.1, 0.1);
+    b.push_back(e);
+  }
+  const auto r = certify(pb, {std::make_shared<BoxController>(1, a), std::make_shared<BoxController>(1, b)});
+  EXPECT_FALSE(r.certified);
+  EXPECT_NE(r.message.find("equal parts"), std::string::npos) << r.message;
+}

@@ -131,7 +131,7 @@ TEST(Verification, ABrokenControllerIsCaught) {
 TEST(Verification, ScenariosCoverEveryModeDeterministically) {
   const auto a = marsyn::verification_scenarios(100, 7), b = marsyn::verification_scenarios(100, 7);
   ASSERT_EQ(a.size(), 100u);
-  int counts[5] = {0, 0, 0, 0, 0};
+  int counts[6] = {0, 0, 0, 0, 0, 0};  // one per DisturbanceMode, Adversarial included
   for (std::size_t i = 0; i < a.size(); ++i) {
     EXPECT_EQ(a[i].seed, b[i].seed);
     ++counts[static_cast<int>(a[i].mode)];

@@ -37,8 +37,9 @@ enum class ControlStatus { Ok, OutsideDomain, OutsideHorizon };
 // docs/soundness.md "Continuous time"): for every initial state in a winning cell of step 0,
 // every measurable disturbance in [-W, W] and every t in [t0, t1] (seconds from the start of the
 // horizon, t0 >= k tau and t1 <= (k+1) tau for the step k it belongs to), the state lies in
-// `state` and the agent's workspace point in `workspace` (2 intervals). A step's enclosures
-// cover its whole period; consecutive enclosures share their end points.
+// `state` and the agent's workspace point in `workspace` (2 intervals). A step's n enclosures
+// split its period into n equal parts, part p covering [k + p/n, k + (p+1)/n] tau (the
+// certifier compares agents' parts by index and refuses any other split).
 struct PeriodEnclosure {
   int step = 0;
   double t0 = 0.0, t1 = 0.0;

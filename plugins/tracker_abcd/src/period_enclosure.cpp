@@ -43,7 +43,7 @@ void accumulate(StepBoxes& acc, const Interval* boxes, const Interval* ws, int s
 
 bool compute_period_enclosures(const TrackingProblem& p, const std::vector<bool>& inv, const SuccessorBox& sb,
                                const EnclosureOptions& o, ControllerData& d, std::string& why) {
-  const int n = d.n, m = d.m, S = o.substeps, B = std::max(1, o.block);
+  const int n = d.n, S = o.substeps, B = std::max(1, o.block);
   const int T = d.tables();
   if (S < 1 || S > SuccessorBox::kMaxEncloseSubsteps) {
     why = "enclosure substeps outside [1, " + std::to_string(SuccessorBox::kMaxEncloseSubsteps) + "]";
@@ -207,7 +207,6 @@ bool compute_period_enclosures(const TrackingProblem& p, const std::vector<bool>
       d.enclosures.push_back(std::move(e));
     }
   }
-  (void)m;
   return true;
 }
 

@@ -1,7 +1,7 @@
 #pragma once
 // The certifier (architecture: between tracking and closed-loop verification): the safety part
 // of the specification checked on the trackers' period enclosures themselves, so that a problem
-// is VERIFIED for every time t in [0, T tau], not only at the samples (docs/soundness.md §7).
+// is VERIFIED for every time t in [0, T tau], not only at the samples (docs/soundness.md §10).
 #include <limits>
 #include <map>
 #include <memory>

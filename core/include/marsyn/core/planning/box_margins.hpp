@@ -3,7 +3,7 @@
 // rounding included, of how far a box of workspace points (or states) keeps each requirement.
 // The continuous-time check of a plan (robust_check) and the certification of the trackers'
 // period enclosures (certification.hpp) both read the spec through these functions, so "the
-// enclosures pass" and "the real spec holds" rest on one evaluator (docs/soundness.md, §7).
+// enclosures pass" and "the real spec holds" rest on one evaluator (docs/soundness.md, §10).
 #include "marsyn/box.hpp"
 #include "marsyn/core/planning/geometry.hpp"
 #include "marsyn/problem.hpp"
