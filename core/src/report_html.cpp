@@ -59,7 +59,8 @@ const verified = R.status === 'verified';
 $('badge').textContent = verified ? 'VERIFIED' : 'FAILED';
 $('badge').className = 'badge ' + (verified ? 'ok' : 'bad');
 $('sub').textContent = (R.agents ? R.agents.length : 0) + ' agents, total ' + fmt(R.total_time_s, 2) + ' s, guarantee: ' +
-  (R.guarantee === 'sampled' ? 'sampled (t = k tau only)' : 'continuous (every t in [0, T tau])');
+  (R.guarantee === 'sampled' ? 'sampled (t = k tau only)' : 'continuous (every t in [0, T tau])') +
+  (verified || !R.failure ? '' : ' | ' + R.failure);
 const mark = (x, text) => x !== null && x !== undefined && x < 0 ? '<b style="color:#e3342f">' + text + '</b>' : text;
 function table(el, head, rows) {
   el.innerHTML = '<tr>' + head.map(h => '<th>' + h + '</th>').join('') + '</tr>' +
