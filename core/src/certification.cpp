@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "marsyn/core/planning/box_margins.hpp"
+#include "marsyn/core/planning/constraints.hpp"
 
 namespace marsyn {
 
@@ -97,18 +98,12 @@ CertificationReport certify(const Problem& pb, const std::vector<std::shared_ptr
       for (const PeriodEnclosure* e : by_step[i][static_cast<size_t>(k)]) {
         for (int c = 0; c < a.state_bounds.dim(); ++c) {
           const double mb = planning::box_inside_margin(e->state, a.state_bounds, c);
-          record(r.state_bounds, mb, k, [&] {
-            const std::string coord = a.dynamics ? a.dynamics->state_names()[c] : "x" + std::to_string(c);
-            return "state bound " + coord + " of " + a.name;
-          }, r.shortfalls);
+          record(r.state_bounds, mb, k, [&] { return planning::state_bound_name(a, c); }, r.shortfalls);
           note(mb, {i});
         }
         for (size_t o = 0; o < pb.obstacles.size(); ++o) {
           const double mo = planning::box_obstacle_margin(e->workspace, pb.obstacles[o].vertices, pb.delta, pb.delta_norm);
-          record(r.obstacle, mo, k, [&] {
-            return "obstacle " + (pb.obstacles[o].name.empty() ? std::to_string(o) : pb.obstacles[o].name) + " vs " +
-                   a.name;
-          }, r.shortfalls);
+          record(r.obstacle, mo, k, [&] { return planning::obstacle_name(pb, static_cast<int>(o), a); }, r.shortfalls);
           note(mo, {i});
         }
       }
@@ -130,7 +125,7 @@ CertificationReport certify(const Problem& pb, const std::vector<std::shared_ptr
         for (int k = 0; k < T; ++k)
           overlapping(i, j, k, [&](const PeriodEnclosure& ea, const PeriodEnclosure& eb) {
             const double m = planning::box_pair_margin(ea.workspace, eb.workspace, pb.delta, pb.delta_norm);
-            record(r.collision, m, k, [&] { return "collision " + pb.agents[i].name + " vs " + pb.agents[j].name; },
+            record(r.collision, m, k, [&] { return planning::collision_name(pb.agents[i], pb.agents[j]); },
                    r.shortfalls);
             note(m, {i, j});
           });
@@ -138,7 +133,7 @@ CertificationReport certify(const Problem& pb, const std::vector<std::shared_ptr
     for (int k = 0; k < T; ++k)
       overlapping(f.i, f.j, k, [&](const PeriodEnclosure& ea, const PeriodEnclosure& eb) {
         const double m = planning::box_formation_margin(ea.workspace, eb.workspace, f.lambda, f.mu);
-        record(r.formation, m, k, [&] { return "formation " + pb.agents[f.i].name + " - " + pb.agents[f.j].name; },
+        record(r.formation, m, k, [&] { return planning::formation_name(pb.agents[f.i], pb.agents[f.j]); },
                r.shortfalls);
         note(m, {f.i, f.j});
       });

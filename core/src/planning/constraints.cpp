@@ -317,6 +317,17 @@ bool FormationConstraint::hessian(const double* x, const double* w, double* H) c
   return true;
 }
 
+std::string obstacle_name(const Problem& pb, int o, const AgentSpec& a) {
+  const std::string& n = pb.obstacles[static_cast<size_t>(o)].name;
+  return "obstacle " + (n.empty() ? std::to_string(o) : n) + " vs " + a.name;
+}
+std::string collision_name(const AgentSpec& a, const AgentSpec& b) { return "collision " + a.name + " vs " + b.name; }
+std::string formation_name(const AgentSpec& a, const AgentSpec& b) { return "formation " + a.name + " - " + b.name; }
+std::string state_bound_name(const AgentSpec& a, int c) {
+  const std::string coord = a.dynamics ? a.dynamics->state_names()[static_cast<size_t>(c)] : "x" + std::to_string(c);
+  return "state bound " + coord + " of " + a.name;
+}
+
 PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOptions& opt) {
   const int N = static_cast<int>(problem.agents.size());
   if (N == 0) throw std::invalid_argument("marsyn::planning::assemble: the problem has no agents");
@@ -342,7 +353,7 @@ PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOpti
       throw std::invalid_argument("marsyn::planning::assemble: inconsistent dimensions for agent " + a.name);
     const Eigen::VectorXd shrink = a.eps.array() + opt.buffer;
     Eigen::VectorXd shrink_x = shrink;
-    for (int c = 0; c < a.n(); ++c) shrink_x[c] += more("state bound " + a.dynamics->state_names()[c] + " of " + a.name);
+    for (int c = 0; c < a.n(); ++c) shrink_x[c] += more(state_bound_name(a, c));
     const Box X = a.state_bounds.shrunk(shrink_x);
     pp.x0.segment(xo[i], a.n()) = a.x0;
     const Box G = a.goal.shrunk(shrink);
@@ -360,7 +371,7 @@ PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOpti
     const auto& a = problem.agents[i];
     for (size_t o = 0; o < problem.obstacles.size(); ++o) {
       const auto& obs = problem.obstacles[o];
-      const std::string name = "obstacle " + (obs.name.empty() ? std::to_string(o) : obs.name) + " vs " + a.name;
+      const std::string name = obstacle_name(problem, static_cast<int>(o), a);
       pp.constraints.push_back(std::make_shared<ObstacleConstraint>(name, a, xo[i], obs.vertices, margin[i],
                                                                     inf ? delta : 0.0,
                                                                     (inf ? 0.0 : delta) + opt.buffer + more(name),
@@ -371,7 +382,7 @@ PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOpti
     for (int i = 0; i < N; ++i)
       for (int j = i + 1; j < N; ++j) {
         const auto &a = problem.agents[i], &b = problem.agents[j];
-        const std::string name = "collision " + a.name + " vs " + b.name;
+        const std::string name = collision_name(a, b);
         pp.constraints.push_back(std::make_shared<PairConstraint>(name, a, xo[i], b, xo[j], problem.delta_norm, delta,
                                                                   margin[i], margin[j], opt.inf_norm_corner,
                                                                   opt.buffer + more(name)));
@@ -380,7 +391,7 @@ PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOpti
     if (f.i < 0 || f.j < 0 || f.i >= N || f.j >= N || f.i == f.j)
       throw std::invalid_argument("marsyn::planning::assemble: formation pair with a bad agent index");
     const auto &a = problem.agents[f.i], &b = problem.agents[f.j];
-    const std::string name = "formation " + a.name + " - " + b.name;
+    const std::string name = formation_name(a, b);
     pp.constraints.push_back(std::make_shared<FormationConstraint>(name, a, xo[f.i], b, xo[f.j], f.lambda, f.mu,
                                                                    margin[f.i], margin[f.j], opt.buffer + more(name)));
   }

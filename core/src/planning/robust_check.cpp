@@ -111,7 +111,7 @@ void check_between_samples(const Problem& problem, const std::vector<Eigen::Vect
         for (int c = 0; c < a.n(); ++c) xb[c] = Interval(grown.lo[c], grown.hi[c]);
         for (int c = 0; c < a.n(); ++c)
           t.record(box_inside_margin(grown, a.state_bounds, c), k,
-                   [&] { return "state bound " + a.dynamics->state_names()[c] + " of " + a.name; },
+                   [&] { return state_bound_name(a, c); },
                    std::abs(x[k + 1][xo[i] + c] - x[k][xo[i] + c]));
         if (a.workspace.linear()) {  // exact up to one directed addition, no interval type needed
           const RoundToNearestScope nearest;
@@ -130,12 +130,7 @@ void check_between_samples(const Problem& problem, const std::vector<Eigen::Vect
         }
         for (size_t o = 0; o < problem.obstacles.size(); ++o)
           t.record(box_obstacle_margin(ws[i][s], problem.obstacles[o].vertices, problem.delta, problem.delta_norm), k,
-                   [&] {
-                     return "obstacle " +
-                            (problem.obstacles[o].name.empty() ? std::to_string(o) : problem.obstacles[o].name) +
-                            " vs " + a.name;
-                   },
-                   size(step[i]));
+                   [&] { return obstacle_name(problem, static_cast<int>(o), a); }, size(step[i]));
       }
     }
     for (int s = 0; s < P; ++s) {
@@ -143,11 +138,11 @@ void check_between_samples(const Problem& problem, const std::vector<Eigen::Vect
         for (int i = 0; i < N; ++i)
           for (int j = i + 1; j < N; ++j)
             t.record(box_pair_margin(ws[i][s], ws[j][s], problem.delta, problem.delta_norm), k, [&] {
-              return "collision " + problem.agents[i].name + " vs " + problem.agents[j].name;
+              return collision_name(problem.agents[i], problem.agents[j]);
             }, size(step[i] - step[j]));
       for (const auto& f : problem.formation)
         t.record(box_formation_margin(ws[f.i][s], ws[f.j][s], f.lambda, f.mu), k, [&] {
-          return "formation " + problem.agents[f.i].name + " - " + problem.agents[f.j].name;
+          return formation_name(problem.agents[f.i], problem.agents[f.j]);
         }, (step[f.i] - step[f.j]).norm());
     }
   }
@@ -186,7 +181,7 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan) {
       const Box X = a.state_bounds.shrunk(a.eps);
       for (int c = 0; c < a.n(); ++c)
         t.record(std::min(xi[c] - X.lo[c], X.hi[c] - xi[c]), k, [&] {
-          return "state bound " + a.dynamics->state_names()[c] + " of " + a.name;
+          return state_bound_name(a, c);
         });
       if (k < T) {
         const Eigen::VectorXd ui = plan.u[k].segment(uo[i], a.m());
@@ -204,10 +199,8 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan) {
       for (size_t o = 0; o < problem.obstacles.size(); ++o) {
         const double g = inf ? delta : 0.0;
         const Polygon grown = grow_by_box(problem.obstacles[o].vertices, m[i].x + g, m[i].y + g);
-        t.record(signed_distance(grown, p[i]) - (inf ? 0.0 : delta), k, [&] {
-          return "obstacle " + (problem.obstacles[o].name.empty() ? std::to_string(o) : problem.obstacles[o].name) +
-                 " vs " + a.name;
-        });
+        t.record(signed_distance(grown, p[i]) - (inf ? 0.0 : delta), k,
+                 [&] { return obstacle_name(problem, static_cast<int>(o), a); });
       }
     }
     if (problem.pairwise_collision)
@@ -219,12 +212,12 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan) {
           const double margin =
               inf ? std::max(std::abs(d.x()) - (delta + m[i].x + m[j].x), std::abs(d.y()) - (delta + m[i].y + m[j].y))
                   : d.norm() - (delta + m[i].two() + m[j].two());
-          t.record(margin, k, [&] { return "collision " + problem.agents[i].name + " vs " + problem.agents[j].name; });
+          t.record(margin, k, [&] { return collision_name(problem.agents[i], problem.agents[j]); });
         }
     for (const auto& f : problem.formation) {
       const double len = (p[f.i] - p[f.j]).norm(), slack = m[f.i].two() + m[f.j].two();
       t.record(std::min(f.lambda + f.mu - slack - len, len - (f.lambda - f.mu + slack)), k, [&] {
-        return "formation " + problem.agents[f.i].name + " - " + problem.agents[f.j].name;
+        return formation_name(problem.agents[f.i], problem.agents[f.j]);
       });
     }
   }

@@ -28,6 +28,13 @@ struct AssemblyOptions {
   std::map<std::string, double> extra;
 };
 
+// The names of the specification's requirements, one spelling for the planning constraints, the
+// robust check and the certifier: AssemblyOptions::extra is keyed by them, so they must agree.
+std::string obstacle_name(const Problem& problem, int obstacle, const AgentSpec& agent);
+std::string collision_name(const AgentSpec& a, const AgentSpec& b);
+std::string formation_name(const AgentSpec& a, const AgentSpec& b);
+std::string state_bound_name(const AgentSpec& agent, int coordinate);
+
 // First product-state (input) coordinate of each agent; one more entry holds the total.
 std::vector<int> state_offsets(const Problem& problem);
 std::vector<int> input_offsets(const Problem& problem);
