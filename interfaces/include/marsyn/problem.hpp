@@ -56,6 +56,9 @@ struct AgentSpec {
   Eigen::VectorXd eta_x;  // state grid cell size
   Eigen::VectorXd eta_u;  // input grid spacing
   Workspace workspace;
+  // The agent's tracker (name and parameters); the name is never "auto" once the problem is
+  // loaded: the loader resolves `tracker: auto` per agent from each tracker's assessment.
+  PluginChoice tracker;
 
   int n() const { return static_cast<int>(x0.size()); }
   int m() const { return static_cast<int>(input_bounds.lo.size()); }

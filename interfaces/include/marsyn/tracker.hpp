@@ -132,6 +132,21 @@ struct TrackResult {
   std::string message;
 };
 
+// What a tracker says about one agent before any plan exists (`marsyn check`, `tracker: auto`,
+// the per-agent fan-out). Each tracker judges the agent by its own rules (abcd: its grid and
+// x_0's cell; funnel: its initial set), so core keeps no copy of any tracker's conventions.
+struct TrackerAssessment {
+  bool ok = true;
+  std::string field;    // the agent's field at fault when !ok ("eta_x", "eps", or a tracker parameter)
+  int coordinate = -1;  // the state or input coordinate at fault; -1: the whole field
+  std::string message;  // what is wrong and what would do, when !ok
+  // Estimated tracking cost, to rank trackers and to spread agents over threads or ranks: seconds
+  // of one core (order of magnitude only) and peak memory in bytes.
+  double work_s = 0.0;
+  double memory_bytes = 0.0;
+  std::string summary;  // one line for `marsyn check`, e.g. "<= 1600 tube cells per step"
+};
+
 class Tracker {
  public:
   virtual ~Tracker() = default;
@@ -141,6 +156,19 @@ class Tracker {
     TrackResult r;
     r.message = name() + " does not support whole-domain reach-avoid";
     return r;
+  }
+  // Before planning: can this tracker work on the agent over `horizon` steps of `tau`, and at
+  // what cost? The default accepts everything at no estimated cost.
+  virtual TrackerAssessment assess(const AgentSpec& agent, int horizon, double tau) const {
+    (void)agent, (void)horizon, (void)tau;
+    return {};
+  }
+  // Remark 2, the tracker's own knobs: after "no controller" at the agent's eps, change what this
+  // tracker controls (abcd: finer grids; funnel: its parameters in agent.tracker.params) and
+  // return true, or return false when nothing is left to refine.
+  virtual bool refine(AgentSpec& agent) const {
+    (void)agent;
+    return false;
   }
   // Reads a controller file written by this tracker; throws std::runtime_error on a corrupt or
   // mismatched file.
