@@ -1,0 +1,163 @@
+#include "funnel_controller.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "marsyn/binary_file.hpp"
+
+namespace marsyn::funnel {
+namespace {
+
+constexpr char kMagic[8] = {'M', 'A', 'R', 'S', 'Y', 'N', 'F', 'T'};
+constexpr std::uint32_t kMaxDim = 64, kMaxSteps = 1u << 20;
+
+}  // namespace
+
+FunnelController::FunnelController(FunnelData d) : data_(std::move(d)) {}
+
+bool FunnelController::in_set(const double* x, int k) const {
+  if (k < 0 || k > horizon()) return false;
+  const StepSet& s = data_.sets[static_cast<std::size_t>(k)];
+  const int n = data_.n;
+  for (int j = 0; j < n; ++j)
+    if (!(x[j] >= s.lo[j] && x[j] <= s.hi[j])) return false;  // also refuses NaN
+  if (s.S.empty()) return true;
+  // The verification bounds the rounding of exactly this loop (docs/soundness.md section 11).
+  for (int i = 0; i < n; ++i) {
+    double y = 0.0;
+    for (int j = 0; j < n; ++j) y += s.S[static_cast<std::size_t>(i) * n + j] * (x[j] - s.c[j]);
+    if (!(std::fabs(y) <= 1.0)) return false;
+  }
+  return true;
+}
+
+ControlStatus FunnelController::input(const double* x, int k, double* u) const {
+  if (k < 0 || k >= horizon()) return ControlStatus::OutsideHorizon;
+  if (!in_set(x, k)) return ControlStatus::OutsideDomain;
+  const int n = data_.n, m = data_.m;
+  const auto& xk = data_.x_nom[static_cast<std::size_t>(k)];
+  const auto& uk = data_.u_nom[static_cast<std::size_t>(k)];
+  const auto& K = data_.K[static_cast<std::size_t>(k)];
+  for (int i = 0; i < m; ++i) {
+    double acc = uk[i];
+    for (int j = 0; j < n; ++j) acc += K[static_cast<std::size_t>(i) * n + j] * (x[j] - xk[j]);
+    u[i] = std::clamp(acc, data_.u_lo[i], data_.u_hi[i]);
+  }
+  return ControlStatus::Ok;
+}
+
+std::string serialize(const FunnelData& d) {
+  binary::Writer p;
+  p.str(d.dynamics_type);
+  p.str(d.agent);
+  p.u32(static_cast<std::uint32_t>(d.n));
+  p.u32(static_cast<std::uint32_t>(d.m));
+  p.u32(static_cast<std::uint32_t>(d.horizon()));
+  p.f64(d.tau);
+  p.reals(d.eps);
+  p.reals(d.w);
+  p.reals(d.u_lo);
+  p.reals(d.u_hi);
+  for (int k = 0; k <= d.horizon(); ++k) {
+    const StepSet& s = d.sets[static_cast<std::size_t>(k)];
+    p.reals(d.x_nom[static_cast<std::size_t>(k)]);
+    p.reals(s.lo);
+    p.reals(s.hi);
+    p.u8(s.S.empty() ? 0 : 1);
+    if (!s.S.empty()) {
+      p.reals(s.c);
+      p.reals(s.S);
+    }
+  }
+  for (int k = 0; k < d.horizon(); ++k) {
+    p.reals(d.u_nom[static_cast<std::size_t>(k)]);
+    p.reals(d.K[static_cast<std::size_t>(k)]);
+  }
+  p.u32(static_cast<std::uint32_t>(d.enclosures.size()));
+  for (const auto& e : d.enclosures) {
+    p.u32(static_cast<std::uint32_t>(e.step));
+    p.f64(e.t0);
+    p.f64(e.t1);
+    for (int i = 0; i < d.n; ++i) p.f64(e.state.lo[i]);
+    for (int i = 0; i < d.n; ++i) p.f64(e.state.hi[i]);
+    for (int c = 0; c < 2; ++c) p.f64(e.workspace.lo[c]);
+    for (int c = 0; c < 2; ++c) p.f64(e.workspace.hi[c]);
+  }
+  return binary::envelope(kMagic, kFormatVersion, p.bytes());
+}
+
+FunnelData deserialize(const std::string& s, const std::string& what) {
+  const std::string where = "controller file " + what;
+  std::size_t begin = 0, end = 0;
+  const std::uint32_t version = binary::open_envelope(s, kMagic, where, "a marsyn funnel controller", begin, end);
+  binary::Reader r(s, begin, end, where);
+  if (version != kFormatVersion)
+    r.fail("format version " + std::to_string(version) + ", this reader understands " + std::to_string(kFormatVersion));
+  FunnelData d;
+  d.dynamics_type = r.str();
+  d.agent = r.str();
+  const std::uint32_t n = r.u32(), m = r.u32(), T = r.u32();
+  if (n < 1 || n > kMaxDim || m < 1 || m > kMaxDim) r.fail("dimensions out of range");
+  if (T < 1 || T > kMaxSteps) r.fail("horizon out of range");
+  d.n = static_cast<int>(n);
+  d.m = static_cast<int>(m);
+  d.tau = r.f64();
+  if (!(d.tau > 0) || !std::isfinite(d.tau)) r.fail("tau must be positive");
+  d.eps = r.reals(n);
+  d.w = r.reals(n);
+  d.u_lo = r.reals(m);
+  d.u_hi = r.reals(m);
+  for (std::uint32_t k = 0; k <= T; ++k) {
+    StepSet st;
+    d.x_nom.push_back(r.reals(n));
+    st.lo = r.reals(n);
+    st.hi = r.reals(n);
+    const std::uint8_t has_s = r.u8();
+    if (has_s > 1) r.fail("bad set flag at step " + std::to_string(k));
+    if (has_s) {
+      st.c = r.reals(n);
+      st.S = r.reals(static_cast<std::size_t>(n) * n);
+    }
+    d.sets.push_back(std::move(st));
+  }
+  for (std::uint32_t k = 0; k < T; ++k) {
+    d.u_nom.push_back(r.reals(m));
+    d.K.push_back(r.reals(static_cast<std::size_t>(m) * n));
+  }
+  const std::uint32_t count = r.u32();
+  if (count > 64u * T + 64u) r.fail("too many period enclosures");
+  for (std::uint32_t e = 0; e < count; ++e) {
+    PeriodEnclosure pe;
+    pe.step = static_cast<int>(r.u32());
+    if (pe.step < 0 || pe.step >= static_cast<int>(T)) r.fail("period enclosure for a step outside the horizon");
+    pe.t0 = r.f64();
+    pe.t1 = r.f64();
+    const auto lo = r.reals(n), hi = r.reals(n), wlo = r.reals(2), whi = r.reals(2);
+    pe.state = {Eigen::Map<const Eigen::VectorXd>(lo.data(), n), Eigen::Map<const Eigen::VectorXd>(hi.data(), n)};
+    pe.workspace = {Eigen::Map<const Eigen::VectorXd>(wlo.data(), 2), Eigen::Map<const Eigen::VectorXd>(whi.data(), 2)};
+    d.enclosures.push_back(std::move(pe));
+  }
+  if (!r.done()) r.fail("trailing bytes in the payload");
+  return d;
+}
+
+void FunnelController::write(const std::string& path) const {
+  const std::string bytes = serialize(data_);
+  std::ofstream f(path, std::ios::binary);
+  if (!f) throw std::runtime_error("cannot open " + path + " for writing");
+  f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  if (!f) throw std::runtime_error("cannot write " + path);
+}
+
+std::shared_ptr<const FunnelController> read_controller(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw std::runtime_error("cannot open controller file " + path);
+  std::ostringstream s;
+  s << f.rdbuf();
+  return std::make_shared<FunnelController>(deserialize(s.str(), path));
+}
+
+}  // namespace marsyn::funnel

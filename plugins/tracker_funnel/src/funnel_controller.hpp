@@ -1,0 +1,67 @@
+#pragma once
+// The funnel controller as data, its file, and its O(n m) evaluation:
+//   u = sat_U(u_k + K_k (x - x_k))   for x in the verified set V_k of step k.
+// V_0 is the initial box; V_k (k >= 1) is {x in box_k : |fl(S_k (x - c_k))|_inf <= 1}, exactly
+// the set the evaluation below accepts, floating point included (docs/soundness.md section 11).
+//
+// File layout (binary_file.hpp envelope, magic "MARSYNFT", format 1): payload = dynamics type,
+// agent, u32 n, m, T, f64 tau, eps[n], w[n], u_lo[m], u_hi[m]; per step k = 0..T: x_k[n],
+// box lo[n], hi[n], u8 has_S, (c_k[n], S_k[n n] row-major when has_S); per step k < T: u_k[m],
+// K_k[m n] row-major; u32 enclosure count, each u32 step, f64 t0, t1, state lo[n], hi[n],
+// workspace lo[2], hi[2].
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "marsyn/tracker.hpp"
+
+namespace marsyn::funnel {
+
+inline constexpr std::uint32_t kFormatVersion = 1;
+
+struct StepSet {
+  std::vector<double> lo, hi;  // box_k, inside the eps-box of x_k
+  std::vector<double> c, S;    // empty at step 0 (V_0 is the box itself)
+};
+
+struct FunnelData {
+  std::string dynamics_type, agent;
+  int n = 0, m = 0;
+  double tau = 0.0;
+  std::vector<double> eps, w, u_lo, u_hi;
+  std::vector<std::vector<double>> x_nom;  // T + 1
+  std::vector<std::vector<double>> u_nom;  // T
+  std::vector<std::vector<double>> K;      // T, m x n row-major
+  std::vector<StepSet> sets;               // T + 1
+  std::vector<PeriodEnclosure> enclosures;
+
+  int horizon() const { return static_cast<int>(u_nom.size()); }
+};
+
+class FunnelController : public marsyn::Controller {
+ public:
+  explicit FunnelController(FunnelData d);
+  int state_dim() const override { return data_.n; }
+  int input_dim() const override { return data_.m; }
+  int horizon() const override { return data_.horizon(); }
+  // Ok for x in V_k, k < T; OutsideDomain outside V_k; OutsideHorizon for k outside [0, T) (at T
+  // the specification is met and no input is needed).
+  ControlStatus input(const double* x, int k, double* u) const override;
+  void write(const std::string& path) const override;
+  const std::vector<PeriodEnclosure>& period_enclosures() const override { return data_.enclosures; }
+
+  // x in V_k (k = 0..T).
+  bool in_set(const double* x, int k) const;
+  const FunnelData& data() const { return data_; }
+
+ private:
+  FunnelData data_;
+};
+
+std::string serialize(const FunnelData& d);
+FunnelData deserialize(const std::string& bytes, const std::string& what);
+// Throws std::runtime_error naming the file and the defect.
+std::shared_ptr<const FunnelController> read_controller(const std::string& path);
+
+}  // namespace marsyn::funnel

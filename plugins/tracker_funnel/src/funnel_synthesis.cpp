@@ -1,0 +1,414 @@
+#include "funnel_synthesis.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include <Eigen/LU>
+#include <Eigen/Eigenvalues>
+#include <Eigen/QR>
+#include <Eigen/SVD>
+
+#include "marsyn/interval.hpp"
+
+namespace marsyn::funnel {
+namespace {
+
+using fast_detail::add_up;
+using fast_detail::mul_up;
+using fast_detail::sub_up;
+
+FastInterval fi(double v) { return FastInterval(v); }
+
+// Absolute allowance for products that underflow (gamma bounds relative errors of normal
+// numbers only): far above (n + 2) 2^-1074, far below anything a state or input measures.
+constexpr double kTiny = 1e-300;
+
+std::string num(double v) {
+  std::ostringstream s;
+  s.precision(4);
+  s << v;
+  return s.str();
+}
+
+// The stored box of step k: inside [x_k - eps, x_k + eps] in exact arithmetic.
+void eps_box(const Eigen::VectorXd& xk, const Eigen::VectorXd& eps, std::vector<double>& lo, std::vector<double>& hi) {
+  const int n = static_cast<int>(xk.size());
+  lo.resize(n);
+  hi.resize(n);
+  for (int i = 0; i < n; ++i) {
+    lo[i] = (fi(xk[i]) - fi(eps[i])).upper();
+    hi[i] = (fi(xk[i]) + fi(eps[i])).lower();
+  }
+}
+
+// Upper bound of max |x_j - ref_j| over the box [lo, hi].
+double reach(double lo, double hi, double ref) { return std::max(std::fabs(sub_up(hi, ref)), std::fabs(sub_up(ref, lo))); }
+
+struct Fit {
+  bool ok = false;
+  std::vector<double> S;  // n x n row-major
+  Zonotope next;          // contains V_{k+1}, basis in the first n generators
+};
+
+// Candidate shapes S (rows scaled so that |S (x - c)|_inf <= 1 roughly bounds z): the image of
+// the previous basis (no wrapping when the new generators are small), its QR orientation
+// (Lohner), the principal axes of the generators, the closed loop's real eigenbasis (a linear map
+// scales a parallelotope along its eigenvectors without shearing it) and the axes. Any shape is
+// sound: certify() checks containment in interval arithmetic.
+std::vector<Eigen::MatrixXd> candidate_shapes(const Zonotope& z, int basis, const Eigen::MatrixXd* closed,
+                                              const Eigen::MatrixXd* cost) {
+  const int n = z.dim();
+  std::vector<Eigen::MatrixXd> candidates, shapes;
+  if (z.generators() < n) return shapes;  // degenerate (no disturbance and a flat set)
+  if (basis == n) {
+    candidates.push_back(z.G.leftCols(n));
+    Eigen::HouseholderQR<Eigen::MatrixXd> qr(z.G.leftCols(n));
+    candidates.push_back(qr.householderQ());
+  }
+  {
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(z.G, Eigen::ComputeFullU);
+    const auto& sv = svd.singularValues();
+    if (sv[n - 1] > 1e-12 * sv[0]) candidates.push_back(svd.matrixU() * sv.asDiagonal());
+  }
+  if (closed && closed->rows() == n) {
+    Eigen::EigenSolver<Eigen::MatrixXd> es(*closed);
+    if (es.info() == Eigen::Success) {
+      Eigen::MatrixXd E(n, n);
+      const auto values = es.eigenvalues();
+      const auto vectors = es.eigenvectors();
+      for (int j = 0; j < n; ++j) {
+        E.col(j) = vectors.col(j).real();
+        if (values[j].imag() != 0.0 && j + 1 < n) {
+          E.col(j + 1) = vectors.col(j).imag();
+          ++j;
+        }
+      }
+      if (E.allFinite()) candidates.push_back(E);
+    }
+  }
+  if (cost && cost->rows() == n) {
+    // The LQR cost-to-go's principal axes: the closed loop contracts in that norm.
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(*cost);
+    if (es.info() == Eigen::Success && es.eigenvalues().minCoeff() > 0)
+      candidates.push_back(es.eigenvectors() * es.eigenvalues().cwiseSqrt().cwiseInverse().asDiagonal());
+  }
+  {
+    Eigen::VectorXd r(n);
+    for (int i = 0; i < n; ++i) r[i] = std::max(z.radius(i), 1e-300);
+    candidates.push_back(r.asDiagonal());
+  }
+  for (const auto& T0 : candidates) {
+    Eigen::FullPivLU<Eigen::MatrixXd> lu(T0);
+    if (!lu.isInvertible()) continue;
+    const Eigen::MatrixXd Tinv = lu.inverse();
+    if (!Tinv.allFinite()) continue;
+    const Eigen::MatrixXd Y = Tinv * z.G;
+    Eigen::MatrixXd S = Tinv;
+    for (int i = 0; i < n; ++i) S.row(i) /= Y.row(i).lpNorm<1>() * (1 + 1e-9);
+    if (S.allFinite()) shapes.push_back(S);
+  }
+  return shapes;
+}
+
+// V = {x in box : |fl(S (x - c))|_inf <= 1} for c = z.c, with S rescaled until V contains z
+// (checked in interval arithmetic, rounding of the evaluation included), and a zonotope with n
+// basis generators that contains V.
+Fit certify(const Zonotope& z, Eigen::MatrixXd S, const std::vector<double>& lo, const std::vector<double>& hi) {
+  Fit f;
+  const int n = z.dim(), p = z.generators();
+  std::vector<double> D(n);
+  for (int j = 0; j < n; ++j) D[j] = reach(lo[j], hi[j], z.c[j]);
+  const double kappa = rounding_factor(n);
+  std::vector<double> slack(n);  // rounding allowance of row i of the run-time test
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    bool inside = true;
+    for (int i = 0; i < n; ++i) {
+      double bound = 0.0, round = 0.0;
+      for (int l = 0; l < p; ++l) {
+        FastInterval acc(0.0);
+        for (int j = 0; j < n; ++j) acc += fi(S(i, j)) * fi(z.G(j, l));
+        bound = add_up(bound, mag(acc));
+      }
+      for (int j = 0; j < n; ++j) round = add_up(round, mul_up(std::fabs(S(i, j)), D[j]));
+      slack[i] = add_up(mul_up(kappa, round), kTiny);
+      const double need = add_up(bound, slack[i]);
+      if (!std::isfinite(need)) return f;
+      if (need > 1.0) {
+        inside = false;
+        S.row(i) *= (1.0 / need) * (1 - 1e-12);
+      }
+    }
+    if (inside) {
+      f.ok = true;
+      break;
+    }
+  }
+  if (!f.ok) return f;
+  f.ok = false;
+  // Every accepted x has |S (x - c)|_i <= rho_i = 1 + slack_i exactly; x - c = S^-1 y is
+  // enclosed with an approximate inverse T' and E = I - T' S: v = T' y + E v, so
+  // |v| <= |T' diag(rho)|_inf / (1 - |E|_inf) and E v lies in a box of that size times |E|_inf.
+  const Eigen::MatrixXd Tp = S.partialPivLu().inverse();
+  if (!Tp.allFinite()) return f;
+  double e = 0.0, tnorm = 0.0;
+  for (int i = 0; i < n; ++i) {
+    double erow = 0.0, trow = 0.0;
+    for (int j = 0; j < n; ++j) {
+      FastInterval acc(i == j ? 1.0 : 0.0);
+      for (int l = 0; l < n; ++l) acc -= fi(Tp(i, l)) * fi(S(l, j));
+      erow = add_up(erow, mag(acc));
+      trow = add_up(trow, mul_up(std::fabs(Tp(i, j)), add_up(1.0, slack[j])));
+    }
+    e = std::max(e, erow);
+    tnorm = std::max(tnorm, trow);
+  }
+  if (!(e < 0.5)) return f;
+  const double eta = fast_detail::div_up(mul_up(e, tnorm), (fi(1.0) - fi(e)).lower());
+  IVector center(n);
+  IMatrix gens(n, n);
+  for (int i = 0; i < n; ++i) {
+    center[i] = fi(z.c[i]);
+    for (int j = 0; j < n; ++j) gens(i, j) = fi(Tp(i, j)) * fi(add_up(1.0, slack[j]));
+  }
+  f.next = from_intervals(center, gens, std::vector<double>(n, eta));
+  f.S.resize(static_cast<std::size_t>(n) * n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) f.S[static_cast<std::size_t>(i) * n + j] = S(i, j);
+  f.ok = true;
+  return f;
+}
+
+}  // namespace
+
+double rounding_factor(int terms) {
+  // gamma_{terms + 2} = (terms + 2) u / (1 - (terms + 2) u), u = 2^-53, rounded up generously.
+  return (terms + 3) * 0x1p-52;
+}
+
+VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::MatrixXd>& K,
+                            const std::vector<Eigen::MatrixXd>& closed, const VerifyOptions& o,
+                            const std::vector<Eigen::MatrixXd>& cost) {
+  const RoundToNearestScope nearest;
+  VerifyOutcome out;
+  const Dynamics& f = *p.dynamics;
+  const int n = f.state_dim(), m = f.input_dim(), N = n + m;
+  const int T = static_cast<int>(p.nominal.u.size());
+  FunnelData& d = out.data;
+  d.dynamics_type = f.type();
+  d.agent = p.agent;
+  d.n = n;
+  d.m = m;
+  d.tau = p.tau;
+  d.eps.assign(p.eps.data(), p.eps.data() + n);
+  d.w.assign(p.w.data(), p.w.data() + n);
+  d.u_lo.assign(p.input_bounds.lo.data(), p.input_bounds.lo.data() + m);
+  d.u_hi.assign(p.input_bounds.hi.data(), p.input_bounds.hi.data() + m);
+  for (int k = 0; k <= T; ++k) d.x_nom.emplace_back(p.nominal.x[k].data(), p.nominal.x[k].data() + n);
+  for (int k = 0; k < T; ++k) {
+    d.u_nom.emplace_back(p.nominal.u[k].data(), p.nominal.u[k].data() + m);
+    std::vector<double> row(static_cast<std::size_t>(m) * n);
+    for (int i = 0; i < m; ++i)
+      for (int j = 0; j < n; ++j) row[static_cast<std::size_t>(i) * n + j] = K[k](i, j);
+    d.K.push_back(std::move(row));
+  }
+  d.sets.resize(static_cast<std::size_t>(T) + 1);
+
+  // V_0: the initial box, stored as it is tested (plain comparisons, no rounding).
+  std::vector<double> elo, ehi;
+  eps_box(p.nominal.x[0], p.eps, elo, ehi);
+  StepSet& s0 = d.sets[0];
+  s0.lo.resize(n);
+  s0.hi.resize(n);
+  for (int i = 0; i < n; ++i) {
+    s0.lo[i] = (fi(p.nominal.x[0][i]) - fi(o.initial_radius[i])).lower();
+    s0.hi[i] = (fi(p.nominal.x[0][i]) + fi(o.initial_radius[i])).upper();
+    if (s0.lo[i] < elo[i] || s0.hi[i] > ehi[i]) {
+      out.why = "the initial box (radius " + num(o.initial_radius[i]) + " along " + f.state_names()[i] +
+                ") is not inside the eps-box (eps " + num(p.eps[i]) + ")";
+      return out;
+    }
+  }
+  Zonotope zx;
+  {
+    IVector c(n);
+    for (int i = 0; i < n; ++i) c[i] = FastInterval(s0.lo[i], s0.hi[i]);
+    zx = from_intervals(c, IMatrix(n, 0), {});
+  }
+  int basis = zx.generators();
+  FlowOptions flow = o.flow;
+  flow.tau = p.tau;
+  const int spp = flow.substeps / o.parts;
+  const double kappa = rounding_factor(n + 1);
+  double fill_sum = 0.0;
+  int fill_count = 0;
+  auto record_fill = [&](const Zonotope& z) {
+    for (int i = 0; i < n; ++i) {
+      const double r = z.radius(i) / p.eps[i];
+      out.max_fill = std::max(out.max_fill, r);
+      fill_sum += r;
+      ++fill_count;
+    }
+  };
+  record_fill(zx);
+
+  // The closed loop's start at step k over (x, u): u = u_k + K_k (x - x_k) is affine in the
+  // generators; the controller's rounding adds at most kappa (|u_k| + |K| |x - x_k|) per input.
+  struct Period {
+    FlowResult fr;
+    bool saturated = false;
+  };
+  auto period = [&](const Zonotope& zx, int k, int basis_now) {
+    const StepSet& sk = d.sets[k];
+    const auto& xk = p.nominal.x[k];
+    const auto& uk = p.nominal.u[k];
+    const int pg = zx.generators();
+    IVector center(N);
+    IMatrix gens(N, pg);
+    std::vector<double> extra(N, 0.0);
+    for (int i = 0; i < n; ++i) {
+      center[i] = fi(zx.c[i]);
+      for (int l = 0; l < pg; ++l) gens(i, l) = fi(zx.G(i, l));
+    }
+    Period out_p;
+    bool& saturated = out_p.saturated;
+    for (int i = 0; i < m; ++i) {
+      FastInterval c = fi(uk[i]);
+      double round = std::fabs(uk[i]);
+      for (int j = 0; j < n; ++j) {
+        c += fi(K[k](i, j)) * (fi(zx.c[j]) - fi(xk[j]));
+        round = add_up(round, mul_up(std::fabs(K[k](i, j)), reach(sk.lo[j], sk.hi[j], xk[j])));
+      }
+      const double delta = add_up(mul_up(kappa, round), kTiny);
+      double spread = 0.0;
+      for (int l = 0; l < pg; ++l) {
+        FastInterval g(0.0);
+        for (int j = 0; j < n; ++j) g += fi(K[k](i, j)) * fi(zx.G(j, l));
+        gens(n + i, l) = g;
+        spread = add_up(spread, mag(g));
+      }
+      const FastInterval hull = c + FastInterval(-add_up(spread, delta), add_up(spread, delta));
+      if (hull.lower() >= d.u_lo[i] && hull.upper() <= d.u_hi[i]) {
+        center[n + i] = c;
+        extra[n + i] = delta;
+      } else {
+        // Saturation: sat_U maps the hull's values into [sat(lo), sat(hi)]; the row keeps that
+        // interval and loses its correlation with the state (sound, less tight).
+        saturated = true;
+        const double a = std::clamp(hull.lower(), d.u_lo[i], d.u_hi[i]);
+        const double b = std::clamp(hull.upper(), d.u_lo[i], d.u_hi[i]);
+        center[n + i] = FastInterval(a, b);
+        for (int l = 0; l < pg; ++l) gens(n + i, l) = FastInterval(0.0);
+      }
+    }
+    const Zonotope za = from_intervals(center, gens, extra);
+    out_p.fr = enclose_period(f, za, d.w, basis_now, flow);
+    return out_p;
+  };
+  auto end_fill = [&](const FlowResult& fr) {
+    if (!fr.ok) return std::numeric_limits<double>::infinity();
+    double worst = 0.0;
+    for (int i = 0; i < n; ++i) {
+      double r = 0.0;
+      for (Eigen::Index j = 0; j < fr.end.G.cols(); ++j) r += std::fabs(fr.end.G(i, j));
+      worst = std::max(worst, r / p.eps[i]);
+    }
+    return worst;
+  };
+
+  Period cur = period(zx, 0, basis);
+  for (int k = 0; k < T; ++k) {
+    const FlowResult& fr = cur.fr;
+    const bool saturated = cur.saturated;
+    if (saturated) ++out.saturated_steps;
+    if (!fr.ok) {
+      out.why = "no enclosure of the flow over step " + std::to_string(k) + " (the a priori enclosure failed)";
+      out.reached_step = k;
+      return out;
+    }
+    // Between the samples: the a priori boxes, hulled part by part.
+    for (int part = 0; part < o.parts; ++part) {
+      PeriodEnclosure e;
+      e.step = k;
+      e.t0 = p.tau * (k + static_cast<double>(part) / o.parts);
+      e.t1 = p.tau * (k + static_cast<double>(part + 1) / o.parts);
+      e.state.lo.resize(n);
+      e.state.hi.resize(n);
+      std::vector<Interval> xi(n);
+      for (int i = 0; i < n; ++i) {
+        FastInterval b = fr.boxes[static_cast<std::size_t>(part * spp) * n + i];
+        for (int s = part * spp + 1; s < (part + 1) * spp; ++s) b = marsyn::hull(b, fr.boxes[static_cast<std::size_t>(s) * n + i]);
+        e.state.lo[i] = b.lower();
+        e.state.hi[i] = b.upper();
+        xi[i] = Interval(b.lower(), b.upper());
+      }
+      Interval pw[2];
+      workspace_point(f, p.workspace, xi.data(), pw);
+      e.workspace.lo = Eigen::Vector2d(pw[0].lower(), pw[1].lower());
+      e.workspace.hi = Eigen::Vector2d(pw[0].upper(), pw[1].upper());
+      d.enclosures.push_back(std::move(e));
+    }
+    // The states at the next sample must lie in the eps-box of x_{k+1}.
+    Zonotope zend;
+    zend.c = fr.end.c.head(n);
+    zend.G = fr.end.G.topRows(n);
+    drop_zero_generators(zend);
+    StepSet& next = d.sets[k + 1];
+    eps_box(p.nominal.x[k + 1], p.eps, next.lo, next.hi);
+    for (int i = 0; i < n; ++i) {
+      const FastInterval h = zend.hull(i);
+      if (h.lower() < next.lo[i] || h.upper() > next.hi[i]) {
+        const double over = std::max(next.lo[i] - h.lower(), h.upper() - next.hi[i]);
+        out.why = "at step " + std::to_string(k + 1) + " of " + std::to_string(T) + ", " + f.state_names()[i] +
+                  " can leave the eps-tube by " + num(over) + " (enclosure half-width " + num(zend.radius(i)) +
+                  " vs eps " + num(p.eps[i]) + (out.saturated_steps ? "; some inputs saturated" : "") + ")";
+        out.reached_step = k;
+        return out;
+      }
+    }
+    // The verified set V_{k+1}: of the certified shapes, the one whose next period ends with the
+    // smallest enclosure relative to eps (that period's enclosure is then reused as is).
+    Fit fit;
+    Period next_period;
+    double best = std::numeric_limits<double>::infinity();
+    for (const Eigen::MatrixXd& S : candidate_shapes(zend, basis == n ? n : 0,
+                                                      k + 1 < static_cast<int>(closed.size()) ? &closed[k + 1] : nullptr,
+                                                      k + 1 < static_cast<int>(cost.size()) ? &cost[k + 1] : nullptr)) {
+      Fit c = certify(zend, S, next.lo, next.hi);
+      if (!c.ok) continue;
+      double score;
+      Period pn;
+      if (k + 1 < T) {
+        pn = period(c.next, k + 1, n);
+        score = end_fill(pn.fr);
+      } else {
+        score = 0.0;
+        for (int i = 0; i < n; ++i) score = std::max(score, c.next.radius(i) / p.eps[i]);
+      }
+      if (!fit.ok || score < best) {
+        best = score;
+        fit = std::move(c);
+        next_period = std::move(pn);
+      }
+    }
+    if (!fit.ok) {
+      if (k + 1 == T) break;  // V_T need not be fitted: the box is checked and no input follows
+      out.why = "no verified set fits the enclosure at step " + std::to_string(k + 1) + " (degenerate)";
+      out.reached_step = k;
+      return out;
+    }
+    next.c.assign(zend.c.data(), zend.c.data() + n);
+    next.S = fit.S;
+    zx = fit.next;
+    basis = n;
+    record_fill(zx);
+    cur = std::move(next_period);
+  }
+  out.mean_fill = fill_count ? fill_sum / fill_count : 0.0;
+  out.reached_step = T;
+  out.ok = true;
+  return out;
+}
+
+}  // namespace marsyn::funnel

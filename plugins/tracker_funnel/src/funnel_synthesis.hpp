@@ -1,0 +1,43 @@
+#pragma once
+// Verification of a funnel controller: from the initial box, period by period, a sound enclosure
+// of the closed loop u = sat_U(u_k + K_k (x - x_k)) under every disturbance in [-W, W], the check
+// that it stays in the eps-box of the next nominal state, and the fit of the verified set V_{k+1}
+// the controller will accept (docs/soundness.md section 11).
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "funnel_controller.hpp"
+#include "marsyn/tracker.hpp"
+#include "period_flow.hpp"
+
+namespace marsyn::funnel {
+
+struct VerifyOptions {
+  FlowOptions flow;     // flow.tau is set from the problem
+  int parts = 8;        // period enclosures per step (divides flow.substeps)
+  Eigen::VectorXd initial_radius;  // half-widths of the initial box around x_0
+};
+
+struct VerifyOutcome {
+  bool ok = false;
+  FunnelData data;
+  std::string why;        // when !ok: the step, coordinate and amount that failed
+  int reached_step = 0;   // steps verified before the failure
+  int saturated_steps = 0;  // steps where some input row hit U and was enclosed as a box
+  double max_fill = 0.0;  // max over k, i of (hull half-width of V_k along i) / eps_i
+  double mean_fill = 0.0;
+};
+
+// K: the gains; closed (may be empty): the closed loop's linearization per step, whose real
+// eigenbasis is one of the shapes tried for the verified sets.
+VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::MatrixXd>& K,
+                            const std::vector<Eigen::MatrixXd>& closed, const VerifyOptions& o,
+                            const std::vector<Eigen::MatrixXd>& cost = {});
+
+// The rounding allowance for sums of `terms` products evaluated left to right in double
+// (Higham's gamma_n with room for the subtraction in each term): |fl(s) - s| <= kappa * sum |terms|.
+double rounding_factor(int terms);
+
+}  // namespace marsyn::funnel

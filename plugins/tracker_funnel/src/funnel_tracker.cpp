@@ -1,0 +1,222 @@
+#include "funnel_tracker.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "lqr.hpp"
+#include "marsyn/dual.hpp"
+
+namespace marsyn::funnel {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// When the configured weights give no verified funnel, these multiples of the input weight are
+// tried in turn: stiffer feedback (smaller R) contracts more, softer saturates less.
+constexpr double kInputWeightLadder[] = {1.0, 0.1, 10.0, 0.01, 100.0};
+
+int checked_int(const Params& p, const char* name, long def, long lo, long hi) {
+  const long v = p.integer(name, def);
+  if (v < lo || v > hi)
+    throw ParamError(name, "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
+                               std::to_string(v));
+  return static_cast<int>(v);
+}
+
+double checked_positive(const Params& p, const char* name, double def) {
+  const double v = p.real(name, def);
+  if (!(v > 0) || !std::isfinite(v)) throw ParamError(name, "expected a positive number");
+  return v;
+}
+
+}  // namespace
+
+FunnelTracker::FunnelTracker(const Params& p) {
+  s_.substeps = checked_int(p, "substeps", 16, 1, 1024);
+  s_.parts = checked_int(p, "enclosure_substeps", 8, 1, 64);
+  if (s_.substeps % s_.parts != 0)
+    throw ParamError("substeps", "expected a multiple of enclosure_substeps (" + std::to_string(s_.parts) + "), got " +
+                                     std::to_string(s_.substeps));
+  s_.picard_iterations = checked_int(p, "picard_iterations", 20, 1, 100);
+  s_.max_generators = checked_int(p, "max_generators", 0, 0, 1000);
+  s_.initial_radius = p.reals("initial_radius", {});
+  for (double r : s_.initial_radius)
+    if (!(r >= 0) || !std::isfinite(r)) throw ParamError("initial_radius", "expected non-negative numbers");
+  s_.initial_fraction = p.real("initial_fraction", 0.1);
+  if (!(s_.initial_fraction >= 0 && s_.initial_fraction < 1))
+    throw ParamError("initial_fraction", "expected a number in [0, 1)");
+  s_.state_weight = checked_positive(p, "state_weight", 1.0);
+  s_.input_weight = checked_positive(p, "input_weight", 1.0);
+  s_.terminal_weight = checked_positive(p, "terminal_weight", 1.0);
+  s_.weight_search = p.boolean("weight_search", true);
+  s_.rk4_substeps = checked_int(p, "rk4_substeps", 4, 1, 1000);
+}
+
+std::vector<ParamSpec> FunnelTracker::param_specs() {
+  return {
+      {"substeps", ParamType::Int, "16", "[1, 1024]",
+       "enclosure steps per sampling period, a multiple of enclosure_substeps (more: tighter, slower)"},
+      {"enclosure_substeps", ParamType::Int, "8", "[1, 64]",
+       "boxes per sampling period enclosing the closed loop between samples (continuous-time guarantee)"},
+      {"picard_iterations", ParamType::Int, "20", "[1, 100]", "a priori enclosure attempts per enclosure step"},
+      {"max_generators", ParamType::Int, "0", "[0, 1000]",
+       "zonotope generators kept before order reduction; 0: 3 (n + m)"},
+      {"initial_radius", ParamType::RealVector, "0.1 eps", "[0, eps)",
+       "half-widths of the initial box around x0 (one per state); empty: initial_fraction x eps"},
+      {"initial_fraction", ParamType::Real, "0.1", "[0, 1)", "initial box half-width as a fraction of eps"},
+      {"state_weight", ParamType::Real, "1", "(0, inf)", "LQR state weight, times 1 / eps_i^2 (Bryson's rule)"},
+      {"input_weight", ParamType::Real, "1", "(0, inf)",
+       "LQR input weight, times 1 / (half the input range)^2 (Bryson's rule)"},
+      {"terminal_weight", ParamType::Real, "1", "(0, inf)", "terminal cost P_T = terminal_weight Q"},
+      {"weight_search", ParamType::Bool, "true", "true|false",
+       "when the weights give no verified funnel, try input weights x 0.1, 10, 0.01, 100 in turn"},
+      {"rk4_substeps", ParamType::Int, "4", "[1, 1000]", "RK4 substeps of the sampled map linearized for the gains"},
+  };
+}
+
+TrackerAssessment FunnelTracker::assess(const AgentSpec& a, int horizon, double tau) const {
+  TrackerAssessment r;
+  const int n = a.n(), m = a.m();
+  if (n + m > kMaxDual) {
+    r.ok = false;
+    r.field = "dynamics";
+    r.message = "the funnel tracker handles agents with states + inputs <= " + std::to_string(kMaxDual) + ", this one has " +
+                std::to_string(n + m);
+    return r;
+  }
+  if (!s_.initial_radius.empty() && static_cast<int>(s_.initial_radius.size()) != n) {
+    r.ok = false;
+    r.field = "initial_radius";
+    r.message = "expected " + std::to_string(n) + " numbers (one per state), got " + std::to_string(s_.initial_radius.size());
+    return r;
+  }
+  for (int i = 0; i < n; ++i) {
+    const double r0 = s_.initial_radius.empty() ? s_.initial_fraction * a.eps[i] : s_.initial_radius[i];
+    if (!(r0 < a.eps[i])) {
+      r.ok = false;
+      r.field = "initial_radius";
+      r.coordinate = i;
+      r.message = "the initial box (half-width " + std::to_string(r0) + ") must lie strictly inside the eps-box (eps " +
+                  std::to_string(a.eps[i]) + ")";
+      return r;
+    }
+  }
+  // Per enclosure step: two Jacobians over n + m directions and a zonotope product of about
+  // n x (n + m) x 3 (n + m) operations, ~2 ns each; a few weight choices in the worst case.
+  const double N = n + m;
+  const double per_step = 2e-9 * (n * N * 3 * N + 40 * N * N);
+  const double tries = s_.weight_search ? 3 : 1;
+  r.work_s = tries * std::max(1, horizon) * s_.substeps * per_step;
+  r.memory_bytes = 8.0 * std::max(1, horizon) * (3.0 * n * n + 4.0 * n + m * n + s_.parts * (2.0 * n + 4));
+  std::ostringstream s;
+  s << "LQR funnel, " << s_.substeps << " enclosure steps per period of " << tau << " s, initial box "
+    << (s_.initial_radius.empty() ? std::to_string(s_.initial_fraction) + " eps" : std::string("as configured"));
+  r.summary = s.str();
+  return r;
+}
+
+bool FunnelTracker::refine(AgentSpec& a) const {
+  // Tighter enclosures first (the verification's own error), then stiffer feedback.
+  Params& p = a.tracker.params;
+  const long sub = p.integer("substeps", s_.substeps);
+  if (sub * 2 <= 256) {
+    p.set("substeps", sub * 2);
+    return true;
+  }
+  const double q = p.real("state_weight", s_.state_weight);
+  if (q * 4 <= 1e4) {
+    p.set("state_weight", q * 4);
+    return true;
+  }
+  return false;
+}
+
+TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) const {
+  TrackResult res;
+  const auto t0 = Clock::now();
+  if (!p.dynamics) {
+    res.message = "no dynamics";
+    return res;
+  }
+  const int n = p.dynamics->state_dim(), m = p.dynamics->input_dim();
+  const int T = static_cast<int>(p.nominal.u.size());
+  if (n + m > kMaxDual) {
+    res.message = "the funnel tracker handles agents with states + inputs <= " + std::to_string(kMaxDual);
+    return res;
+  }
+  if (T < 1 || static_cast<int>(p.nominal.x.size()) != T + 1 || p.eps.size() != n || p.w.size() != n ||
+      p.input_bounds.dim() != m) {
+    res.message = "inconsistent tracking problem (nominal length, eps, w or input bounds)";
+    return res;
+  }
+  if (!s_.initial_radius.empty() && static_cast<int>(s_.initial_radius.size()) != n) {
+    res.message = "initial_radius: expected " + std::to_string(n) + " numbers, got " + std::to_string(s_.initial_radius.size());
+    return res;
+  }
+  VerifyOptions vo;
+  vo.flow.substeps = s_.substeps;
+  vo.flow.picard_iterations = s_.picard_iterations;
+  vo.flow.max_generators = s_.max_generators;
+  vo.parts = s_.parts;
+  vo.initial_radius.resize(n);
+  for (int i = 0; i < n; ++i)
+    vo.initial_radius[i] = s_.initial_radius.empty() ? s_.initial_fraction * p.eps[i] : s_.initial_radius[i];
+
+  LqrWeights wt;
+  wt.q.resize(n);
+  wt.r.resize(m);
+  for (int i = 0; i < n; ++i) wt.q[i] = s_.state_weight / (p.eps[i] * p.eps[i]);
+  wt.terminal = s_.terminal_weight;
+  const int tries = s_.weight_search ? static_cast<int>(std::size(kInputWeightLadder)) : 1;
+  VerifyOutcome best;
+  best.reached_step = -1;
+  double gain_time = 0, verify_time = 0;
+  int attempts = 0;
+  for (int t = 0; t < tries; ++t) {
+    for (int j = 0; j < m; ++j) {
+      const double half = 0.5 * (p.input_bounds.hi[j] - p.input_bounds.lo[j]);
+      wt.r[j] = s_.input_weight * kInputWeightLadder[t] / (half > 0 ? half * half : 1.0);
+    }
+    const auto tg = Clock::now();
+    const LqrGains g = lqr_gains(*p.dynamics, p.nominal, p.tau, s_.rk4_substeps, wt);
+    gain_time += since(tg);
+    if (!g.ok()) continue;
+    const auto tv = Clock::now();
+    VerifyOutcome v = verify_funnel(p, g.K, g.closed, vo, g.cost);
+    verify_time += since(tv);
+    ++attempts;
+    if (v.ok || v.reached_step > best.reached_step) best = std::move(v);
+    if (best.ok) break;
+  }
+  res.stats.abstraction_time_s = gain_time;
+  res.stats.synthesis_time_s = verify_time;
+  res.stats.boxes_computed = static_cast<long long>(attempts) * T * s_.substeps;
+  res.stats.enclosure_substeps = s_.parts;
+  if (!best.ok) {
+    res.status = TrackerStatus::NoController;
+    res.message = best.reached_step < 0 ? "the LQR recursion broke down (non-finite gains)"
+                                        : "no verified funnel (" + std::to_string(attempts) + " weight choice(s)): " + best.why;
+    return res;
+  }
+  res.stats.initial_state_winning = true;
+  const FunnelData& d = best.data;
+  res.stats.peak_memory_bytes = static_cast<long long>(8 * (d.horizon() + 1) * (3 * n + n * n + m * (n + 1)) +
+                                                       d.enclosures.size() * sizeof(PeriodEnclosure));
+  std::ostringstream msg;
+  msg.precision(3);
+  msg << "verified sets fill at most " << 100 * best.max_fill << "% of eps (mean " << 100 * best.mean_fill << "%)";
+  if (best.saturated_steps) msg << ", inputs saturate on " << best.saturated_steps << " step(s)";
+  res.message = msg.str();
+  res.controller = std::make_shared<FunnelController>(best.data);
+  res.status = TrackerStatus::Controller;
+  (void)t0;
+  return res;
+}
+
+std::shared_ptr<const Controller> FunnelTracker::read_controller(const std::string& path) const {
+  return funnel::read_controller(path);
+}
+
+}  // namespace marsyn::funnel

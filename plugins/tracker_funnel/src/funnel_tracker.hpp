@@ -1,0 +1,43 @@
+#pragma once
+// The funnel tracker: time-varying LQR feedback around the nominal, held over each period, with
+// a sound zonotope verification of the closed loop (docs/tracker.md "funnel", docs/soundness.md
+// section 11). Its cost grows polynomially with the state dimension, not exponentially.
+#include <string>
+#include <vector>
+
+#include "funnel_synthesis.hpp"
+#include "marsyn/params.hpp"
+#include "marsyn/tracker.hpp"
+
+namespace marsyn::funnel {
+
+struct FunnelSettings {
+  int substeps = 16;
+  int parts = 8;
+  int picard_iterations = 20;
+  int max_generators = 0;
+  std::vector<double> initial_radius;  // empty: initial_fraction * eps
+  double initial_fraction = 0.1;
+  double state_weight = 1.0, input_weight = 1.0, terminal_weight = 1.0;
+  bool weight_search = true;
+  int rk4_substeps = 4;
+};
+
+class FunnelTracker : public marsyn::Tracker {
+ public:
+  explicit FunnelTracker(const Params& p = {});
+  static std::vector<ParamSpec> param_specs();
+
+  std::string name() const override { return "funnel"; }
+  TrackResult track(const TrackingProblem& problem, const TrackOptions& options) const override;
+  TrackerAssessment assess(const AgentSpec& agent, int horizon, double tau) const override;
+  bool refine(AgentSpec& agent) const override;
+  std::shared_ptr<const Controller> read_controller(const std::string& path) const override;
+
+  const FunnelSettings& settings() const { return s_; }
+
+ private:
+  FunnelSettings s_;
+};
+
+}  // namespace marsyn::funnel

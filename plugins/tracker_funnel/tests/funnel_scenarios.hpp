@@ -1,0 +1,109 @@
+#pragma once
+// Test agents for the funnel tracker: models of every state dimension the tracker is meant for,
+// each with a nominal simulated from smooth inputs (disturbance-free RK4), so that the tests do
+// not depend on a planner.
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <random>
+#include <string>
+
+#include "dynamics_bicycle/src/bicycle.hpp"
+#include "dynamics_cartpole/src/cartpole.hpp"
+#include "dynamics_planar_quadrotor/src/planar_quadrotor.hpp"
+#include "dynamics_unicycle/src/unicycle.hpp"
+#include "marsyn/sampled_map.hpp"
+#include "marsyn/tracker.hpp"
+
+namespace marsyn::funnel::testing {
+
+inline Eigen::VectorXd vec(std::initializer_list<double> v) {
+  Eigen::VectorXd r(static_cast<int>(v.size()));
+  int i = 0;
+  for (double x : v) r[i++] = x;
+  return r;
+}
+
+inline NominalTrajectory simulate(const Dynamics& f, const Eigen::VectorXd& x0, int steps, double tau,
+                                  const std::function<Eigen::VectorXd(double t)>& law) {
+  NominalTrajectory nom;
+  nom.x.push_back(x0);
+  for (int k = 0; k < steps; ++k) {
+    const Eigen::VectorXd u = law(tau * k);
+    Eigen::VectorXd next(x0.size());
+    rk4_step<double>(f, nom.x.back().data(), u.data(), nullptr, tau, 8, next.data());
+    nom.u.push_back(u);
+    nom.x.push_back(next);
+  }
+  return nom;
+}
+
+inline TrackingProblem unicycle(int steps = 60) {
+  TrackingProblem p;
+  p.agent = "drone";
+  p.dynamics = std::make_shared<models::Unicycle>();
+  p.eps = vec({0.2, 0.2, 0.24});
+  p.w = vec({0.0, 0.025, 0.025});
+  p.input_bounds = {vec({-2.4, -2.4}), vec({2.4, 2.4})};
+  p.state_bounds = {vec({-1, -1, -2}), vec({11, 11, 3.3})};
+  p.nominal = simulate(*p.dynamics, vec({0, 0, M_PI / 4}), steps, p.tau, [](double t) {
+    return vec({1.37 + 0.2 * std::sin(0.6 * t), 0.3 * std::sin(2 * M_PI * t / 5.15)});
+  });
+  return p;
+}
+
+inline TrackingProblem crane(int steps = 40) {
+  TrackingProblem p;
+  p.agent = "crane";
+  p.dynamics = std::make_shared<models::CartPole>();
+  p.eps = vec({0.135, 0.385, 0.176, 0.768});
+  p.w = vec({0, 0.05, 0, 0});
+  p.input_bounds = {vec({-7}), vec({7})};
+  p.state_bounds = {vec({-0.195, -1.99, 1.20, -5.44}), vec({5.49, 4.37, 4.68, 5.28})};
+  p.nominal = simulate(*p.dynamics, vec({0, 0, M_PI, 0}), steps, p.tau, [](double t) {
+    return vec({0.62 * std::sin(2 * M_PI * t / 7.0) + 0.5 * std::sin(2 * M_PI * t / 1.4)});
+  });
+  return p;
+}
+
+inline TrackingProblem bicycle(int steps = 50) {
+  TrackingProblem p;
+  p.agent = "bicycle";
+  p.dynamics = std::make_shared<models::Bicycle>();
+  p.eps = vec({0.2, 0.2, 0.2, 0.2, 0.15});
+  p.w = vec({0.02, 0.02, 0.02, 0.05, 0.02});
+  p.input_bounds = {vec({-2, -1.5}), vec({2, 1.5})};
+  p.state_bounds = {vec({-10, -10, -4, -1, -0.6}), vec({10, 10, 4, 3, 0.6})};
+  p.nominal = simulate(*p.dynamics, vec({0, 0, 0, 1, 0}), steps, p.tau, [](double t) {
+    return vec({0.3 * std::sin(0.8 * t), 0.25 * std::cos(1.1 * t)});
+  });
+  return p;
+}
+
+inline TrackingProblem planar_quadrotor(int steps = 50) {
+  TrackingProblem p;
+  p.agent = "pquad";
+  p.dynamics = std::make_shared<models::PlanarQuadrotor>();
+  p.eps = vec({0.2, 0.2, 0.2, 0.3, 0.3, 0.5});
+  p.w = vec({0, 0, 0, 0.05, 0.05, 0.05});
+  p.input_bounds = {vec({5, -8}), vec({15, 8})};
+  p.state_bounds = {vec({-10, -10, -1, -5, -5, -5}), vec({10, 10, 1, 5, 5, 5})};
+  p.workspace.index = {0, 1};
+  p.nominal = simulate(*p.dynamics, vec({0, 1, 0, 0, 0, 0}), steps, p.tau, [](double t) {
+    return vec({9.81 + 0.5 * std::sin(t), 0.6 * std::sin(1.3 * t)});
+  });
+  return p;
+}
+
+// The soundness tests run each model over a horizon the funnel verifies today: the enclosures
+// outgrow eps after about 13 (crane), 16 (bicycle) and 9 (planar quadrotor) steps although the
+// sampled closed loop stays within a third of it (docs/tracker.md, "funnel: limits").
+inline TrackingProblem scenario(const std::string& name) {
+  if (name == "unicycle") return unicycle();
+  if (name == "crane") return crane(10);
+  if (name == "bicycle") return bicycle(12);
+  if (name == "planar_quadrotor") return planar_quadrotor(6);
+  throw std::invalid_argument(name);
+}
+
+}  // namespace marsyn::funnel::testing
