@@ -1,8 +1,9 @@
 #!/bin/sh
-# fuzz.problem_loader: build the clang fuzzing tree (core with coverage + ASan/UBSan, the four
-# dynamics plugins) and run problem_loader_fuzzer for SECONDS from the examples and the bad-input
-# suite. Fails on any crash, sanitizer report, leak or non-ConfigError exception (libFuzzer exits
-# non-zero and writes crash-*/leak-*/timeout-* into the artifact folder named in the log).
+# fuzz.problem_loader: build the clang fuzzing tree (the loader's files of core with coverage +
+# ASan/UBSan, see fuzz/CMakeLists.txt; the four dynamics plugins) and run problem_loader_fuzzer
+# for SECONDS from the examples and the bad-input suite. Fails on any crash, sanitizer report,
+# leak or non-ConfigError exception (libFuzzer exits non-zero and writes crash-*/leak-*/timeout-*
+# into the artifact folder named in the log).
 # usage: run_fuzz.sh SOURCE_DIR TREE CLANGXX SECONDS
 set -eu
 src=$1; tree=$2; cxx=$3; seconds=$4
