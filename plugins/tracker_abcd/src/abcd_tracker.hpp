@@ -1,6 +1,7 @@
 #pragma once
 // The default tracker: tube-local abstraction with sound growth-bound successor boxes and a
 // time-indexed controller (paper Sec. 3.4).
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -9,6 +10,23 @@
 #include "synthesis.hpp"
 
 namespace marsyn::abcd {
+
+// Grid cells per coordinate over the state bounds (the grid's 64-bit indices stay exact).
+inline constexpr double kMaxGridCellsPerCoordinate = 1099511627776.0;  // 2^40
+// Order of magnitude of one core's time per (tube cell, step, grid input) of a sweep, for
+// TrackerAssessment::work_s (docs/benchmarks-tracker.md: 0.35 M tube cells x 196 inputs in
+// about 0.4 s for a unicycle; reuse and the prefilter make most pairs cheap).
+inline constexpr double kSecondsPerStateInputPair = 1e-8;
+
+// The grid cell containing x0 in coordinate i: cells of size eta_x aligned at state_bounds.lo.
+struct CellBounds {
+  double lo, hi;
+};
+inline CellBounds x0_cell(const AgentSpec& a, int i) {
+  const double lo = a.state_bounds.lo[i];
+  const double cell_lo = lo + std::floor((a.x0[i] - lo) / a.eta_x[i]) * a.eta_x[i];
+  return {cell_lo, cell_lo + a.eta_x[i]};
+}
 
 class AbcdTracker : public marsyn::Tracker {
  public:
@@ -19,6 +37,13 @@ class AbcdTracker : public marsyn::Tracker {
   TrackResult track(const TrackingProblem& problem, const TrackOptions& options) const override;
   TrackResult reach_avoid(const ReachAvoidProblem& problem, const TrackOptions& options) const override;
   std::shared_ptr<const Controller> read_controller(const std::string& path) const override;
+  // The grid's rules for one agent (docs/tracker.md, "Assessment"): eta_x and eta_u given, x0's
+  // cell inside the tube, at most 2^40 cells per coordinate, tube and input storage within the
+  // memory budget (marsyn/memory_budget.hpp); work_s from tube cells x steps x grid inputs.
+  TrackerAssessment assess(const AgentSpec& agent, int horizon, double tau) const override;
+  // Remark 2: eta_x and eta_u times 0.75, refused (false, agent unchanged) when x0's cell would
+  // no longer fit the tube or the agent has no grid.
+  bool refine(AgentSpec& agent) const override;
 
   // Tests and benchmarks set these directly.
   SynthesisOptions options_for(const TrackOptions& o) const;
