@@ -108,6 +108,7 @@ py::dict agent_dict(const AgentSpec& a) {
   d["eps"] = vector(a.eps);
   d["eta_x"] = vector(a.eta_x);
   d["eta_u"] = vector(a.eta_u);
+  d["tracker"] = a.tracker.name;  // resolved per agent (never "auto")
   return d;
 }
 
@@ -219,16 +220,12 @@ std::vector<std::shared_ptr<const Controller>> controllers_from(const Problem& p
   std::vector<std::shared_ptr<const Controller>> out;
   if (py::isinstance<py::str>(obj) || py::hasattr(obj, "__fspath__")) {
     const std::string dir = py::str(py::module_::import("os").attr("fspath")(obj)).cast<std::string>();
-    auto tracker = lp->registry->create<Tracker>(pb.tracker.name, pb.tracker.params);
-    keep.push_back(tracker);
-    for (const auto& a : pb.agents) {
-      const std::string file = (fs::path(dir) / (a.name + ".ctrl")).string();
-      try {
-        out.push_back(tracker->read_controller(file));
-      } catch (const std::exception& e) {
-        throw ConfigError(file, 0, 0, "", e.what());
-      }
-    }
+    // Each agent's controller through the tracker that wrote it (result.json beside the files,
+    // else the agent's own), kept alive with the controllers.
+    TrackerInstances trackers(lp->registry);
+    out = read_agent_controllers(pb, trackers, dir);
+    for (const auto& a : pb.agents) keep.push_back(trackers.get(a.tracker));
+    for (const auto& [agent, name] : recorded_trackers(dir)) keep.push_back(trackers.get({name, {}}));
     return out;
   }
   if (py::isinstance<py::dict>(obj)) {
@@ -336,14 +333,16 @@ PYBIND11_MODULE(marsyn, m) {
       .def_property_readonly("horizon", [](const PyProblem& p) { return p.lp->problem.horizon; })
       .def_property_readonly("tau", [](const PyProblem& p) { return p.lp->problem.tau; })
       .def_property_readonly("planner", [](const PyProblem& p) { return p.lp->problem.planner.name; })
-      .def_property_readonly("tracker", [](const PyProblem& p) { return p.lp->problem.tracker.name; })
+      .def_property_readonly("tracker", [](const PyProblem& p) { return p.lp->problem.tracker.name; },
+                             "The top-level request: a tracker's name or 'auto'; each agent's is agents[i]['tracker'].")
       .def_property_readonly("agents",
                              [](const PyProblem& p) {
                                py::list l;
                                for (const auto& a : p.lp->problem.agents) l.append(agent_dict(a));
                                return l;
                              })
-      .def("summary", [](const PyProblem& p) { return summarize(p.lp->problem); }, "The summary `marsyn check` prints.")
+      .def("summary", [](const PyProblem& p) { return summarize(p.lp->problem, p.lp->trackers); },
+           "The summary `marsyn check` prints.")
       .def("__repr__", [](const PyProblem& p) {
         return "<marsyn.Problem '" + p.lp->problem.name + "': " + std::to_string(p.lp->problem.agents.size()) + " agents, T=" +
                std::to_string(p.lp->problem.horizon) + ">";
@@ -514,7 +513,8 @@ PYBIND11_MODULE(marsyn, m) {
         } else {
           nominal = nominal_from(pb, plan);
         }
-        auto tracker = lp.registry->create<Tracker>(pb.tracker.name, pb.tracker.params);
+        TrackerInstances trackers(lp.registry);
+        const auto tracker = trackers.get(pb.agents[static_cast<size_t>(index)].tracker);
         const TrackingProblem tp = tracking_problem(pb, index, nominal[static_cast<size_t>(index)]);
         TrackOptions to;
         to.threads = threads;

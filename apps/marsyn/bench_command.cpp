@@ -130,10 +130,10 @@ int run_bench(const std::string& examples_list, const std::string& planners_list
       const planning::PlanOutcome o = planning::plan(pb, *planner, po);
       std::string tracking = "-";
       if (track && o.feasible) {
-        const auto tracker = lp.registry->create<Tracker>(pb.tracker.name, pb.tracker.params);
+        TrackerInstances trackers(lp.registry);
         SolveOptions so;
         so.threads = threads;
-        const auto agents = track_agents(pb, o.agents, *tracker, so);
+        const auto agents = track_agents(pb, o.agents, trackers.for_agents(pb), so);
         int ok = 0;
         for (const auto& a : agents) ok += a.track.status == TrackerStatus::Controller;
         tracking = std::to_string(ok) + "/" + std::to_string(agents.size()) + " agents";

@@ -47,7 +47,7 @@ std::string default_example() {
 
 int run_check(const std::string& config) {
   const LoadedProblem loaded = load_problem(config);
-  std::cout << summarize(loaded.problem) << "\nok: " << config << " is a valid marsyn problem\n";
+  std::cout << summarize(loaded.problem, loaded.trackers) << "\nok: " << config << " is a valid marsyn problem\n";
   return 0;
 }
 

@@ -7,11 +7,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <set>
 
 #include "commands.hpp"
 #include "marsyn/core/plugin_registry.hpp"
 #include "marsyn/core/problem_loader.hpp"
+#include "marsyn/core/tracker_choice.hpp"
 #include "marsyn/tracker.hpp"
 
 namespace fs = std::filesystem;
@@ -27,6 +29,14 @@ int fail(const std::string& what) {
 bool c_identifier(const std::string& s) {
   if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
   return std::all_of(s.begin(), s.end(), [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'; });
+}
+
+// The tracker that wrote `file` (<agent>.ctrl) as the result.json beside it records it; empty
+// when there is no such record.
+std::string tracker_from_result(const fs::path& file) {
+  const auto recorded = recorded_trackers(file.parent_path().string());
+  const auto it = recorded.find(file.stem().string());
+  return it == recorded.end() ? std::string() : it->second;
 }
 
 }  // namespace
@@ -59,19 +69,36 @@ int run_export(const std::vector<std::string>& inputs, const std::string& format
     return fail("--prefix names one controller's symbols; " + std::to_string(files.size()) + " controllers given");
 
   PluginRegistry registry;
-  std::shared_ptr<Tracker> tracker;
-  try {
-    tracker = registry.create<Tracker>(tracker_name);
-  } catch (const std::exception&) {
-    std::string names;
-    for (const auto& n : registry.names("tracker")) names += (names.empty() ? "" : ", ") + n;
-    return fail("--tracker: no tracker plugin named '" + tracker_name + "' (found: " + (names.empty() ? "none" : names) + ")");
+  std::map<std::string, std::shared_ptr<Tracker>> trackers;
+  // The tracker that reads `file`: --tracker, else the one result.json names for it, else abcd.
+  auto tracker_for = [&](const std::string& file, std::string* error) -> std::shared_ptr<Tracker> {
+    std::string name = tracker_name;
+    std::string recorded;
+    if (name.empty()) recorded = tracker_from_result(file);
+    if (name.empty()) name = recorded.empty() ? "abcd" : recorded;
+    if (auto it = trackers.find(name); it != trackers.end()) return it->second;
+    try {
+      return trackers[name] = registry.create<Tracker>(name);
+    } catch (const std::exception&) {
+      std::string names;
+      for (const auto& n : registry.names("tracker")) names += (names.empty() ? "" : ", ") + n;
+      *error = (recorded.empty() ? "--tracker: " : file + ": written by the tracker '" + recorded + "' (result.json); ") +
+               "no tracker plugin named '" + name + "' (found: " + (names.empty() ? "none" : names) + ")";
+      return nullptr;
+    }
+  };
+  if (!tracker_name.empty()) {
+    std::string error;
+    if (!tracker_for(files.empty() ? std::string() : files.front(), &error)) return fail(error);
   }
   const std::string dir = out_dir.empty() ? "." : out_dir;
   long long total = 0;
   std::set<fs::path> written;
   for (const auto& file : files) {
     std::shared_ptr<const Controller> ctrl;
+    std::string error;
+    const auto tracker = tracker_for(file, &error);
+    if (!tracker) return fail(error);
     try {
       ctrl = tracker->read_controller(file);
     } catch (const std::exception& e) {

@@ -35,14 +35,16 @@ int main(int argc, char** argv) {
   check->add_option("CONFIG", config, "problem file (YAML)")->required();
 
   std::vector<std::string> export_inputs;
-  std::string export_format, export_out = ".", export_prefix, export_encoding = "auto", export_tracker = "abcd";
+  std::string export_format, export_out = ".", export_prefix, export_encoding = "auto", export_tracker;
   auto* export_cmd = app.add_subcommand("export", "write controllers as dependency-free C99 or in SCOTS v0.2's format (docs/deploy.md)");
   export_cmd->add_option("CONTROLLER", export_inputs, "controller files (.ctrl) or folders written by `marsyn solve`")->required();
   export_cmd->add_option("--format", export_format, "c (header + source per controller) or scs (SCOTS v0.2 text)")->required();
   export_cmd->add_option("--out", export_out, "output folder (default .)");
   export_cmd->add_option("--prefix", export_prefix, "C symbol / file prefix, a C identifier (default: the agent's name)");
   export_cmd->add_option("--encoding", export_encoding, "C tables: auto (the smaller), dense (bit-packed) or rle (default auto)");
-  export_cmd->add_option("--tracker", export_tracker, "the tracker plugin that wrote the controllers (default abcd)");
+  export_cmd->add_option("--tracker", export_tracker,
+                         "the tracker plugin that wrote the controllers (default: per file, the agent's tracker in the "
+                         "result.json beside it, else abcd)");
 
 #ifdef MARSYN_WITH_PIPELINE
   auto* plan = app.add_subcommand("plan", "plan the eps-robust nominal trajectory of all agents (plan.json, CSVs)");

@@ -1,6 +1,7 @@
 // Subcommands that run the method: plan, track, solve, simulate.
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -120,15 +121,28 @@ int run_track(const std::string& config, const std::string& agent, const std::st
   const Problem& pb = lp.problem;
   int index = -1;
   const AgentSpec& a = find_agent(pb, agent, &index);
-  auto tracker = lp.registry->create<Tracker>(pb.tracker.name, pb.tracker.params);
+  TrackerInstances trackers(lp.registry);
   const auto nominal = nominal_for(lp, plan_file);
   const TrackingProblem tp = tracking_problem(pb, index, nominal[index]);
   TrackOptions to;
   to.threads = threads;
-  log_line("[track] " + a.name + " with " + pb.tracker.name);
-  const TrackResult r = tracker->track(tp, to);
+  // The agent's tracker; under `tracker: auto`, on "no controller" the next one that accepted it
+  // (as `solve` does before its eps search).
+  const bool automatic = static_cast<std::size_t>(index) < lp.trackers.size() && lp.trackers[index].automatic;
+  std::vector<PluginChoice> order{a.tracker};
+  if (automatic) order.insert(order.end(), lp.trackers[index].fallbacks.begin(), lp.trackers[index].fallbacks.end());
+  TrackResult r;
+  std::string used;
+  for (std::size_t c = 0; c < order.size(); ++c) {
+    used = order[c].name;
+    log_line("[track] " + a.name + " with " + used + (automatic ? " (tracker: auto)" : ""));
+    r = trackers.get(order[c])->track(tp, to);
+    if (r.status != TrackerStatus::NoController || c + 1 == order.size()) break;
+    log_line("[track] " + used + " found no controller for " + a.name + "; tracker: auto falls back to " + order[c + 1].name);
+  }
   const auto& s = r.stats;
   std::printf("agent               %s (%s)\n", a.name.c_str(), a.dynamics_type.c_str());
+  std::printf("tracker             %s%s\n", used.c_str(), automatic ? " (chosen by tracker: auto)" : "");
   std::printf("status              %s%s%s\n", to_string(r.status), r.message.empty() ? "" : ": ", r.message.c_str());
   std::printf("tube cells          %lld over %zu steps\n", s.tube_cells, s.winning_cells_per_step.size());
   std::printf("N_l (pairs)         %.4g\n", s.state_input_pairs);
@@ -176,8 +190,19 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
   so.threads = threads;
   so.global_memory_budget_bytes = global_budget;
   so.log = log_line;
+  std::string trackers;  // "abcd" or "abcd x9, funnel x1"
+  {
+    std::vector<std::pair<std::string, int>> counts;
+    for (const auto& a : lp.problem.agents) {
+      auto it = std::find_if(counts.begin(), counts.end(), [&](const auto& c) { return c.first == a.tracker.name; });
+      if (it == counts.end()) counts.emplace_back(a.tracker.name, 1);
+      else ++it->second;
+    }
+    for (const auto& [name, count] : counts)
+      trackers += (trackers.empty() ? "" : ", ") + name + (counts.size() > 1 ? " x" + std::to_string(count) : "");
+  }
   log_line("[solve] " + lp.problem.name + ": " + std::to_string(lp.problem.agents.size()) + " agents, planner " +
-           lp.problem.planner.name + ", tracker " + lp.problem.tracker.name);
+           lp.problem.planner.name + ", tracker " + (lp.problem.tracker.name == kAutoTracker ? "auto: " : "") + trackers);
   SolveOutcome out = solve(lp, so);
   const std::string dir = out_dir_for(out_requested, lp.problem);
   const std::vector<std::string> written = write_solve_outputs(dir, out);
@@ -193,7 +218,8 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
     std::printf(" (at the samples %.4g, between them %.4g)", out.plan.check.sampled_margin, out.plan.check.between_margin);
   std::printf("\n");
   for (const auto& a : out.agents)
-    std::printf("  %-12s %-14s N_l %-10.3g boxes %-8lld %.3f s\n", a.name.c_str(), to_string(a.track.status),
+    std::printf("  %-12s %-8s %-14s N_l %-10.3g boxes %-8lld %.3f s\n", a.name.c_str(), a.tracker.c_str(),
+                to_string(a.track.status),
                 a.track.stats.state_input_pairs, a.track.stats.boxes_computed,
                 a.track.stats.abstraction_time_s + a.track.stats.synthesis_time_s);
   if (out.certification_ran) std::printf("certification %s\n", out.certification.message.c_str());
@@ -245,16 +271,9 @@ int run_simulate(const std::string& config, const std::string& controllers_dir, 
   }
   const std::string plan_path = (fs::path(controllers_dir) / "plan.json").string();
   const auto nominal = read_plan_json(plan_path, pb);
-  auto tracker = lp.registry->create<Tracker>(pb.tracker.name, pb.tracker.params);
-  std::vector<std::shared_ptr<const Controller>> ctrls;
-  for (const auto& a : pb.agents) {
-    const std::string file = (fs::path(controllers_dir) / (a.name + ".ctrl")).string();
-    try {
-      ctrls.push_back(tracker->read_controller(file));
-    } catch (const std::exception& e) {
-      throw ConfigError(file, 0, 0, "", e.what());
-    }
-  }
+  // Each agent's controller, read back by the agent's own tracker.
+  TrackerInstances trackers(lp.registry);
+  const std::vector<std::shared_ptr<const Controller>> ctrls = read_agent_controllers(pb, trackers, controllers_dir);
   const SpecMonitor monitor(pb);
   SimulationSetup setup{&pb, nominal, ctrls, 20, &monitor, true};
   const ClosedLoopRun run = simulate(setup, {mode, seed, 0});

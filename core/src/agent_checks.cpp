@@ -1,22 +1,13 @@
 #include "marsyn/core/agent_checks.hpp"
 
 #include <algorithm>
-#include <cmath>
 
 namespace marsyn {
-
-CellBounds x0_cell(const AgentSpec& a, int i) {
-  const double lo = a.state_bounds.lo[i];
-  const double cell_lo = lo + std::floor((a.x0[i] - lo) / a.eta_x[i]) * a.eta_x[i];
-  return {cell_lo, cell_lo + a.eta_x[i]};
-}
 
 AgentDefect agent_defect(const AgentSpec& a, int i) {
   const double lo = a.state_bounds.lo[i], hi = a.state_bounds.hi[i];
   if (a.x0[i] < lo || a.x0[i] > hi) return AgentDefect::X0OutsideBounds;
   if (a.x0[i] - a.eps[i] < lo || a.x0[i] + a.eps[i] > hi) return AgentDefect::TubeOutsideBounds;
-  const CellBounds cell = x0_cell(a, i);
-  if (cell.lo < a.x0[i] - a.eps[i] || cell.hi > a.x0[i] + a.eps[i]) return AgentDefect::X0CellOutsideTube;
   if (a.goal.lo[i] + a.eps[i] > a.goal.hi[i] - a.eps[i]) return AgentDefect::GoalEmpty;
   if (a.goal.hi[i] < lo || a.goal.lo[i] > hi) return AgentDefect::GoalOutsideBounds;
   if (std::max(a.goal.lo[i], lo) + a.eps[i] > std::min(a.goal.hi[i], hi) - a.eps[i]) return AgentDefect::GoalUnreachable;

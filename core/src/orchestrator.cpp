@@ -31,6 +31,14 @@ std::string vec(const Eigen::VectorXd& v) {
   return s.str() + ")";
 }
 
+// An attempt's parameters for one agent: its tracker, eps, and the grids when it has them.
+std::string agent_parameters(const AgentSpec& a) {
+  std::string p = "tracker=" + a.tracker.name + " eps=" + vec(a.eps);
+  if (a.eta_x.size()) p += " eta_x=" + vec(a.eta_x);
+  if (a.eta_u.size()) p += " eta_u=" + vec(a.eta_u);
+  return p;
+}
+
 }  // namespace
 
 TrackingProblem tracking_problem(const Problem& pb, int index, const NominalTrajectory& nominal) {
@@ -51,20 +59,18 @@ TrackingProblem tracking_problem(const Problem& pb, int index, const NominalTraj
 }
 
 std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<NominalTrajectory>& nominal,
-                                       const Tracker& tracker, const SolveOptions& opt) {
+                                       const std::vector<std::shared_ptr<const Tracker>>& trackers,
+                                       const SolveOptions& opt) {
   const int N = static_cast<int>(pb.agents.size());
   std::vector<AgentOutcome> out(N);
   // Agents in parallel, one tracker thread each, when the work is spread over them; when one
   // agent dominates (the crane beside a vehicle: 4 vs 2 dimensions), agents run one after the
-  // other with all threads each. Work estimate: tube cells per step x steps x inputs.
+  // other with all threads each. Work estimate: each agent's tracker's own (assess().work_s).
   std::vector<double> work_estimate(N, 0.0);
   double total_work = 0, max_work = 0;
   for (int i = 0; i < N; ++i) {
-    const AgentSpec& a = pb.agents[i];
-    double w = static_cast<double>(nominal[i].x.size());
-    for (int c = 0; c < a.n(); ++c) w *= std::max(1.0, std::floor(2 * a.eps[c] / a.eta_x[c]));
-    for (int j = 0; j < a.m(); ++j)
-      w *= std::floor((a.input_bounds.hi[j] - a.input_bounds.lo[j]) / a.eta_u[j] + 1e-9) + 1;
+    const double w =
+        std::max(0.0, assess_tracker(*trackers[i], pb.agents[i], static_cast<int>(nominal[i].x.size()) - 1, pb.tau).work_s);
     work_estimate[i] = w;
     total_work += w;
     max_work = std::max(max_work, w);
@@ -86,8 +92,9 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
       const TrackingProblem tp = tracking_problem(pb, i, nominal[i]);
       const auto t0 = Clock::now();
       out[i].name = a.name;
+      out[i].tracker = a.tracker.name;
       try {
-        out[i].track = tracker.track(tp, topt);
+        out[i].track = trackers[i]->track(tp, topt);
       } catch (const std::exception& e) {
         out[i].track.status = TrackerStatus::InvalidInput;
         out[i].track.message = e.what();
@@ -97,7 +104,8 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
         std::lock_guard<std::mutex> lock(log_mutex);
         running[i] = 0;
         std::ostringstream s;
-        s << "[track " << d << "/" << N << "] " << a.name << ": " << to_string(out[i].track.status) << ", "
+        s << "[track " << d << "/" << N << "] " << a.name << " (" << a.tracker.name
+          << "): " << to_string(out[i].track.status) << ", "
           << out[i].track.stats.tube_cells << " tube cells, N_l " << out[i].track.stats.state_input_pairs << ", "
           << out[i].track.stats.boxes_computed << " boxes, " << since(t0) << " s";
         if (!out[i].track.message.empty()) s << " (" << out[i].track.message << ")";
@@ -139,6 +147,11 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
 
 GlobalAbcdEstimate estimate_global_abcd(const Problem& pb) {
   GlobalAbcdEstimate g;
+  for (const auto& a : pb.agents)
+    if (a.eta_x.size() != a.n() || a.eta_u.size() != a.m()) {
+      g.status = "skipped: " + a.name + " has no eta_x and eta_u (the baseline abstracts the product on the agents' grids)";
+      return g;
+    }
   double pairs = 1;
   for (const auto& a : pb.agents) {
     for (int i = 0; i < a.n(); ++i) pairs *= std::ceil((a.state_bounds.hi[i] - a.state_bounds.lo[i]) / a.eta_x[i]);
@@ -164,7 +177,19 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
   const auto warm_planner = pb.warm_start_planner.name.empty()
                                 ? nullptr
                                 : reg.create<Planner>(pb.warm_start_planner.name, pb.warm_start_planner.params);
-  const auto tracker = reg.create<Tracker>(pb.tracker.name, pb.tracker.params);
+  // Each agent's tracker (AgentSpec::tracker, resolved by the loader), one object per distinct
+  // choice. An agent without one (a Problem built by hand) gets the top-level tracker, or abcd.
+  TrackerInstances instances(loaded.registry);
+  for (auto& a : pb.agents)
+    if (a.tracker.name.empty())
+      a.tracker = pb.tracker.name.empty() || pb.tracker.name == kAutoTracker ? PluginChoice{"abcd", {}} : pb.tracker;
+  out.trackers = loaded.trackers;
+  out.trackers.resize(pb.agents.size());
+  auto tracker_of = [&](const AgentSpec& a) { return instances.get(a.tracker); };
+  // The checks a proposed eps or tracker setting must pass: core's (bounds, goal) and the tracker's.
+  auto acceptable = [&](const AgentSpec& a) {
+    return agent_consistent(a) && assess_tracker(instances, a.tracker, a, pb.horizon, pb.tau).ok;
+  };
 
   bool all_tracked = false;
   bool certified = false;
@@ -195,8 +220,8 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
       for (auto& a : pb.agents) {
         AgentSpec b = a;
         b.eps *= 0.8;
-        b.eta_x = b.eta_x.cwiseMin(b.eps);
-        if (agent_consistent(b)) {
+        if (b.eta_x.size() == b.eps.size()) b.eta_x = b.eta_x.cwiseMin(b.eps);  // a grid no coarser than the tube
+        if (acceptable(b)) {
           a = b;
           changed = true;
         }
@@ -212,14 +237,12 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
     }
     // 2-3. Project and track every agent.
     const auto t_track = Clock::now();
-    out.agents = track_agents(pb, out.plan.agents, *tracker, opt);
+    out.agents = track_agents(pb, out.plan.agents, instances.for_agents(pb), opt);
     all_tracked = true;
     std::vector<int> failed;
     for (std::size_t i = 0; i < out.agents.size(); ++i) {
       const auto& r = out.agents[i].track;
-      out.attempts.push_back({"track " + out.agents[i].name,
-                              "eps=" + vec(pb.agents[i].eps) + " eta_x=" + vec(pb.agents[i].eta_x) +
-                                  " eta_u=" + vec(pb.agents[i].eta_u),
+      out.attempts.push_back({"track " + out.agents[i].name, agent_parameters(pb.agents[i]),
                               std::string(to_string(r.status)) + (r.message.empty() ? "" : ": " + r.message),
                               r.stats.abstraction_time_s + r.stats.synthesis_time_s});
       if (r.status != TrackerStatus::Controller) {
@@ -267,30 +290,56 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
     if (!searchable) break;
     out.failure = "no controller for";
     for (int i : failed) out.failure += " " + pb.agents[i].name;
-    // Remark 2: a failed agent gets a wider tube (first) or a finer grid (then), and the team is
-    // re-planned with the new eps.
-    bool changed = false;
-    replan = iter % 2 == 0;  // eps changes the robust spec; a finer grid does not
+    // tracker: auto: a failed agent first moves to the next tracker that accepted it (same eps,
+    // so the plan stays valid). Remark 2 for the others: a wider tube (first) or the tracker's own
+    // refinement (then; abcd: finer grids), and the team is re-planned with the new eps.
+    bool changed = false, eps_changed = false;
+    std::string fell_back, searched;
     for (int i : failed) {
-      AgentSpec b = pb.agents[i];
-      if (iter % 2 == 0) {
-        b.eps *= 1.25;
-      } else {
-        b.eta_x *= 0.75;
-        b.eta_u *= 0.75;
+      AgentSpec& a = pb.agents[i];
+      AgentTrackers& choice = out.trackers[i];
+      bool switched = false;
+      while (choice.automatic && !choice.fallbacks.empty() && !switched) {
+        AgentSpec b = a;
+        b.tracker = choice.fallbacks.front();
+        choice.fallbacks.erase(choice.fallbacks.begin());
+        const TrackerAssessment as = assess_tracker(instances, b.tracker, b, pb.horizon, pb.tau);
+        if (!as.ok) continue;
+        fell_back += (fell_back.empty() ? "" : ", ") + a.name + ": " + a.tracker.name + " -> " + b.tracker.name;
+        choice.assessment = as;
+        a = b;
+        switched = true;
       }
-      if (agent_consistent(b)) {
-        pb.agents[i] = b;
+      if (switched) {
         changed = true;
+        continue;
+      }
+      AgentSpec b = a;
+      bool proposed = true;
+      if (iter % 2 == 0) b.eps *= 1.25;
+      else proposed = tracker_of(b)->refine(b);
+      if (proposed && acceptable(b)) {
+        a = b;
+        changed = true;
+        eps_changed = eps_changed || iter % 2 == 0;
+        searched += " " + a.name + (iter % 2 == 0 ? "" : " (" + a.tracker.name + ")");
       }
     }
+    replan = eps_changed;  // eps changes the robust spec; another tracker or its own knobs do not
     if (!changed) break;
-    log("[search] " + out.failure + "; " + (iter % 2 == 0 ? "enlarging their eps" : "refining their grids") +
-        " and re-planning");
+    if (!fell_back.empty())
+      log("[search] " + out.failure + "; tracker: auto falls back (" + fell_back + ") with the same eps");
+    if (!searched.empty())
+      log("[search] " + out.failure + "; " + (iter % 2 == 0 ? "enlarging the eps of" : "refining the trackers of") +
+          searched + (replan ? " and re-planning" : " and tracking again"));
   }
 
   out.global = estimate_global_abcd(pb);
-  if (out.global.memory_bytes_estimate > opt.global_memory_budget_bytes) {
+  if (!out.global.status.empty()) {
+    // estimate_global_abcd said why not
+  } else if (!reg.find(PluginKind<Tracker>::name, "abcd")) {
+    out.global.status = "skipped: the abcd tracker is not installed";
+  } else if (out.global.memory_bytes_estimate > opt.global_memory_budget_bytes) {
     out.global.status = opt.global_memory_budget_bytes <= 0 ? "skipped: disabled (--global-budget 0)"
                                                              : "skipped: the estimate exceeds the memory budget";
   } else if (pb.agents.size() < 2) {
@@ -300,7 +349,15 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
   } else {
     log("[global] abstraction of the product system over its whole domain (" +
         std::to_string(out.global.state_input_pairs) + " state-input pairs)");
-    const GlobalAbcdRun g = run_global_abcd(pb, *tracker, opt.threads, opt.global_memory_budget_bytes);
+    // The baseline is abcd's whole-domain mode, whatever tracks the agents: with the parameters
+    // the problem gives abcd (the first agent's that uses it), else its defaults.
+    PluginChoice abcd{"abcd", {}};
+    for (const auto& a : pb.agents)
+      if (a.tracker.name == "abcd") {
+        abcd = a.tracker;
+        break;
+      }
+    const GlobalAbcdRun g = run_global_abcd(pb, *instances.get(abcd), opt.threads, opt.global_memory_budget_bytes);
     out.global.status = g.status;
     out.global.time_s = g.time_s;
     out.global.boxes_computed = g.boxes_computed;
@@ -366,6 +423,7 @@ nlohmann::json result_json(const SolveOutcome& o) {
   j["problem"] = o.problem.name;
   // Which times the result holds for: every t in [0, T tau], or only t = k tau.
   j["guarantee"] = to_string(o.problem.guarantee);
+  j["tracker"] = o.problem.tracker.name;  // the request: a tracker or "auto"; each agent's is agents[i].tracker.name
   j["plan"] = {{"planner", o.problem.planner.name},
                {"status", o.plan.feasible ? "feasible" : to_string(o.plan.result.status)},
                {"time_s", o.plan.total_time_s},
@@ -380,7 +438,11 @@ nlohmann::json result_json(const SolveOutcome& o) {
   for (std::size_t i = 0; i < o.agents.size(); ++i) {
     const auto& a = o.agents[i];
     const auto& s = a.track.stats;
-    json t = {{"status", to_string(a.track.status)},
+    const AgentTrackers* choice = i < o.trackers.size() ? &o.trackers[i] : nullptr;
+    json t = {{"name", a.tracker.empty() ? o.problem.agents[i].tracker.name : a.tracker},
+              {"chosen", choice && choice->automatic ? "auto" : "given"},
+              {"assessment", choice ? json(choice->assessment.summary) : json(nullptr)},
+              {"status", to_string(a.track.status)},
               {"state_input_pairs", s.state_input_pairs},
               {"tube_cells", s.tube_cells},
               {"boxes_computed", s.boxes_computed},

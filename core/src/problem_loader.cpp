@@ -1,5 +1,6 @@
 #include "marsyn/core/problem_loader.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -10,6 +11,7 @@
 #include "marsyn/core/agent_checks.hpp"
 #include "marsyn/core/input_limits.hpp"
 #include "marsyn/core/planning/geometry.hpp"
+#include "marsyn/core/tracker_choice.hpp"
 #include "equations/equation_yaml.hpp"
 #include "yaml_reader.hpp"
 
@@ -26,7 +28,7 @@ const std::vector<std::string> kTopKeys = {
     "formation"};
 const std::vector<std::string> kAgentKeys = {"name",         "dynamics",    "x0",    "goal",
                                              "state_bounds", "input_bounds", "disturbance", "eps",
-                                             "eta_x",        "eta_u",        "workspace"};
+                                             "eta_x",        "eta_u",        "workspace",   "tracker"};
 
 std::string fmt(double v) {
   std::ostringstream s;
@@ -233,7 +235,7 @@ Workspace read_workspace(const Field& f, const Dynamics& dyn) {
   return ws;
 }
 
-void validate_agent(const AgentSpec& a, const Field& x0f, const Field& goalf, const Field& etaf) {
+void validate_agent(const AgentSpec& a, const Field& x0f, const Field& goalf) {
   const auto names = a.dynamics->state_names();
   for (int i = 0; i < a.n(); ++i) {
     const std::string coord = "'" + names[i] + "'";
@@ -249,12 +251,6 @@ void validate_agent(const AgentSpec& a, const Field& x0f, const Field& goalf, co
         x0f[si].fail("the tube around x0 leaves the state bounds in " + coord + ": x0 +- eps = [" +
                      fmt(a.x0[i] - a.eps[i]) + ", " + fmt(a.x0[i] + a.eps[i]) + "] is not inside [" + fmt(lo) +
                      ", " + fmt(hi) + "]");
-      case AgentDefect::X0CellOutsideTube: {
-        const CellBounds cell = x0_cell(a, i);
-        etaf[si].fail("x0's grid cell [" + fmt(cell.lo) + ", " + fmt(cell.hi) + "] in " + coord +
-                      " does not fit inside the tube [x0 - eps, x0 + eps] = [" + fmt(a.x0[i] - a.eps[i]) + ", " +
-                      fmt(a.x0[i] + a.eps[i]) + "]; choose eta_x <= eps (" + fmt(a.eps[i]) + ")");
-      }
       case AgentDefect::GoalEmpty:
         goalf.fail("the goal shrunk by eps is empty in " + coord + ": [" + fmt(a.goal.lo[i]) + " + " +
                    fmt(a.eps[i]) + ", " + fmt(a.goal.hi[i]) + " - " + fmt(a.eps[i]) + "] = [" +
@@ -272,25 +268,87 @@ void validate_agent(const AgentSpec& a, const Field& x0f, const Field& goalf, co
   }
 }
 
-// The tracker's grid and storage for one agent, before any stage allocates them.
-void check_agent_resources(const AgentSpec& a, int horizon, const Field& etaf, const Field& etauf) {
-  const auto names = a.dynamics->state_names();
-  for (int i = 0; i < a.n(); ++i) {
-    const double cells = (a.state_bounds.hi[i] - a.state_bounds.lo[i]) / a.eta_x[i];
-    if (!(cells <= kMaxGridCellsPerCoordinate))
-      etaf[static_cast<std::size_t>(i)].fail("eta_x = " + fmt(a.eta_x[i]) + " makes " + fmt(cells) + " grid cells across the state bounds in '" +
-                                             names[i] + "'; at most " + fmt(kMaxGridCellsPerCoordinate) + " are supported");
+// `tracker` as written: a tracker's name or block ({name, params}), or `auto` (also when absent).
+struct TrackerRequest {
+  bool automatic = true;
+  PluginChoice choice;
+  Field field;  // where it was written (not present: the default, auto)
+};
+
+TrackerRequest read_tracker_request(const Field& f, const PluginRegistry& reg) {
+  TrackerRequest r{true, {}, f};
+  if (!f.present()) return r;
+  const PluginField pf = read_plugin_field(f, "name");
+  if (pf.name == kAutoTracker) {
+    if (pf.params_field.present())
+      pf.params_field.fail("'auto' takes no parameters; name the tracker to set its parameters, e.g. "
+                           "{name: abcd, params: {...}}");
+    return r;
   }
-  std::string source;
-  const double budget = memory_budget_bytes(&source);
-  const MemoryEstimate st = tracker_state_memory(a, horizon);
-  if (!(st.bytes <= budget))
-    etaf.fail("the tracker would need about " + format_bytes(st.bytes) + " for this agent (" + st.detail +
-              "), more than the memory budget of " + format_bytes(budget) + " (" + source + "); enlarge eta_x");
-  const MemoryEstimate in = tracker_input_memory(a);
-  if (!(in.bytes <= budget))
-    etauf.fail("the tracker would need about " + format_bytes(in.bytes) + " for this agent's inputs (" + in.detail +
-               "), more than the memory budget of " + format_bytes(budget) + " (" + source + "); enlarge eta_u");
+  r.automatic = false;
+  r.choice.name = pf.name;
+  r.choice.params = create_plugin<Tracker>(reg, pf).second;
+  return r;
+}
+
+// Where an assessment's field is written for this agent: the agent's own field or the default,
+// element `coordinate` of it when given; a tracker parameter in the tracker block; else the agent.
+Field assessment_field(const TrackerAssessment& as, const Field& af, const Field& defaults, const Field& tracker_field) {
+  if (as.field.empty()) return af;
+  const Field own = agent_field(af, defaults, as.field);
+  const Field param = tracker_field.is_map() ? tracker_field.child("params").child(as.field) : own;
+  const Field& f = own.present() ? own : param;
+  if (!f.present()) return af;
+  if (as.coordinate >= 0 && f.is_sequence() && static_cast<std::size_t>(as.coordinate) < f.size())
+    return f[static_cast<std::size_t>(as.coordinate)];
+  return f;
+}
+
+// Resolves the agent's tracker (AgentSpec::tracker) by the trackers' own assessments; a refusal
+// (or, for auto, every tracker's) is a located error at the field the tracker names.
+AgentTrackers resolve_tracker(AgentSpec& a, const TrackerRequest& req, TrackerInstances& trackers,
+                              const PluginRegistry& reg, const Problem& pb, const Field& af, const Field& defaults) {
+  AgentTrackers out;
+  out.automatic = req.automatic;
+  if (!req.automatic) {
+    const TrackerAssessment as = assess_tracker(trackers, req.choice, a, pb.horizon, pb.tau);
+    out.asked.emplace_back(req.choice.name, as);
+    if (!as.ok) assessment_field(as, af, defaults, req.field).fail(as.message);
+    a.tracker = req.choice;
+    out.assessment = as;
+    return out;
+  }
+  // Asked in name order, so that the choice among equal estimates and the location of a refusal
+  // do not depend on where the plugins were found.
+  std::vector<std::string> names = reg.names(PluginKind<Tracker>::name);
+  std::sort(names.begin(), names.end());
+  if (names.empty())
+    (req.field.present() ? req.field : af)
+        .fail("no tracker plugin is installed (tracker: auto chooses among the installed ones); set MARSYN_PLUGIN_PATH "
+              "or plugin_paths");
+  std::vector<std::pair<double, std::size_t>> ok;  // (work_s, index into asked)
+  for (const auto& name : names) {
+    const TrackerAssessment as = assess_tracker(trackers, {name, {}}, a, pb.horizon, pb.tau);
+    if (as.ok) ok.emplace_back(as.work_s, out.asked.size());
+    out.asked.emplace_back(name, as);
+  }
+  if (ok.empty()) {
+    const TrackerAssessment& first = out.asked.front().second;
+    std::string msg;
+    if (out.asked.size() == 1) {
+      msg = first.message + " (tracker: auto, and " + out.asked.front().first + " is the only tracker installed)";
+    } else {
+      msg = "no installed tracker accepts this agent (tracker: auto):";
+      for (std::size_t i = 0; i < out.asked.size(); ++i)
+        msg += std::string(i ? ";" : "") + " " + out.asked[i].first + ": " + out.asked[i].second.message;
+    }
+    assessment_field(first, af, defaults, req.field).fail(msg);
+  }
+  std::stable_sort(ok.begin(), ok.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  a.tracker = {out.asked[ok.front().second].first, {}};
+  out.assessment = out.asked[ok.front().second].second;
+  for (std::size_t i = 1; i < ok.size(); ++i) out.fallbacks.push_back({out.asked[ok[i].second].first, {}});
+  return out;
 }
 
 // The real specification at k = 0, with the exact geometry of the robustness check
@@ -548,6 +606,10 @@ LoadedProblem load_problem(const std::string& path) {
                        (pb.pairwise_collision && agent_fields.size() > 1);
   std::map<std::string, std::size_t> seen;
   std::vector<Field> x0_fields;
+  // The top-level tracker (default of every agent without its own): a name, a block, or auto.
+  const TrackerRequest top_tracker = read_tracker_request(top.child("tracker"), *out.registry);
+  pb.tracker = top_tracker.automatic ? PluginChoice{kAutoTracker, {}} : top_tracker.choice;
+  TrackerInstances tracker_instances(out.registry);
   for (std::size_t idx = 0; idx < agent_fields.size(); ++idx) {
     const Field& af = agent_fields[idx];
     af.expect_map();
@@ -582,10 +644,10 @@ LoadedProblem load_problem(const std::string& path) {
     a.input_bounds = read_box(agent_required(af, defaults, "input_bounds"), m, sm);
     a.w = agent_required(af, defaults, "disturbance").non_negative_vector(n, sn);
     a.eps = agent_required(af, defaults, "eps").positive_vector(n, sn);
-    Field etaf = agent_required(af, defaults, "eta_x");
-    a.eta_x = etaf.positive_vector(n, sn);
-    Field etauf = agent_required(af, defaults, "eta_u");
-    a.eta_u = etauf.positive_vector(m, sm);
+    // The grids are optional: only a grid tracker (abcd) reads them, and its assessment asks for
+    // them when they are missing.
+    if (Field etaf = agent_field(af, defaults, "eta_x"); etaf.present()) a.eta_x = etaf.positive_vector(n, sn);
+    if (Field etauf = agent_field(af, defaults, "eta_u"); etauf.present()) a.eta_u = etauf.positive_vector(m, sm);
     if (Field ws = agent_field(af, defaults, "workspace"); ws.present()) {
       a.workspace = read_workspace(ws, *a.dynamics);
     } else if (spatial) {
@@ -594,8 +656,13 @@ LoadedProblem load_problem(const std::string& path) {
     } else {
       a.workspace.index = {0, n > 1 ? 1 : -1};
     }
-    validate_agent(a, x0f, goalf, etaf);
-    check_agent_resources(a, pb.horizon, etaf, etauf);
+    validate_agent(a, x0f, goalf);
+    memory_budget_bytes();  // a malformed MARSYN_MEMORY_BUDGET is reported before any tracker reads it
+    // The agent's own tracker, else the default's, else the top level's (Fields are never
+    // assigned: a YAML::Node assignment would write into the document).
+    const Field tf = agent_field(af, defaults, "tracker");
+    const TrackerRequest req = tf.present() ? read_tracker_request(tf, *out.registry) : top_tracker;
+    out.trackers.push_back(resolve_tracker(a, req, tracker_instances, *out.registry, pb, af, defaults));
     x0_fields.push_back(x0f);
     pb.agents.push_back(std::move(a));
   }
@@ -620,22 +687,19 @@ LoadedProblem load_problem(const std::string& path) {
     }
   }
 
-  // Planner and tracker: defaults when absent; always checked against the installed plugins so
-  // that a typo fails here rather than after minutes of work.
-  for (const auto& [key, kind, fallback] :
-       {std::tuple{"planner", "planner", kDefaultPlanner}, std::tuple{"tracker", "tracker", kDefaultTracker}}) {
-    Field f = top.child(key);
-    if (!f.present() && !out.registry->find(kind, fallback))
-      throw ConfigError(path, 0, 0, key,
-                        std::string("no ") + kind + " given and the default '" + fallback +
-                            "' is not installed; available: " + join(out.registry->names(kind)));
-    PluginField pf = f.present() ? read_plugin_field(f, "name", std::string(kind) == "planner" ? "warm_start" : "")
-                                 : PluginField{fallback, Field(YAML::Node(fallback), path, key), Field(YAML::Node(), path, key + std::string(".params"))};
-    PluginChoice choice;
-    choice.name = pf.name;
-    if (std::string(kind) == "planner") choice.params = create_plugin<Planner>(*out.registry, pf).second;
-    else choice.params = create_plugin<Tracker>(*out.registry, pf).second;
-    (std::string(kind) == "planner" ? pb.planner : pb.tracker) = choice;
+  // Planner: the default when absent; always checked against the installed plugins so that a
+  // typo fails here rather than after minutes of work. (Trackers: per agent, above.)
+  {
+    Field f = top.child("planner");
+    if (!f.present() && !out.registry->find("planner", kDefaultPlanner))
+      throw ConfigError(path, 0, 0, "planner",
+                        std::string("no planner given and the default '") + kDefaultPlanner +
+                            "' is not installed; available: " + join(out.registry->names("planner")));
+    PluginField pf = f.present() ? read_plugin_field(f, "name", "warm_start")
+                                 : PluginField{kDefaultPlanner, Field(YAML::Node(kDefaultPlanner), path, "planner"),
+                                               Field(YAML::Node(), path, "planner.params")};
+    pb.planner.name = pf.name;
+    pb.planner.params = create_plugin<Planner>(*out.registry, pf).second;
   }
   // planner.warm_start: a planner whose plan starts the main one (docs/planner.md, chains).
   if (Field p = top.child("planner"); p.present() && !p.is_scalar())

@@ -1,6 +1,5 @@
 #include "marsyn/core/problem_summary.hpp"
 
-#include <cmath>
 #include <iomanip>
 #include <sstream>
 
@@ -24,7 +23,7 @@ std::string vec(const Eigen::VectorXd& v) {
 }
 }  // namespace
 
-std::string summarize(const Problem& pb) {
+std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& trackers) {
   std::ostringstream s;
   const ConstraintCounts c = count_constraints(pb);
   s << "problem   " << pb.name << "  (" << pb.source << ")\n";
@@ -41,15 +40,23 @@ std::string summarize(const Problem& pb) {
     << (pb.warm_start_planner.name.empty() ? "" : pb.warm_start_planner.name + " -> ") << pb.planner.name << ", tracker " << pb.tracker.name << ", obstacle distances "
     << (pb.collision.name.empty() ? "exact (core)" : pb.collision.name) << "\n\n";
   s << std::left << std::setw(12) << "agent" << std::setw(19) << "dynamics" << std::setw(7) << "n x m"
-    << std::setw(31) << "eps" << std::setw(33) << "eta_x" << "tube cells/step\n";
-  for (const auto& a : pb.agents) {
-    // Grid cells lying entirely inside one eps-box: at least floor(2 eps / eta) - 1 per
-    // coordinate, at most floor(2 eps / eta); the upper figure sizes the tracker's work.
-    double cells = 1;
-    for (int i = 0; i < a.n(); ++i) cells *= std::floor(2 * a.eps[i] / a.eta_x[i]);
+    << std::setw(31) << "eps" << std::setw(33) << "eta_x" << "tracker\n";
+  for (std::size_t i = 0; i < pb.agents.size(); ++i) {
+    const AgentSpec& a = pb.agents[i];
+    // The tracker's own figures (abcd: tube cells per step and grid inputs), from its assessment.
+    std::string tracker = a.tracker.name;
+    if (i < trackers.size()) {
+      const AgentTrackers& t = trackers[i];
+      if (t.automatic) {
+        tracker += " (auto";
+        for (const auto& f : t.fallbacks) tracker += ", then " + f.name;
+        tracker += ")";
+      }
+      if (!t.assessment.summary.empty()) tracker += ": " + t.assessment.summary;
+    }
     s << std::setw(12) << a.name << std::setw(19) << a.dynamics_type << std::setw(7)
       << (std::to_string(a.n()) + " x " + std::to_string(a.m())) << std::setw(31) << vec(a.eps) << std::setw(33)
-      << vec(a.eta_x) << "<= " << cells << "\n";
+      << (a.eta_x.size() ? vec(a.eta_x) : std::string("-")) << tracker << "\n";
   }
   s << "\nconstraints per step: " << c.per_step() << " (obstacle " << c.obstacle << ", collision " << c.collision
     << ", formation " << c.formation << "); obstacles " << pb.obstacles.size() << "\n";

@@ -53,8 +53,8 @@ struct AgentSpec {
   Box input_bounds;  // U^i
   Eigen::VectorXd w;      // disturbance bound: w in [-w, w] componentwise
   Eigen::VectorXd eps;    // tube half-width per state coordinate (robustness margin)
-  Eigen::VectorXd eta_x;  // state grid cell size
-  Eigen::VectorXd eta_u;  // input grid spacing
+  Eigen::VectorXd eta_x;  // state grid cell size (empty when not given: only grid trackers read it)
+  Eigen::VectorXd eta_u;  // input grid spacing (empty when not given)
   Workspace workspace;
   // The agent's tracker (name and parameters); the name is never "auto" once the problem is
   // loaded: the loader resolves `tracker: auto` per agent from each tracker's assessment.
@@ -107,7 +107,7 @@ struct Problem {
   int rk4_substeps = 4;    // substeps of the sampled map f_tau used by planners and simulation
   PluginChoice planner;
   PluginChoice warm_start_planner;  // optional: its plan starts `planner` (name empty: none)
-  PluginChoice tracker;
+  PluginChoice tracker;  // the top-level request: a tracker or "auto"; each agent's own is AgentSpec::tracker
   PluginChoice collision;              // name empty: core's exact geometry
   DistanceModelFactory distance_model;  // set with a collision plugin
   std::vector<std::string> plugin_paths;

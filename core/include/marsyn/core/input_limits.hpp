@@ -1,10 +1,11 @@
 #pragma once
 // Limits on what a problem file may ask for, checked by the loader before any stage allocates
 // (docs/problem-format.md, "Checks"): names that become file names, hard bounds on counts, and
-// memory estimates of the planning and tracking stages against a budget.
+// the planning stage's memory estimate against a budget.
 #include <cstddef>
 #include <string>
 
+#include "marsyn/memory_budget.hpp"
 #include "marsyn/problem.hpp"
 
 namespace marsyn {
@@ -20,11 +21,10 @@ std::string name_from_stem(const std::string& stem);
 inline constexpr long kMaxHorizon = 100000;      // steps
 inline constexpr long kMaxRk4Substeps = 1000;    // per step
 inline constexpr std::size_t kMaxAgents = 1000;
-// Tracker grid: cells per coordinate over the state bounds (the grid's 64-bit indices stay exact).
-inline constexpr double kMaxGridCellsPerCoordinate = 1099511627776.0;  // 2^40
 
 // The memory the stages may plan to use: MARSYN_MEMORY_BUDGET (bytes; suffixes K, M, G, T
-// accepted, powers of 1024) or, by default, half of the machine's physical memory. `source`
+// accepted, powers of 1024) or, by default, half of the machine's physical memory (one
+// definition, marsyn/memory_budget.hpp, which trackers' assessments read too). `source`
 // receives a short description for messages. A malformed variable is a ConfigError.
 double memory_budget_bytes(std::string* source = nullptr);
 
@@ -37,11 +37,6 @@ struct MemoryEstimate {
 // and feedback blocks, and one constraint row per obstacle-agent and agent pair (a lower
 // estimate of what the in-tree planners hold; the horizon search may lengthen T further).
 MemoryEstimate planner_memory(const Problem& problem);
-// The tracker's storage for one agent: a u16 per (tube cell, step), prefix sums over two steps'
-// tubes, and the input grid over U. Tube cells per step: prod_i (floor(2 eps_i / eta_x_i) + 1).
-MemoryEstimate tracker_state_memory(const AgentSpec& agent, int horizon);
-MemoryEstimate tracker_input_memory(const AgentSpec& agent);
-
-std::string format_bytes(double bytes);
+// Trackers estimate their own storage in Tracker::assess (abcd: plugins/tracker_abcd).
 
 }  // namespace marsyn

@@ -2,7 +2,9 @@
 // The user's main job (`marsyn solve`): plan -> project -> track every agent (in parallel) ->
 // verify -> report, inside the outer search of the paper's Remark 2: when planning fails, the
 // horizon grows (inside the planning stage) and then eps shrinks; when an agent's tracking fails,
-// its grid is refined or its eps enlarged, and the problem is re-planned. Every attempt is
+// an agent of `tracker: auto` first moves to the next tracker that accepted it, otherwise its eps
+// is enlarged or its tracker refines its own knobs (Tracker::refine; abcd: finer grids), and the
+// problem is re-planned when eps changed. Every attempt is
 // recorded with its parameters, outcome and time.
 #include <functional>
 #include <memory>
@@ -36,6 +38,7 @@ struct Attempt {
 
 struct AgentOutcome {
   std::string name;
+  std::string tracker;  // the tracker that produced `track`
   TrackResult track;
   std::string controller_file;  // relative to the output folder; empty without a controller
 };
@@ -59,6 +62,8 @@ struct SolveOutcome {
   VerificationReport verification;
   bool verification_ran = false;
   GlobalAbcdEstimate global;
+  // Per agent: how its tracker was chosen, its assessment, the auto fallbacks not yet used.
+  std::vector<AgentTrackers> trackers;
   std::vector<Attempt> attempts;
   double total_time_s = 0;
 };
@@ -68,9 +73,11 @@ GlobalAbcdEstimate estimate_global_abcd(const Problem& problem);
 // Agent `index`'s tracking problem (paper Alg. 1 step 3) along its nominal trajectory.
 TrackingProblem tracking_problem(const Problem& problem, int index, const NominalTrajectory& nominal);
 
-// Tracks every agent along its nominal trajectory, agents in parallel (threads from options).
+// Tracks every agent along its nominal trajectory with its own tracker (trackers[i] for agent
+// i, e.g. TrackerInstances::for_agents), agents in parallel (threads from options).
 std::vector<AgentOutcome> track_agents(const Problem& problem, const std::vector<NominalTrajectory>& nominal,
-                                       const Tracker& tracker, const SolveOptions& options);
+                                       const std::vector<std::shared_ptr<const Tracker>>& trackers,
+                                       const SolveOptions& options);
 
 // Runs the whole method. Throws only for bad input (unknown plugins); failures are outcomes.
 SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& options);

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "marsyn/core/plugin_registry.hpp"
+#include "marsyn/core/tracker_choice.hpp"
 #include "marsyn/problem.hpp"
 
 namespace marsyn {
@@ -14,12 +15,14 @@ struct LoadedProblem {
   // The registry the problem's plugins were found in (config plugin_paths first). Plugin
   // objects keep their libraries loaded on their own; the registry is kept for creating more.
   std::shared_ptr<PluginRegistry> registry;
+  // Per agent (index for index): how its tracker (AgentSpec::tracker) was chosen, the chosen
+  // tracker's assessment and, for `tracker: auto`, the fallbacks.
+  std::vector<AgentTrackers> trackers;
 };
 
 LoadedProblem load_problem(const std::string& path);
 
-// The default planner and tracker when a config names none.
+// The default planner when a config names none; the default tracker is `auto` (kAutoTracker).
 inline constexpr const char* kDefaultPlanner = "altro";
-inline constexpr const char* kDefaultTracker = "abcd";
 
 }  // namespace marsyn

@@ -1,6 +1,7 @@
 #pragma once
 #include <string>
 
+#include "marsyn/core/tracker_choice.hpp"
 #include "marsyn/problem.hpp"
 
 namespace marsyn {
@@ -15,7 +16,9 @@ struct ConstraintCounts {
 
 ConstraintCounts count_constraints(const Problem& problem);
 
-// A readable one-screen description of a loaded problem (what `marsyn check` prints).
-std::string summarize(const Problem& problem);
+// A readable one-screen description of a loaded problem (what `marsyn check` prints). With the
+// loader's tracker choices (LoadedProblem::trackers), each agent's line shows its tracker, how it
+// was chosen and the tracker's own assessment.
+std::string summarize(const Problem& problem, const std::vector<AgentTrackers>& trackers = {});
 
 }  // namespace marsyn

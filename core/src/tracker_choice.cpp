@@ -1,0 +1,95 @@
+#include "marsyn/core/tracker_choice.hpp"
+
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "marsyn/core/config_error.hpp"
+
+namespace marsyn {
+
+std::shared_ptr<const Tracker> TrackerInstances::get(const PluginChoice& choice) {
+  for (const auto& [c, t] : made_)
+    if (c.name == choice.name && c.params.values() == choice.params.values()) return t;
+  std::shared_ptr<const Tracker> t = registry_->create<Tracker>(choice.name, choice.params);
+  made_.emplace_back(choice, t);
+  return t;
+}
+
+std::vector<std::shared_ptr<const Tracker>> TrackerInstances::for_agents(const Problem& pb) {
+  std::vector<std::shared_ptr<const Tracker>> out;
+  for (const auto& a : pb.agents) out.push_back(get(a.tracker));
+  return out;
+}
+
+namespace {
+TrackerAssessment failed(const std::string& what) {
+  TrackerAssessment r;
+  r.ok = false;
+  r.message = what;
+  return r;
+}
+}  // namespace
+
+TrackerAssessment assess_tracker(const Tracker& tracker, const AgentSpec& agent, int horizon, double tau) {
+  try {
+    return tracker.assess(agent, horizon, tau);
+  } catch (const std::exception& e) {
+    return failed(std::string("the assessment failed: ") + e.what());
+  }
+}
+
+TrackerAssessment assess_tracker(TrackerInstances& trackers, const PluginChoice& choice, const AgentSpec& agent,
+                                 int horizon, double tau) {
+  std::shared_ptr<const Tracker> t;
+  try {
+    t = trackers.get(choice);
+  } catch (const std::exception& e) {
+    return failed(std::string("the tracker could not be created: ") + e.what());
+  }
+  return assess_tracker(*t, agent, horizon, tau);
+}
+
+std::map<std::string, std::string> recorded_trackers(const std::string& dir) {
+  std::map<std::string, std::string> out;
+  std::ifstream in(std::filesystem::path(dir) / "result.json");
+  if (!in) return out;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(in);
+    for (const auto& a : j.at("agents"))
+      if (a.contains("name") && a["name"].is_string() && a.contains("tracker") && a["tracker"].is_object() &&
+          a["tracker"].contains("name") && a["tracker"]["name"].is_string())
+        out[a["name"].get<std::string>()] = a["tracker"]["name"].get<std::string>();
+  } catch (const std::exception&) {
+    out.clear();  // not marsyn's result.json: the agents' own trackers
+  }
+  return out;
+}
+
+std::vector<std::shared_ptr<const Controller>> read_agent_controllers(const Problem& pb, TrackerInstances& trackers,
+                                                                      const std::string& dir) {
+  std::vector<std::shared_ptr<const Controller>> out;
+  const auto recorded = recorded_trackers(dir);
+  for (const auto& a : pb.agents) {
+    const auto it = recorded.find(a.name);
+    const PluginChoice choice = it == recorded.end() || it->second == a.tracker.name ? a.tracker : PluginChoice{it->second, {}};
+    std::shared_ptr<const Tracker> tracker;
+    try {
+      tracker = trackers.get(choice);
+    } catch (const std::exception& e) {
+      throw ConfigError((std::filesystem::path(dir) / "result.json").string(), 0, 0, "agents." + a.name + ".tracker",
+                        "the controller of " + a.name + " was written by the tracker '" + choice.name +
+                            "', which could not be created: " + e.what());
+    }
+    const std::string file = (std::filesystem::path(dir) / (a.name + ".ctrl")).string();
+    try {
+      out.push_back(tracker->read_controller(file));
+    } catch (const std::exception& e) {
+      throw ConfigError(file, 0, 0, "", e.what());
+    }
+  }
+  return out;
+}
+
+}  // namespace marsyn
