@@ -103,7 +103,8 @@ TEST(ConfigErrors, X0TubeOutsideStateBounds) {
 }
 
 TEST(ConfigErrors, X0CellOutsideTheTubeGrid) {
-  expect_error("grid", replace(kValid, "    eta_x: [0.025, 0.025, 0.03]\n  - name: b", "    eta_x: [0.5, 0.025, 0.03]\n  - name: b"),
+  // abcd named (appended: no line moves): x0's cell is abcd's rule, asked through its assessment.
+  expect_error("grid", replace(kValid + "tracker: abcd\n", "    eta_x: [0.025, 0.025, 0.03]\n  - name: b", "    eta_x: [0.5, 0.025, 0.03]\n  - name: b"),
                "agents[0].eta_x[0]", "does not fit inside the tube", 17);
 }
 

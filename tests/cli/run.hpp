@@ -20,13 +20,13 @@ inline std::string slurp(const std::string& path) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
-inline RunResult run_marsyn(const std::string& args, const std::string& env = "") {
+inline RunResult run_exe(const std::string& exe, const std::string& args, const std::string& env = "") {
   namespace fs = std::filesystem;
   static int counter = 0;
   const fs::path dir = fs::temp_directory_path() / ("marsyn_cli_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const std::string base = (dir / std::to_string(counter++)).string();
-  const std::string cmd = env + " " + MARSYN_EXE + " " + args + " >" + base + ".out 2>" + base + ".err";
+  const std::string cmd = env + " " + exe + " " + args + " >" + base + ".out 2>" + base + ".err";
   const int status = std::system(cmd.c_str());
   RunResult r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -34,6 +34,8 @@ inline RunResult run_marsyn(const std::string& args, const std::string& env = ""
   r.err = slurp(base + ".err");
   return r;
 }
+
+inline RunResult run_marsyn(const std::string& args, const std::string& env = "") { return run_exe(MARSYN_EXE, args, env); }
 
 inline std::string write_temp(const std::string& name, const std::string& text) {
   namespace fs = std::filesystem;

@@ -1,0 +1,103 @@
+// abcd's own rules, asked through the Tracker interface (Tracker::assess / refine) the way the
+// loader and the orchestrator ask them: core keeps no copy of the grid convention.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+
+#include "marsyn/core/plugin_registry.hpp"
+#include "marsyn/dynamics.hpp"
+#include "marsyn/tracker.hpp"
+
+namespace {
+
+using Eigen::VectorXd;
+
+marsyn::AgentSpec unicycle(const marsyn::PluginRegistry& reg) {
+  marsyn::AgentSpec a;
+  a.name = "a";
+  a.dynamics_type = "unicycle";
+  a.dynamics = reg.create<marsyn::Dynamics>("unicycle");
+  a.x0 = VectorXd::Zero(3);
+  a.x0[1] = 2;
+  a.state_bounds = {VectorXd::Constant(3, -1), VectorXd::Constant(3, 11)};
+  a.state_bounds.lo[2] = -2;
+  a.state_bounds.hi[2] = 3;
+  a.input_bounds = {VectorXd::Constant(2, -2), VectorXd::Constant(2, 2)};
+  a.goal = {VectorXd::Constant(3, 4.7), VectorXd::Constant(3, 5.3)};
+  a.w = VectorXd::Constant(3, 0.02);
+  a.eps = (VectorXd(3) << 0.2, 0.2, 0.24).finished();
+  a.eta_x = (VectorXd(3) << 0.025, 0.025, 0.03).finished();
+  a.eta_u = VectorXd::Constant(2, 0.3);
+  return a;
+}
+
+class AbcdAssessment : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!reg.find("tracker", "abcd")) GTEST_SKIP() << "abcd is not built";
+    abcd = reg.create<marsyn::Tracker>("abcd");
+  }
+  marsyn::PluginRegistry reg;
+  std::shared_ptr<marsyn::Tracker> abcd;
+};
+
+TEST_F(AbcdAssessment, AcceptsAGridInsideTheTubeWithItsFigures) {
+  const auto r = abcd->assess(unicycle(reg), 20, 0.1);
+  ASSERT_TRUE(r.ok) << r.message;
+  // floor(2 eps / eta) = 16 per coordinate, floor(4 / 0.3) + 1 = 14 inputs per input coordinate.
+  EXPECT_EQ(r.summary, "<= 4096 tube cells/step, 196 grid inputs");
+  EXPECT_DOUBLE_EQ(r.memory_bytes, 21.0 * 4913 * 2 + 2.0 * 4913 * 8 + 196.0 * 3 * 8);
+  EXPECT_DOUBLE_EQ(r.work_s, 1e-8 * 21 * 4096 * 196);
+  // More steps, more work: the estimate ranks agents and trackers.
+  EXPECT_GT(abcd->assess(unicycle(reg), 40, 0.1).work_s, r.work_s);
+}
+
+TEST_F(AbcdAssessment, X0CellOutsideTheTubeNamesTheCoordinate) {
+  auto a = unicycle(reg);
+  a.eta_x[0] = 0.5;
+  const auto r = abcd->assess(a, 20, 0.1);
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(r.field, "eta_x");
+  EXPECT_EQ(r.coordinate, 0);
+  EXPECT_EQ(r.message,
+            "x0's grid cell [0, 0.5] in 'x' does not fit inside the tube [x0 - eps, x0 + eps] = [-0.2, 0.2]; choose "
+            "eta_x <= eps (0.2)");
+}
+
+TEST_F(AbcdAssessment, MissingGridsAreRefusedByName) {
+  auto a = unicycle(reg);
+  a.eta_u.resize(0);
+  auto r = abcd->assess(a, 20, 0.1);
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(r.field, "eta_u");
+  EXPECT_EQ(r.coordinate, -1);
+  EXPECT_NE(r.message.find("the abcd tracker needs 'eta_u'"), std::string::npos) << r.message;
+  a = unicycle(reg);
+  a.eta_x.resize(0);
+  r = abcd->assess(a, 20, 0.1);
+  EXPECT_EQ(r.field, "eta_x");
+  EXPECT_NE(r.message.find("e.g. eps / 8 = [0.025, 0.025, 0.03]"), std::string::npos) << r.message;
+  EXPECT_FALSE(abcd->refine(a));
+}
+
+TEST_F(AbcdAssessment, MemoryBudgetFromTheEnvironment) {
+  setenv("MARSYN_MEMORY_BUDGET", "100K", 1);
+  const auto r = abcd->assess(unicycle(reg), 20, 0.1);
+  unsetenv("MARSYN_MEMORY_BUDGET");
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(r.field, "eta_x");
+  EXPECT_EQ(r.message,
+            "the tracker would need about 284954 bytes for this agent (4.91e+03 tube cells per step x 21 steps), more "
+            "than the memory budget of 102400 bytes (MARSYN_MEMORY_BUDGET); enlarge eta_x");
+}
+
+TEST_F(AbcdAssessment, RefineMakesBothGridsFiner) {
+  auto a = unicycle(reg);
+  ASSERT_TRUE(abcd->refine(a));
+  EXPECT_DOUBLE_EQ(a.eta_x[0], 0.025 * 0.75);
+  EXPECT_DOUBLE_EQ(a.eta_x[2], 0.03 * 0.75);
+  EXPECT_DOUBLE_EQ(a.eta_u[1], 0.3 * 0.75);
+  EXPECT_EQ(a.eps[0], 0.2);  // eps is the orchestrator's, not the tracker's
+}
+
+}  // namespace

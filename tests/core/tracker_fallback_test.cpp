@@ -1,0 +1,105 @@
+// The orchestrator's per-agent trackers: an agent of `tracker: auto` whose tracker answers "no
+// controller" moves to the next tracker that accepted it, with the same eps and without a new
+// plan, before the Remark 2 search touches it; a tracker named explicitly is never replaced.
+// `never` (tests/fixtures/never_tracker.cpp) always answers "no controller" and is the cheapest.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <unistd.h>
+
+#include "marsyn/core/orchestrator.hpp"
+#include "marsyn/core/problem_loader.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The pendulum example with the test tracker's folder on plugin_paths and its `tracker` line
+// replaced by `tracker_line`.
+std::string pendulum(const std::string& name, const std::string& tracker_line) {
+  std::ifstream in(std::string(MARSYN_SOURCE_DIR) + "/examples/pendulum.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string s = text.str();
+  s.replace(s.find("tracker: abcd\n"), 14, tracker_line + "\nplugin_paths: [" + NEVER_TRACKER_DIR + "]\n");
+  const fs::path dir = fs::temp_directory_path() / ("marsyn_fallback_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path p = dir / (name + ".yaml");
+  std::ofstream(p) << s;
+  return p.string();
+}
+
+std::vector<marsyn::Attempt> tracking_attempts(const marsyn::SolveOutcome& o) {
+  std::vector<marsyn::Attempt> out;
+  for (const auto& a : o.attempts)
+    if (a.stage == "track pendulum") out.push_back(a);
+  return out;
+}
+
+int plans(const marsyn::SolveOutcome& o) {
+  int n = 0;
+  for (const auto& a : o.attempts) n += a.stage == "plan";
+  return n;
+}
+
+marsyn::SolveOptions quick() {
+  marsyn::SolveOptions so;
+  so.verification_runs = 5;
+  so.global_memory_budget_bytes = 0;
+  return so;
+}
+
+TEST(TrackerFallback, AutoFallsBackBeforeTheEpsSearch) {
+  const auto lp = marsyn::load_problem(pendulum("auto", "tracker: auto"));
+  ASSERT_EQ(lp.problem.agents[0].tracker.name, "never");
+  ASSERT_EQ(lp.trackers.size(), 1u);
+  EXPECT_TRUE(lp.trackers[0].automatic);
+  // Every other installed tracker that accepts the pendulum, cheapest first: abcd among them.
+  const auto& fb = lp.trackers[0].fallbacks;
+  ASSERT_TRUE(std::any_of(fb.begin(), fb.end(), [](const auto& c) { return c.name == "abcd"; }));
+  // Whatever else the build installs: the solve below falls back to abcd alone.
+  marsyn::LoadedProblem only_abcd = lp;
+  only_abcd.trackers[0].fallbacks = {{"abcd", {}}};
+
+  const marsyn::SolveOutcome o = marsyn::solve(only_abcd, quick());
+  EXPECT_TRUE(o.verified) << o.failure;
+  const auto t = tracking_attempts(o);
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_EQ(t[0].parameters, "tracker=never eps=(0.2,0.2) eta_x=(0.01,0.01) eta_u=(0.1)");
+  EXPECT_EQ(t[0].outcome, "no controller: the test tracker never finds a controller");
+  EXPECT_EQ(t[1].parameters, "tracker=abcd eps=(0.2,0.2) eta_x=(0.01,0.01) eta_u=(0.1)");
+  EXPECT_EQ(t[1].outcome.rfind("controller", 0), 0u) << t[1].outcome;
+  EXPECT_EQ(plans(o), 1);  // the same eps: the plan stays valid
+  ASSERT_EQ(o.agents.size(), 1u);
+  EXPECT_EQ(o.agents[0].tracker, "abcd");
+  EXPECT_EQ(o.problem.agents[0].tracker.name, "abcd");
+  const auto j = marsyn::result_json(o);
+  EXPECT_EQ(j["tracker"], "auto");
+  EXPECT_EQ(j["agents"][0]["tracker"]["name"], "abcd");
+  EXPECT_EQ(j["agents"][0]["tracker"]["chosen"], "auto");
+  EXPECT_EQ(j["agents"][0]["tracker"]["status"], "controller");
+}
+
+TEST(TrackerFallback, NamedTrackerIsNeverReplaced) {
+  const auto lp = marsyn::load_problem(pendulum("named", "tracker: never"));
+  EXPECT_FALSE(lp.trackers[0].automatic);
+  EXPECT_TRUE(lp.trackers[0].fallbacks.empty());
+  marsyn::SolveOptions so = quick();
+  so.max_outer_iterations = 3;
+  const marsyn::SolveOutcome o = marsyn::solve(lp, so);
+  EXPECT_FALSE(o.verified);
+  EXPECT_EQ(o.failure, "no controller for pendulum");
+  const auto t = tracking_attempts(o);
+  ASSERT_EQ(t.size(), 2u);
+  // Remark 2: eps x 1.25 and a new plan; then never has nothing to refine and the search stops.
+  EXPECT_EQ(t[0].parameters, "tracker=never eps=(0.2,0.2) eta_x=(0.01,0.01) eta_u=(0.1)");
+  EXPECT_EQ(t[1].parameters, "tracker=never eps=(0.25,0.25) eta_x=(0.01,0.01) eta_u=(0.1)");
+  EXPECT_EQ(plans(o), 2);
+  EXPECT_EQ(marsyn::result_json(o)["agents"][0]["tracker"]["chosen"], "given");
+}
+
+}  // namespace
