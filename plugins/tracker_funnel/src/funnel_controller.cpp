@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "marsyn/binary_file.hpp"
+#include "membership.hpp"
 
 namespace marsyn::funnel {
 namespace {
@@ -24,7 +25,20 @@ bool FunnelController::in_set(const double* x, int k) const {
   const int n = data_.n;
   for (int j = 0; j < n; ++j)
     if (!(x[j] >= s.lo[j] && x[j] <= s.hi[j])) return false;  // also refuses NaN
-  if (s.S.empty()) return true;
+  if (s.kind == kBox) return true;
+  if (s.kind == kZonotope) {
+    // The solver proposes coefficients; only the residual check below decides.
+    const int p = s.generators;
+    double d[64], xi[kMaxMembershipGenerators];
+    for (int j = 0; j < n; ++j) d[j] = x[j] - s.c[j];
+    zonotope_coefficients(s.S.data(), n, p, d, xi);
+    for (int i = 0; i < n; ++i) {
+      double r = -d[i];
+      for (int j = 0; j < p; ++j) r += s.S[static_cast<std::size_t>(j) * n + i] * xi[j];
+      if (!(std::fabs(r) <= s.tol[i])) return false;
+    }
+    return true;
+  }
   // The verification bounds the rounding of exactly this loop (docs/soundness.md section 11).
   for (int i = 0; i < n; ++i) {
     double y = 0.0;
@@ -66,11 +80,13 @@ std::string serialize(const FunnelData& d) {
     p.reals(d.x_nom[static_cast<std::size_t>(k)]);
     p.reals(s.lo);
     p.reals(s.hi);
-    p.u8(s.S.empty() ? 0 : 1);
-    if (!s.S.empty()) {
+    p.u8(s.kind);
+    if (s.kind == kZonotope) p.u32(static_cast<std::uint32_t>(s.generators));
+    if (s.kind != kBox) {
       p.reals(s.c);
       p.reals(s.S);
     }
+    if (s.kind == kZonotope) p.reals(s.tol);
   }
   for (int k = 0; k < d.horizon(); ++k) {
     p.reals(d.u_nom[static_cast<std::size_t>(k)]);
@@ -115,12 +131,18 @@ FunnelData deserialize(const std::string& s, const std::string& what) {
     d.x_nom.push_back(r.reals(n));
     st.lo = r.reals(n);
     st.hi = r.reals(n);
-    const std::uint8_t has_s = r.u8();
-    if (has_s > 1) r.fail("bad set flag at step " + std::to_string(k));
-    if (has_s) {
-      st.c = r.reals(n);
-      st.S = r.reals(static_cast<std::size_t>(n) * n);
+    st.kind = r.u8();
+    if (st.kind > kZonotope) r.fail("unknown set kind " + std::to_string(st.kind) + " at step " + std::to_string(k));
+    if (st.kind == kZonotope) {
+      const std::uint32_t p = r.u32();
+      if (p > static_cast<std::uint32_t>(kMaxMembershipGenerators)) r.fail("too many generators at step " + std::to_string(k));
+      st.generators = static_cast<int>(p);
     }
+    if (st.kind != kBox) {
+      st.c = r.reals(n);
+      st.S = r.reals(static_cast<std::size_t>(n) * (st.kind == kZonotope ? st.generators : n));
+    }
+    if (st.kind == kZonotope) st.tol = r.reals(n);
     d.sets.push_back(std::move(st));
   }
   for (std::uint32_t k = 0; k < T; ++k) {

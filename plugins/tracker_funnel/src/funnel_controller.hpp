@@ -1,12 +1,15 @@
 #pragma once
 // The funnel controller as data, its file, and its O(n m) evaluation:
 //   u = sat_U(u_k + K_k (x - x_k))   for x in the verified set V_k of step k.
-// V_0 is the initial box; V_k (k >= 1) is {x in box_k : |fl(S_k (x - c_k))|_inf <= 1}, exactly
-// the set the evaluation below accepts, floating point included (docs/soundness.md section 11).
+// V_0 is the initial box; V_k (k >= 1) is a parallelotope {x in box_k : |fl(S_k (x - c_k))|_inf
+// <= 1} or a zonotope (membership.hpp), exactly the set the evaluation below accepts, floating
+// point included (docs/soundness.md section 11). O(n^2) per call for parallelotopes, one small
+// simplex (n rows, <= 2n columns) for zonotopes.
 //
 // File layout (binary_file.hpp envelope, magic "MARSYNFT", format 1): payload = dynamics type,
 // agent, u32 n, m, T, f64 tau, eps[n], w[n], u_lo[m], u_hi[m]; per step k = 0..T: x_k[n],
-// box lo[n], hi[n], u8 has_S, (c_k[n], S_k[n n] row-major when has_S); per step k < T: u_k[m],
+// box lo[n], hi[n], u8 kind (0 box, 1 parallelotope, 2 zonotope); kind 1: c_k[n], S_k[n n]
+// row-major; kind 2: u32 p, c_k[n], G_k[n p] column-major, tol[n]; per step k < T: u_k[m],
 // K_k[m n] row-major; u32 enclosure count, each u32 step, f64 t0, t1, state lo[n], hi[n],
 // workspace lo[2], hi[2].
 #include <cstdint>
@@ -20,9 +23,18 @@ namespace marsyn::funnel {
 
 inline constexpr std::uint32_t kFormatVersion = 1;
 
+// How V_k is tested beyond its box: nothing more (the initial box), |fl(S (x - c))|_inf <= 1 (a
+// parallelotope), or a zonotope c + G xi: the membership solver's xi must leave a residual
+// |fl(G xi - (x - c))| <= tol per coordinate.
+enum SetKind : std::uint8_t { kBox = 0, kParallelotope = 1, kZonotope = 2 };
+
 struct StepSet {
   std::vector<double> lo, hi;  // box_k, inside the eps-box of x_k
-  std::vector<double> c, S;    // empty at step 0 (V_0 is the box itself)
+  std::uint8_t kind = kBox;
+  std::vector<double> c;       // n, unless kind == kBox
+  std::vector<double> S;       // parallelotope: n x n row-major; zonotope: G, n x generators column-major
+  int generators = 0;          // zonotope only
+  std::vector<double> tol;     // zonotope only, n
 };
 
 struct FunnelData {

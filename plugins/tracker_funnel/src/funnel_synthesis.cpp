@@ -11,6 +11,7 @@
 #include <Eigen/SVD>
 
 #include "marsyn/interval.hpp"
+#include "membership.hpp"
 
 namespace marsyn::funnel {
 namespace {
@@ -48,9 +49,43 @@ double reach(double lo, double hi, double ref) { return std::max(std::fabs(sub_u
 
 struct Fit {
   bool ok = false;
-  std::vector<double> S;  // n x n row-major
+  std::uint8_t kind = kParallelotope;
+  std::vector<double> S;  // parallelotope: n x n row-major; zonotope: G column-major
+  int generators = 0;
+  std::vector<double> tol;
   Zonotope next;          // contains V_{k+1}, basis in the first n generators
 };
+
+// V = {x in box : the solver's xi leaves |fl(G xi - (x - c))| <= tol} for the order-2 reduction
+// c + G xi of z. Every accepted x lies in c + G xi + box(tol + err), err bounding the residual's
+// rounding (kappa (|x - c| + sum_j |G_ij|), |xi_j| <= 1), so the next period starts from that
+// zonotope. z itself lies in the reduction; the solver's completeness on it is what the
+// soundness tests sample (docs/soundness.md section 11).
+Fit certify_zonotope(const Zonotope& zend, int basis, const std::vector<double>& lo, const std::vector<double>& hi) {
+  Fit f;
+  f.kind = kZonotope;
+  const int n = zend.dim();
+  Zonotope z = zend;
+  reduce_order(z, basis, 2 * n);
+  const int p = z.generators();
+  if (p > kMaxMembershipGenerators || p < 1) return f;
+  const double kappa = rounding_factor(p + 1);
+  std::vector<double> grow(n);
+  f.tol.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const double r = z.radius(i);
+    f.tol[i] = std::max(1e-9 * r, 1e-300);
+    const double err = add_up(mul_up(kappa, add_up(reach(lo[i], hi[i], z.c[i]), r)), kTiny);
+    grow[i] = add_up(f.tol[i], err);
+    if (!std::isfinite(grow[i])) return f;
+  }
+  f.generators = p;
+  f.S.assign(z.G.data(), z.G.data() + static_cast<std::size_t>(n) * p);
+  f.next = z;
+  append_box(f.next, grow);
+  f.ok = true;
+  return f;
+}
 
 // Candidate shapes S (rows scaled so that |S (x - c)|_inf <= 1 roughly bounds z): the image of
 // the previous basis (no wrapping when the new generators are small), its QR orientation
@@ -372,10 +407,13 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
     Fit fit;
     Period next_period;
     double best = std::numeric_limits<double>::infinity();
+    std::vector<Fit> fits;
     for (const Eigen::MatrixXd& S : candidate_shapes(zend, basis == n ? n : 0,
                                                       k + 1 < static_cast<int>(closed.size()) ? &closed[k + 1] : nullptr,
-                                                      k + 1 < static_cast<int>(cost.size()) ? &cost[k + 1] : nullptr)) {
-      Fit c = certify(zend, S, next.lo, next.hi);
+                                                      k + 1 < static_cast<int>(cost.size()) ? &cost[k + 1] : nullptr))
+      fits.push_back(certify(zend, S, next.lo, next.hi));
+    fits.push_back(certify_zonotope(zend, basis == n ? n : 0, next.lo, next.hi));
+    for (Fit& c : fits) {
       if (!c.ok) continue;
       double score;
       Period pn;
@@ -398,8 +436,12 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
       out.reached_step = k;
       return out;
     }
-    next.c.assign(zend.c.data(), zend.c.data() + n);
+    next.kind = fit.kind;
+    next.c.assign(fit.kind == kZonotope ? fit.next.c.data() : zend.c.data(),
+                  (fit.kind == kZonotope ? fit.next.c.data() : zend.c.data()) + n);
     next.S = fit.S;
+    next.generators = fit.generators;
+    next.tol = fit.tol;
     zx = fit.next;
     basis = n;
     record_fill(zx);

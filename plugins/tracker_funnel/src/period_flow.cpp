@@ -46,10 +46,14 @@ FlowResult enclose_period(const Dynamics& f, const Zonotope& start, const std::v
   IMatrix JX, JB;
   IVector unused;
   Zonotope z = start;
+  // Everything new within the period (rounding, wrapping, remainder, disturbance) is kept as one
+  // box b, itself carried by |I + h Jm| each substep, and becomes generators at the period's end:
+  // the generators stay few and are reduced once per period, not once per substep.
+  std::vector<double> b(static_cast<std::size_t>(N), 0.0), nb(static_cast<std::size_t>(N)), radii;
   r.boxes.reserve(static_cast<std::size_t>(S) * n);
   for (int s = 0; s < S; ++s) {
     for (int i = 0; i < N; ++i) {
-      X[i] = z.hull(i);
+      X[i] = z.hull(i) + FastInterval(-b[i], b[i]);
       if (!finite(X[i])) return r;
     }
     const FastInterval* U = X.data() + n;
@@ -67,7 +71,7 @@ FlowResult enclose_period(const Dynamics& f, const Zonotope& start, const std::v
     for (int i = 0; i < N; ++i) C[i] = FastInterval(z.c[i]);
     f.field(C.data(), C.data() + n, Fc.data());
     std::vector<double> rad(N), extra(N, 0.0);
-    for (int k = 0; k < N; ++k) rad[k] = z.radius(k);
+    for (int k = 0; k < N; ++k) rad[k] = fast_detail::add_up(z.radius(k), b[k]);
     Eigen::MatrixXd Jm(n, N);
     for (int i = 0; i < n; ++i) {
       FastInterval second(0.0), wrap(0.0);
@@ -91,9 +95,22 @@ FlowResult enclose_period(const Dynamics& f, const Zonotope& start, const std::v
       }
       for (int i = n; i < N; ++i) gens(i, j) = FastInterval(z.G(i, j));
     }
-    z = from_intervals(center, gens, extra);
-    reduce_order(z, basis, max_generators);
+    z = midpoints(center, gens, radii);
+    for (int i = 0; i < N; ++i) {
+      double carried = 0.0;
+      if (i < n) {
+        for (int k = 0; k < N; ++k)
+          carried = fast_detail::add_up(carried, fast_detail::mul_up(mag(FastInterval(i == k ? 1.0 : 0.0) + h * FastInterval(Jm(i, k))), b[k]));
+      } else {
+        carried = b[i];  // u' = 0
+      }
+      nb[i] = fast_detail::add_up(fast_detail::add_up(carried, radii[i]), extra[i]);
+      if (!std::isfinite(nb[i])) return r;
+    }
+    b.swap(nb);
   }
+  append_box(z, b);
+  reduce_order(z, basis, max_generators);
   r.end = std::move(z);
   r.ok = true;
   return r;

@@ -49,6 +49,37 @@ Zonotope from_intervals(const IVector& center, const IMatrix& gens, const std::v
   return z;
 }
 
+Zonotope midpoints(const IVector& center, const IMatrix& gens, std::vector<double>& radii) {
+  const int n = static_cast<int>(center.size()), p = gens.cols;
+  Zonotope z;
+  z.c.resize(n);
+  z.G.resize(n, p);
+  radii.assign(static_cast<std::size_t>(n), 0.0);
+  for (int i = 0; i < n; ++i) {
+    z.c[i] = median(center[i]);
+    radii[i] = radius_about(center[i], z.c[i]);
+    for (int j = 0; j < p; ++j) {
+      const double m = median(gens(i, j));
+      z.G(i, j) = m;
+      radii[i] = add_up(radii[i], radius_about(gens(i, j), m));
+    }
+  }
+  return z;
+}
+
+void append_box(Zonotope& z, const std::vector<double>& b) {
+  const int n = z.dim();
+  int extra = 0;
+  for (int i = 0; i < n; ++i) extra += b[i] != 0.0;
+  if (extra == 0) return;
+  const Eigen::Index p = z.G.cols();
+  z.G.conservativeResize(n, p + extra);
+  z.G.rightCols(extra).setZero();
+  int col = 0;
+  for (int i = 0; i < n; ++i)
+    if (b[i] != 0.0) z.G(i, p + col++) = b[i];
+}
+
 void drop_zero_generators(Zonotope& z) {
   std::vector<Eigen::Index> keep;
   for (Eigen::Index j = 0; j < z.G.cols(); ++j)

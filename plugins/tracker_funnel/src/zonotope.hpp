@@ -43,6 +43,14 @@ double radius_about(const FastInterval& x, double m);
 // empty) become one axis-aligned generator per coordinate.
 Zonotope from_intervals(const IVector& center, const IMatrix& gens, const std::vector<double>& extra);
 
+// The double zonotope of the midpoints of center and gens; radii[i] receives an upper bound of
+// the distance along i between any realisation of the intervals and it (the caller keeps it as
+// a box).
+Zonotope midpoints(const IVector& center, const IMatrix& gens, std::vector<double>& radii);
+
+// z with the box diag(b) appended (zero entries are skipped).
+void append_box(Zonotope& z, const std::vector<double>& b);
+
 // Girard's reduction: keeps the first `keep` generators (the propagated basis) and replaces the
 // others with the smallest ||g||_1 - ||g||_inf by their box until at most `max_generators` remain.
 // The box of the removed ones is an upper bound, so the result contains the input.

@@ -12,6 +12,7 @@
 
 #include "funnel_scenarios.hpp"
 #include "funnel_tracker.hpp"
+#include "membership.hpp"
 
 namespace marsyn::funnel {
 namespace {
@@ -48,7 +49,21 @@ bool in_scaled_set(const FunnelData& d, const double* x, int k, double factor) {
     const double mid = 0.5 * (s.lo[j] + s.hi[j]), half = 0.5 * (s.hi[j] - s.lo[j]) * factor;
     if (!(x[j] >= mid - half && x[j] <= mid + half)) return false;
   }
-  if (s.S.empty()) return true;
+  if (s.kind == kBox) return true;
+  if (s.kind == kZonotope) {
+    // The zonotope shrunk about its centre: generators scaled by `factor`.
+    const int p = s.generators;
+    std::vector<double> G(s.S), d(n), xi(p);
+    for (double& g : G) g *= factor;
+    for (int j = 0; j < n; ++j) d[j] = x[j] - s.c[j];
+    zonotope_coefficients(G.data(), n, p, d.data(), xi.data());
+    for (int i = 0; i < n; ++i) {
+      double r = -d[i];
+      for (int j = 0; j < p; ++j) r += G[j * n + i] * xi[j];
+      if (!(std::fabs(r) <= s.tol[i])) return false;
+    }
+    return true;
+  }
   for (int i = 0; i < n; ++i) {
     double y = 0;
     for (int j = 0; j < n; ++j) y += s.S[i * n + j] * (x[j] - s.c[j]);
@@ -71,7 +86,8 @@ Counts sample(const Tracked& t, long total, std::uint64_t seed) {
   std::vector<double> x(n), y(n), u(m), w(n), nxt(n);
   for (int k = 0; k < T; ++k) {
     Eigen::MatrixXd Tp;
-    if (!d.sets[k].S.empty()) {
+    const StepSet& set = d.sets[k];
+    if (set.kind == kParallelotope) {
       Eigen::MatrixXd S(n, n);
       for (int i = 0; i < n; ++i)
         for (int j = 0; j < n; ++j) S(i, j) = d.sets[k].S[i * n + j];
@@ -82,7 +98,15 @@ Counts sample(const Tracked& t, long total, std::uint64_t seed) {
       bool found = false;
       for (int attempt = 0; attempt < 50 && !found; ++attempt) {
         for (int i = 0; i < n; ++i) y[i] = U01(rng) < 0.5 ? (U01(rng) < 0.5 ? -1.0 : 1.0) : U(rng);
-        if (Tp.size() == 0) {
+        if (set.kind == kZonotope) {
+          // A vertex-biased point of the zonotope c + G xi.
+          std::vector<double> xi(set.generators);
+          for (auto& v : xi) v = U01(rng) < 0.5 ? (U01(rng) < 0.5 ? -1.0 : 1.0) : U(rng);
+          for (int i = 0; i < n; ++i) {
+            x[i] = set.c[i];
+            for (int j = 0; j < set.generators; ++j) x[i] += set.S[j * n + i] * xi[j] * (1 - 1e-12);
+          }
+        } else if (Tp.size() == 0) {
           for (int i = 0; i < n; ++i) x[i] = 0.5 * (d.sets[k].lo[i] + d.sets[k].hi[i]) + 0.5 * y[i] * (d.sets[k].hi[i] - d.sets[k].lo[i]);
         } else {
           for (int i = 0; i < n; ++i) {
@@ -142,6 +166,10 @@ TEST_P(FunnelSoundness, SuccessorsStayInTheNextVerifiedSet) {
   EXPECT_GT(c.shrunk_leaks, 0) << "the verified sets are more than 10% larger than the reachable states";
   EXPECT_GT(c.shrunk_enclosure_leaks, 0);
   RecordProperty("shrunk_leaks", std::to_string(c.shrunk_leaks));
+  long kinds[3] = {0, 0, 0};
+  for (const auto& st : dynamic_cast<const FunnelController&>(*t.result.controller).data().sets) ++kinds[st.kind];
+  std::printf("%s: sets: %ld box, %ld parallelotopes, %ld zonotopes\n", GetParam().c_str(), kinds[0], kinds[1], kinds[2]);
+  EXPECT_GT(kinds[1] + kinds[2], 0);
   std::printf("%s: %ld samples, %ld leak the 10%%-shrunk sets, %ld of %ld fine states leak the shrunk enclosures (%s)\n",
               GetParam().c_str(), c.samples, c.shrunk_leaks, c.shrunk_enclosure_leaks, c.fine_states,
               t.result.message.c_str());
@@ -181,3 +209,4 @@ TEST(FunnelSoundness, InitialSetMustFitTheTube) {
 
 }  // namespace
 }  // namespace marsyn::funnel
+#include "lqr.hpp"

@@ -1,0 +1,109 @@
+#include "membership.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace marsyn::funnel {
+
+bool zonotope_coefficients(const double* G, int n, int p, const double* d, double* xi) {
+  // Variables y_j = xi_j + 1 in [0, 2] (j < p) and artificials a_i >= 0 (column p + i), rows
+  // G y + s_i a_i = d + G 1 with s_i = sign of the right-hand side, so that y = 0, a = |rhs| is
+  // a basic solution. Phase 1 minimises sum a; d is inside when it reaches 0.
+  constexpr int kMaxRows = 32;
+  if (n < 1 || n > kMaxRows || p < 0 || p > kMaxMembershipGenerators) return false;
+  const int cols = p + n;
+  std::array<double, kMaxRows*(kMaxMembershipGenerators + kMaxRows)> M{};
+  std::array<double, kMaxRows> value{};
+  std::array<int, kMaxRows> basis{};
+  std::array<signed char, kMaxMembershipGenerators + kMaxRows> at_upper{};  // nonbasic y at 2
+  std::array<signed char, kMaxMembershipGenerators + kMaxRows> is_basic{};
+  auto m = [&](int i, int j) -> double& { return M[static_cast<std::size_t>(i) * cols + j]; };
+  double scale = 0.0;
+  for (int i = 0; i < n; ++i) {
+    double rhs = d[i];
+    for (int j = 0; j < p; ++j) {
+      rhs += G[i + j * n];
+      scale = std::max(scale, std::fabs(G[i + j * n]));
+    }
+    scale = std::max(scale, std::fabs(d[i]));
+    const double s = rhs >= 0 ? 1.0 : -1.0;
+    for (int j = 0; j < p; ++j) m(i, j) = s * G[i + j * n];
+    m(i, p + i) = 1.0;
+    value[i] = std::fabs(rhs);
+    basis[i] = p + i;
+    is_basic[p + i] = 1;
+  }
+  for (int j = 0; j < p; ++j) xi[j] = 0.0;
+  if (!(scale > 0) || !std::isfinite(scale)) return !(scale > 0) && scale == 0.0;
+  const double tol = 1e-11 * scale, pivot_tol = 1e-9 * scale;
+  const int max_iterations = 50 * (n + p) + 100;
+  for (int it = 0; it < max_iterations; ++it) {
+    // Reduced costs of the y columns (artificials never re-enter): r_j = -sum over basic
+    // artificials of M_ij.
+    int enter = -1;
+    double dir = 0.0;
+    for (int j = 0; j < p && enter < 0; ++j) {
+      if (is_basic[j]) continue;
+      double r = 0.0;
+      for (int i = 0; i < n; ++i)
+        if (basis[i] >= p) r -= m(i, j);
+      if (!at_upper[j] && r < -tol) enter = j, dir = 1.0;
+      else if (at_upper[j] && r > tol) enter = j, dir = -1.0;
+    }
+    if (enter < 0) break;
+    // Ratio test: basics stay in their bounds, the entering variable within [0, 2].
+    double theta = 2.0;
+    int leave = -1;
+    bool leave_to_upper = false;
+    for (int i = 0; i < n; ++i) {
+      const double a = dir * m(i, enter);
+      double limit;
+      bool to_upper = false;
+      if (a > pivot_tol) {
+        limit = value[i] / a;
+      } else if (a < -pivot_tol && basis[i] < p) {
+        limit = (2.0 - value[i]) / -a;
+        to_upper = true;
+      } else {
+        continue;
+      }
+      if (limit < theta || (limit == theta && leave >= 0 && basis[i] < basis[leave])) {
+        theta = std::max(0.0, limit);
+        leave = i;
+        leave_to_upper = to_upper;
+      }
+    }
+    for (int i = 0; i < n; ++i) value[i] -= theta * dir * m(i, enter);
+    if (leave < 0) {  // the entering variable moves to its other bound
+      at_upper[enter] = !at_upper[enter];
+      continue;
+    }
+    const int out = basis[leave];
+    is_basic[out] = 0;
+    if (out < p) at_upper[out] = leave_to_upper;
+    const double entering_value = at_upper[enter] ? 2.0 - theta : theta;
+    at_upper[enter] = 0;
+    is_basic[enter] = 1;
+    basis[leave] = enter;
+    value[leave] = entering_value;
+    const double piv = m(leave, enter);
+    for (int j = 0; j < cols; ++j) m(leave, j) /= piv;
+    for (int i = 0; i < n; ++i) {
+      if (i == leave) continue;
+      const double f = m(i, enter);
+      if (f == 0.0) continue;
+      for (int j = 0; j < cols; ++j) m(i, j) -= f * m(leave, j);
+    }
+  }
+  double infeasibility = 0.0;
+  for (int i = 0; i < n; ++i)
+    if (basis[i] >= p) infeasibility += value[i];
+  for (int j = 0; j < p; ++j)
+    if (!is_basic[j]) xi[j] = at_upper[j] ? 1.0 : -1.0;
+  for (int i = 0; i < n; ++i)
+    if (basis[i] < p) xi[basis[i]] = std::clamp(value[i] - 1.0, -1.0, 1.0);
+  return infeasibility <= 1e-9 * scale;
+}
+
+}  // namespace marsyn::funnel
