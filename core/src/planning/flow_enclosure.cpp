@@ -1,5 +1,7 @@
 #include "marsyn/core/planning/flow_enclosure.hpp"
 
+#include "marsyn/apriori_enclosure.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -33,26 +35,38 @@ bool flow_boxes(const Dynamics& f, const Box& start, const Eigen::VectorXd& u, c
   for (int s = 0; s < parts; ++s) {
     f.field(X.data(), U.data(), FB.data());
     for (int i = 0; i < n; ++i) B[i] = X[i] + t * (FB[i] + W[i]);
-    bool found = false;
-    for (int it = 0; it < 30 && !found; ++it) {
+    bool found = false, blown = false;  // blown: the boxes left the field's domain; try the other method
+    for (int it = 0; it < 30 && !found && !blown; ++it) {
       // Inflation (growing each round) makes the containment test succeed for a smooth field.
       const double grow = 0.1 * (1 + it / 10);
       for (int i = 0; i < n; ++i) {
         const double r = grow * width(B[i]) + 1e-12 * (1.0 + mag(B[i]));
         B[i] = FastInterval(B[i].lower() - r, B[i].upper() + r);
-        if (!finite(B[i])) return false;
+        if (!finite(B[i])) blown = true;
       }
+      if (blown) break;
       f.field(B.data(), U.data(), FB.data());
       found = true;
       for (int i = 0; i < n; ++i) {
         cand[i] = X[i] + t * (FB[i] + W[i]);
-        if (!finite(cand[i])) return false;
+        if (!finite(cand[i])) blown = true;
         if (!subset(cand[i], B[i])) found = false;
+      }
+      if (blown) {
+        found = false;
+        break;
       }
       if (!found)
         for (int i = 0; i < n; ++i) B[i] = hull(B[i], cand[i]);
     }
-    if (!found) return false;
+    // The shared fixed-point method where inflating every coordinate fails (chains of products
+    // started at rest); where the loop above succeeds its boxes are kept as they were.
+    if (!found) {
+      if (!apriori_enclosure_fixed_point(f, X.data(), U.data(), W.data(), h, 30, cand.data())) return false;
+      // The step below needs f over a verified enclosure: the new one.
+      B = cand;
+      f.field(B.data(), U.data(), FB.data());
+    }
     for (int i = 0; i < n; ++i) {
       out[s].lo[i] = cand[i].lower();
       out[s].hi[i] = cand[i].upper();

@@ -111,8 +111,9 @@ TrackerAssessment FunnelTracker::assess(const AgentSpec& a, int horizon, double 
   r.work_s = tries * std::max(1, horizon) * s_.substeps * per_step;
   r.memory_bytes = 8.0 * std::max(1, horizon) * (3.0 * n * n + 4.0 * n + m * n + s_.parts * (2.0 * n + 4));
   std::ostringstream s;
-  s << "LQR funnel, " << s_.substeps << " enclosure steps per period of " << tau << " s, initial box "
-    << (s_.initial_radius.empty() ? std::to_string(s_.initial_fraction) + " eps" : std::string("as configured"));
+  s << "LQR funnel, " << s_.substeps << " enclosure steps per period of " << tau << " s, initial box ";
+  if (s_.initial_radius.empty()) s << s_.initial_fraction << " eps";
+  else s << "as configured";
   r.summary = s.str();
   return r;
 }

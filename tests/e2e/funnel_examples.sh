@@ -1,0 +1,40 @@
+#!/bin/sh
+# Issue 11: agents with 5 and 6 states get verified controllers from the funnel tracker, chosen by
+# `tracker: auto`; the adversarial closed loop stays safe between the samples; and on a unicycle
+# example both trackers verify.
+# Usage: funnel_examples.sh MARSYN_EXE SOURCE_DIR SCRATCH
+set -u
+exe="$1"; src="$2"; scratch="$3"
+rm -rf "$scratch"; mkdir -p "$scratch"
+fail() { echo "$1"; [ -f "$2" ] && cat "$2"; exit 1; }
+for name in bicycles planar_quadrotors; do
+  out="$scratch/$name"
+  "$exe" solve "$src/examples/$name.yaml" --out "$out" --runs 200 --global-budget 0 > "$out.txt" 2>&1
+  code=$?
+  [ "$code" -eq 0 ] || fail "$name: should verify (exit $code)" "$out.txt"
+  grep -q "^status        VERIFIED" "$out.txt" || fail "$name: not VERIFIED" "$out.txt"
+  grep -q "^certification certified in continuous time" "$out.txt" || fail "$name: not certified" "$out.txt"
+  # Every agent's tracker was chosen by auto, and it is the funnel.
+  agents=$(grep -c '"chosen": "auto"' "$out/result.json")
+  funnels=$(grep -c '"assessment": "LQR funnel' "$out/result.json")
+  [ "$agents" -eq 4 ] && [ "$funnels" -eq 4 ] || fail "$name: expected 4 agents on funnel by auto ($agents, $funnels)" "$out/result.json"
+  for seed in 1 2; do
+    "$exe" simulate "$src/examples/$name.yaml" --controllers "$out" --disturbance adversarial --seed $seed > "$out-adv.txt" 2>&1
+    code=$?
+    [ "$code" -eq 0 ] || fail "$name: adversarial run $seed violates (exit $code)" "$out-adv.txt"
+    grep -q "^between       satisfied" "$out-adv.txt" || fail "$name: not satisfied between samples" "$out-adv.txt"
+  done
+  echo "$name: VERIFIED with funnel controllers; adversarial closed loop satisfied"
+done
+# The multi-drone example with each tracker.
+for tracker in abcd funnel; do
+  problem="$scratch/multi_drone_$tracker.yaml"
+  sed "s/^tracker: abcd/tracker: $tracker/" "$src/examples/multi_drone.yaml" > "$problem"
+  out="$scratch/multi_drone_$tracker"
+  "$exe" solve "$problem" --out "$out" --runs 200 --global-budget 0 > "$out.txt" 2>&1
+  code=$?
+  [ "$code" -eq 0 ] || fail "multi_drone with $tracker: should verify (exit $code)" "$out.txt"
+  grep -q "^status        VERIFIED" "$out.txt" || fail "multi_drone with $tracker: not VERIFIED" "$out.txt"
+  grep -q "(${tracker}): controller" "$out.txt" || fail "multi_drone: $tracker was not used" "$out.txt"
+  echo "multi_drone: VERIFIED with $tracker"
+done
