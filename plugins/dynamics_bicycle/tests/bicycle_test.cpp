@@ -5,7 +5,7 @@
 
 #include "bicycle.hpp"
 #include "dynamics_checks.hpp"
-#include "extra_checks.hpp"
+#include "model_extra_checks.hpp"
 #include "marsyn/sampled_map.hpp"
 
 using marsyn::models::Bicycle;

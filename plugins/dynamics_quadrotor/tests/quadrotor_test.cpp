@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "dynamics_checks.hpp"
-#include "extra_checks.hpp"
+#include "model_extra_checks.hpp"
 #include "marsyn/sampled_map.hpp"
 #include "quadrotor.hpp"
 

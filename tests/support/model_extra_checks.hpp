@@ -1,7 +1,6 @@
 #pragma once
-// Checks beyond tests/support/dynamics_checks.hpp that the newer models run as well (the same
-// file in each of dynamics_bicycle, dynamics_planar_quadrotor and dynamics_quadrotor; a
-// candidate for moving into tests/support):
+// Checks beyond dynamics_checks.hpp that the bicycle and quadrotor models run (any model's test
+// may use them):
 // - FastInterval / DualFI (the tracker's hot-path types) enclose point values and Jacobians,
 // - the DualD2 field carries the exact Hessian (against central differences of the DualD
 //   Jacobian) and the plain value and Jacobian in its lower layers,
