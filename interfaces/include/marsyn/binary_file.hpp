@@ -22,12 +22,16 @@ inline std::uint64_t fnv1a(const char* p, std::size_t len) {
 class Writer {
  public:
   void u8(std::uint8_t v) { s_.push_back(static_cast<char>(v)); }
+  void u16(std::uint16_t v) {
+    for (int i = 0; i < 2; ++i) u8(static_cast<std::uint8_t>(v >> (8 * i)));
+  }
   void u32(std::uint32_t v) {
     for (int i = 0; i < 4; ++i) u8(static_cast<std::uint8_t>(v >> (8 * i)));
   }
   void u64(std::uint64_t v) {
     for (int i = 0; i < 8; ++i) u8(static_cast<std::uint8_t>(v >> (8 * i)));
   }
+  void i64(std::int64_t v) { u64(static_cast<std::uint64_t>(v)); }
   void f64(double v) {
     std::uint64_t b;
     std::memcpy(&b, &v, 8);
@@ -64,7 +68,9 @@ class Reader {
     for (int i = 0; i < bytes; ++i) v |= static_cast<std::uint64_t>(static_cast<unsigned char>(s_[p_++])) << (8 * i);
     return v;
   }
+  std::uint16_t u16() { return static_cast<std::uint16_t>(uN(2)); }
   std::uint32_t u32() { return static_cast<std::uint32_t>(uN(4)); }
+  std::int64_t i64() { return static_cast<std::int64_t>(uN(8)); }
   double f64() {
     const std::uint64_t b = uN(8);
     double v;

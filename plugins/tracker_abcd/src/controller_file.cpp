@@ -1,5 +1,7 @@
 #include "controller_file.hpp"
 
+#include "marsyn/binary_file.hpp"
+
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -10,89 +12,10 @@ namespace {
 
 constexpr char kMagic[8] = {'M', 'A', 'R', 'S', 'Y', 'N', 'C', 'T'};
 
-std::uint64_t fnv1a(const char* p, size_t len) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (size_t i = 0; i < len; ++i) {
-    h ^= static_cast<unsigned char>(p[i]);
-    h *= 1099511628211ull;
-  }
-  return h;
-}
-
-// Fixed little-endian encoding so the file does not depend on the host.
-class Writer {
- public:
-  void u8(std::uint8_t v) { s_.push_back(static_cast<char>(v)); }
-  void u16(std::uint16_t v) { for (int i = 0; i < 2; ++i) u8(static_cast<std::uint8_t>(v >> (8 * i))); }
-  void u32(std::uint32_t v) { for (int i = 0; i < 4; ++i) u8(static_cast<std::uint8_t>(v >> (8 * i))); }
-  void u64(std::uint64_t v) { for (int i = 0; i < 8; ++i) u8(static_cast<std::uint8_t>(v >> (8 * i))); }
-  void i64(std::int64_t v) { u64(static_cast<std::uint64_t>(v)); }
-  void f64(double v) {
-    std::uint64_t b;
-    std::memcpy(&b, &v, 8);
-    u64(b);
-  }
-  void str(const std::string& v) {
-    u32(static_cast<std::uint32_t>(v.size()));
-    s_ += v;
-  }
-  void vec(const std::vector<double>& v) {
-    for (double x : v) f64(x);
-  }
-  std::string& bytes() { return s_; }
-
- private:
-  std::string s_;
-};
-
-class Reader {
- public:
-  Reader(const std::string& s, size_t begin, size_t end, std::string what) : s_(s), p_(begin), end_(end), what_(std::move(what)) {}
-  [[noreturn]] void fail(const std::string& why) const {
-    throw std::runtime_error("controller file " + what_ + ": " + why);
-  }
-  void need(size_t k) const {
-    if (end_ - p_ < k) fail("truncated payload");
-  }
-  std::uint8_t u8() {
-    need(1);
-    return static_cast<std::uint8_t>(s_[p_++]);
-  }
-  std::uint64_t uN(int bytes) {
-    need(static_cast<size_t>(bytes));
-    std::uint64_t v = 0;
-    for (int i = 0; i < bytes; ++i) v |= static_cast<std::uint64_t>(static_cast<unsigned char>(s_[p_ + i])) << (8 * i);
-    p_ += static_cast<size_t>(bytes);
-    return v;
-  }
-  std::uint16_t u16() { return static_cast<std::uint16_t>(uN(2)); }
-  std::uint32_t u32() { return static_cast<std::uint32_t>(uN(4)); }
-  std::int64_t i64() { return static_cast<std::int64_t>(uN(8)); }
-  double f64() {
-    const std::uint64_t b = uN(8);
-    double v;
-    std::memcpy(&v, &b, 8);
-    return v;
-  }
-  std::string str() {
-    const std::uint32_t len = u32();
-    need(len);
-    std::string v = s_.substr(p_, len);
-    p_ += len;
-    return v;
-  }
-  std::vector<double> vec(int k) {
-    std::vector<double> v(static_cast<size_t>(k));
-    for (auto& x : v) x = f64();
-    return v;
-  }
-  bool done() const { return p_ == end_; }
-
- private:
-  const std::string& s_;
-  size_t p_, end_;
-  std::string what_;
-};
+// The little-endian encoding and the envelope are shared with the other plugins' files.
+using binary::fnv1a;
+using binary::Reader;
+using binary::Writer;
 
 }  // namespace
 
@@ -104,13 +27,13 @@ std::string serialize(const ControllerData& d) {
   p.u32(static_cast<std::uint32_t>(d.m));
   p.u8(d.time_invariant ? 1 : 0);
   p.f64(d.tau);
-  p.vec(d.origin);
-  p.vec(d.eta_x);
-  p.vec(d.eps);
-  p.vec(d.w);
-  p.vec(d.u_lo);
-  p.vec(d.u_hi);
-  p.vec(d.eta_u);
+  p.reals(d.origin);
+  p.reals(d.eta_x);
+  p.reals(d.eps);
+  p.reals(d.w);
+  p.reals(d.u_lo);
+  p.reals(d.u_hi);
+  p.reals(d.eta_u);
   p.u32(static_cast<std::uint32_t>(d.boxes.size()));
   p.u32(static_cast<std::uint32_t>(d.offsets.size()));
   for (size_t k = 0; k < d.boxes.size(); ++k) {
@@ -132,20 +55,15 @@ std::string serialize(const ControllerData& d) {
     for (int c = 0; c < 2; ++c) p.f64(e.workspace.lo[c]);
     for (int c = 0; c < 2; ++c) p.f64(e.workspace.hi[c]);
   }
-  Writer f;
-  for (char c : kMagic) f.u8(static_cast<std::uint8_t>(c));
-  f.u32(kFormatVersion);
-  f.u64(p.bytes().size());
-  f.bytes() += p.bytes();
-  f.u64(fnv1a(p.bytes().data(), p.bytes().size()));
-  return std::move(f.bytes());
+  return binary::envelope(kMagic, kFormatVersion, p.bytes());
 }
 
 ControllerData deserialize(const std::string& s, const std::string& what) {
+  const std::string where = "controller file " + what;
   auto fail = [&](const std::string& why) -> void { throw std::runtime_error("controller file " + what + ": " + why); };
   if (s.size() < 8 || std::memcmp(s.data(), kMagic, 8) != 0) fail("not a marsyn abcd controller (bad magic)");
   if (s.size() < 28) fail("truncated header");
-  Reader h(s, 8, s.size(), what);
+  Reader h(s, 8, s.size(), where);
   const std::uint32_t version = h.u32();
   if (version == 1)
     fail("format version 1 was written before controllers carried their enclosures between the samples "
@@ -155,10 +73,10 @@ ControllerData deserialize(const std::string& s, const std::string& what) {
     fail("format version " + std::to_string(version) + ", this reader understands " + std::to_string(kFormatVersion));
   const std::uint64_t size = h.uN(8);
   if (size != s.size() - 28) fail("truncated or oversized (payload size does not match file size)");
-  Reader t(s, 20 + size, s.size(), what);
+  Reader t(s, 20 + size, s.size(), where);
   if (t.uN(8) != fnv1a(s.data() + 20, size)) fail("checksum mismatch (corrupt file)");
 
-  Reader r(s, 20, 20 + size, what);
+  Reader r(s, 20, 20 + size, where);
   ControllerData d;
   d.dynamics_type = r.str();
   d.agent = r.str();
@@ -167,13 +85,13 @@ ControllerData deserialize(const std::string& s, const std::string& what) {
   if (d.n < 1 || d.n > kMaxDim || d.m < 1 || d.m > kMaxDim) fail("unsupported dimensions");
   d.time_invariant = r.u8() != 0;
   d.tau = r.f64();
-  d.origin = r.vec(d.n);
-  d.eta_x = r.vec(d.n);
-  d.eps = r.vec(d.n);
-  d.w = r.vec(d.n);
-  d.u_lo = r.vec(d.m);
-  d.u_hi = r.vec(d.m);
-  d.eta_u = r.vec(d.m);
+  d.origin = r.reals(d.n);
+  d.eta_x = r.reals(d.n);
+  d.eps = r.reals(d.n);
+  d.w = r.reals(d.n);
+  d.u_lo = r.reals(d.m);
+  d.u_hi = r.reals(d.m);
+  d.eta_u = r.reals(d.m);
   const std::uint32_t nboxes = r.u32(), ntables = r.u32();
   if (nboxes == 0 || ntables > nboxes || (d.time_invariant && (nboxes != 1 || ntables != 1)) ||
       (!d.time_invariant && ntables + 1 != nboxes))
