@@ -105,9 +105,11 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
         running[i] = 0;
         std::ostringstream s;
         s << "[track " << d << "/" << N << "] " << a.name << " (" << a.tracker.name
-          << "): " << to_string(out[i].track.status) << ", "
-          << out[i].track.stats.tube_cells << " tube cells, N_l " << out[i].track.stats.state_input_pairs << ", "
-          << out[i].track.stats.boxes_computed << " boxes, " << since(t0) << " s";
+          << "): " << to_string(out[i].track.status) << ", ";
+        // Grid figures only from a tracker that has a grid.
+        if (out[i].track.stats.tube_cells > 0)
+          s << out[i].track.stats.tube_cells << " tube cells, N_l " << out[i].track.stats.state_input_pairs << ", ";
+        s << out[i].track.stats.boxes_computed << " boxes, " << since(t0) << " s";
         if (!out[i].track.message.empty()) s << " (" << out[i].track.message << ")";
         opt.log(s.str());
       }
