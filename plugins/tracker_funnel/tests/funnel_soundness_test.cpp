@@ -8,6 +8,7 @@
 #include <Eigen/LU>
 #include <map>
 #include <mutex>
+#include <chrono>
 #include <random>
 
 #include "funnel_scenarios.hpp"
@@ -176,7 +177,7 @@ TEST_P(FunnelSoundness, SuccessorsStayInTheNextVerifiedSet) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, FunnelSoundness,
-                         ::testing::Values("unicycle", "crane", "bicycle", "planar_quadrotor"));
+                         ::testing::Values("unicycle", "crane", "bicycle", "planar_quadrotor", "quadrotor"));
 
 TEST(FunnelSoundness, TooLargeADisturbanceGivesNoController) {
   TrackingProblem p = scenario("unicycle");
