@@ -83,11 +83,19 @@ std::vector<std::shared_ptr<const Controller>> read_agent_controllers(const Prob
                             "', which could not be created: " + e.what());
     }
     const std::string file = (std::filesystem::path(dir) / (a.name + ".ctrl")).string();
+    std::shared_ptr<const Controller> c;
     try {
-      out.push_back(tracker->read_controller(file));
+      c = tracker->read_controller(file);
     } catch (const std::exception& e) {
       throw ConfigError(file, 0, 0, "", e.what());
     }
+    // A controller of another problem (or a renamed file) must not be run on this agent's vectors.
+    if (!c || c->state_dim() != a.n() || c->input_dim() != a.m())
+      throw ConfigError(file, 0, 0, "",
+                        "this controller has " + std::to_string(c ? c->state_dim() : 0) + " states and " +
+                            std::to_string(c ? c->input_dim() : 0) + " inputs, but agent " + a.name + " (" +
+                            a.dynamics_type + ") has " + std::to_string(a.n()) + " and " + std::to_string(a.m()));
+    out.push_back(std::move(c));
   }
   return out;
 }

@@ -32,6 +32,9 @@ bool FunnelController::in_set(const double* x, int k) const {
     double d[64], xi[kMaxMembershipGenerators];
     for (int j = 0; j < n; ++j) d[j] = x[j] - s.c[j];
     zonotope_coefficients(s.S.data(), n, p, d, xi);
+    // The residual allowance holds for coefficients in the cube only: check them too.
+    for (int j = 0; j < p; ++j)
+      if (!(std::fabs(xi[j]) <= 1.0)) return false;
     for (int i = 0; i < n; ++i) {
       double r = -d[i];
       for (int j = 0; j < p; ++j) r += s.S[static_cast<std::size_t>(j) * n + i] * xi[j];
@@ -126,6 +129,13 @@ FunnelData deserialize(const std::string& s, const std::string& what) {
   d.w = r.reals(n);
   d.u_lo = r.reals(m);
   d.u_hi = r.reals(m);
+  auto finite_all = [](const std::vector<double>& v) {
+    for (double x : v)
+      if (!std::isfinite(x)) return false;
+    return true;
+  };
+  for (std::uint32_t j = 0; j < m; ++j)
+    if (!(d.u_lo[j] <= d.u_hi[j])) r.fail("input bounds with lo > hi");
   for (std::uint32_t k = 0; k <= T; ++k) {
     StepSet st;
     d.x_nom.push_back(r.reals(n));
@@ -134,6 +144,7 @@ FunnelData deserialize(const std::string& s, const std::string& what) {
     st.kind = r.u8();
     if (st.kind > kZonotope) r.fail("unknown set kind " + std::to_string(st.kind) + " at step " + std::to_string(k));
     if (st.kind == kZonotope) {
+      if (n > static_cast<std::uint32_t>(kMaxMembershipRows)) r.fail("zonotope set with more than 32 states");
       const std::uint32_t p = r.u32();
       if (p > static_cast<std::uint32_t>(kMaxMembershipGenerators)) r.fail("too many generators at step " + std::to_string(k));
       st.generators = static_cast<int>(p);
@@ -143,11 +154,16 @@ FunnelData deserialize(const std::string& s, const std::string& what) {
       st.S = r.reals(static_cast<std::size_t>(n) * (st.kind == kZonotope ? st.generators : n));
     }
     if (st.kind == kZonotope) st.tol = r.reals(n);
+    bool ok = finite_all(d.x_nom.back()) && finite_all(st.c) && finite_all(st.S) && finite_all(st.tol);
+    for (std::uint32_t i = 0; i < n; ++i) ok = ok && st.lo[i] <= st.hi[i];
+    for (double t : st.tol) ok = ok && t >= 0;
+    if (!ok) r.fail("step " + std::to_string(k) + ": non-finite or inverted set data");
     d.sets.push_back(std::move(st));
   }
   for (std::uint32_t k = 0; k < T; ++k) {
     d.u_nom.push_back(r.reals(m));
     d.K.push_back(r.reals(static_cast<std::size_t>(m) * n));
+    if (!finite_all(d.u_nom.back()) || !finite_all(d.K.back())) r.fail("step " + std::to_string(k) + ": non-finite gains");
   }
   const std::uint32_t count = r.u32();
   if (count > 64u * T + 64u) r.fail("too many period enclosures");

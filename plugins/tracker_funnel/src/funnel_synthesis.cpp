@@ -44,6 +44,10 @@ void eps_box(const Eigen::VectorXd& xk, const Eigen::VectorXd& eps, std::vector<
   }
 }
 
+// A real state is measured as the nearest double (docs/soundness.md section 3): over [lo, hi]
+// the two differ by at most this per coordinate.
+double measured(double lo, double hi) { return mul_up(0x1p-53, std::max(std::fabs(lo), std::fabs(hi))); }
+
 // Upper bound of max |x_j - ref_j| over the box [lo, hi].
 double reach(double lo, double hi, double ref) { return std::max(std::fabs(sub_up(hi, ref)), std::fabs(sub_up(ref, lo))); }
 
@@ -75,7 +79,7 @@ Fit certify_zonotope(const Zonotope& zend, int basis, const std::vector<double>&
   for (int i = 0; i < n; ++i) {
     const double r = z.radius(i);
     f.tol[i] = std::max(1e-9 * r, 1e-300);
-    const double err = add_up(mul_up(kappa, add_up(reach(lo[i], hi[i], z.c[i]), r)), kTiny);
+    const double err = add_up(add_up(mul_up(kappa, add_up(reach(lo[i], hi[i], z.c[i]), r)), kTiny), measured(lo[i], hi[i]));
     grow[i] = add_up(f.tol[i], err);
     if (!std::isfinite(grow[i])) return f;
   }
@@ -166,8 +170,12 @@ Fit certify(const Zonotope& z, Eigen::MatrixXd S, const std::vector<double>& lo,
         for (int j = 0; j < n; ++j) acc += fi(S(i, j)) * fi(z.G(j, l));
         bound = add_up(bound, mag(acc));
       }
-      for (int j = 0; j < n; ++j) round = add_up(round, mul_up(std::fabs(S(i, j)), D[j]));
-      slack[i] = add_up(mul_up(kappa, round), kTiny);
+      double meas = 0.0;
+      for (int j = 0; j < n; ++j) {
+        round = add_up(round, mul_up(std::fabs(S(i, j)), D[j]));
+        meas = add_up(meas, mul_up(std::fabs(S(i, j)), measured(lo[j], hi[j])));
+      }
+      slack[i] = add_up(add_up(mul_up(kappa, round), kTiny), meas);
       const double need = add_up(bound, slack[i]);
       if (!std::isfinite(need)) return f;
       if (need > 1.0) {
@@ -269,24 +277,31 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
   {
     IVector c(n);
     for (int i = 0; i < n; ++i) c[i] = FastInterval(s0.lo[i], s0.hi[i]);
-    zx = from_intervals(c, IMatrix(n, 0), {});
+    std::vector<double> meas(n);
+    for (int i = 0; i < n; ++i) meas[i] = measured(s0.lo[i], s0.hi[i]);
+    zx = from_intervals(c, IMatrix(n, 0), meas);
   }
   int basis = zx.generators();
   FlowOptions flow = o.flow;
   flow.tau = p.tau;
+  if (o.parts < 1 || flow.substeps % o.parts != 0) {
+    out.why = "enclosure_substeps must divide substeps";
+    return out;
+  }
   const int spp = flow.substeps / o.parts;
   const double kappa = rounding_factor(n + 1);
   double fill_sum = 0.0;
   int fill_count = 0;
-  auto record_fill = [&](const Zonotope& z) {
+  // How much of the eps-box a verified set spans: its hull, which its box also bounds.
+  auto record_fill = [&](const Zonotope& z, const StepSet& set) {
     for (int i = 0; i < n; ++i) {
-      const double r = z.radius(i) / p.eps[i];
+      const double r = std::min(z.radius(i), 0.5 * (set.hi[i] - set.lo[i])) / p.eps[i];
       out.max_fill = std::max(out.max_fill, r);
       fill_sum += r;
       ++fill_count;
     }
   };
-  record_fill(zx);
+  record_fill(zx, d.sets[0]);
 
   // The closed loop's start at step k over (x, u): u = u_k + K_k (x - x_k) is affine in the
   // generators; the controller's rounding adds at most kappa (|u_k| + |K| |x - x_k|) per input.
@@ -310,12 +325,14 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
     bool& saturated = out_p.saturated;
     for (int i = 0; i < m; ++i) {
       FastInterval c = fi(uk[i]);
-      double round = std::fabs(uk[i]);
+      double round = std::fabs(uk[i]), meas = 0.0;
       for (int j = 0; j < n; ++j) {
         c += fi(K[k](i, j)) * (fi(zx.c[j]) - fi(xk[j]));
         round = add_up(round, mul_up(std::fabs(K[k](i, j)), reach(sk.lo[j], sk.hi[j], xk[j])));
+        // The controller sees the measured (double) state, not the real one.
+        meas = add_up(meas, mul_up(std::fabs(K[k](i, j)), measured(sk.lo[j], sk.hi[j])));
       }
-      const double delta = add_up(mul_up(kappa, round), kTiny);
+      const double delta = add_up(add_up(mul_up(kappa, round), kTiny), meas);
       double spread = 0.0;
       for (int l = 0; l < pg; ++l) {
         FastInterval g(0.0);
@@ -444,7 +461,7 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
     next.tol = fit.tol;
     zx = fit.next;
     basis = n;
-    record_fill(zx);
+    record_fill(zx, next);
     cur = std::move(next_period);
   }
   out.mean_fill = fill_count ? fill_sum / fill_count : 0.0;

@@ -10,7 +10,8 @@ bool zonotope_coefficients(const double* G, int n, int p, const double* d, doubl
   // Variables y_j = xi_j + 1 in [0, 2] (j < p) and artificials a_i >= 0 (column p + i), rows
   // G y + s_i a_i = d + G 1 with s_i = sign of the right-hand side, so that y = 0, a = |rhs| is
   // a basic solution. Phase 1 minimises sum a; d is inside when it reaches 0.
-  constexpr int kMaxRows = 32;
+  constexpr int kMaxRows = kMaxMembershipRows;
+  for (int j = 0; j < std::clamp(p, 0, kMaxMembershipGenerators); ++j) xi[j] = 0.0;
   if (n < 1 || n > kMaxRows || p < 0 || p > kMaxMembershipGenerators) return false;
   const int cols = p + n;
   std::array<double, kMaxRows*(kMaxMembershipGenerators + kMaxRows)> M{};
@@ -34,7 +35,6 @@ bool zonotope_coefficients(const double* G, int n, int p, const double* d, doubl
     basis[i] = p + i;
     is_basic[p + i] = 1;
   }
-  for (int j = 0; j < p; ++j) xi[j] = 0.0;
   if (!(scale > 0) || !std::isfinite(scale)) return !(scale > 0) && scale == 0.0;
   const double tol = 1e-11 * scale, pivot_tol = 1e-9 * scale;
   const int max_iterations = 50 * (n + p) + 100;

@@ -8,6 +8,7 @@
 namespace marsyn::funnel {
 
 inline constexpr int kMaxMembershipGenerators = 64;
+inline constexpr int kMaxMembershipRows = 32;
 
 // G column-major (n x p). Returns false when no coefficients were found (d outside, or the
 // solver gave up); xi gets p numbers in [-1, 1] either way.
