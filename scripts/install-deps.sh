@@ -6,7 +6,8 @@ PACKAGES="build-essential cmake pkg-config libeigen3-dev libboost-dev libyaml-cp
 nlohmann-json3-dev libgtest-dev libgmock-dev
 libnlopt-cxx-dev coinor-libipopt-dev libompl-dev libfcl-dev libboost-serialization-dev libboost-system-dev
 libboost-filesystem-dev libboost-program-options-dev chromium
-clang-14 libclang-rt-14-dev libfuzzer-14-dev python3-dev pybind11-dev python3-numpy"
+clang-14 libclang-rt-14-dev libfuzzer-14-dev python3-dev pybind11-dev python3-numpy
+libopenmpi-dev openmpi-bin"
 missing=""
 for p in $PACKAGES; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
