@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "marsyn/collective.hpp"
 #include "marsyn/controller_export.hpp"
 #include "marsyn/export.hpp"
 #include "marsyn/problem.hpp"
@@ -123,6 +124,14 @@ struct TrackerStats {
 struct TrackOptions {
   int threads = 0;  // 0: hardware concurrency
   double memory_budget_bytes = 8e9;
+  // The ranks sharing this one agent's synthesis (docs/mpi.md): every rank of the group calls
+  // track() with the same problem and options, and each returns the same result. nullptr or a
+  // group of one: this process alone. A tracker that cannot split its work may ignore it (each
+  // rank then computes the whole agent).
+  const Collective* collective = nullptr;
+  // Called from the calling thread as the synthesis advances (abcd: after each backward step,
+  // done of total steps); may be empty.
+  std::function<void(int done, int total)> progress;
 };
 
 struct TrackResult {

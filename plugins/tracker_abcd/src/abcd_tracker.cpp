@@ -57,6 +57,8 @@ SynthesisOptions AbcdTracker::options_for(const TrackOptions& o) const {
   if (t <= 0) t = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   s.threads = t;
   s.memory_budget_bytes = o.memory_budget_bytes;
+  s.collective = o.collective;
+  s.progress = o.progress;
   return s;
 }
 

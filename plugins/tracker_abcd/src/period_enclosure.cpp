@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstring>
 #include <unordered_map>
 #include <mutex>
 #include <string>
@@ -39,6 +40,64 @@ void accumulate(StepBoxes& acc, const Interval* boxes, const Interval* ws, int s
   for (int k = 0; k < substeps * 2; ++k) acc.workspace[k] = hull(acc.workspace[k], ws[k]);
 }
 
+// A split run's exchange: each rank's steps' boxes (and its failure, if any) to every rank. The
+// boxes are hulls of exact interval bounds, so they travel as their doubles, unchanged.
+void put(std::vector<std::uint8_t>& b, double v) {
+  const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
+  b.insert(b.end(), p, p + sizeof v);
+}
+double take(const std::vector<std::uint8_t>& b, std::size_t& at) {
+  if (at + sizeof(double) > b.size()) throw std::runtime_error("abcd: a rank sent truncated enclosures");
+  double v;
+  std::memcpy(&v, b.data() + at, sizeof v);
+  at += sizeof v;
+  return v;
+}
+
+bool exchange_steps(const Collective& c, std::vector<StepBoxes>& steps, int S, int n, bool failed, std::string& why) {
+  const int R = c.size(), me = c.rank(), T = static_cast<int>(steps.size());
+  std::vector<std::uint8_t> mine;
+  mine.push_back(failed ? 1 : 0);
+  if (failed) {
+    mine.insert(mine.end(), why.begin(), why.end());
+  } else {
+    for (int k = me; k < T; k += R) {
+      const StepBoxes& a = steps[static_cast<size_t>(k)];
+      for (const Interval& v : a.state) put(mine, v.lower()), put(mine, v.upper());
+      for (const Interval& v : a.workspace) put(mine, v.lower()), put(mine, v.upper());
+    }
+  }
+  const auto all = c.allgather(mine);
+  for (int q = 0; q < R; ++q) {
+    const auto& b = all[static_cast<size_t>(q)];
+    if (b.empty()) throw std::runtime_error("abcd: a rank sent no enclosures");
+    if (b[0]) {  // the lowest failing rank's reason, the same on every rank
+      why.assign(b.begin() + 1, b.end());
+      return false;
+    }
+  }
+  for (int q = 0; q < R; ++q) {
+    if (q == me) continue;
+    const auto& b = all[static_cast<size_t>(q)];
+    std::size_t at = 1;
+    for (int k = q; k < T; k += R) {
+      StepBoxes& a = steps[static_cast<size_t>(k)];
+      a.state.resize(static_cast<size_t>(S * n));
+      a.workspace.resize(static_cast<size_t>(S * 2));
+      for (Interval& v : a.state) {
+        const double lo = take(b, at);
+        v = Interval(lo, take(b, at));
+      }
+      for (Interval& v : a.workspace) {
+        const double lo = take(b, at);
+        v = Interval(lo, take(b, at));
+      }
+      a.any = true;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 bool compute_period_enclosures(const TrackingProblem& p, const std::vector<bool>& inv, const SuccessorBox& sb,
@@ -57,7 +116,9 @@ bool compute_period_enclosures(const TrackingProblem& p, const std::vector<bool>
   if (p.workspace.linear())
     for (int c = 0; c < 2 && workspace_ok; ++c) workspace_ok = p.workspace.index[c] < n;
   std::vector<StepBoxes> steps(static_cast<size_t>(T));
-  std::atomic<int> next{0};
+  // This rank's steps: every R-th from its rank (all of them in one process).
+  const int R = o.collective ? std::max(1, o.collective->size()) : 1, me = R > 1 ? o.collective->rank() : 0;
+  std::atomic<int> next{me};
   std::atomic<bool> failed{false};
   std::mutex why_lock;
 
@@ -73,7 +134,7 @@ bool compute_period_enclosures(const TrackingProblem& p, const std::vector<bool>
     std::vector<Interval> boxes(static_cast<size_t>(S * n)), ws(static_cast<size_t>(S * 2));
     std::int64_t idx[kMaxDim];
     double u[kMaxDim];
-    for (int k = next++; k < T && !failed; k = next++) {
+    for (int k = next.fetch_add(R); k < T && !failed; k = next.fetch_add(R)) {
       const IndexBox& bk = d.boxes[static_cast<size_t>(k)];
       const std::int64_t off = d.offsets[static_cast<size_t>(k)];
       // Winning cells grouped by (their non-invariant indices, input): the group's invariant
@@ -173,7 +234,7 @@ bool compute_period_enclosures(const TrackingProblem& p, const std::vector<bool>
       }
     }
   };
-  const int threads = std::max(1, std::min(o.threads, T));
+  const int threads = std::max(1, std::min(o.threads, (T - me + R - 1) / R));
   if (threads <= 1) {
     work();
   } else {
@@ -181,7 +242,11 @@ bool compute_period_enclosures(const TrackingProblem& p, const std::vector<bool>
     for (int t = 0; t < threads; ++t) pool.emplace_back(work);
     for (auto& th : pool) th.join();
   }
-  if (failed) return false;
+  if (R > 1) {
+    if (!exchange_steps(*o.collective, steps, S, n, failed, why)) return false;
+  } else if (failed) {
+    return false;
+  }
 
   d.enclosures.clear();
   d.enclosures.reserve(static_cast<size_t>(T * S));

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "controller_file.hpp"
+#include "marsyn/collective.hpp"
 #include "marsyn/tracker.hpp"
 #include "successor_box.hpp"
 
@@ -19,6 +20,9 @@ struct EnclosureOptions {
   // coordinate the field reads: fewer computations, boxes a few cells wider.
   int block = 4;
   int threads = 1;
+  // Ranks sharing the work (split_sweep.hpp): steps are dealt round-robin and every rank ends
+  // with every step's boxes. nullptr: this process alone.
+  const Collective* collective = nullptr;
 };
 
 // Fills d.enclosures for steps 0..T-1 of a tracking controller. Cells that differ only along

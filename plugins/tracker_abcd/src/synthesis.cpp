@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "period_enclosure.hpp"
+#include "split_sweep.hpp"
 #include "successor_cache.hpp"
 #include "tube.hpp"
 
@@ -170,6 +171,7 @@ TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o
 
   SuccessorBox sb(f, d.w, o.successor, o.hook);
   const int threads = std::max(1, o.threads);
+  const SweepSplit split(o.collective, threads, inv);  // which rank and thread owns each column
   std::vector<std::unique_ptr<SuccessorTable>> tables;
   for (int t = 0; t < threads; ++t) tables.push_back(std::make_unique<SuccessorTable>(sb, g, ug, inv, o.prefilter_substeps));
 
@@ -231,7 +233,7 @@ TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o
       };
       for (std::int64_t col = 0; col < columns; ++col) {
         colbox.unlinear(col, cidx);
-        if (threads > 1 && owner(cidx, inv, threads) != t) continue;
+        if ((threads > 1 || split.split()) && !split.owns(cidx, t)) continue;
         pend.resize(static_cast<size_t>(rows));
         pidx.resize(static_cast<size_t>(rows * n));
         for (std::int64_t row = 0; row < rows; ++row) {
@@ -313,23 +315,23 @@ TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o
     });
     for (auto& tab : tables) tab->next_generation();
 
-    const std::int64_t cells = bk.size();
-    win.assign(static_cast<size_t>(cells), 0);
+    // Step k's winning set, this rank's cells and (split) the others' bits.
+    split.exchange_winning(bk, &d.inputs[static_cast<size_t>(off)], kLosing, win);
     std::int64_t count = 0;
-    for (std::int64_t l = 0; l < cells; ++l)
-      if (d.inputs[static_cast<size_t>(off + l)] != kLosing) {
-        win[static_cast<size_t>(l)] = 1;
-        ++count;
-      }
+    for (const std::uint8_t w : win) count += w;
     st.winning_cells_per_step[k] = count;
+    if (o.progress) o.progress(T - k, T);
     if (count == 0) break;  // nothing can reach an empty set: earlier steps lose too
   }
+  // Every rank's inputs of the swept steps, so that each holds the whole controller.
+  split.exchange_inputs(d.boxes, d.offsets, std::max(k, 0), T - 1, d.inputs);
 
   double box_seconds = 0;
   for (auto& tab : tables) {
     st.boxes_computed += tab->computed();
     box_seconds += tab->seconds();
   }
+  st.boxes_computed = split.sum(st.boxes_computed);  // over the ranks: the same figure as one process's
   st.abstraction_time_s = box_seconds / threads;
   st.synthesis_time_s = std::max(0.0, now_s() - t_start - st.abstraction_time_s);
 
@@ -341,6 +343,7 @@ TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o
     eo.substeps = o.enclosure_substeps;
     eo.block = o.enclosure_block;
     eo.threads = threads;
+    eo.collective = split.split() ? o.collective : nullptr;
     if (!compute_period_enclosures(p, inv, sb, eo, d, enclosure_failure)) d.enclosures.clear();
     st.enclosure_time_s = now_s() - t_enc;
     st.enclosure_substeps = o.enclosure_substeps;

@@ -1,7 +1,10 @@
 #pragma once
 // Phi_track synthesis over the tube (one backward sweep) and the whole-domain reach-avoid
 // fixed point, both on the same sound successor boxes.
+#include <functional>
+
 #include "controller_file.hpp"
+#include "marsyn/collective.hpp"
 #include "marsyn/tracker.hpp"
 #include "successor_box.hpp"
 
@@ -21,6 +24,9 @@ struct SynthesisOptions {
   // Parts of each sampling period with their own enclosure box (continuous-time guarantee).
   int enclosure_substeps = 8;
   int enclosure_block = 4;  // cells per block along non-invariant coordinates (period_enclosure.hpp)
+  // Ranks sharing the sweep (split_sweep.hpp); nullptr: this process alone.
+  const Collective* collective = nullptr;
+  std::function<void(int done, int total)> progress;  // after each backward step; may be empty
 };
 
 TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o);
