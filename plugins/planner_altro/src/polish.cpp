@@ -15,7 +15,7 @@ bool Solver::polish(double& viol, std::string& worst, double deadline) {
   const int N = static_cast<int>(agents_.size());
   const double active = 1e-3;
   for (int it = 0; it < opt_.polish_iterations && viol > opt_.constraint_tolerance; ++it) {
-    if (now_s() > deadline) return false;
+    if (now_seconds() > deadline) return false;
     linearize();
     struct Row {
       int k;

@@ -1,7 +1,6 @@
 #pragma once
 // The solver's internal state and steps (not part of the plugin's interface). One Solver lives
 // for one solve() call, so Planner::solve stays const and thread-safe.
-#include <chrono>
 #include <limits>
 #include <string>
 #include <vector>
@@ -9,6 +8,7 @@
 #include <Eigen/Core>
 
 #include "altro_solver.hpp"
+#include "marsyn/planner_support/clock.hpp"
 
 namespace marsyn::altro::detail {
 
@@ -16,9 +16,7 @@ using Mat = Eigen::MatrixXd;
 using Vec = Eigen::VectorXd;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-inline double now_s() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
+using planner_support::now_seconds;  // the clock every planner measures its time limit with
 
 struct AgentBlock {
   const Dynamics* dyn;

@@ -193,7 +193,7 @@ bool Solver::forward(double dv1, double dv2, double& alpha) {
 }
 
 PlanResult Solver::run() {
-  const double t0 = now_s();
+  const double t0 = now_seconds();
   PlanResult res;
   layout();
   const int N = static_cast<int>(agents_.size()), G = static_cast<int>(groups_.size());
@@ -225,7 +225,7 @@ PlanResult Solver::run() {
   for (; outer < opt_.max_outer; ++outer) {
     const double tol = viol <= 1e2 * opt_.constraint_tolerance ? opt_.cost_tolerance : opt_.cost_tolerance_intermediate;
     for (int inner = 0; inner < opt_.max_inner && iterations_ < opt_.max_iterations; ++inner) {
-      if (now_s() - t0 > run_.time_limit_s) {
+      if (now_seconds() - t0 > run_.time_limit_s) {
         timed_out = true;
         break;
       }
@@ -283,7 +283,7 @@ PlanResult Solver::run() {
   res.plan.x = X_;
   res.plan.u = U_;
   res.iterations = iterations_;
-  res.solve_time_s = now_s() - t0;
+  res.solve_time_s = now_seconds() - t0;
   res.max_violation = viol;
   res.cost = cost_;
   std::ostringstream msg;

@@ -5,6 +5,7 @@
 #include <mutex>
 #include <sstream>
 
+#include "marsyn/planner_support/clock.hpp"
 #include "shooting_nlp.hpp"
 
 namespace marsyn::ipopt_planner {
@@ -75,14 +76,14 @@ std::mutex& ipopt_mutex() {
 
 PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Options& o,
                  std::vector<SecondOrderField> fields) {
-  const double t0 = plan5::now_seconds();
+  const double t0 = planner_support::now_seconds();
   PlanResult res;
   if (!pp.problem || pp.horizon <= 0) {
     res.status = PlannerStatus::InvalidInput;
     res.message = "no problem or a non-positive horizon";
     return res;
   }
-  plan5::ProductModel model(pp);
+  planner_support::ProductModel model(pp);
   Ipopt::SmartPtr<ShootingNlp> nlp = new ShootingNlp(model, o, run, t0, std::move(fields));
   Ipopt::ApplicationReturnStatus st;
   int iterations = 0;
@@ -125,7 +126,7 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
     iterations = nlp->iterations();
   }
   res.iterations = iterations;
-  res.solve_time_s = plan5::now_seconds() - t0;
+  res.solve_time_s = planner_support::now_seconds() - t0;
   if (nlp->inputs().empty()) {
     res.status = PlannerStatus::Crash;
     res.message = "Ipopt returned no solution (status " + std::to_string(static_cast<int>(st)) + ")";

@@ -5,6 +5,7 @@
 
 #include <Eigen/QR>
 
+#include "marsyn/planner_support/clock.hpp"
 #include "marsyn/sampled_map.hpp"
 
 namespace marsyn::ipopt_planner {
@@ -14,7 +15,7 @@ constexpr double kIpoptInf = 2e19;  // beyond Ipopt's default nlp_{lower,upper}_
 double finite_or(double v, double inf) { return std::isfinite(v) ? v : inf; }
 }  // namespace
 
-ShootingNlp::ShootingNlp(const plan5::ProductModel& model, const Options& options, const PlanOptions& run, double t0,
+ShootingNlp::ShootingNlp(const planner_support::ProductModel& model, const Options& options, const PlanOptions& run, double t0,
                          std::vector<SecondOrderField> fields)
     : model_(model), o_(options), run_(run), t0_(t0), T_(model.T), n_(model.n), m_(model.m), fields_(std::move(fields)) {
   fields_.resize(model_.agents.size());
@@ -296,7 +297,7 @@ bool ShootingNlp::eval_h(Index, const Number* z, bool, Number sigma, Index, cons
     std::copy(hcol_.begin(), hcol_.end(), jCol);
     return true;
   }
-  const double start = plan5::now_seconds();
+  const double start = planner_support::now_seconds();
   const bool exact = o_.hessian == "exact";
   blocks_ = {};
   size_t e = 0;
@@ -344,7 +345,7 @@ bool ShootingNlp::eval_h(Index, const Number* z, bool, Number sigma, Index, cons
   blocks_of(terminal_, T_ * n_ + T_ * path_rows_, T_);
   for (int i = 0; i < n_; ++i) v[e++] = sigma * o_.q_terminal;
   ++h_evals_;
-  h_seconds_ += plan5::now_seconds() - start;
+  h_seconds_ += planner_support::now_seconds() - start;
   return true;
 }
 
@@ -354,7 +355,7 @@ bool ShootingNlp::intermediate_callback(Ipopt::AlgorithmMode, Index iter, Number
   iterations_ = iter;
   if (run_.progress) run_.progress({static_cast<int>(iter), obj, inf_pr});
   // Wall-clock limit (Ipopt 3.11's max_cpu_time counts CPU time).
-  if (plan5::now_seconds() - t0_ > run_.time_limit_s) {
+  if (planner_support::now_seconds() - t0_ > run_.time_limit_s) {
     timed_out_ = true;
     return false;
   }

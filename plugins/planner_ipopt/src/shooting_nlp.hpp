@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "ipopt_solver.hpp"
-#include "planner_nlopt/src/product_model.hpp"
+#include "marsyn/planner_support/product_model.hpp"
 #include "second_order.hpp"
 
 namespace marsyn::ipopt_planner {
@@ -17,7 +17,7 @@ class ShootingNlp : public Ipopt::TNLP {
 
   // `fields`: one per agent, the vector field with nested duals for exact dynamics blocks; empty
   // (or an empty entry) takes what marsyn::Dynamics offers (second_order.hpp).
-  ShootingNlp(const plan5::ProductModel& model, const Options& options, const PlanOptions& run, double t0,
+  ShootingNlp(const planner_support::ProductModel& model, const Options& options, const PlanOptions& run, double t0,
               std::vector<SecondOrderField> fields = {});
 
   bool get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag, IndexStyleEnum& style) override;
@@ -60,7 +60,7 @@ class ShootingNlp : public Ipopt::TNLP {
   void linearize(const Number* z);
   void build_patterns();
 
-  const plan5::ProductModel& model_;
+  const planner_support::ProductModel& model_;
   const Options& o_;
   const PlanOptions& run_;
   const double t0_;

@@ -194,7 +194,7 @@ TEST(IpoptHessian, AssembledLagrangianHessianMatchesDifferencedLagrangianGradien
   // lower-triangle scatter with summed duplicates, against differences of sigma grad f + J' lambda.
   const auto p = testproblems::unicycle_crossing(5, true);
   const auto pp = planning::assemble(p, p.horizon);
-  plan5::ProductModel model(pp);
+  planner_support::ProductModel model(pp);
   ipopt_planner::Options o;
   PlanOptions run;
   const models::Unicycle uni;

@@ -5,7 +5,8 @@
 #include <nlopt.hpp>
 #include <sstream>
 
-#include "product_model.hpp"
+#include "marsyn/planner_support/clock.hpp"
+#include "marsyn/planner_support/product_model.hpp"
 
 namespace marsyn::nlopt_planner {
 
@@ -49,7 +50,7 @@ using Mat = Eigen::MatrixXd;
 
 class Shooting {
  public:
-  Shooting(const plan5::ProductModel& model, const Options& o, const PlanOptions& run)
+  Shooting(const planner_support::ProductModel& model, const Options& o, const PlanOptions& run)
       : M_(model), o_(o), run_(run), T_(model.T), n_(model.n), m_(model.m), N_(model.T * model.m) {
     rows_ = T_ * M_.path.rows() + M_.terminal.rows();
     U_.assign(T_, Vec(m_));
@@ -149,7 +150,7 @@ class Shooting {
     }
   }
 
-  const plan5::ProductModel& M_;
+  const planner_support::ProductModel& M_;
   const Options& o_;
   const PlanOptions& run_;
   const int T_, n_, m_, N_;
@@ -174,14 +175,14 @@ void constraints_cb(unsigned, double* c, unsigned, const double* z, double* grad
 }  // namespace
 
 PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Options& o) {
-  const double t0 = plan5::now_seconds();
+  const double t0 = planner_support::now_seconds();
   PlanResult res;
   if (!pp.problem || pp.horizon <= 0) {
     res.status = PlannerStatus::InvalidInput;
     res.message = "no problem or a non-positive horizon";
     return res;
   }
-  plan5::ProductModel model(pp);
+  planner_support::ProductModel model(pp);
   Shooting sh(model, o, run);
   if (static_cast<double>(sh.rows()) * sh.variables() > o.max_dense_entries) {
     res.status = PlannerStatus::InvalidInput;
@@ -246,7 +247,7 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
   res.cost = 0.5 * o.q_terminal * (res.plan.x.back() - model.goal_centre).squaredNorm();
   for (const auto& u : U) res.cost += 0.5 * o.r_input * u.squaredNorm();
   res.iterations = static_cast<int>(sh.evaluations());
-  res.solve_time_s = plan5::now_seconds() - t0;
+  res.solve_time_s = planner_support::now_seconds() - t0;
   if (res.max_violation <= o.feasibility_tolerance) {
     res.status = PlannerStatus::ExactSolution;
   } else {

@@ -19,7 +19,8 @@
 #include <ompl/util/Console.h>
 #include <ompl/util/RandomNumbers.h>
 
-#include "planner_nlopt/src/product_model.hpp"
+#include "marsyn/planner_support/clock.hpp"
+#include "marsyn/planner_support/product_model.hpp"
 
 namespace marsyn::ompl_planner {
 
@@ -68,7 +69,7 @@ using Vec = Eigen::VectorXd;
 
 // OMPL samples uniformly inside the state bounds, so unbounded coordinates get a finite box
 // around the start and the goal.
-void finite_box(const plan5::ProductModel& M, Vec& lo, Vec& hi) {
+void finite_box(const planner_support::ProductModel& M, Vec& lo, Vec& hi) {
   const auto& pp = M.pp;
   lo = pp.state_bounds.lo;
   hi = pp.state_bounds.hi;
@@ -80,11 +81,11 @@ void finite_box(const plan5::ProductModel& M, Vec& lo, Vec& hi) {
   }
 }
 
-bool rows_ok(const plan5::RowSet& rows, const double* x) { return rows.rows() == 0 || rows.worst(x, nullptr) <= 0.0; }
+bool rows_ok(const planner_support::RowSet& rows, const double* x) { return rows.rows() == 0 || rows.worst(x, nullptr) <= 0.0; }
 
 class GoalBox : public ob::GoalSampleableRegion {
  public:
-  GoalBox(const ob::SpaceInformationPtr& si, const plan5::ProductModel& M, Vec lo, Vec hi, double t_max)
+  GoalBox(const ob::SpaceInformationPtr& si, const planner_support::ProductModel& M, Vec lo, Vec hi, double t_max)
       : ob::GoalSampleableRegion(si), M_(M), lo_(std::move(lo)), hi_(std::move(hi)), t_max_(t_max) {
     // OMPL accepts distances strictly below the threshold; distanceGoal is exactly 0 inside.
     setThreshold(std::numeric_limits<double>::min());
@@ -110,7 +111,7 @@ class GoalBox : public ob::GoalSampleableRegion {
   bool reached() const { return reached_; }
 
  private:
-  const plan5::ProductModel& M_;
+  const planner_support::ProductModel& M_;
   Vec lo_, hi_;
   double t_max_;
   mutable ompl::RNG rng_;
@@ -121,7 +122,7 @@ class GoalBox : public ob::GoalSampleableRegion {
 // the state valid, the one landing deepest in the goal (least terminal-row violation, then
 // nearest the goal centre scaled by the goal's size). Only x_T must be in the goal; the final
 // measurement decides.
-bool hold_in_goal(const plan5::ProductModel& M, const Options& o, std::vector<Vec>& U, std::vector<Vec>& X,
+bool hold_in_goal(const planner_support::ProductModel& M, const Options& o, std::vector<Vec>& U, std::vector<Vec>& X,
                   std::string& why) {
   const auto& pp = M.pp;
   Vec scale = Vec::Ones(M.n);
@@ -168,7 +169,7 @@ std::once_flag seed_once;
 }  // namespace
 
 PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Options& o) {
-  const double t0 = plan5::now_seconds();
+  const double t0 = planner_support::now_seconds();
   PlanResult res;
   if (!pp.problem || pp.horizon <= 0) {
     res.status = PlannerStatus::InvalidInput;
@@ -177,7 +178,7 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
   }
   if (o.seed >= 0) std::call_once(seed_once, [&] { ompl::RNG::setSeed(static_cast<std::uint_fast32_t>(o.seed)); });
   ompl::msg::setLogLevel(ompl::msg::LOG_ERROR);
-  plan5::ProductModel M(pp);
+  planner_support::ProductModel M(pp);
   const int n = M.n, m = M.m;
   const double t_max = M.T * M.tau;
 
@@ -276,7 +277,7 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
   ob::PlannerData data(si);
   planner->getPlannerData(data);
   res.iterations = static_cast<int>(data.numVertices());
-  res.solve_time_s = plan5::now_seconds() - t0;
+  res.solve_time_s = planner_support::now_seconds() - t0;
   std::ostringstream msg;
   msg << o.planner << ": " << st.asString() << ", " << data.numVertices() << " tree vertices";
   const bool exact = st == ob::PlannerStatus::EXACT_SOLUTION && pdef->hasExactSolution() && !pdef->hasApproximateSolution();

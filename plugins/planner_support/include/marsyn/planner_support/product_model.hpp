@@ -1,9 +1,9 @@
 #pragma once
-// The transcription every non-default planner shares: the product system's RK4 map with exact
-// per-agent Jacobians, and the eps-robust requirements of a PlanningProblem as flat rows
-// g(x) <= 0 with sparse supports (state bounds and stage constraints at k = 1..T; goal box and
-// terminal constraints at k = T). x_0 is fixed, so nothing is required of it: a solver cannot
-// change it, and the exact check reports it on its own.
+// The transcription the nlopt, ipopt and ompl planners share: the product system's RK4 map
+// with exact per-agent Jacobians, and the eps-robust requirements of a PlanningProblem as flat
+// rows g(x) <= 0 with sparse supports (state bounds and stage constraints at k = 1..T; goal box
+// and terminal constraints at k = T). x_0 is fixed, so nothing is required of it: a solver
+// cannot change it, and the exact check reports it on its own.
 #include <string>
 #include <vector>
 
@@ -11,7 +11,7 @@
 
 #include "marsyn/planner.hpp"
 
-namespace marsyn::plan5 {
+namespace marsyn::planner_support {
 
 // Rows of g(x) <= 0 with their sparsity; a bound row reads one coordinate.
 class RowSet {
@@ -68,6 +68,4 @@ class ProductModel {
   std::vector<Eigen::VectorXd> initial_inputs() const;
 };
 
-double now_seconds();
-
-}  // namespace marsyn::plan5
+}  // namespace marsyn::planner_support

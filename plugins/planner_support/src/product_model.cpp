@@ -1,16 +1,11 @@
-#include "product_model.hpp"
+#include "marsyn/planner_support/product_model.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include "marsyn/sampled_map.hpp"
 
-namespace marsyn::plan5 {
-
-double now_seconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
+namespace marsyn::planner_support {
 
 void RowSet::add_lower(int coord, double lo) {
   items_.push_back({nullptr, coord, -1.0, lo});
@@ -178,4 +173,4 @@ std::vector<Eigen::VectorXd> ProductModel::initial_inputs() const {
   return U;
 }
 
-}  // namespace marsyn::plan5
+}  // namespace marsyn::planner_support
