@@ -1,7 +1,9 @@
 #include "marsyn/core/tracking/mpi_world.hpp"
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <thread>
 #include <limits>
 #include <stdexcept>
 
@@ -25,6 +27,18 @@ void check(int rc, const char* what) {
   if (rc != MPI_SUCCESS) throw std::runtime_error(std::string("MPI: ") + what + " failed");
 }
 
+// Waits for a non-blocking collective without spinning: a rank waiting for rank 0's plan (or for
+// a slower rank's step) would otherwise keep a core busy that rank 0's threads need, on a
+// machine with fewer cores than threads. A 0.2 ms nap is nothing against a sweep step.
+void wait(MPI_Request& r, const char* what) {
+  for (;;) {
+    int done = 0;
+    check(MPI_Test(&r, &done, MPI_STATUS_IGNORE), what);
+    if (done) return;
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+}
+
 int to_int(std::size_t n) {
   if (n > static_cast<std::size_t>(std::numeric_limits<int>::max()))
     throw std::runtime_error("MPI: a message of more than 2 GiB");
@@ -40,7 +54,9 @@ class MpiCollective final : public Collective {
   std::vector<std::vector<std::uint8_t>> allgather(const std::vector<std::uint8_t>& mine) const override {
     const int n = to_int(mine.size());
     std::vector<int> counts(static_cast<size_t>(size_)), displs(static_cast<size_t>(size_));
-    check(MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
+    MPI_Request req;
+    check(MPI_Iallgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD, &req), "MPI_Iallgather");
+    wait(req, "MPI_Iallgather");
     std::size_t total = 0;
     for (int q = 0; q < size_; ++q) {
       displs[static_cast<size_t>(q)] = to_int(total);
@@ -49,9 +65,10 @@ class MpiCollective final : public Collective {
     to_int(total);
     std::vector<std::uint8_t> all(total);
     std::uint8_t dummy = 0;
-    check(MPI_Allgatherv(mine.empty() ? &dummy : mine.data(), n, MPI_BYTE, all.empty() ? &dummy : all.data(),
-                         counts.data(), displs.data(), MPI_BYTE, MPI_COMM_WORLD),
-          "MPI_Allgatherv");
+    check(MPI_Iallgatherv(mine.empty() ? &dummy : mine.data(), n, MPI_BYTE, all.empty() ? &dummy : all.data(),
+                          counts.data(), displs.data(), MPI_BYTE, MPI_COMM_WORLD, &req),
+          "MPI_Iallgatherv");
+    wait(req, "MPI_Iallgatherv");
     std::vector<std::vector<std::uint8_t>> out(static_cast<size_t>(size_));
     for (int q = 0; q < size_; ++q) {
       const auto b = all.begin() + displs[static_cast<size_t>(q)];
@@ -61,10 +78,14 @@ class MpiCollective final : public Collective {
   }
   void broadcast(std::vector<std::uint8_t>& bytes, int root) const override {
     unsigned long long n = bytes.size();
-    check(MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, root, MPI_COMM_WORLD), "MPI_Bcast");
+    MPI_Request req;
+    check(MPI_Ibcast(&n, 1, MPI_UNSIGNED_LONG_LONG, root, MPI_COMM_WORLD, &req), "MPI_Ibcast");
+    wait(req, "MPI_Ibcast");
     to_int(n);
     if (rank_ != root) bytes.resize(static_cast<size_t>(n));
-    if (n > 0) check(MPI_Bcast(bytes.data(), static_cast<int>(n), MPI_BYTE, root, MPI_COMM_WORLD), "MPI_Bcast");
+    if (n == 0) return;
+    check(MPI_Ibcast(bytes.data(), static_cast<int>(n), MPI_BYTE, root, MPI_COMM_WORLD, &req), "MPI_Ibcast");
+    wait(req, "MPI_Ibcast");
   }
 
  private:
@@ -95,7 +116,16 @@ World::World(int& argc, char**& argv) {
 }
 
 World::~World() {
-  if (initialised_) MPI_Finalize();
+  if (!initialised_) return;
+  // Ranks that finish first wait here, napping, for rank 0 to write the output folder.
+  MPI_Request req;
+  if (MPI_Ibarrier(MPI_COMM_WORLD, &req) == MPI_SUCCESS) {
+    try {
+      wait(req, "MPI_Ibarrier");
+    } catch (...) {
+    }
+  }
+  MPI_Finalize();
 }
 
 void World::abort(int exit_code) const {
