@@ -10,8 +10,8 @@
 #include <cstring>
 #include <string>
 
-#include "marsyn/core/config_error.hpp"
-#include "marsyn/core/problem_loader.hpp"
+#include "marsyn/core/problem/config_error.hpp"
+#include "marsyn/core/problem/problem_loader.hpp"
 #include "marsyn/error.hpp"
 
 namespace {

@@ -16,17 +16,17 @@
 #include <filesystem>
 #include <limits>
 
-#include "marsyn/core/closed_loop.hpp"
-#include "marsyn/core/config_error.hpp"
-#include "marsyn/core/plan_file.hpp"
-#include "marsyn/core/plugin_registry.hpp"
-#include "marsyn/core/problem_loader.hpp"
-#include "marsyn/core/problem_summary.hpp"
-#include "marsyn/core/spec_monitor.hpp"
+#include "marsyn/core/verification/closed_loop.hpp"
+#include "marsyn/core/problem/config_error.hpp"
+#include "marsyn/core/planning/plan_file.hpp"
+#include "marsyn/core/plugins/plugin_registry.hpp"
+#include "marsyn/core/problem/problem_loader.hpp"
+#include "marsyn/core/problem/problem_summary.hpp"
+#include "marsyn/core/verification/spec_monitor.hpp"
 #include "marsyn/error.hpp"
 #include "marsyn/tracker.hpp"
 #ifdef MARSYN_HAVE_PLANNING
-#include "marsyn/core/orchestrator.hpp"
+#include "marsyn/core/solve.hpp"
 #include "marsyn/core/planning/plan.hpp"
 #endif
 

@@ -8,9 +8,9 @@
 #include <sstream>
 
 #include "commands.hpp"
-#include "marsyn/core/orchestrator.hpp"
+#include "marsyn/core/solve.hpp"
 #include "marsyn/core/planning/plan.hpp"
-#include "marsyn/core/problem_loader.hpp"
+#include "marsyn/core/problem/problem_loader.hpp"
 
 namespace fs = std::filesystem;
 

@@ -3,9 +3,9 @@
 #include <filesystem>
 #include <iostream>
 
-#include "marsyn/core/plugin_registry.hpp"
-#include "marsyn/core/problem_loader.hpp"
-#include "marsyn/core/problem_summary.hpp"
+#include "marsyn/core/plugins/plugin_registry.hpp"
+#include "marsyn/core/problem/problem_loader.hpp"
+#include "marsyn/core/problem/problem_summary.hpp"
 
 namespace marsyn::cli {
 

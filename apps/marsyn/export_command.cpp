@@ -11,9 +11,9 @@
 #include <set>
 
 #include "commands.hpp"
-#include "marsyn/core/plugin_registry.hpp"
-#include "marsyn/core/problem_loader.hpp"
-#include "marsyn/core/tracker_choice.hpp"
+#include "marsyn/core/plugins/plugin_registry.hpp"
+#include "marsyn/core/problem/problem_loader.hpp"
+#include "marsyn/core/tracking/tracker_choice.hpp"
 #include "marsyn/tracker.hpp"
 
 namespace fs = std::filesystem;

@@ -7,7 +7,7 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "marsyn/core/config_error.hpp"
+#include "marsyn/core/problem/config_error.hpp"
 #include "marsyn/error.hpp"
 
 int main(int argc, char** argv) {

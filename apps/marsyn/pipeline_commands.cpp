@@ -9,14 +9,14 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "marsyn/core/closed_loop.hpp"
-#include "marsyn/core/config_error.hpp"
-#include "marsyn/core/orchestrator.hpp"
-#include "marsyn/core/output_folder.hpp"
-#include "marsyn/core/plan_file.hpp"
+#include "marsyn/core/verification/closed_loop.hpp"
+#include "marsyn/core/problem/config_error.hpp"
+#include "marsyn/core/solve.hpp"
+#include "marsyn/core/report/output_folder.hpp"
+#include "marsyn/core/planning/plan_file.hpp"
 #include "marsyn/core/planning/plan.hpp"
-#include "marsyn/core/problem_loader.hpp"
-#include "marsyn/core/spec_monitor.hpp"
+#include "marsyn/core/problem/problem_loader.hpp"
+#include "marsyn/core/verification/spec_monitor.hpp"
 
 namespace fs = std::filesystem;
 

@@ -3,7 +3,7 @@
 // by their time (agents with different part counts), and refuse controllers without enclosures.
 #include <gtest/gtest.h>
 
-#include "marsyn/core/certification.hpp"
+#include "marsyn/core/verification/certification.hpp"
 
 using namespace marsyn;
 

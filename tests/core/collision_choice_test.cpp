@@ -12,7 +12,7 @@
 
 #include "marsyn/core/planning/constraints.hpp"
 #include "marsyn/core/planning/plan.hpp"
-#include "marsyn/core/problem_loader.hpp"
+#include "marsyn/core/problem/problem_loader.hpp"
 
 namespace {
 

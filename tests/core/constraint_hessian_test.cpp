@@ -10,7 +10,7 @@
 #include <random>
 
 #include "marsyn/core/planning/constraints.hpp"
-#include "marsyn/core/problem_loader.hpp"
+#include "marsyn/core/problem/problem_loader.hpp"
 
 namespace {
 

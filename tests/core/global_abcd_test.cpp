@@ -4,9 +4,9 @@
 
 #include <random>
 
-#include "marsyn/core/global_abcd.hpp"
-#include "marsyn/core/plugin_registry.hpp"
-#include "marsyn/core/spec_monitor.hpp"
+#include "marsyn/core/tracking/global_abcd.hpp"
+#include "marsyn/core/plugins/plugin_registry.hpp"
+#include "marsyn/core/verification/spec_monitor.hpp"
 
 TEST(GlobalAbcd, UnsafeCellsOverApproximateTheAvoidSet) {
   marsyn::PluginRegistry reg;

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "marsyn/core/plugin_registry.hpp"
+#include "marsyn/core/plugins/plugin_registry.hpp"
 
 using marsyn::PluginRegistry;
 

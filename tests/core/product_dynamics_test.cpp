@@ -1,8 +1,8 @@
 #include <gtest/gtest.h>
 
 #include "dynamics_checks.hpp"
-#include "marsyn/core/plugin_registry.hpp"
-#include "marsyn/core/product_dynamics.hpp"
+#include "marsyn/core/plugins/plugin_registry.hpp"
+#include "marsyn/core/tracking/product_dynamics.hpp"
 
 TEST(ProductDynamics, StacksTheAgentsFields) {
   marsyn::PluginRegistry reg;

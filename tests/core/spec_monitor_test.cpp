@@ -2,7 +2,7 @@
 
 #include <random>
 
-#include "marsyn/core/spec_monitor.hpp"
+#include "marsyn/core/verification/spec_monitor.hpp"
 
 namespace {
 using V = Eigen::Vector2d;

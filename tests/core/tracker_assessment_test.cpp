@@ -4,7 +4,7 @@
 
 #include <cstdlib>
 
-#include "marsyn/core/plugin_registry.hpp"
+#include "marsyn/core/plugins/plugin_registry.hpp"
 #include "marsyn/dynamics.hpp"
 #include "marsyn/tracker.hpp"
 

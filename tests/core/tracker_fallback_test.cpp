@@ -11,8 +11,8 @@
 
 #include <unistd.h>
 
-#include "marsyn/core/orchestrator.hpp"
-#include "marsyn/core/problem_loader.hpp"
+#include "marsyn/core/solve.hpp"
+#include "marsyn/core/problem/problem_loader.hpp"
 
 namespace {
 

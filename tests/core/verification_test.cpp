@@ -3,8 +3,8 @@
 // a linear feedback around the nominal keeps it out.
 #include <gtest/gtest.h>
 
-#include "marsyn/core/plugin_registry.hpp"
-#include "marsyn/core/verification.hpp"
+#include "marsyn/core/plugins/plugin_registry.hpp"
+#include "marsyn/core/verification/verification.hpp"
 #include "marsyn/sampled_map.hpp"
 
 namespace {

@@ -21,7 +21,7 @@
 #include "dynamics_unicycle/src/unicycle.hpp"
 #include "ipopt_solver.hpp"
 #include "marsyn/core/planning/plan.hpp"
-#include "marsyn/core/problem_loader.hpp"
+#include "marsyn/core/problem/problem_loader.hpp"
 
 using namespace marsyn;
 using ipopt_planner::SecondOrderField;

@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "marsyn/core/planning/plan.hpp"
-#include "marsyn/core/problem_loader.hpp"
+#include "marsyn/core/problem/problem_loader.hpp"
 
 using namespace marsyn;
 

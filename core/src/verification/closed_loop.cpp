@@ -1,4 +1,4 @@
-#include "marsyn/core/closed_loop.hpp"
+#include "marsyn/core/verification/closed_loop.hpp"
 
 #include <algorithm>
 #include <stdexcept>

@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "marsyn/core/plugin_registry.hpp"
+#include "marsyn/core/plugins/plugin_registry.hpp"
 #include "marsyn/problem.hpp"
 #include "marsyn/tracker.hpp"
 

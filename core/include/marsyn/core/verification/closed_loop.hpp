@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "marsyn/core/spec_monitor.hpp"
+#include "marsyn/core/verification/spec_monitor.hpp"
 #include "marsyn/problem.hpp"
 #include "marsyn/tracker.hpp"
 

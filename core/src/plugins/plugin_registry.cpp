@@ -1,4 +1,4 @@
-#include "marsyn/core/plugin_registry.hpp"
+#include "marsyn/core/plugins/plugin_registry.hpp"
 
 #include <dlfcn.h>
 #include <unistd.h>

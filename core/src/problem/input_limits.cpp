@@ -1,10 +1,10 @@
-#include "marsyn/core/input_limits.hpp"
+#include "marsyn/core/problem/input_limits.hpp"
 
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 
-#include "marsyn/core/config_error.hpp"
+#include "marsyn/core/problem/config_error.hpp"
 
 namespace marsyn {
 

@@ -4,8 +4,8 @@
 #include <memory>
 #include <string>
 
-#include "marsyn/core/plugin_registry.hpp"
-#include "marsyn/core/tracker_choice.hpp"
+#include "marsyn/core/plugins/plugin_registry.hpp"
+#include "marsyn/core/tracking/tracker_choice.hpp"
 #include "marsyn/problem.hpp"
 
 namespace marsyn {

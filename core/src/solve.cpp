@@ -1,4 +1,4 @@
-#include "marsyn/core/orchestrator.hpp"
+#include "marsyn/core/solve.hpp"
 
 #include <atomic>
 #include <chrono>
@@ -11,10 +11,10 @@
 #include <sstream>
 #include <thread>
 
-#include "marsyn/core/agent_checks.hpp"
-#include "marsyn/core/global_abcd.hpp"
-#include "marsyn/core/output_folder.hpp"
-#include "marsyn/core/report_html.hpp"
+#include "marsyn/core/problem/agent_checks.hpp"
+#include "marsyn/core/tracking/global_abcd.hpp"
+#include "marsyn/core/report/output_folder.hpp"
+#include "marsyn/core/report/report_html.hpp"
 
 namespace fs = std::filesystem;
 

@@ -1,4 +1,4 @@
-#include "marsyn/core/product_dynamics.hpp"
+#include "marsyn/core/tracking/product_dynamics.hpp"
 
 namespace marsyn {
 

@@ -1,6 +1,6 @@
 #include <cmath>
 
-#include "marsyn/core/report_html.hpp"
+#include "marsyn/core/report/report_html.hpp"
 #include "marsyn/scalar.hpp"
 
 namespace marsyn {

@@ -1,4 +1,4 @@
-#include "marsyn/core/problem_summary.hpp"
+#include "marsyn/core/problem/problem_summary.hpp"
 
 #include <iomanip>
 #include <sstream>

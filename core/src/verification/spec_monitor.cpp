@@ -1,4 +1,4 @@
-#include "marsyn/core/spec_monitor.hpp"
+#include "marsyn/core/verification/spec_monitor.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "marsyn/core/config_error.hpp"
+#include "marsyn/core/problem/config_error.hpp"
 
 #include <cstdio>
 

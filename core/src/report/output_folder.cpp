@@ -1,6 +1,6 @@
-#include "marsyn/core/output_folder.hpp"
+#include "marsyn/core/report/output_folder.hpp"
 
-#include "marsyn/core/config_error.hpp"
+#include "marsyn/core/problem/config_error.hpp"
 
 namespace fs = std::filesystem;
 

@@ -1,4 +1,4 @@
-#include "marsyn/core/verification.hpp"
+#include "marsyn/core/verification/verification.hpp"
 
 #include <atomic>
 #include <chrono>

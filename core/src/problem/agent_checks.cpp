@@ -1,4 +1,4 @@
-#include "marsyn/core/agent_checks.hpp"
+#include "marsyn/core/problem/agent_checks.hpp"
 
 #include <algorithm>
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "marsyn/core/closed_loop.hpp"
-#include "marsyn/core/spec_monitor.hpp"
+#include "marsyn/core/verification/closed_loop.hpp"
+#include "marsyn/core/verification/spec_monitor.hpp"
 
 namespace marsyn {
 

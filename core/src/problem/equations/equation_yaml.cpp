@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "equation_dynamics.hpp"
-#include "marsyn/core/config_error.hpp"
+#include "marsyn/core/problem/config_error.hpp"
 
 namespace marsyn::equations {
 

@@ -1,4 +1,4 @@
-#include "marsyn/core/certification.hpp"
+#include "marsyn/core/verification/certification.hpp"
 
 #include <algorithm>
 #include <cmath>

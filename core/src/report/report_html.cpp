@@ -1,4 +1,4 @@
-#include "marsyn/core/report_html.hpp"
+#include "marsyn/core/report/report_html.hpp"
 
 #include <fstream>
 #include <stdexcept>

@@ -1,10 +1,10 @@
-#include "marsyn/core/plan_file.hpp"
+#include "marsyn/core/planning/plan_file.hpp"
 
 #include <fstream>
 
 #include <nlohmann/json.hpp>
 
-#include "marsyn/core/config_error.hpp"
+#include "marsyn/core/problem/config_error.hpp"
 
 namespace marsyn {
 

@@ -1,10 +1,10 @@
-#include "marsyn/core/global_abcd.hpp"
+#include "marsyn/core/tracking/global_abcd.hpp"
 
 #include <chrono>
 #include <cmath>
 #include <memory>
 
-#include "marsyn/core/product_dynamics.hpp"
+#include "marsyn/core/tracking/product_dynamics.hpp"
 #include "marsyn/scalar.hpp"
 
 namespace marsyn {

@@ -13,10 +13,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "marsyn/core/certification.hpp"
+#include "marsyn/core/verification/certification.hpp"
 #include "marsyn/core/planning/plan.hpp"
-#include "marsyn/core/problem_loader.hpp"
-#include "marsyn/core/verification.hpp"
+#include "marsyn/core/problem/problem_loader.hpp"
+#include "marsyn/core/verification/verification.hpp"
 
 namespace marsyn {
 

@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "marsyn/core/verification.hpp"
+#include "marsyn/core/verification/verification.hpp"
 #include "marsyn/problem.hpp"
 #include "marsyn/tracker.hpp"
 

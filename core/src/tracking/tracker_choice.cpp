@@ -1,11 +1,11 @@
-#include "marsyn/core/tracker_choice.hpp"
+#include "marsyn/core/tracking/tracker_choice.hpp"
 
 #include <filesystem>
 #include <fstream>
 
 #include <nlohmann/json.hpp>
 
-#include "marsyn/core/config_error.hpp"
+#include "marsyn/core/problem/config_error.hpp"
 
 namespace marsyn {
 

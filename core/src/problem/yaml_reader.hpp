@@ -10,7 +10,7 @@
 
 #include <Eigen/Core>
 
-#include "marsyn/core/config_error.hpp"
+#include "marsyn/core/problem/config_error.hpp"
 
 namespace marsyn::yaml {
 

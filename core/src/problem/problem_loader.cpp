@@ -1,4 +1,4 @@
-#include "marsyn/core/problem_loader.hpp"
+#include "marsyn/core/problem/problem_loader.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,10 +8,10 @@
 
 #include <climits>
 
-#include "marsyn/core/agent_checks.hpp"
-#include "marsyn/core/input_limits.hpp"
+#include "marsyn/core/problem/agent_checks.hpp"
+#include "marsyn/core/problem/input_limits.hpp"
 #include "marsyn/core/planning/geometry.hpp"
-#include "marsyn/core/tracker_choice.hpp"
+#include "marsyn/core/tracking/tracker_choice.hpp"
 #include "equations/equation_yaml.hpp"
 #include "yaml_reader.hpp"
 
