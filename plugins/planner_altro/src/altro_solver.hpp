@@ -44,6 +44,7 @@ struct Options {
   std::string coupling = "auto";    // exact | block | auto
   int exact_max_states = 60;        // auto: exact coupling up to this many product states
 
+  // The parameters, declared once in options.cpp (defaults: the initializers above).
   static std::vector<ParamSpec> specs();
   static Options from(const Params& p);  // throws ParamError
 };

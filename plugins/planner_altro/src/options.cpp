@@ -1,102 +1,96 @@
-// The solver's typed parameters: declaration (for the loader and `marsyn plugins --params`) and
-// parsing with range checks.
+// The solver's typed parameters, each declared once (marsyn/param_set.hpp): name, range and doc
+// here, the default in Options (altro_solver.hpp); listing, parsing and range checks all read
+// this one declaration.
 #include <cmath>
-#include <sstream>
+#include <string>
 
 #include "altro_solver.hpp"
+#include "marsyn/param_set.hpp"
 
 namespace marsyn::altro {
 
-std::vector<ParamSpec> Options::specs() {
-  const Options d;
-  auto s = [](double v) {
-    std::ostringstream os;
-    os << v;
-    return os.str();
-  };
-  return {
-      {"max_iterations", ParamType::Int, s(d.max_iterations), "[1, inf)", "iLQR iterations in total"},
-      {"max_outer", ParamType::Int, s(d.max_outer), "[1, inf)", "augmented-Lagrangian (multiplier) updates"},
-      {"max_inner", ParamType::Int, s(d.max_inner), "[1, inf)", "iLQR iterations per multiplier update"},
-      {"cost_tolerance", ParamType::Real, s(d.cost_tolerance), "(0, inf)",
-       "relative cost decrease ending an inner solve near feasibility"},
-      {"cost_tolerance_intermediate", ParamType::Real, s(d.cost_tolerance_intermediate), "(0, inf)",
-       "relative cost decrease ending an inner solve while infeasible"},
-      {"constraint_tolerance", ParamType::Real, s(d.constraint_tolerance), "(0, inf)",
-       "largest constraint violation accepted as converged"},
-      {"penalty_initial", ParamType::Real, s(d.penalty_initial), "(0, inf)", "initial penalty rho"},
-      {"penalty_scaling", ParamType::Real, s(d.penalty_scaling), "(1, inf)", "rho factor per outer update"},
-      {"penalty_max", ParamType::Real, s(d.penalty_max), "(0, inf)", "largest penalty"},
-      {"reg_initial", ParamType::Real, s(d.reg_initial), "[0, inf)", "initial regularization of Quu"},
-      {"reg_min", ParamType::Real, s(d.reg_min), "[0, inf)", "smallest regularization"},
-      {"reg_max", ParamType::Real, s(d.reg_max), "(0, inf)", "largest regularization (beyond: stalled)"},
-      {"reg_factor", ParamType::Real, s(d.reg_factor), "(1, inf)", "regularization change factor"},
-      {"small_step", ParamType::Real, s(d.small_step), "(0, 1]", "accepted steps this short raise regularization"},
-      {"line_search_steps", ParamType::Int, s(d.line_search_steps), "[1, 60]", "step halvings before a rejection"},
-      {"q_track", ParamType::Real, s(d.q_track), "[0, inf)", "weight of the straight-line reference"},
-      {"r_input", ParamType::Real, s(d.r_input), "(0, inf)", "input weight"},
-      {"q_terminal", ParamType::Real, s(d.q_terminal), "[0, inf)", "terminal weight towards the goal centre"},
-      {"q_state", ParamType::RealVector, "[]", "[] or n numbers >= 0",
-       "factors on q_track per product state coordinate (agents in file order); [] for all 1"},
-      {"bend", ParamType::Real, s(d.bend), "[0, inf)", "sideways bend of the reference per unit path length"},
-      {"polish_iterations", ParamType::Int, s(d.polish_iterations), "[0, inf)",
-       "final projection steps onto the active constraints (0: none)"},
-      {"polish_start", ParamType::Real, s(d.polish_start), "[0, inf)",
-       "violation below which the projection is tried before further penalty rounds"},
-      {"polish_max_violation", ParamType::Real, s(d.polish_max_violation), "(0, inf)",
-       "the projection runs only below this violation"},
-      {"polish_max_work", ParamType::Real, s(d.polish_max_work), "(0, inf)",
-       "skip the projection when rows^2 x T x m exceeds this (dense least squares)"},
-      {"coupling", ParamType::String, d.coupling, "exact|block|auto",
-       "backward pass: one group (exact Gauss-Newton) or one group per agent (majorizer)"},
-      {"exact_max_states", ParamType::Int, s(d.exact_max_states), "[1, inf)", "auto: exact up to this many states"},
-  };
+namespace {
+
+// The lower bounds, worded as the loader's users have always read them ("expected an integer
+// >= 1", "expected a number > 0.000000").
+Rule<int> integer_at_least(long lo) {
+  return {[lo](const int& v) { return v >= lo; }, "expected an integer >= " + std::to_string(lo)};
+}
+Rule<double> number_above(double lo) {
+  return {[lo](const double& v) { return v > lo; }, "expected a number > " + std::to_string(lo)};
+}
+Rule<double> number_at_least(double lo) {
+  return {[lo](const double& v) { return v >= lo; }, "expected a number >= " + std::to_string(lo)};
 }
 
-Options Options::from(const Params& p) {
-  Options o;
-  auto pos_int = [&](const char* name, int& v, long lo) {
-    const long x = p.integer(name, v);
-    if (x < lo) throw ParamError(name, "expected an integer >= " + std::to_string(lo));
-    v = static_cast<int>(x);
-  };
-  auto pos = [&](const char* name, double& v, double lo, bool strict) {
-    const double x = p.real(name, v);
-    if (!(strict ? x > lo : x >= lo)) throw ParamError(name, std::string("expected a number ") + (strict ? ">" : ">=") + " " + std::to_string(lo));
-    v = x;
-  };
-  pos_int("max_iterations", o.max_iterations, 1);
-  pos_int("max_outer", o.max_outer, 1);
-  pos_int("max_inner", o.max_inner, 1);
-  pos_int("line_search_steps", o.line_search_steps, 1);
-  pos_int("exact_max_states", o.exact_max_states, 1);
-  pos_int("polish_iterations", o.polish_iterations, 0);
-  pos("polish_max_violation", o.polish_max_violation, 0, true);
-  pos("polish_start", o.polish_start, 0, false);
-  pos("polish_max_work", o.polish_max_work, 0, true);
-  pos("cost_tolerance", o.cost_tolerance, 0, true);
-  pos("cost_tolerance_intermediate", o.cost_tolerance_intermediate, 0, true);
-  pos("constraint_tolerance", o.constraint_tolerance, 0, true);
-  pos("penalty_initial", o.penalty_initial, 0, true);
-  pos("penalty_scaling", o.penalty_scaling, 1, true);
-  pos("penalty_max", o.penalty_max, 0, true);
-  pos("reg_initial", o.reg_initial, 0, false);
-  pos("reg_min", o.reg_min, 0, false);
-  pos("reg_max", o.reg_max, 0, true);
-  pos("reg_factor", o.reg_factor, 1, true);
-  pos("small_step", o.small_step, 0, true);
-  pos("q_track", o.q_track, 0, false);
-  pos("r_input", o.r_input, 0, true);
-  pos("q_terminal", o.q_terminal, 0, false);
-  pos("bend", o.bend, 0, false);
-  o.q_state = p.reals("q_state", o.q_state);
-  for (double w : o.q_state)
-    if (!(w >= 0) || !std::isfinite(w)) throw ParamError("q_state", "expected finite numbers >= 0");
-  o.coupling = p.text("coupling", o.coupling);
-  if (o.coupling != "exact" && o.coupling != "block" && o.coupling != "auto")
-    throw ParamError("coupling", "expected exact, block or auto");
-  if (o.small_step > 1) throw ParamError("small_step", "expected a number in (0, 1]");
-  return o;
+ParamSet<Options> declare() {
+  using O = Options;
+  // Stream: the listing has always written these defaults as std::ostream does ("1e-05").
+  ParamSet<O> s(NumberText::Stream);
+  s.add("max_iterations", &O::max_iterations, "[1, inf)", "iLQR iterations in total").require(integer_at_least(1));
+  s.add("max_outer", &O::max_outer, "[1, inf)", "augmented-Lagrangian (multiplier) updates").require(integer_at_least(1));
+  s.add("max_inner", &O::max_inner, "[1, inf)", "iLQR iterations per multiplier update").require(integer_at_least(1));
+  s.add("cost_tolerance", &O::cost_tolerance, "(0, inf)", "relative cost decrease ending an inner solve near feasibility")
+      .require(number_above(0));
+  s.add("cost_tolerance_intermediate", &O::cost_tolerance_intermediate, "(0, inf)",
+        "relative cost decrease ending an inner solve while infeasible")
+      .require(number_above(0));
+  s.add("constraint_tolerance", &O::constraint_tolerance, "(0, inf)", "largest constraint violation accepted as converged")
+      .require(number_above(0));
+  s.add("penalty_initial", &O::penalty_initial, "(0, inf)", "initial penalty rho").require(number_above(0));
+  s.add("penalty_scaling", &O::penalty_scaling, "(1, inf)", "rho factor per outer update").require(number_above(1));
+  s.add("penalty_max", &O::penalty_max, "(0, inf)", "largest penalty").require(number_above(0));
+  s.add("reg_initial", &O::reg_initial, "[0, inf)", "initial regularization of Quu").require(number_at_least(0));
+  s.add("reg_min", &O::reg_min, "[0, inf)", "smallest regularization").require(number_at_least(0));
+  s.add("reg_max", &O::reg_max, "(0, inf)", "largest regularization (beyond: stalled)").require(number_above(0));
+  s.add("reg_factor", &O::reg_factor, "(1, inf)", "regularization change factor").require(number_above(1));
+  // The upper end is reported after every other parameter's rule, as it always was.
+  s.add("small_step", &O::small_step, "(0, 1]", "accepted steps this short raise regularization")
+      .require(number_above(0))
+      .require_last({[](const double& v) { return !(v > 1); }, "expected a number in (0, 1]"});
+  // The loader enforces the upper end of integer ranges; the solver needs only >= 1.
+  s.add("line_search_steps", &O::line_search_steps, "[1, 60]", "step halvings before a rejection")
+      .require(integer_at_least(1));
+  s.add("q_track", &O::q_track, "[0, inf)", "weight of the straight-line reference").require(number_at_least(0));
+  s.add("r_input", &O::r_input, "(0, inf)", "input weight").require(number_above(0));
+  s.add("q_terminal", &O::q_terminal, "[0, inf)", "terminal weight towards the goal centre").require(number_at_least(0));
+  // Its length (the product state dimension) is known only at solve time (InvalidInput there).
+  s.add("q_state", &O::q_state, "[] or n numbers >= 0",
+        "factors on q_track per product state coordinate (agents in file order); [] for all 1")
+      .require({[](const std::vector<double>& q) {
+                  for (double w : q)
+                    if (!(w >= 0) || !std::isfinite(w)) return false;
+                  return true;
+                },
+                "expected finite numbers >= 0"});
+  s.add("bend", &O::bend, "[0, inf)", "sideways bend of the reference per unit path length").require(number_at_least(0));
+  s.add("polish_iterations", &O::polish_iterations, "[0, inf)",
+        "final projection steps onto the active constraints (0: none)")
+      .require(integer_at_least(0));
+  s.add("polish_start", &O::polish_start, "[0, inf)",
+        "violation below which the projection is tried before further penalty rounds")
+      .require(number_at_least(0));
+  s.add("polish_max_violation", &O::polish_max_violation, "(0, inf)", "the projection runs only below this violation")
+      .require(number_above(0));
+  s.add("polish_max_work", &O::polish_max_work, "(0, inf)",
+        "skip the projection when rows^2 x T x m exceeds this (dense least squares)")
+      .require(number_above(0));
+  s.choice("coupling", &O::coupling, {"exact", "block", "auto"},
+           "backward pass: one group (exact Gauss-Newton) or one group per agent (majorizer)");
+  s.add("exact_max_states", &O::exact_max_states, "[1, inf)", "auto: exact up to this many states")
+      .require(integer_at_least(1));
+  return s;
 }
+
+const ParamSet<Options>& declared() {
+  static const ParamSet<Options> set = declare();
+  return set;
+}
+
+}  // namespace
+
+std::vector<ParamSpec> Options::specs() { return declared().specs(); }
+
+Options Options::from(const Params& p) { return declared().parse(p); }
 
 }  // namespace marsyn::altro
