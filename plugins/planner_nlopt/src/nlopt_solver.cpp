@@ -10,39 +10,6 @@
 
 namespace marsyn::nlopt_planner {
 
-std::vector<ParamSpec> Options::specs() {
-  return {
-      {"algorithm", ParamType::String, "auglag_lbfgs", "auglag_lbfgs|auglag_slsqp|slsqp|mma",
-       "NLopt method: augmented Lagrangian around L-BFGS or SLSQP, or SLSQP / MMA on the constraints directly"},
-      {"r_input", ParamType::Real, "0.01", "[0, inf)", "weight of the input energy 1/2 |u|^2"},
-      {"q_terminal", ParamType::Real, "1", "[0, inf)", "weight of 1/2 |x_T - goal centre|^2"},
-      {"feasibility_tolerance", ParamType::Real, "1e-5", "(0, 1e-3)", "largest row violation reported as exact"},
-      {"xtol_rel", ParamType::Real, "1e-8", "(0, 1)", "NLopt relative input tolerance"},
-      {"ftol_rel", ParamType::Real, "1e-10", "(0, 1)", "NLopt relative objective tolerance"},
-      {"max_evaluations", ParamType::Int, "20000", "[1, inf)", "objective evaluations in total"},
-      {"max_dense_entries", ParamType::Real, "2e7", "(0, inf)",
-       "largest dense constraint Jacobian (rows x inputs); larger problems are refused as invalid input"},
-  };
-}
-
-Options Options::from(const Params& p) {
-  Options o;
-  o.algorithm = p.text("algorithm", o.algorithm);
-  if (o.algorithm != "auglag_lbfgs" && o.algorithm != "auglag_slsqp" && o.algorithm != "slsqp" && o.algorithm != "mma")
-    throw ParamError("algorithm", "expected auglag_lbfgs, auglag_slsqp, slsqp or mma");
-  o.r_input = p.real("r_input", o.r_input);
-  o.q_terminal = p.real("q_terminal", o.q_terminal);
-  o.feasibility_tolerance = p.real("feasibility_tolerance", o.feasibility_tolerance);
-  o.xtol_rel = p.real("xtol_rel", o.xtol_rel);
-  o.ftol_rel = p.real("ftol_rel", o.ftol_rel);
-  o.max_evaluations = p.integer("max_evaluations", o.max_evaluations);
-  o.max_dense_entries = p.real("max_dense_entries", o.max_dense_entries);
-  if (o.r_input < 0 || o.q_terminal < 0) throw ParamError("r_input", "weights must be non-negative");
-  if (!(o.feasibility_tolerance > 0)) throw ParamError("feasibility_tolerance", "must be positive");
-  if (o.max_evaluations < 1) throw ParamError("max_evaluations", "must be at least 1");
-  return o;
-}
-
 namespace {
 
 using Vec = Eigen::VectorXd;

@@ -21,8 +21,9 @@ struct Options {
   long max_evaluations = 20000;
   double max_dense_entries = 2e7;  // rows x inputs of the dense constraint Jacobian; larger = refuse
 
+  // The parameters, declared once in options.cpp (defaults: the initializers above).
   static std::vector<ParamSpec> specs();
-  static Options from(const Params& p);
+  static Options from(const Params& p);  // throws ParamError
 };
 
 PlanResult solve(const PlanningProblem& problem, const PlanOptions& run, const Options& options);
