@@ -10,61 +10,6 @@
 
 namespace marsyn::ipopt_planner {
 
-std::vector<ParamSpec> Options::specs() {
-  return {
-      {"hessian", ParamType::String, "exact", "exact|differenced|limited-memory",
-       "Hessian of the Lagrangian: AD second derivatives where the interfaces provide them (other blocks "
-       "differenced, see the result message), central differences of the exact AD Jacobians, or Ipopt's L-BFGS"},
-      {"r_input", ParamType::Real, "0.01", "[0, inf)", "weight of the input energy 1/2 |u|^2"},
-      {"q_terminal", ParamType::Real, "0", "[0, inf)", "weight of 1/2 |x_T - goal centre|^2"},
-      {"tol", ParamType::Real, "1e-6", "(0, 1)", "Ipopt tol"},
-      {"constr_viol_tol", ParamType::Real, "1e-8", "(0, 1e-4)", "Ipopt constr_viol_tol (defects and rows)"},
-      {"feasibility_tolerance", ParamType::Real, "1e-5", "(0, 1e-3)",
-       "largest violation of the re-simulated plan reported as exact"},
-      {"max_iterations", ParamType::Int, "3000", "[1, inf)", "Ipopt max_iter"},
-      {"bend", ParamType::Real, "0.1", "[0, 1]", "lateral bend of the straight-line initial guess (x path length)"},
-      {"print_level", ParamType::Int, "0", "[0, 12]", "Ipopt print_level"},
-      {"linear_solver", ParamType::String, "mumps", "mumps|ma27|...", "Ipopt linear_solver (Debian ships mumps)"},
-      {"mu_strategy", ParamType::String, "adaptive", "adaptive|monotone", "Ipopt barrier parameter strategy"},
-      {"fit_inputs", ParamType::Bool, "true", "true|false",
-       "interpolate: start the inputs at a least-squares fit to the guessed states (else 0)"},
-      {"derivative_test", ParamType::String, "none", "none|first-order|second-order",
-       "Ipopt's finite-difference check of the derivatives at the initial point (printed)"},
-      {"output_file", ParamType::String, "", "path", "Ipopt output_file (its log, at least print level 5 there)"},
-      {"initial_guess", ParamType::String, "interpolate", "interpolate|rollout",
-       "without a warm start: bent straight lines to the goal, or the states of zero inputs"},
-  };
-}
-
-Options Options::from(const Params& p) {
-  Options o;
-  o.hessian = p.text("hessian", o.hessian);
-  if (o.hessian != "exact" && o.hessian != "differenced" && o.hessian != "limited-memory")
-    throw ParamError("hessian", "expected exact, differenced or limited-memory");
-  o.r_input = p.real("r_input", o.r_input);
-  o.q_terminal = p.real("q_terminal", o.q_terminal);
-  o.tol = p.real("tol", o.tol);
-  o.constr_viol_tol = p.real("constr_viol_tol", o.constr_viol_tol);
-  o.feasibility_tolerance = p.real("feasibility_tolerance", o.feasibility_tolerance);
-  o.max_iterations = static_cast<int>(p.integer("max_iterations", o.max_iterations));
-  o.bend = p.real("bend", o.bend);
-  o.print_level = static_cast<int>(p.integer("print_level", o.print_level));
-  o.linear_solver = p.text("linear_solver", o.linear_solver);
-  o.mu_strategy = p.text("mu_strategy", o.mu_strategy);
-  if (o.mu_strategy != "adaptive" && o.mu_strategy != "monotone") throw ParamError("mu_strategy", "expected adaptive or monotone");
-  o.fit_inputs = p.boolean("fit_inputs", o.fit_inputs);
-  o.derivative_test = p.text("derivative_test", o.derivative_test);
-  o.output_file = p.text("output_file", o.output_file);
-  o.initial_guess = p.text("initial_guess", o.initial_guess);
-  if (o.initial_guess != "interpolate" && o.initial_guess != "rollout")
-    throw ParamError("initial_guess", "expected interpolate or rollout");
-  if (o.r_input < 0 || o.q_terminal < 0) throw ParamError("r_input", "weights must be non-negative");
-  if (!(o.tol > 0) || !(o.constr_viol_tol > 0) || !(o.feasibility_tolerance > 0))
-    throw ParamError("tol", "tolerances must be positive");
-  if (o.max_iterations < 1) throw ParamError("max_iterations", "must be at least 1");
-  return o;
-}
-
 namespace {
 // Debian's Ipopt 3.11 solves with sequential MUMPS, which keeps global state: two solves at once
 // in one process crash. Every solve in this library takes this lock.

@@ -33,8 +33,9 @@ struct Options {
   std::string derivative_test = "none";       // Ipopt derivative_test: none | first-order | second-order
   std::string output_file;                    // Ipopt output_file (empty: none)
 
+  // The parameters, declared once in options.cpp (defaults: the initializers above).
   static std::vector<ParamSpec> specs();
-  static Options from(const Params& p);
+  static Options from(const Params& p);  // throws ParamError
 };
 
 // `fields` (per agent, optional): vector fields with nested duals for the exact dynamics blocks,
