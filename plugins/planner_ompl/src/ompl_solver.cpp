@@ -27,42 +27,6 @@ namespace marsyn::ompl_planner {
 namespace ob = ompl::base;
 namespace oc = ompl::control;
 
-std::vector<ParamSpec> Options::specs() {
-  return {
-      {"planner", ParamType::String, "sst", "sst|rrt|kpiece1", "OMPL control planner"},
-      {"time_limit", ParamType::Real, "30", "(0, inf)", "planning time in seconds (the run's limit also applies)"},
-      {"goal_bias", ParamType::Real, "0.05", "[0, 1]", "probability of sampling the goal box"},
-      {"time_weight", ParamType::Real, "0.1", "(0, inf)", "weight of elapsed time (per second) in OMPL's state distance"},
-      {"selection_radius", ParamType::Real, "0.2", "(0, inf)", "SST selection radius"},
-      {"pruning_radius", ParamType::Real, "0.1", "(0, inf)", "SST pruning radius"},
-      {"seed", ParamType::Int, "-1", "-1 or [0, inf)", "OMPL's process-wide RNG seed, set once (-1: random)"},
-      {"max_control_steps", ParamType::Int, "10", "[1, inf)", "longest hold of one sampled control, in steps of tau"},
-      {"hold_candidates", ParamType::Int, "400", "[1, inf)", "controls tried per step to hold the state in the goal"},
-  };
-}
-
-Options Options::from(const Params& p) {
-  Options o;
-  o.planner = p.text("planner", o.planner);
-  if (o.planner != "sst" && o.planner != "rrt" && o.planner != "kpiece1")
-    throw ParamError("planner", "expected sst, rrt or kpiece1");
-  o.time_limit_s = p.real("time_limit", o.time_limit_s);
-  o.goal_bias = p.real("goal_bias", o.goal_bias);
-  o.time_weight = p.real("time_weight", o.time_weight);
-  o.selection_radius = p.real("selection_radius", o.selection_radius);
-  o.pruning_radius = p.real("pruning_radius", o.pruning_radius);
-  o.seed = p.integer("seed", o.seed);
-  o.hold_candidates = static_cast<int>(p.integer("hold_candidates", o.hold_candidates));
-  o.max_control_steps = static_cast<int>(p.integer("max_control_steps", o.max_control_steps));
-  if (o.max_control_steps < 1) throw ParamError("max_control_steps", "must be at least 1");
-  if (!(o.time_limit_s > 0)) throw ParamError("time_limit", "must be positive");
-  if (o.goal_bias < 0 || o.goal_bias > 1) throw ParamError("goal_bias", "must be in [0, 1]");
-  // Positive: elapsed time is what bounds paths by the horizon and identifies the start.
-  if (!(o.time_weight > 0)) throw ParamError("time_weight", "must be positive");
-  if (o.hold_candidates < 1) throw ParamError("hold_candidates", "must be at least 1");
-  return o;
-}
-
 namespace {
 
 using Vec = Eigen::VectorXd;

@@ -27,8 +27,9 @@ struct Options {
   int hold_candidates = 400;    // controls tried per step by the goal-holding regulator
   double feasibility_tolerance = 1e-9;
 
+  // The parameters, declared once in options.cpp (defaults: the initializers above).
   static std::vector<ParamSpec> specs();
-  static Options from(const Params& p);
+  static Options from(const Params& p);  // throws ParamError
 };
 
 PlanResult solve(const PlanningProblem& problem, const PlanOptions& run, const Options& options);
