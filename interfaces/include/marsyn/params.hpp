@@ -2,6 +2,8 @@
 // Typed plugin parameters, declared once by each plugin (in the spirit of OMPL's ParamSet) so
 // that the config loader can reject unknown names and wrong types with the exact YAML location,
 // and so that `marsyn plugins --params` and parameter searches can enumerate them.
+// marsyn/param_set.hpp builds both the ParamSpecs and the parsing from one declaration per
+// parameter, bound to a member of the plugin's options struct (the planners use it).
 #include <map>
 #include <string>
 #include <variant>
