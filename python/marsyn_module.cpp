@@ -26,6 +26,8 @@
 #include "marsyn/error.hpp"
 #include "marsyn/tracker.hpp"
 #ifdef MARSYN_HAVE_PLANNING
+#include "marsyn/core/report/result_json.hpp"
+#include "marsyn/core/report/solve_outputs.hpp"
 #include "marsyn/core/solve.hpp"
 #include "marsyn/core/planning/plan.hpp"
 #endif

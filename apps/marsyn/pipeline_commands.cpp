@@ -11,6 +11,8 @@
 #include "commands.hpp"
 #include "marsyn/core/verification/closed_loop.hpp"
 #include "marsyn/core/problem/config_error.hpp"
+#include "marsyn/core/report/result_json.hpp"
+#include "marsyn/core/report/solve_outputs.hpp"
 #include "marsyn/core/solve.hpp"
 #include "marsyn/core/report/output_folder.hpp"
 #include "marsyn/core/planning/plan_file.hpp"

@@ -11,6 +11,7 @@
 
 #include <unistd.h>
 
+#include "marsyn/core/report/result_json.hpp"
 #include "marsyn/core/solve.hpp"
 #include "marsyn/core/problem/problem_loader.hpp"
 

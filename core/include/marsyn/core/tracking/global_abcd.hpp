@@ -5,6 +5,8 @@
 #include <functional>
 #include <string>
 
+#include "marsyn/core/solve_options.hpp"
+#include "marsyn/core/tracking/tracker_choice.hpp"
 #include "marsyn/problem.hpp"
 #include "marsyn/tracker.hpp"
 
@@ -23,5 +25,22 @@ struct GlobalAbcdRun {
 };
 
 GlobalAbcdRun run_global_abcd(const Problem& problem, const Tracker& tracker, int threads, double memory_budget_bytes);
+
+struct GlobalAbcdEstimate {
+  double state_input_pairs = 0;  // N_g: product grid cells x product inputs over the full domain
+  double memory_bytes_estimate = 0;
+  std::string status;            // "skipped: ..." or the outcome of an attempt
+  double time_s = 0;             // of the attempt
+  long long boxes_computed = 0;
+  bool attempted = false;        // the abstraction ran (else `status` says why not)
+};
+
+// The size of the product abstraction over the whole domain (N_g, Table 2), or why it has none.
+GlobalAbcdEstimate estimate_global_abcd(const Problem& problem);
+
+// The baseline as `marsyn solve` reports it: estimated, then run with abcd's whole-domain mode
+// when it is installed, fits options.global_memory_budget_bytes and the problem allows it.
+GlobalAbcdEstimate attempt_global_abcd(const Problem& problem, TrackerInstances& trackers, const SolveOptions& options,
+                                       const std::function<void(const std::string&)>& log);
 
 }  // namespace marsyn

@@ -35,6 +35,7 @@ class TrackerInstances {
   std::shared_ptr<const Tracker> get(const PluginChoice& choice);
   // Each agent's tracker (AgentSpec::tracker), index for index.
   std::vector<std::shared_ptr<const Tracker>> for_agents(const Problem& problem);
+  const PluginRegistry& registry() const { return *registry_; }
 
  private:
   std::shared_ptr<const PluginRegistry> registry_;

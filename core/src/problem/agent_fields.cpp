@@ -1,0 +1,189 @@
+#include "agent_fields.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "field_text.hpp"
+#include "marsyn/core/problem/agent_checks.hpp"
+#include "plugin_fields.hpp"
+
+namespace marsyn::loader {
+
+Field agent_field(const Field& agent, const Field& defaults, const std::string& key) {
+  Field f = agent.child(key);
+  return f.present() ? f : defaults.child(key);
+}
+
+Field agent_required(const Field& agent, const Field& defaults, const std::string& key) {
+  Field f = agent_field(agent, defaults, key);
+  if (!f.present()) agent.fail("missing required field '" + key + "' (set it in the agent or in 'defaults')");
+  return f;
+}
+
+
+Box read_box(const Field& f, int n, const std::string& why) {
+  f.expect_map();
+  Box b;
+  if (f.child("center").present() || f.child("radius").present()) {
+    f.allow_only({"center", "radius"});
+    const Eigen::VectorXd c = f.required("center").vector(n, why);
+    const Eigen::VectorXd r = f.required("radius").non_negative_vector(n, why);
+    b = {c - r, c + r};
+  } else {
+    f.allow_only({"lo", "hi"});
+    b = {f.required("lo").vector(n, why), f.required("hi").vector(n, why)};
+    for (int i = 0; i < n; ++i)
+      if (b.lo[i] > b.hi[i])
+        f.child("lo")[static_cast<std::size_t>(i)].fail("lower bound " + fmt(b.lo[i]) + " exceeds upper bound " +
+                                                         fmt(b.hi[i]));
+  }
+  return b;
+}
+
+Workspace read_workspace(const Field& f, const Dynamics& dyn) {
+  f.expect_map();
+  f.allow_only({"position", "offset", "footprint"});
+  Workspace ws;
+  const int n = dyn.state_dim();
+  if (f.child("footprint").present()) {
+    if (f.child("position").present()) f.child("position").fail("give either 'position' or 'footprint', not both");
+    const std::string name = f.child("footprint").text();
+    const auto names = dyn.footprints();
+    for (std::size_t i = 0; i < names.size(); ++i)
+      if (names[i] == name) ws.footprint = static_cast<int>(i);
+    if (ws.footprint < 0)
+      f.child("footprint").fail("the dynamics '" + dyn.type() + "' has no footprint '" + name +
+                                "'; it has: " + join(names));
+    ws.footprint_name = name;
+    return ws;
+  }
+  Field pos = f.required("position");
+  if (!pos.is_sequence() || pos.size() != 2)
+    pos.fail("expected 2 entries [x_index, y_index]: state indices (0-based) or null for a fixed coordinate");
+  for (std::size_t c = 0; c < 2; ++c) {
+    Field e = pos[c];
+    if (!e.present()) {
+      ws.index[c] = -1;
+      continue;
+    }
+    const long i = e.integer();
+    if (i < 0 || i >= n)
+      e.fail("expected a state index in [0, " + std::to_string(n - 1) + "] (the dynamics '" + dyn.type() +
+             "' has " + std::to_string(n) + " states) or null");
+    ws.index[c] = static_cast<int>(i);
+  }
+  if (f.child("offset").present()) {
+    const Eigen::VectorXd o = f.child("offset").vector(2, "a point in the plane");
+    ws.offset = {o[0], o[1]};
+  }
+  return ws;
+}
+
+void validate_agent(const AgentSpec& a, const Field& x0f, const Field& goalf) {
+  const auto names = a.dynamics->state_names();
+  for (int i = 0; i < a.n(); ++i) {
+    const std::string coord = "'" + names[i] + "'";
+    const std::size_t si = static_cast<std::size_t>(i);
+    const double lo = a.state_bounds.lo[i], hi = a.state_bounds.hi[i];
+    switch (agent_defect(a, i)) {
+      case AgentDefect::None:
+        break;
+      case AgentDefect::X0OutsideBounds:
+        x0f[si].fail("x0 = " + fmt(a.x0[i]) + " in " + coord + " lies outside the state bounds [" + fmt(lo) + ", " +
+                     fmt(hi) + "]");
+      case AgentDefect::TubeOutsideBounds:
+        x0f[si].fail("the tube around x0 leaves the state bounds in " + coord + ": x0 +- eps = [" +
+                     fmt(a.x0[i] - a.eps[i]) + ", " + fmt(a.x0[i] + a.eps[i]) + "] is not inside [" + fmt(lo) +
+                     ", " + fmt(hi) + "]");
+      case AgentDefect::GoalEmpty:
+        goalf.fail("the goal shrunk by eps is empty in " + coord + ": [" + fmt(a.goal.lo[i]) + " + " +
+                   fmt(a.eps[i]) + ", " + fmt(a.goal.hi[i]) + " - " + fmt(a.eps[i]) + "] = [" +
+                   fmt(a.goal.lo[i] + a.eps[i]) + ", " + fmt(a.goal.hi[i] - a.eps[i]) +
+                   "]; enlarge the goal or reduce eps");
+      case AgentDefect::GoalOutsideBounds:
+        goalf.fail("the goal [" + fmt(a.goal.lo[i]) + ", " + fmt(a.goal.hi[i]) + "] in " + coord +
+                   " lies outside the state bounds [" + fmt(lo) + ", " + fmt(hi) + "]");
+      case AgentDefect::GoalUnreachable:
+        goalf.fail("no eps-robust final state in " + coord + ": the goal shrunk by eps [" +
+                   fmt(a.goal.lo[i] + a.eps[i]) + ", " + fmt(a.goal.hi[i] - a.eps[i]) +
+                   "] and the state bounds shrunk by eps [" + fmt(lo + a.eps[i]) + ", " + fmt(hi - a.eps[i]) +
+                   "] do not overlap; move the goal inside the state bounds or reduce eps");
+    }
+  }
+}
+
+TrackerRequest read_tracker_request(const Field& f, const PluginRegistry& reg) {
+  TrackerRequest r{true, {}, f};
+  if (!f.present()) return r;
+  const PluginField pf = read_plugin_field(f, "name");
+  if (pf.name == kAutoTracker) {
+    if (pf.params_field.present())
+      pf.params_field.fail("'auto' takes no parameters; name the tracker to set its parameters, e.g. "
+                           "{name: abcd, params: {...}}");
+    return r;
+  }
+  r.automatic = false;
+  r.choice.name = pf.name;
+  r.choice.params = create_plugin<Tracker>(reg, pf).second;
+  return r;
+}
+
+// Where an assessment's field is written for this agent: the agent's own field or the default,
+// element `coordinate` of it when given; a tracker parameter in the tracker block; else the agent.
+Field assessment_field(const TrackerAssessment& as, const Field& af, const Field& defaults, const Field& tracker_field) {
+  if (as.field.empty()) return af;
+  const Field own = agent_field(af, defaults, as.field);
+  const Field param = tracker_field.is_map() ? tracker_field.child("params").child(as.field) : own;
+  const Field& f = own.present() ? own : param;
+  if (!f.present()) return af;
+  if (as.coordinate >= 0 && f.is_sequence() && static_cast<std::size_t>(as.coordinate) < f.size())
+    return f[static_cast<std::size_t>(as.coordinate)];
+  return f;
+}
+
+AgentTrackers resolve_tracker(AgentSpec& a, const TrackerRequest& req, TrackerInstances& trackers,
+                              const PluginRegistry& reg, const Problem& pb, const Field& af, const Field& defaults) {
+  AgentTrackers out;
+  out.automatic = req.automatic;
+  if (!req.automatic) {
+    const TrackerAssessment as = assess_tracker(trackers, req.choice, a, pb.horizon, pb.tau);
+    out.asked.emplace_back(req.choice.name, as);
+    if (!as.ok) assessment_field(as, af, defaults, req.field).fail(as.message);
+    a.tracker = req.choice;
+    out.assessment = as;
+    return out;
+  }
+  // Asked in name order, so that the choice among equal estimates and the location of a refusal
+  // do not depend on where the plugins were found.
+  std::vector<std::string> names = reg.names(PluginKind<Tracker>::name);
+  std::sort(names.begin(), names.end());
+  if (names.empty())
+    (req.field.present() ? req.field : af)
+        .fail("no tracker plugin is installed (tracker: auto chooses among the installed ones); set MARSYN_PLUGIN_PATH "
+              "or plugin_paths");
+  std::vector<std::pair<double, std::size_t>> ok;  // (work_s, index into asked)
+  for (const auto& name : names) {
+    const TrackerAssessment as = assess_tracker(trackers, {name, {}}, a, pb.horizon, pb.tau);
+    if (as.ok) ok.emplace_back(as.work_s, out.asked.size());
+    out.asked.emplace_back(name, as);
+  }
+  if (ok.empty()) {
+    const TrackerAssessment& first = out.asked.front().second;
+    std::string msg;
+    if (out.asked.size() == 1) {
+      msg = first.message + " (tracker: auto, and " + out.asked.front().first + " is the only tracker installed)";
+    } else {
+      msg = "no installed tracker accepts this agent (tracker: auto):";
+      for (std::size_t i = 0; i < out.asked.size(); ++i)
+        msg += std::string(i ? ";" : "") + " " + out.asked[i].first + ": " + out.asked[i].second.message;
+    }
+    assessment_field(first, af, defaults, req.field).fail(msg);
+  }
+  std::stable_sort(ok.begin(), ok.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  a.tracker = {out.asked[ok.front().second].first, {}};
+  out.assessment = out.asked[ok.front().second].second;
+  for (std::size_t i = 1; i < ok.size(); ++i) out.fallbacks.push_back({out.asked[ok[i].second].first, {}});
+  return out;
+}
+
+}  // namespace marsyn::loader

@@ -1,0 +1,36 @@
+#pragma once
+// One agent's block: fields with their `defaults`, boxes, the workspace map, the consistency of
+// x0 and the goal, and the agent's tracker resolved by the trackers' own assessments.
+#include <string>
+
+#include "marsyn/core/tracking/tracker_choice.hpp"
+#include "marsyn/problem.hpp"
+#include "yaml_reader.hpp"
+
+namespace marsyn::loader {
+
+using yaml::Field;
+
+// An agent's field comes from its own block or, when absent there, from `defaults`.
+Field agent_field(const Field& agent, const Field& defaults, const std::string& key);
+Field agent_required(const Field& agent, const Field& defaults, const std::string& key);
+
+Box read_box(const Field& f, int n, const std::string& why);
+Workspace read_workspace(const Field& f, const Dynamics& dyn);
+void validate_agent(const AgentSpec& a, const Field& x0f, const Field& goalf);
+
+// `tracker` as written: a tracker's name or block ({name, params}), or `auto` (also when absent).
+struct TrackerRequest {
+  bool automatic = true;
+  PluginChoice choice;
+  Field field;  // where it was written (not present: the default, auto)
+};
+
+TrackerRequest read_tracker_request(const Field& f, const PluginRegistry& reg);
+
+// Resolves the agent's tracker (AgentSpec::tracker) by the trackers' own assessments; a refusal
+// (or, for auto, every tracker's) is a located error at the field the tracker names.
+AgentTrackers resolve_tracker(AgentSpec& a, const TrackerRequest& req, TrackerInstances& trackers,
+                              const PluginRegistry& reg, const Problem& pb, const Field& af, const Field& defaults);
+
+}  // namespace marsyn::loader

@@ -1,0 +1,198 @@
+#include "scene_fields.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "agent_fields.hpp"
+#include "field_text.hpp"
+#include "marsyn/core/problem/input_limits.hpp"
+#include "marsyn/core/planning/geometry.hpp"
+#include "plugin_fields.hpp"
+
+namespace marsyn::loader {
+
+// The real specification at k = 0, with the exact geometry of the robustness check
+// (planning/geometry.hpp): each agent's workspace point at x0 keeps delta from every obstacle and
+// from every other agent. A start violating it can never be planned for.
+double inf_distance(const planning::Polygon& poly, const Eigen::Vector2d& p, double upper) {
+  // The r with p on the boundary of poly grown by the box (r, r): bisection on the exact test.
+  double lo = 0, hi = upper;
+  for (int it = 0; it < 60; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (planning::signed_distance(planning::grow_by_box(poly, mid, mid), p) < 0 ? hi : lo) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+std::string point(const Eigen::Vector2d& p) { return "(" + fmt(p.x()) + ", " + fmt(p.y()) + ")"; }
+
+void check_start_geometry(const Problem& pb, const std::vector<Field>& x0_fields) {
+  const bool inf = pb.delta_norm == Norm::Inf;
+  const std::string norm = inf ? "inf-norm" : "Euclidean";
+  std::vector<Eigen::Vector2d> p(pb.agents.size());
+  for (std::size_t i = 0; i < pb.agents.size(); ++i) {
+    const AgentSpec& a = pb.agents[i];
+    workspace_point(*a.dynamics, a.workspace, a.x0.data(), p[i].data());
+    if (!p[i].allFinite()) x0_fields[i].fail("the workspace point of x0 is not finite: " + point(p[i]));
+  }
+  for (std::size_t i = 0; i < pb.agents.size(); ++i) {
+    const AgentSpec& a = pb.agents[i];
+    for (const auto& o : pb.obstacles) {
+      const double inside = planning::signed_distance(o.vertices, p[i]);
+      const std::string what = "x0 puts " + a.name + "'s workspace point " + point(p[i]);
+      if (inside < 0) x0_fields[i].fail(what + " inside obstacle '" + o.name + "'");
+      const bool near = inf ? planning::signed_distance(planning::grow_by_box(o.vertices, pb.delta, pb.delta), p[i]) < 0
+                            : inside < pb.delta;
+      if (near) {
+        const double d = inf ? inf_distance(o.vertices, p[i], pb.delta) : inside;
+        x0_fields[i].fail(what + " at " + norm + " distance " + fmt(d) + " from obstacle '" + o.name +
+                          "', less than delta = " + fmt(pb.delta) + " (inside the obstacle grown by delta)");
+      }
+    }
+  }
+  if (!pb.pairwise_collision) return;
+  for (std::size_t j = 0; j < pb.agents.size(); ++j)
+    for (std::size_t i = 0; i < j; ++i) {
+      const Eigen::Vector2d d = p[j] - p[i];
+      const double dist = inf ? d.cwiseAbs().maxCoeff() : d.norm();
+      if (dist < pb.delta)
+        x0_fields[j].fail("x0 puts " + pb.agents[j].name + " at " + point(p[j]) + ", " + norm + " distance " + fmt(dist) +
+                          " from " + pb.agents[i].name + " at " + point(p[i]) + " (agents[" + std::to_string(i) +
+                          "]), less than delta = " + fmt(pb.delta));
+    }
+}
+
+Obstacle read_obstacle(const Field& f, std::size_t index) {
+  f.expect_map();
+  f.allow_only({"name", "box", "polygon"});
+  Obstacle o;
+  o.name = f.child("name").present() ? f.child("name").text() : "obstacle" + std::to_string(index);
+  if (f.child("name").present())
+    if (const std::string why = name_defect(o.name); !why.empty()) f.child("name").fail(why);
+  const bool has_box = f.child("box").present(), has_poly = f.child("polygon").present();
+  if (has_box == has_poly) f.fail("expected exactly one of 'box' or 'polygon'");
+  if (has_box) {
+    const Box b = read_box(f.child("box"), 2, "a box in the plane");
+    o.is_box = true;
+    o.vertices = {{b.lo[0], b.lo[1]}, {b.hi[0], b.lo[1]}, {b.hi[0], b.hi[1]}, {b.lo[0], b.hi[1]}};
+    return o;
+  }
+  Field p = f.child("polygon");
+  const auto items = p.items();
+  if (items.size() < 3) p.fail("expected at least 3 vertices [[x, y], ...]");
+  for (const auto& v : items) {
+    const Eigen::VectorXd xy = v.vector(2, "a point in the plane");
+    o.vertices.emplace_back(xy[0], xy[1]);
+  }
+  double area = 0;
+  const std::size_t k = o.vertices.size();
+  for (std::size_t i = 0; i < k; ++i) {
+    const auto& a = o.vertices[i];
+    const auto& b = o.vertices[(i + 1) % k];
+    area += a.x() * b.y() - b.x() * a.y();
+  }
+  if (std::abs(area) < 1e-12) p.fail("the polygon has no area");
+  if (area < 0) std::reverse(o.vertices.begin(), o.vertices.end());  // store counter-clockwise
+  for (std::size_t i = 0; i < k; ++i) {
+    const Eigen::Vector2d e1 = o.vertices[(i + 1) % k] - o.vertices[i];
+    const Eigen::Vector2d e2 = o.vertices[(i + 2) % k] - o.vertices[(i + 1) % k];
+    if (e1.x() * e2.y() - e1.y() * e2.x() < -1e-12)
+      p.fail("the polygon is not convex; split it into convex pieces");
+  }
+  return o;
+}
+
+int agent_index(const Problem& pb, const Field& f) {
+  const std::string name = f.text();
+  for (std::size_t i = 0; i < pb.agents.size(); ++i)
+    if (pb.agents[i].name == name) return static_cast<int>(i);
+  std::vector<std::string> names;
+  for (const auto& a : pb.agents) names.push_back(a.name);
+  f.fail("unknown agent '" + name + "'; agents: " + join(names));
+}
+
+void read_formation(const Field& f, Problem& pb) {
+  f.expect_map();
+  f.allow_only({"mu", "offsets", "pairs"});
+  const double mu = f.required("mu").positive();
+  if (Field off = f.child("offsets"); off.present()) {
+    off.expect_map();
+    std::vector<std::pair<int, Eigen::Vector2d>> pts;
+    for (const auto& key : off.keys()) {
+      Field k = off.child(key);
+      YAML::Node name_node(key);
+      const int i = agent_index(pb, Field(name_node, f.file(), k.path(), k.node().Mark()));
+      const Eigen::VectorXd v = k.vector(2, "an offset in the plane");
+      pts.emplace_back(i, Eigen::Vector2d(v[0], v[1]));
+    }
+    for (std::size_t a = 0; a < pts.size(); ++a)
+      for (std::size_t b = a + 1; b < pts.size(); ++b)
+        pb.formation.push_back({pts[a].first, pts[b].first, (pts[a].second - pts[b].second).norm(), mu});
+  }
+  if (Field pairs = f.child("pairs"); pairs.present()) {
+    for (const auto& p : pairs.items()) {
+      p.expect_map();
+      p.allow_only({"agents", "lambda", "mu"});
+      Field ag = p.required("agents");
+      if (!ag.is_sequence() || ag.size() != 2) ag.fail("expected two agent names [a, b]");
+      const int i = agent_index(pb, ag[0]), j = agent_index(pb, ag[1]);
+      if (i == j) ag.fail("a formation pair needs two different agents");
+      pb.formation.push_back({i, j, p.required("lambda").positive(), p.child("mu").present() ? p.child("mu").positive() : mu});
+    }
+  }
+  if (pb.formation.empty()) f.fail("expected 'offsets' or 'pairs' defining at least one formation pair");
+  for (const auto& fp : pb.formation)
+    if (fp.mu <= 0 || fp.lambda - fp.mu < 0) f.fail("formation tolerance mu must be positive and below lambda");
+}
+
+// Obstacles as a distance plugin's `polygons` parameter: vertex count, then x, y per vertex.
+std::vector<double> polygon_param(const std::vector<std::vector<Eigen::Vector2d>>& polygons) {
+  std::vector<double> flat;
+  for (const auto& poly : polygons) {
+    flat.push_back(static_cast<double>(poly.size()));
+    for (const auto& v : poly) flat.insert(flat.end(), {v.x(), v.y()});
+  }
+  return flat;
+}
+
+// `collision`: `exact` (core's own geometry, the default) or a distance plugin such as `fcl`,
+// which then computes the obstacle distances the planners' constraints use. Creating it once on
+// the problem's own obstacles here makes a broken plugin fail at load time, not mid-plan.
+void read_collision(const Field& f, LoadedProblem& out) {
+  Problem& pb = out.problem;
+  const PluginField pf = read_plugin_field(f, "name");
+  if (pf.name == "exact") {
+    if (pf.params_field.present()) pf.params_field.fail("core's exact geometry takes no parameters");
+    return;
+  }
+  const PluginRegistry& reg = *out.registry;
+  const PluginInfo* info = reg.find(PluginKind<DistanceModel>::name, pf.name);
+  if (!info) {
+    std::string msg = unknown_plugin(reg, PluginKind<DistanceModel>::name, pf.name);
+    pf.name_field.fail(msg + " (or 'exact' for core's own geometry)");
+  }
+  Params user = read_params(pf.params_field, *info);
+  for (const char* reserved : {"polygons", "boxes"})
+    if (user.has(reserved))
+      pf.params_field.child(reserved).fail("set by marsyn from the problem's `obstacles`; remove it here");
+  std::vector<std::vector<Eigen::Vector2d>> own;
+  for (const auto& o : pb.obstacles) own.push_back(o.vertices);
+  auto registry = out.registry;
+  const std::string name = pf.name;
+  pb.distance_model = [registry, name, user](const std::vector<std::vector<Eigen::Vector2d>>& polygons) {
+    Params p = user;
+    p.set("polygons", polygon_param(polygons));
+    return std::shared_ptr<const DistanceModel>(registry->create<DistanceModel>(name, p));
+  };
+  try {
+    pb.distance_model(own);
+  } catch (const ParamError& e) {
+    pf.name_field.fail(std::string("the plugin rejected the problem's obstacles: ") + e.what());
+  } catch (const std::exception& e) {
+    pf.name_field.fail(std::string("the plugin could not be created: ") + e.what());
+  }
+  pb.collision.name = name;
+  pb.collision.params = user;
+}
+
+}  // namespace marsyn::loader

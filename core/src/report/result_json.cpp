@@ -1,0 +1,130 @@
+#include "marsyn/core/report/result_json.hpp"
+
+#include <cmath>
+
+namespace marsyn {
+namespace {
+
+// Per open-loop run, each part of the specification with its smallest margin and step (null
+// when the problem has no such part).
+nlohmann::json open_loop_runs_json(const std::vector<OpenLoopRun>& runs) {
+  using nlohmann::json;
+  auto part = [](const OpenLoopRun::Part& p) {
+    return p.step < 0 ? json(nullptr) : json{{"margin", p.margin}, {"step", p.step}};
+  };
+  json out = json::array();
+  for (const auto& r : runs)
+    out.push_back({{"disturbance", r.label},
+                   {"satisfied", r.satisfied},
+                   {"obstacle", part(r.obstacle)},
+                   {"collision", part(r.collision)},
+                   {"formation", part(r.formation)},
+                   {"goal_margin", r.goal < 1e299 ? json(r.goal) : json(nullptr)}});
+  return out;
+}
+
+}  // namespace
+
+nlohmann::json result_json(const SolveOutcome& o) {
+  using nlohmann::json;
+  json j;
+  j["status"] = o.verified ? "verified" : "failed";
+  if (!o.failure.empty()) j["failure"] = o.failure;
+  j["problem"] = o.problem.name;
+  // Which times the result holds for: every t in [0, T tau], or only t = k tau.
+  j["guarantee"] = to_string(o.problem.guarantee);
+  j["tracker"] = o.problem.tracker.name;  // the request: a tracker or "auto"; each agent's is agents[i].tracker.name
+  j["plan"] = {{"planner", o.problem.planner.name},
+               {"status", o.plan.feasible ? "feasible" : to_string(o.plan.result.status)},
+               {"time_s", o.plan.total_time_s},
+               {"horizon", o.plan.horizon},
+               {"iterations", o.plan.result.iterations},
+               {"min_robust_margin", o.plan.check.min_margin},
+               {"worst_constraint", o.plan.check.worst},
+               {"sampled_robust_margin", o.plan.check.sampled_margin},
+               {"between_samples_robust_margin",
+                o.plan.check.continuous ? json(o.plan.check.between_margin) : json(nullptr)}};
+  json agents = json::array();
+  for (std::size_t i = 0; i < o.agents.size(); ++i) {
+    const auto& a = o.agents[i];
+    const auto& s = a.track.stats;
+    const AgentTrackers* choice = i < o.trackers.size() ? &o.trackers[i] : nullptr;
+    json t = {{"name", a.tracker.empty() ? o.problem.agents[i].tracker.name : a.tracker},
+              {"chosen", choice && choice->automatic ? "auto" : "given"},
+              {"assessment", choice ? json(choice->assessment.summary) : json(nullptr)},
+              {"status", to_string(a.track.status)},
+              {"state_input_pairs", s.state_input_pairs},
+              {"tube_cells", s.tube_cells},
+              {"boxes_computed", s.boxes_computed},
+              {"abstraction_time_s", s.abstraction_time_s},
+              {"synthesis_time_s", s.synthesis_time_s},
+              {"peak_memory_bytes", s.peak_memory_bytes},
+              {"initial_state_winning", s.initial_state_winning},
+              {"enclosure_substeps", s.enclosure_substeps},
+              {"enclosure_time_s", s.enclosure_time_s},
+              {"period_enclosures", a.track.controller ? json(a.track.controller->period_enclosures().size()) : json(0)}};
+    if (!a.track.message.empty()) t["message"] = a.track.message;
+    const AgentSpec& spec = o.problem.agents[i];
+    agents.push_back({{"name", a.name},
+                      {"dynamics", spec.dynamics_type},
+                      {"eps", std::vector<double>(spec.eps.data(), spec.eps.data() + spec.eps.size())},
+                      {"eta_x", std::vector<double>(spec.eta_x.data(), spec.eta_x.data() + spec.eta_x.size())},
+                      {"eta_u", std::vector<double>(spec.eta_u.data(), spec.eta_u.data() + spec.eta_u.size())},
+                      {"tracker", t},
+                      {"controller", a.controller_file.empty() ? json(nullptr) : json(a.controller_file)}});
+  }
+  j["agents"] = agents;
+  const auto& c = o.certification;
+  auto part = [](const CertifiedPart& p) {
+    return std::isfinite(p.margin) ? json{{"margin", p.margin}, {"where", p.where}, {"step", p.step}}
+                                   : json(nullptr);
+  };
+  j["certification"] = {{"ran", o.certification_ran},
+                        {"certified", c.certified},
+                        {"message", c.message},
+                        {"period_enclosures", c.enclosures},
+                        {"min_margin", o.certification_ran && std::isfinite(c.min_margin) ? json(c.min_margin) : json(nullptr)},
+                        {"state_bounds", part(c.state_bounds)},
+                        {"obstacle", part(c.obstacle)},
+                        {"collision", part(c.collision)},
+                        {"formation", part(c.formation)},
+                        {"time_s", c.time_s}};
+  const auto& v = o.verification;
+  auto margin = [](double m) { return m < 1e299 ? json(m) : json(nullptr); };
+  j["verification"] = {{"ran", o.verification_ran},
+                       {"guarantee", v.continuous ? "continuous" : "sampled"},
+                       {"dense_resolution_s", v.dense_resolution_s},
+                       {"sampled_min_margin", o.verification_ran ? margin(v.sampled_min_margin) : json(nullptr)},
+                       {"between_samples",
+                        {{"min_margin", o.verification_ran ? margin(v.between.min()) : json(nullptr)},
+                         {"obstacle", margin(v.between.obstacle)},
+                         {"collision", margin(v.between.collision)},
+                         {"formation", margin(v.between.formation)},
+                         {"violating_runs", v.between_violations},
+                         {"worst", v.between_worst}}},
+                       {"runs", v.runs},
+                       {"violations", v.violations},
+                       {"tube_violations", v.tube_violations},
+                       {"outside_domain", v.outside_domain},
+                       {"min_margin", o.verification_ran ? json(v.min_margin) : json(nullptr)},
+                       {"worst", v.worst},
+                       {"time_s", v.time_s}};
+  j["open_loop"] = {{"runs", v.open_loop_runs},
+                    {"violations", v.open_loop_violations},
+                    {"min_margin", o.verification_ran ? json(v.open_loop_min_margin) : json(nullptr)},
+                    {"worst", v.open_loop_worst},
+                    {"by_run", open_loop_runs_json(v.open_loop)}};
+  j["global_abcd"] = {{"state_input_pairs", o.global.state_input_pairs},
+                      {"memory_bytes_estimate", o.global.memory_bytes_estimate},
+                      {"status", o.global.status},
+                      {"time_s", o.global.time_s},
+                      {"boxes_computed", o.global.boxes_computed}};
+  json att = json::array();
+  for (const auto& a : o.attempts)
+    att.push_back({{"stage", a.stage}, {"parameters", a.parameters}, {"outcome", a.outcome}, {"time_s", a.time_s}});
+  j["attempts"] = att;
+  j["total_time_s"] = o.total_time_s;
+  return j;
+}
+
+}  // namespace marsyn

@@ -1,0 +1,126 @@
+#include "marsyn/core/tracking/track_agents.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include "marsyn/core/tracking/tracker_choice.hpp"
+
+namespace marsyn {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+}  // namespace
+
+TrackingProblem tracking_problem(const Problem& pb, int index, const NominalTrajectory& nominal) {
+  const AgentSpec& a = pb.agents[index];
+  TrackingProblem tp;
+  tp.agent = a.name;
+  tp.dynamics = a.dynamics;
+  tp.nominal = nominal;
+  tp.eps = a.eps;
+  tp.eta_x = a.eta_x;
+  tp.eta_u = a.eta_u;
+  tp.w = a.w;
+  tp.input_bounds = a.input_bounds;
+  tp.state_bounds = a.state_bounds;
+  tp.tau = pb.tau;
+  tp.workspace = a.workspace;
+  return tp;
+}
+
+std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<NominalTrajectory>& nominal,
+                                       const std::vector<std::shared_ptr<const Tracker>>& trackers,
+                                       const SolveOptions& opt) {
+  const int N = static_cast<int>(pb.agents.size());
+  std::vector<AgentOutcome> out(N);
+  // Agents in parallel, one tracker thread each, when the work is spread over them; when one
+  // agent dominates (the crane beside a vehicle: 4 vs 2 dimensions), agents run one after the
+  // other with all threads each. Work estimate: each agent's tracker's own (assess().work_s).
+  std::vector<double> work_estimate(N, 0.0);
+  double total_work = 0, max_work = 0;
+  for (int i = 0; i < N; ++i) {
+    const double w =
+        std::max(0.0, assess_tracker(*trackers[i], pb.agents[i], static_cast<int>(nominal[i].x.size()) - 1, pb.tau).work_s);
+    work_estimate[i] = w;
+    total_work += w;
+    max_work = std::max(max_work, w);
+  }
+  const bool dominated = N < opt.threads || max_work > 0.5 * total_work;
+  const int workers = dominated ? 1 : std::max(1, std::min(opt.threads, N));
+  TrackOptions topt;
+  topt.threads = dominated ? opt.threads : 1;
+  std::atomic<int> next{0}, done{0};
+  std::mutex log_mutex;
+  std::vector<char> running(N, 0);
+  auto work = [&] {
+    for (int i = next++; i < N; i = next++) {
+      {
+        std::lock_guard<std::mutex> lock(log_mutex);
+        running[i] = 1;
+      }
+      const AgentSpec& a = pb.agents[i];
+      const TrackingProblem tp = tracking_problem(pb, i, nominal[i]);
+      const auto t0 = Clock::now();
+      out[i].name = a.name;
+      out[i].tracker = a.tracker.name;
+      try {
+        out[i].track = trackers[i]->track(tp, topt);
+      } catch (const std::exception& e) {
+        out[i].track.status = TrackerStatus::InvalidInput;
+        out[i].track.message = e.what();
+      }
+      const int d = ++done;
+      if (opt.log) {
+        std::lock_guard<std::mutex> lock(log_mutex);
+        running[i] = 0;
+        std::ostringstream s;
+        s << "[track " << d << "/" << N << "] " << a.name << " (" << a.tracker.name
+          << "): " << to_string(out[i].track.status) << ", ";
+        // Grid figures only from a tracker that has a grid.
+        if (out[i].track.stats.tube_cells > 0)
+          s << out[i].track.stats.tube_cells << " tube cells, N_l " << out[i].track.stats.state_input_pairs << ", ";
+        s << out[i].track.stats.boxes_computed << " boxes, " << since(t0) << " s";
+        if (!out[i].track.message.empty()) s << " (" << out[i].track.message << ")";
+        opt.log(s.str());
+      }
+    }
+  };
+  // A heartbeat, so that a long abstraction (minutes for a 4-dimensional agent) is visibly alive.
+  std::mutex beat_mutex;
+  std::condition_variable beat_cv;
+  bool finished = false;
+  std::thread heartbeat([&] {
+    const auto t0 = Clock::now();
+    std::unique_lock<std::mutex> lock(beat_mutex);
+    while (!beat_cv.wait_for(lock, std::chrono::seconds(15), [&] { return finished; })) {
+      if (!opt.log) continue;
+      std::lock_guard<std::mutex> log_lock(log_mutex);
+      std::string names;
+      for (int i = 0; i < N; ++i)
+        if (running[i]) names += (names.empty() ? "" : ", ") + pb.agents[i].name;
+      std::ostringstream s;
+      s << "[track] " << done.load() << "/" << N << " agents done after " << static_cast<int>(since(t0))
+        << " s; still working on " << (names.empty() ? "-" : names);
+      opt.log(s.str());
+    }
+  });
+  std::vector<std::thread> pool;
+  for (int t = 1; t < workers; ++t) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+  {
+    std::lock_guard<std::mutex> lock(beat_mutex);
+    finished = true;
+  }
+  beat_cv.notify_all();
+  heartbeat.join();
+  return out;
+}
+
+}  // namespace marsyn
