@@ -478,7 +478,7 @@ PYBIND11_MODULE(marsyn, m) {
         d["iterations"] = out.result.iterations;
         d["x"] = matrix(out.plan.x, out.plan.x.empty() ? 0 : static_cast<int>(out.plan.x.front().size()));
         d["u"] = matrix(out.plan.u, out.plan.u.empty() ? 0 : static_cast<int>(out.plan.u.front().size()));
-        d["agents"] = nominal_dict(pb, out.agents);
+        d["agents"] = nominal_dict(pb, out.nominal);
         d["summary"] = planning::summary(pb, out);
         return d;
       },
@@ -511,7 +511,7 @@ PYBIND11_MODULE(marsyn, m) {
             po.log = nullptr;
           }
           if (!out.feasible) throw std::runtime_error("planning failed: " + out.check.message);
-          nominal = out.agents;
+          nominal = out.nominal;
         } else {
           nominal = nominal_from(pb, plan);
         }
@@ -562,7 +562,7 @@ PYBIND11_MODULE(marsyn, m) {
         py::dict d = json_to_python(result_json(outcome)).cast<py::dict>();
         d["verified"] = outcome.verified;
         d["files"] = files;
-        d["nominal"] = nominal_dict(outcome.problem, outcome.plan.agents);
+        d["nominal"] = nominal_dict(outcome.problem, outcome.plan.nominal);
         py::dict ctrls;
         for (const auto& a : outcome.agents)
           if (a.track.controller) ctrls[py::str(a.name)] = PyController{a.track.controller, p.lp, a.name};

@@ -133,9 +133,9 @@ int run_bench(const std::string& examples_list, const std::string& planners_list
         TrackerInstances trackers(lp.registry);
         SolveOptions so;
         so.threads = threads;
-        const auto agents = track_agents(pb, o.agents, trackers.for_agents(pb), so);
+        const auto agents = track_agents(pb, o.nominal, trackers.for_agents(pb), so);
         int ok = 0;
-        for (const auto& a : agents) ok += a.track.status == TrackerStatus::Controller;
+        for (const auto& a : agents) ok += a.track.status == TrackerStatus::ControllerFound;
         tracking = std::to_string(ok) + "/" + std::to_string(agents.size()) + " agents";
       }
       const bool has_plan = !o.plan.u.empty();

@@ -88,7 +88,7 @@ std::vector<NominalTrajectory> nominal_for(const LoadedProblem& lp, const std::s
   po.warm_start_planner = warm.get();
   const planning::PlanOutcome out = planning::plan(lp.problem, *planner, po);
   if (!out.feasible) throw std::runtime_error("planning failed: " + out.check.message);
-  return out.agents;
+  return out.nominal;
 }
 
 }  // namespace
@@ -176,7 +176,7 @@ int run_track(const std::string& config, const std::string& agent, const std::st
     for (std::size_t k = 0; k < s.winning_cells_per_step.size(); ++k) f << (k ? ", " : "") << s.winning_cells_per_step[k];
     f << "]}\n";
   }
-  if (r.status == TrackerStatus::Controller && r.controller) {
+  if (r.status == TrackerStatus::ControllerFound && r.controller) {
     const std::string file = folder.path(a.name + ".ctrl");
     r.controller->write(file);
     std::printf("controller          %s\n", file.c_str());

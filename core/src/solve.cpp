@@ -99,13 +99,13 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
       log("[search] planning failed; shrinking eps by 0.8 and re-planning");
       continue;
     }
-    if (!out.plan.agents.empty()) pb.horizon = out.plan.horizon;
+    if (!out.plan.nominal.empty()) pb.horizon = out.plan.horizon;
     plan_extra = out.plan.extra;  // a later re-plan keeps the clearance this one needed
 
     }
     // 2-3. Project and track every agent.
     const auto t_track = Clock::now();
-    out.agents = track_agents(pb, out.plan.agents, instances.for_agents(pb), opt);
+    out.agents = track_agents(pb, out.plan.nominal, instances.for_agents(pb), opt);
     all_tracked = true;
     std::vector<int> failed;
     for (std::size_t i = 0; i < out.agents.size(); ++i) {
@@ -113,7 +113,7 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
       out.attempts.push_back({"track " + out.agents[i].name, agent_parameters(pb.agents[i]),
                               std::string(to_string(r.status)) + (r.message.empty() ? "" : ": " + r.message),
                               r.stats.abstraction_time_s + r.stats.synthesis_time_s});
-      if (r.status != TrackerStatus::Controller) {
+      if (r.status != TrackerStatus::ControllerFound) {
         all_tracked = false;
         failed.push_back(static_cast<int>(i));
       }
@@ -220,7 +220,7 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
         log("[verify] " + std::to_string(done) + "/" + std::to_string(total) + " closed-loop runs");
       }
     };
-    out.verification = verify(pb, out.plan.agents, ctrls, vo);
+    out.verification = verify(pb, out.plan.nominal, ctrls, vo);
     out.verification_ran = true;
     out.attempts.push_back({"verify", std::to_string(out.verification.runs) + " runs",
                             std::to_string(out.verification.violations) + " violations",

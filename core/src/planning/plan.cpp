@@ -159,7 +159,7 @@ PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearc
     }
     best.attempts = std::move(all);
   }
-  if (!best.plan.u.empty()) best.agents = ProductProjector().project(problem, best.plan);
+  if (!best.plan.u.empty()) best.nominal = ProductProjector().project(problem, best.plan);
   best.total_time_s = now_s() - t0;
   return best;
 }

@@ -48,11 +48,11 @@ void write_plan_json(const std::string& path, const Problem& problem, const Plan
                         {"message", a.message}});
   j["attempts"] = attempts;
   auto agents = nlohmann::json::array();
-  for (size_t i = 0; i < o.agents.size() && i < problem.agents.size(); ++i) {
+  for (size_t i = 0; i < o.nominal.size() && i < problem.agents.size(); ++i) {
     const auto& a = problem.agents[i];
     agents.push_back({{"name", a.name}, {"dynamics", a.dynamics_type},
                       {"state_names", a.dynamics->state_names()}, {"input_names", a.dynamics->input_names()},
-                      {"states", rows(o.agents[i].x)}, {"inputs", rows(o.agents[i].u)}});
+                      {"states", rows(o.nominal[i].x)}, {"inputs", rows(o.nominal[i].u)}});
   }
   j["agents"] = agents;
   auto f = open(path);
@@ -62,9 +62,9 @@ void write_plan_json(const std::string& path, const Problem& problem, const Plan
 std::vector<std::string> write_agent_csvs(const std::string& dir, const Problem& problem, const PlanOutcome& o) {
   std::filesystem::create_directories(dir);
   std::vector<std::string> files;
-  for (size_t i = 0; i < o.agents.size() && i < problem.agents.size(); ++i) {
+  for (size_t i = 0; i < o.nominal.size() && i < problem.agents.size(); ++i) {
     const auto& a = problem.agents[i];
-    const auto& tr = o.agents[i];
+    const auto& tr = o.nominal[i];
     const std::string path = (std::filesystem::path(dir) / (a.name + ".csv")).string();
     auto f = open(path);
     f << "k,t";

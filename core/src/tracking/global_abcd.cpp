@@ -88,7 +88,7 @@ GlobalAbcdRun run_global_abcd(const Problem& pb, const Tracker& tracker, int thr
   to.memory_budget_bytes = budget;
   const TrackResult r = tracker.reach_avoid(rp, to);
   run.boxes_computed = r.stats.boxes_computed;
-  if (r.status == TrackerStatus::Controller && r.controller) {
+  if (r.status == TrackerStatus::ControllerFound && r.controller) {
     Eigen::VectorXd x0(n), u(m);
     xo = 0;
     for (const auto& a : pb.agents) {

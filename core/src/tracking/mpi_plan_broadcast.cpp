@@ -13,8 +13,8 @@ void broadcast_plan(const Collective& c, planning::PlanOutcome& plan) {
     w.put(plan.check.message);
     w.put(plan.check.min_margin);
     w.put(plan.total_time_s);
-    w.put<std::uint64_t>(plan.agents.size());
-    for (const auto& a : plan.agents) {
+    w.put<std::uint64_t>(plan.nominal.size());
+    for (const auto& a : plan.nominal) {
       w.put(a.agent);
       w.put(a.x);
       w.put(a.u);
@@ -36,8 +36,8 @@ void broadcast_plan(const Collective& c, planning::PlanOutcome& plan) {
   r.get(plan.total_time_s);
   std::uint64_t n = 0;
   r.get(n);
-  plan.agents.resize(n);
-  for (auto& a : plan.agents) {
+  plan.nominal.resize(n);
+  for (auto& a : plan.nominal) {
     r.get(a.agent);
     r.get(a.x);
     r.get(a.u);

@@ -16,7 +16,7 @@
 namespace marsyn {
 
 enum class TrackerStatus {
-  Controller,     // x_0's cell is winning: a verified controller
+  ControllerFound,  // a verified controller (abcd: x_0's cell is winning; funnel: the initial set is in V_0)
   NoController,   // the tube admits no controller at this eps / eta
   InvalidInput,
   ResourceLimit,  // memory or time budget exceeded
@@ -24,7 +24,7 @@ enum class TrackerStatus {
 
 inline const char* to_string(TrackerStatus s) {
   switch (s) {
-    case TrackerStatus::Controller: return "controller";
+    case TrackerStatus::ControllerFound: return "controller";
     case TrackerStatus::NoController: return "no controller";
     case TrackerStatus::InvalidInput: return "invalid input";
     case TrackerStatus::ResourceLimit: return "resource limit";

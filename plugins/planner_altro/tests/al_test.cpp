@@ -104,8 +104,8 @@ TEST(AugmentedLagrangian, DrivesAroundAnObstacleAndPassesTheExactCheck) {
   EXPECT_GE(out.check.min_margin, 0.0);
   EXPECT_LE(out.result.max_violation, 1e-6) << out.result.message;
   EXPECT_EQ(out.result.status, PlannerStatus::ExactSolution);
-  ASSERT_EQ(out.agents.size(), 1u);
-  EXPECT_EQ(out.agents[0].x.size(), 81u);
+  ASSERT_EQ(out.nominal.size(), 1u);
+  EXPECT_EQ(out.nominal[0].x.size(), 81u);
   // The returned plan's states are the re-simulation of its (clamped) inputs.
   EXPECT_LE(out.check.max_state_mismatch, 1e-12);
 }
@@ -307,8 +307,8 @@ TEST(PlannerChain, WhenTheSecondFailsTheFirstsRobustPlanIsKept) {
   ASSERT_EQ(out.attempts.size(), 3u);  // altro's one, then the recorder's two horizons
   EXPECT_EQ(out.attempts[0].planner, "altro");
   EXPECT_EQ(out.attempts[2].planner, "recorder");
-  ASSERT_EQ(out.agents.size(), 1u);
-  EXPECT_EQ(out.agents[0].x.size(), 81u);
+  ASSERT_EQ(out.nominal.size(), 1u);
+  EXPECT_EQ(out.nominal[0].x.size(), 81u);
   EXPECT_TRUE(planning::check_robust(p, out.plan).passed);
 }
 

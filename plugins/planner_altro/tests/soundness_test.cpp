@@ -83,7 +83,7 @@ TEST_P(Soundness, PerturbationsWithinEpsSatisfyTheRealSpec) {
   const auto out = planning::plan(sc.problem, planner, {});
   ASSERT_TRUE(out.feasible) << planning::summary(sc.problem, out);
   std::string where;
-  const double m = sampled_real_margin(sc.problem, out.agents, 200, where);
+  const double m = sampled_real_margin(sc.problem, out.nominal, 200, where);
   EXPECT_GE(m, 0.0) << where;
   // The real spec must be met with at least the eps-robust margin (perturbations only shrink it
   // down to that bound, never below).
@@ -106,11 +106,11 @@ TEST(SoundnessFootprint, CraneTipMarginHoldsWhenTheCollisionConstraintBinds) {
   ASSERT_TRUE(out.feasible) << planning::summary(sc.problem, out);
   // Final horizontal gap between tip and vehicle: within 0.05 of delta + both margins (0.035 +
   // 0.2225 + 0.08 at the hanging tip), so the tip's margin is what keeps them apart.
-  const auto& xc = out.agents[0].x.back();
-  const auto& xv = out.agents[1].x.back();
+  const auto& xc = out.nominal[0].x.back();
+  const auto& xv = out.nominal[1].x.back();
   const double gap = std::abs(xc[0] + 0.5 * std::sin(xc[2]) - xv[0]);
   EXPECT_LT(gap, 0.035 + 0.2225 + 0.08 + 0.05) << "the collision constraint should bind";
   std::string where;
-  const double m = sampled_real_margin(sc.problem, out.agents, 400, where);
+  const double m = sampled_real_margin(sc.problem, out.nominal, 400, where);
   EXPECT_GE(m, 0.0) << where;
 }

@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
         name.c_str(), to_string(r.status), p.nominal.x.size() - 1, s.tube_cells, s.state_input_pairs, s.boxes_computed,
         s.abstraction_time_s, s.synthesis_time_s, wall, abcd::peak_rss_bytes() / 1048576.0, win0,
         s.initial_state_winning ? 1 : 0, threads);
-    if (r.status != TrackerStatus::Controller) std::printf("  %s\n", r.message.c_str());
+    if (r.status != TrackerStatus::ControllerFound) std::printf("  %s\n", r.message.c_str());
     std::printf("  nominal x_0 = (");
     for (int i = 0; i < p.nominal.x.front().size(); ++i) std::printf("%s%.3f", i ? ", " : "", p.nominal.x.front()[i]);
     std::printf("), x_T = (");

@@ -359,7 +359,7 @@ TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o
   }
   st.peak_memory_bytes = peak_rss_bytes();
   if (st.initial_state_winning) {
-    r.status = TrackerStatus::Controller;
+    r.status = TrackerStatus::ControllerFound;
     r.controller = std::make_shared<GridController>(std::move(ctl));
     r.message = "agent " + p.agent + ": x_0's cell is winning";
   } else {
@@ -506,7 +506,7 @@ TrackResult synthesize_reach_avoid(const ReachAvoidProblem& p, const SynthesisOp
   st.synthesis_time_s = std::max(0.0, now_s() - t_start - st.abstraction_time_s);
   st.peak_memory_bytes = peak_rss_bytes();
   if (count > 0) {
-    r.status = TrackerStatus::Controller;
+    r.status = TrackerStatus::ControllerFound;
     r.controller = std::make_shared<GridController>(std::move(d));
     r.message = "reach-avoid: " + std::to_string(count) + " winning cells";
   } else {

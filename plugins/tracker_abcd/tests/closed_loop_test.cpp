@@ -14,7 +14,7 @@ class ClosedLoop : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(ClosedLoop, NeverLeavesTheTube) {
   const auto& a = agent(GetParam());
-  ASSERT_EQ(a.result.status, TrackerStatus::Controller) << a.result.message;
+  ASSERT_EQ(a.result.status, TrackerStatus::ControllerFound) << a.result.message;
   const auto& c = dynamic_cast<const GridController&>(*a.result.controller);
   const auto& p = a.problem;
   const int n = p.dynamics->state_dim();

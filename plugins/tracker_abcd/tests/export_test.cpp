@@ -181,7 +181,7 @@ std::vector<Eigen::VectorXd> box_centres(const Box& b) { return {(b.lo + b.hi) /
 
 TEST(ExportC, PendulumBitIdenticalInBothEncodings) {
   const auto& a = marsyn::abcd::testing::agent("pendulum");
-  ASSERT_EQ(a.result.status, TrackerStatus::Controller) << a.result.message;
+  ASSERT_EQ(a.result.status, TrackerStatus::ControllerFound) << a.result.message;
   const auto c = grid_controller(a.result);
   ASSERT_TRUE(c);
   const auto qs = queries(*c, a.problem.nominal.x, a.problem.eps, 120000, 1);
@@ -195,7 +195,7 @@ TEST(ExportC, PendulumBitIdenticalInBothEncodings) {
 
 TEST(ExportC, DroneBitIdenticalInBothEncodings) {
   const auto& a = marsyn::abcd::testing::agent("drone");
-  ASSERT_EQ(a.result.status, TrackerStatus::Controller) << a.result.message;
+  ASSERT_EQ(a.result.status, TrackerStatus::ControllerFound) << a.result.message;
   const auto c = grid_controller(a.result);
   ASSERT_TRUE(c);
   const auto qs = queries(*c, a.problem.nominal.x, a.problem.eps, 120000, 2);
@@ -209,7 +209,7 @@ TEST(ExportC, DroneBitIdenticalInBothEncodings) {
 
 TEST(ExportC, WholeDomainControllerWithTargetCells) {
   const auto& r = whole_domain();
-  ASSERT_EQ(r.status, TrackerStatus::Controller) << r.message;
+  ASSERT_EQ(r.status, TrackerStatus::ControllerFound) << r.message;
   const auto c = grid_controller(r);
   ASSERT_TRUE(c);
   const auto qs = queries(*c, box_centres({scenarios::vec({-1, -1}), scenarios::vec({1, 1})}), scenarios::vec({0.8, 0.8}),

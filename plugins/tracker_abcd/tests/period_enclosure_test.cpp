@@ -196,7 +196,7 @@ namespace {
 
 void expect_closed_loop_inside(TrackingProblem p, double shrink, bool expect_escape) {
   const auto r = AbcdTracker().track(p, TrackOptions{});
-  ASSERT_EQ(r.status, TrackerStatus::Controller) << r.message;
+  ASSERT_EQ(r.status, TrackerStatus::ControllerFound) << r.message;
   const Controller& c = *r.controller;
   const auto& enc = c.period_enclosures();
   const int T = c.horizon(), n = p.dynamics->state_dim();

@@ -33,7 +33,7 @@ TEST(Plugin, LoadsCreatesTracksAndReads) {
   EXPECT_EQ(t->name(), "abcd");
   const auto problem = abcd::scenarios::vehicle();
   const TrackResult r = t->track(problem, TrackOptions{});
-  ASSERT_EQ(r.status, TrackerStatus::Controller) << r.message;
+  ASSERT_EQ(r.status, TrackerStatus::ControllerFound) << r.message;
   const std::string path = ::testing::TempDir() + "/plugin_vehicle.ctl";
   r.controller->write(path);
   auto back = t->read_controller(path);

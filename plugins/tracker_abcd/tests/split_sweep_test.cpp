@@ -57,14 +57,14 @@ TEST(SplitSweep, EveryRankHoldsTheSingleProcessController) {
       EXPECT_EQ(total, static_cast<int>(p.nominal.x.size()) - 1);
     };
     const TrackResult single = tracker.track(p, one);
-    ASSERT_EQ(single.status, TrackerStatus::Controller) << name << ": " << single.message;
+    ASSERT_EQ(single.status, TrackerStatus::ControllerFound) << name << ": " << single.message;
     EXPECT_EQ(steps, static_cast<int>(p.nominal.x.size()) - 1) << "progress after every backward step";
     const std::string want = bytes_of(single, std::string(name) + "-1.ctrl");
     for (auto [ranks, threads] : {std::pair{2, 1}, std::pair{3, 2}}) {
       const auto results = track_split(p, ranks, threads);
       for (int r = 0; r < ranks; ++r) {
         const TrackResult& got = results[static_cast<size_t>(r)];
-        ASSERT_EQ(got.status, TrackerStatus::Controller) << name << " rank " << r << ": " << got.message;
+        ASSERT_EQ(got.status, TrackerStatus::ControllerFound) << name << " rank " << r << ": " << got.message;
         EXPECT_TRUE(bytes_of(got, std::string(name) + "-split.ctrl") == want)
             << name << ": rank " << r << " of " << ranks << " holds another controller";
         EXPECT_EQ(got.stats.boxes_computed, single.stats.boxes_computed) << name << ": boxes summed over the ranks";
@@ -82,7 +82,7 @@ TEST(SplitSweep, ANoControllerOutcomeIsTheSameOnEveryRank) {
   TrackOptions one;
   one.threads = 1;
   const TrackResult single = tracker.track(p, one);
-  ASSERT_NE(single.status, TrackerStatus::Controller);
+  ASSERT_NE(single.status, TrackerStatus::ControllerFound);
   for (const TrackResult& got : track_split(p, 2, 1)) {
     EXPECT_EQ(got.status, single.status);
     EXPECT_EQ(got.message, single.message);

@@ -166,8 +166,8 @@ TEST(SuccessorSoundness, TrackerUsesAModelsHookAndStaysCorrect) {
   const auto plain = AbcdTracker().track(p, TrackOptions{});
   p.dynamics = std::make_shared<DoubleIntegratorWithHook>();
   const auto hooked = AbcdTracker().track(p, TrackOptions{});
-  ASSERT_EQ(plain.status, TrackerStatus::Controller);
-  ASSERT_EQ(hooked.status, TrackerStatus::Controller);
+  ASSERT_EQ(plain.status, TrackerStatus::ControllerFound);
+  ASSERT_EQ(hooked.status, TrackerStatus::ControllerFound);
   // An exact bound can only grow the winning set.
   EXPECT_GE(hooked.stats.winning_cells_per_step[0], plain.stats.winning_cells_per_step[0]);
   const auto& c = *hooked.controller;

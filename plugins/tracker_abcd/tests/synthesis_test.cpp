@@ -70,7 +70,7 @@ class ExampleAgents : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(ExampleAgents, GetsAVerifiedController) {
   const auto& a = agent(GetParam());
-  ASSERT_EQ(a.result.status, TrackerStatus::Controller) << a.result.message;
+  ASSERT_EQ(a.result.status, TrackerStatus::ControllerFound) << a.result.message;
   ASSERT_TRUE(a.result.controller);
   EXPECT_TRUE(a.result.stats.initial_state_winning);
   const auto& s = a.result.stats;
@@ -130,8 +130,8 @@ TEST(Synthesis, OneAndTwoThreadsWriteIdenticalFiles) {
     o2.threads = 2;
     const auto r1 = tracker.track(p, o1);
     const auto r2 = tracker.track(p, o2);
-    ASSERT_EQ(r1.status, TrackerStatus::Controller) << name << ": " << r1.message;
-    ASSERT_EQ(r2.status, TrackerStatus::Controller) << name << ": " << r2.message;
+    ASSERT_EQ(r1.status, TrackerStatus::ControllerFound) << name << ": " << r1.message;
+    ASSERT_EQ(r2.status, TrackerStatus::ControllerFound) << name << ": " << r2.message;
     const std::string f1 = ::testing::TempDir() + "/det1.ctl", f2 = ::testing::TempDir() + "/det2.ctl";
     r1.controller->write(f1);
     r2.controller->write(f2);
@@ -202,7 +202,7 @@ TEST(ReachAvoid, DoubleIntegratorReachesTargetInClosedLoop) {
   TrackOptions o;
   o.threads = 2;
   const auto r = tracker.reach_avoid(p, o);
-  ASSERT_EQ(r.status, TrackerStatus::Controller) << r.message;
+  ASSERT_EQ(r.status, TrackerStatus::ControllerFound) << r.message;
   const auto& c = *r.controller;
   EXPECT_EQ(c.horizon(), -1);
   std::mt19937_64 rng(9);
@@ -233,7 +233,7 @@ TEST(ReachAvoid, DoubleIntegratorReachesTargetInClosedLoop) {
 // Paper Sec. 3.5: the dynamics-aware swing-up (a spiral) is trackable, the geometric straight
 // line from (0, 0) to (pi, 0) is not.
 TEST(Synthesis, PendulumStraightLineIsNotTrackable) {
-  EXPECT_EQ(agent("pendulum").result.status, TrackerStatus::Controller);
+  EXPECT_EQ(agent("pendulum").result.status, TrackerStatus::ControllerFound);
   auto p = scenarios::pendulum();
   const int T = 60;
   p.nominal.x.clear();

@@ -211,7 +211,7 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
   if (best.saturated_steps) msg << ", inputs saturate on " << best.saturated_steps << " step(s)";
   res.message = msg.str();
   res.controller = std::make_shared<FunnelController>(best.data);
-  res.status = TrackerStatus::Controller;
+  res.status = TrackerStatus::ControllerFound;
   (void)t0;
   return res;
 }

@@ -15,7 +15,7 @@ namespace {
 std::shared_ptr<const FunnelController> unicycle_controller() {
   static const auto c = [] {
     const TrackResult r = FunnelTracker().track(testing::unicycle(30), {});
-    EXPECT_EQ(r.status, TrackerStatus::Controller) << r.message;
+    EXPECT_EQ(r.status, TrackerStatus::ControllerFound) << r.message;
     return std::dynamic_pointer_cast<const FunnelController>(r.controller);
   }();
   return c;

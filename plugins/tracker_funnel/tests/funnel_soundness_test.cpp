@@ -160,7 +160,7 @@ class FunnelSoundness : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(FunnelSoundness, SuccessorsStayInTheNextVerifiedSet) {
   const Tracked& t = tracked(GetParam());
-  ASSERT_EQ(t.result.status, TrackerStatus::Controller) << t.result.message;
+  ASSERT_EQ(t.result.status, TrackerStatus::ControllerFound) << t.result.message;
   const Counts c = sample(t, 1'000'000, 7);
   EXPECT_GE(c.samples, 1'000'000);
   EXPECT_EQ(c.leaks, 0) << "of " << c.samples;

@@ -47,7 +47,7 @@ struct PlanOutcome {
   PlanResult result;      // of the returned attempt
   RobustCheck check;      // of the returned plan
   GlobalPlan plan;        // inputs clamped to U, states re-simulated from x0
-  std::vector<NominalTrajectory> agents;  // the projection of `plan`
+  std::vector<NominalTrajectory> nominal;  // per agent: the projection of `plan`
   std::vector<PlanAttempt> attempts;  // a warm-start planner's first, then the main planner's
   double total_time_s = 0.0;
   // The per-constraint clearance the returned plan was made with (options.assembly.extra plus
