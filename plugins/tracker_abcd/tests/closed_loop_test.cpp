@@ -35,11 +35,11 @@ TEST_P(ClosedLoop, NeverLeavesTheTube) {
     modes.push_back(base);
     for (std::uint64_t v = 0; v < (1u << n); ++v) {
       auto o = base;
-      o.mode = DisturbanceMode::ConstantVertex;
+      o.mode = TubeDisturbance::ConstantVertex;
       o.vertex = v;
       modes.push_back(o);
     }
-    for (auto m : {DisturbanceMode::UniformRandom, DisturbanceMode::VertexSwitching}) {
+    for (auto m : {TubeDisturbance::UniformRandom, TubeDisturbance::VertexSwitching}) {
       auto o = base;
       o.mode = m;
       modes.push_back(o);

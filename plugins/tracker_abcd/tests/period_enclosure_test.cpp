@@ -8,7 +8,7 @@
 #include <random>
 
 #include "abcd_tracker.hpp"
-#include "closed_loop.hpp"
+#include "tube_simulation.hpp"
 #include "controller_file.hpp"
 #include "input_grid.hpp"
 #include "scenarios.hpp"

@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "closed_loop.hpp"
+#include "tube_simulation.hpp"
 #include "input_grid.hpp"
 #include "successor_cache.hpp"
 #include "uniform_grid.hpp"

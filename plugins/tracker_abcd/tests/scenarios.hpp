@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "closed_loop.hpp"
+#include "tube_simulation.hpp"
 #include "dynamics_cartpole/src/cartpole.hpp"
 #include "dynamics_double_integrator/src/double_integrator.hpp"
 #include "dynamics_pendulum/src/pendulum.hpp"

@@ -176,7 +176,7 @@ TEST(SuccessorSoundness, TrackerUsesAModelsHookAndStaysCorrect) {
     Eigen::VectorXd x0 = p.nominal.x[0];
     if (!dynamic_cast<const GridController&>(c).winning(x0.data(), 0)) continue;
     ClosedLoopOptions o;
-    o.mode = run % 2 ? DisturbanceMode::VertexSwitching : DisturbanceMode::UniformRandom;
+    o.mode = run % 2 ? TubeDisturbance::VertexSwitching : TubeDisturbance::UniformRandom;
     o.seed = rng();
     EXPECT_TRUE(simulate_closed_loop(*p.dynamics, c, x0, p.nominal.x, p.eps, p.w, o).in_tube());
   }

@@ -1,7 +1,10 @@
 #pragma once
-// Closed-loop simulation of one agent under its controller, independent of the abstraction:
-// many classical RK4 substeps per sampling period on the true field plus a disturbance. Depends
-// only on the public interfaces so the core can use it for any tracker's controller.
+// The abcd tests' closed loop of one agent under its controller, independent of the abstraction:
+// many classical RK4 substeps per sampling period on the true field plus a disturbance, and the
+// tube checked at the samples. Test-only: marsyn's closed-loop simulator is core's
+// (core/src/verification/closed_loop.cpp, all agents, the spec dense in time); a plugin cannot
+// link core, and this one's disturbance modes (TubeDisturbance: UniformRandom redraws at every
+// substep) are not core's DisturbanceMode.
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -14,25 +17,25 @@
 
 namespace marsyn {
 
-enum class DisturbanceMode {
+enum class TubeDisturbance {
   None,            // w = 0
   ConstantVertex,  // w fixed at one vertex of [-W, W] for the whole run (vertex given)
   UniformRandom,   // w uniform in [-W, W], redrawn at every integration substep
   VertexSwitching  // a random vertex of [-W, W], redrawn at every sampling step
 };
 
-inline const char* to_string(DisturbanceMode m) {
+inline const char* to_string(TubeDisturbance m) {
   switch (m) {
-    case DisturbanceMode::None: return "none";
-    case DisturbanceMode::ConstantVertex: return "constant vertex";
-    case DisturbanceMode::UniformRandom: return "uniform random";
-    case DisturbanceMode::VertexSwitching: return "vertex switching";
+    case TubeDisturbance::None: return "none";
+    case TubeDisturbance::ConstantVertex: return "constant vertex";
+    case TubeDisturbance::UniformRandom: return "uniform random";
+    case TubeDisturbance::VertexSwitching: return "vertex switching";
   }
   return "?";
 }
 
 struct ClosedLoopOptions {
-  DisturbanceMode mode = DisturbanceMode::None;
+  TubeDisturbance mode = TubeDisturbance::None;
   std::uint64_t vertex = 0;  // ConstantVertex: bit i set means +W_i, clear means -W_i
   std::uint64_t seed = 1;
   int substeps = 50;
@@ -101,10 +104,10 @@ inline ClosedLoopResult simulate_closed_loop(const Dynamics& f, const Controller
     const Eigen::VectorXd step_vertex = vertex(rng());
     auto wfun = [&](int) -> Eigen::VectorXd {
       switch (o.mode) {
-        case DisturbanceMode::None: return Eigen::VectorXd::Zero(n);
-        case DisturbanceMode::ConstantVertex: return vertex(o.vertex);
-        case DisturbanceMode::VertexSwitching: return step_vertex;
-        case DisturbanceMode::UniformRandom: {
+        case TubeDisturbance::None: return Eigen::VectorXd::Zero(n);
+        case TubeDisturbance::ConstantVertex: return vertex(o.vertex);
+        case TubeDisturbance::VertexSwitching: return step_vertex;
+        case TubeDisturbance::UniformRandom: {
           Eigen::VectorXd w(n);
           for (int i = 0; i < n; ++i) w[i] = W[i] * unit(rng);
           return w;
