@@ -199,7 +199,7 @@ LoadedProblem load_problem(const std::string& path) {
     pb.planner.name = pf.name;
     pb.planner.params = create_plugin<Planner>(*out.registry, pf).second;
   }
-  // planner.warm_start: a planner whose plan starts the main one (docs/planner.md, chains).
+  // planner.warm_start: a planner whose plan starts the main one (docs/planning.md, chains).
   if (Field p = top.child("planner"); p.present() && !p.is_scalar())
     if (Field w = p.child("warm_start"); w.present()) {
       const PluginField wf = read_plugin_field(w, "name");

@@ -93,7 +93,7 @@ Scenario crane_vehicle() {
   v.workspace.offset = {0.0, 0.2};
   p.agents = {c, v};
   // The paper's delta (0.035). With the reference code's 0.35 and these eps the tip would have to pass
-  // over the vehicle above the horizontal, theta in [1.376, 1.49], see docs/benchmarks-planner.md.
+  // over the vehicle above the horizontal, theta in [1.376, 1.49], see docs/benchmarks-altro.md.
   p.delta = 0.035;
   p.delta_norm = Norm::Inf;
   p.tau = 0.1;
@@ -139,7 +139,7 @@ Scenario formation() {
   // both agents' Euclidean margins; 2 * 0.24 * sqrt 2 = 0.68 would leave no sound formation).
   // Heading bounds from -0.4, not 0.5: with headings in [0.74, 1.36] (after eps) the formation
   // can only cross the 2.44 m corridor between the obstacles, or pass around them, by reversing
-  // zig-zags (no plan found up to T = 197); from 0.0 it needs T = 125 (docs/benchmarks-planner.md).
+  // zig-zags (no plan found up to T = 197); from 0.0 it needs T = 125 (docs/benchmarks-altro.md).
   const V eps = vec({0.12, 0.12, 0.24}), radius = vec({0.4, 0.4, 0.5});
   const Box X{vec({-2, -2, -0.4}), vec({17, 17, 1.6})}, U{vec({-0.9, -3}), vec({4.8, 3})};
   const std::vector<Eigen::Vector2d> off = {{0, 0}, {0, 1.5}, {1.5, 0}, {0, -1.5}, {-1.5, 0}};

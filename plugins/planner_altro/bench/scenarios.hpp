@@ -1,6 +1,6 @@
 #pragma once
 // The five examples (the same numbers as examples/*.yaml, built in code so the benchmark does not
-// depend on the loader) and the 50-unicycle antipodal swap. Choices: docs/benchmarks-planner.md.
+// depend on the loader) and the 50-unicycle antipodal swap. Choices: docs/benchmarks-altro.md.
 #include <string>
 #include <vector>
 

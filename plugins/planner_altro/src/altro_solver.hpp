@@ -4,7 +4,7 @@
 // Levenberg-Marquardt style regularization and a backtracking line search. The product dynamics
 // are block diagonal; the backward pass works on groups of agents (all agents in one group:
 // exact Gauss-Newton; one agent per group: a block-diagonal Gauss-Newton majorizer whose cost
-// grows linearly in the number of agents). See docs/planner.md.
+// grows linearly in the number of agents). See docs/planning.md.
 #include <string>
 #include <vector>
 

@@ -1,7 +1,7 @@
 #pragma once
 // Assembly of the eps-robust planning problem (paper Sec. 3.1: Avoid grown by eps, Goal shrunk by
 // eps) from a Problem: bounds become boxes, workspace requirements become Constraint objects.
-// Formulas and the margin argument: docs/planner.md.
+// Formulas and the margin argument: docs/planning.md.
 #include <map>
 #include <memory>
 #include <string>
@@ -20,7 +20,7 @@ struct AssemblyOptions {
   double buffer = 1e-3;
   // Width c of the smoothed corner of the inf-norm condition between agents, in units of the
   // required distance: a smooth lower bound of max(|dx|/rx, |dy|/ry), exact when the two differ
-  // by at least 2c, conservative by at most 4c/27 otherwise (docs/planner.md).
+  // by at least 2c, conservative by at most 4c/27 otherwise (docs/planning.md).
   double inf_norm_corner = 0.3;
   // Extra slack for single constraints, by name ("obstacle <o> vs <agent>", "collision <a> vs
   // <b>", "formation <a> - <b>", "state bound <state name> of <agent>"): where a continuous-time check found

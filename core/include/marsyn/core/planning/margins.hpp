@@ -1,7 +1,7 @@
 #pragma once
 // Workspace margins: how far an agent's workspace point can move while its state stays inside
 // the eps-box around the nominal state. The eps-robust spec grows every workspace constraint by
-// these margins (docs/planner.md, "Margins").
+// these margins (docs/planning.md, "Margins").
 #include <atomic>
 #include <memory>
 #include <mutex>

@@ -1,7 +1,7 @@
 #pragma once
 // The exact eps-robust check, independent of any solver: re-simulate the nominal inputs from x0
 // with the sampled map f_tau and verify, at every step k = 0..T, that every state within eps of
-// the nominal one satisfies the real specification (docs/planner.md, "Exact check").
+// the nominal one satisfies the real specification (docs/planning.md, "Exact check").
 #include <limits>
 #include <map>
 #include <string>
