@@ -4,14 +4,26 @@
 #include <string>
 #include <vector>
 
+#include "marsyn/collective.hpp"
+
 namespace marsyn::cli {
 
 int run_plugins(bool show_params);
 int run_check(const std::string& config);
 int run_plan(const std::string& config, const std::string& out_dir);
+// `cluster`: the ranks of an MPI run (docs/mpi.md), nullptr alone; rank 0 prints and writes.
 int run_track(const std::string& config, const std::string& agent, const std::string& plan_file,
-              const std::string& out_dir, int threads);
-int run_solve(const std::string& config, const std::string& out_dir, int runs, int threads, double global_budget);
+              const std::string& out_dir, int threads, const Collective* cluster = nullptr);
+int run_solve(const std::string& config, const std::string& out_dir, int runs, int threads, double global_budget,
+              const Collective* cluster = nullptr);
+
+// An MPI run's failure every rank already knows of (rank 0 found the problem file bad): main
+// ends normally with the exit code instead of aborting every rank.
+struct QuietExit {
+  int code;
+};
+void mark_failure_shared();
+bool failure_is_shared();
 int run_simulate(const std::string& config, const std::string& controllers_dir, const std::string& mode,
                  unsigned long seed, const std::string& out_file);
 int run_bench(const std::string& examples, const std::string& planners, const std::string& stage, bool track,

@@ -8,13 +8,16 @@
 
 #include "commands.hpp"
 #include "marsyn/core/problem/config_error.hpp"
+#include "marsyn/core/tracking/mpi_world.hpp"
 #include "marsyn/error.hpp"
 
 int main(int argc, char** argv) {
+  // MPI starts only under mpirun/srun (docs/mpi.md); otherwise a world of one, as before.
+  marsyn::mpi::World world(argc, argv);
   CLI::App app{
       "marsyn: formally guaranteed, decentralized controllers for multi-agent reach-avoid problems\n"
       "(plan globally, project per agent, track locally with a sound abstraction)"};
-  app.set_version_flag("--version", std::string("marsyn ") + MARSYN_VERSION);
+  app.set_version_flag("--version", std::string("marsyn ") + MARSYN_VERSION + "\nMPI: " + marsyn::mpi::description());
   app.require_subcommand(1);
   // Options of the top level may also follow the subcommand (`marsyn check --memory-budget 4G x.yaml`).
   app.fallthrough();
@@ -92,9 +95,28 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
+    // Every rank parses the same arguments: rank 0 alone says what is wrong.
+    const int code = world.root() ? app.exit(e) : (e.get_exit_code() == 0 ? 0 : 2);
     return code == 0 ? 0 : 2;
   }
+  const marsyn::Collective* cluster = world.collective();
+  // Over MPI, solve and track share the work; any other subcommand is rank 0's alone.
+  if (cluster && !world.root()
+#ifdef MARSYN_WITH_PIPELINE
+      && !*solve && !*track
+#endif
+  )
+    return 0;
+  // An error in an MPI run: said once, by the rank that had it, and the whole run ends at once
+  // (MPI_Abort), never a hang; unless every rank already knows (a bad problem file).
+  auto fail = [&](const std::string& message, int code) {
+    if (!cluster || marsyn::cli::failure_is_shared()) {
+      if (world.root()) std::cerr << message << "\n";
+      return code;
+    }
+    std::cerr << "marsyn (rank " << world.rank() << " of " << world.size() << "): " << message << "\n";
+    world.abort(code);
+  };
 
   // One place for the budget: the loader reads MARSYN_MEMORY_BUDGET (and rejects a bad value
   // with a located message).
@@ -107,21 +129,22 @@ int main(int argc, char** argv) {
       return marsyn::cli::run_export(export_inputs, export_format, export_out, export_prefix, export_encoding, export_tracker);
 #ifdef MARSYN_WITH_PIPELINE
     if (*plan) return marsyn::cli::run_plan(config, out);
-    if (*track) return marsyn::cli::run_track(config, agent, plan_file, out, threads);
-    if (*solve) return marsyn::cli::run_solve(config.empty() ? marsyn::cli::default_example() : config, out, runs, threads, global_budget);
+    if (*track) return marsyn::cli::run_track(config, agent, plan_file, out, threads, cluster);
+    if (*solve)
+      return marsyn::cli::run_solve(config.empty() ? marsyn::cli::default_example() : config, out, runs, threads, global_budget,
+                                    cluster);
     if (*simulate) return marsyn::cli::run_simulate(config, controllers, mode, seed, sim_out);
     if (*bench)
       return marsyn::cli::run_bench(bench_examples, bench_planners, bench_stage, !no_track, runs, threads, bench_out);
 #endif
+  } catch (const marsyn::cli::QuietExit& e) {
+    return e.code;
   } catch (const marsyn::ConfigError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
+    return fail(std::string("error: ") + e.what(), 2);
   } catch (const marsyn::ParamError& e) {
-    std::cerr << "error: parameter " << marsyn::printable(e.field()) << ": " << marsyn::printable(e.what()) << "\n";
-    return 2;
+    return fail("error: parameter " + marsyn::printable(e.field()) + ": " + marsyn::printable(e.what()), 2);
   } catch (const std::exception& e) {
-    std::cerr << "error: " << marsyn::printable(e.what()) << "\n";
-    return 1;
+    return fail("error: " + marsyn::printable(e.what()), 1);
   }
   return 2;
 }

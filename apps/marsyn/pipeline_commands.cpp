@@ -8,7 +8,13 @@
 #include <fstream>
 #include <iostream>
 
+#include <unistd.h>
+
+#include <optional>
+
 #include "commands.hpp"
+#include "marsyn/core/tracking/sweep_progress.hpp"
+#include "marsyn/core/tracking/mpi_plan_broadcast.hpp"
 #include "marsyn/core/verification/closed_loop.hpp"
 #include "marsyn/core/problem/config_error.hpp"
 #include "marsyn/core/report/result_json.hpp"
@@ -27,9 +33,49 @@ namespace {
 
 const auto kStart = std::chrono::steady_clock::now();
 
+bool g_bar_drawn = false;  // a live progress line is on the terminal: the next line first clears it
+
 void log_line(const std::string& s) {
   const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - kStart).count();
-  std::fprintf(stderr, "[%7.2f s] %s\n", t, s.c_str());
+  std::fprintf(stderr, "%s[%7.2f s] %s\n", g_bar_drawn ? "\r\033[K" : "", t, s.c_str());
+  g_bar_drawn = false;
+}
+
+// SolveOptions::live on a terminal: one line redrawn in place (an empty line clears it).
+void live_line(const std::string& s) {
+  const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - kStart).count();
+  if (s.empty()) std::fprintf(stderr, "\r\033[K");
+  else std::fprintf(stderr, "\r\033[K[%7.2f s] %s", t, s.c_str());
+  std::fflush(stderr);
+  g_bar_drawn = !s.empty();
+}
+
+bool stderr_is_terminal() { return ::isatty(::fileno(stderr)) != 0; }
+
+// Over MPI, rank 0 validates the problem first and tells the others: a bad file is reported
+// once, by rank 0, and every rank ends with exit code 2 without MPI_Abort; only then do the
+// other ranks load the same file (each needs the models).
+LoadedProblem load_on_every_rank(const std::string& config, const Collective* cluster) {
+  if (!cluster || cluster->size() <= 1) return load_problem(config);
+  const bool root = cluster->rank() == 0;
+  std::optional<LoadedProblem> lp;
+  std::exception_ptr failure;
+  if (root) {
+    try {
+      lp.emplace(load_problem(config));
+    } catch (...) {
+      failure = std::current_exception();
+    }
+  }
+  std::vector<std::uint8_t> ok{static_cast<std::uint8_t>(failure ? 0 : 1)};
+  cluster->broadcast(ok, 0);
+  if (!ok.at(0)) {
+    mark_failure_shared();
+    if (root) std::rethrow_exception(failure);
+    throw QuietExit{2};
+  }
+  if (!root) lp.emplace(load_problem(config));
+  return std::move(*lp);
 }
 
 double peak_rss_mb() {
@@ -93,6 +139,12 @@ std::vector<NominalTrajectory> nominal_for(const LoadedProblem& lp, const std::s
 
 }  // namespace
 
+namespace {
+bool g_failure_shared = false;
+}
+void mark_failure_shared() { g_failure_shared = true; }
+bool failure_is_shared() { return g_failure_shared; }
+
 int run_plan(const std::string& config, const std::string& out_requested) {
   const LoadedProblem lp = load_problem(config);
   const Problem& pb = lp.problem;
@@ -118,16 +170,25 @@ int run_plan(const std::string& config, const std::string& out_requested) {
 }
 
 int run_track(const std::string& config, const std::string& agent, const std::string& plan_file,
-              const std::string& out_requested, int threads) {
-  const LoadedProblem lp = load_problem(config);
+              const std::string& out_requested, int threads, const Collective* cluster) {
+  const bool root = !cluster || cluster->rank() == 0;
+  const LoadedProblem lp = load_on_every_rank(config, cluster);
   const Problem& pb = lp.problem;
   int index = -1;
   const AgentSpec& a = find_agent(pb, agent, &index);
   TrackerInstances trackers(lp.registry);
-  const auto nominal = nominal_for(lp, plan_file);
+  // Over MPI: rank 0 plans (or reads the plan), the others receive the nominal trajectories.
+  planning::PlanOutcome planned;
+  if (root) planned.nominal = nominal_for(lp, plan_file);
+  if (cluster) mpi::broadcast_plan(*cluster, planned);
+  const auto& nominal = planned.nominal;
   const TrackingProblem tp = tracking_problem(pb, index, nominal[index]);
   TrackOptions to;
   to.threads = threads;
+  to.collective = cluster;  // every rank shares this agent's sweep (docs/mpi.md)
+  if (root)
+    to.progress = [p = std::make_shared<SweepProgress>(a.name, log_line, stderr_is_terminal() ? live_line : SweepProgress::Sink{})](
+                      int done, int total) { (*p)(done, total); };
   // The agent's tracker; under `tracker: auto`, on "no controller" the next one that accepted it
   // (as `solve` does before its eps search).
   const bool automatic = static_cast<std::size_t>(index) < lp.trackers.size() && lp.trackers[index].automatic;
@@ -137,11 +198,15 @@ int run_track(const std::string& config, const std::string& agent, const std::st
   std::string used;
   for (std::size_t c = 0; c < order.size(); ++c) {
     used = order[c].name;
-    log_line("[track] " + a.name + " with " + used + (automatic ? " (tracker: auto)" : ""));
+    if (root)
+      log_line("[track] " + a.name + " with " + used + (automatic ? " (tracker: auto)" : "") +
+               (cluster ? " over " + std::to_string(cluster->size()) + " ranks" : ""));
     r = trackers.get(order[c])->track(tp, to);
     if (r.status != TrackerStatus::NoController || c + 1 == order.size()) break;
-    log_line("[track] " + used + " found no controller for " + a.name + "; tracker: auto falls back to " + order[c + 1].name);
+    if (root)
+      log_line("[track] " + used + " found no controller for " + a.name + "; tracker: auto falls back to " + order[c + 1].name);
   }
+  if (!root) return r.status == TrackerStatus::ControllerFound ? 0 : 1;  // rank 0 reports and writes
   const auto& s = r.stats;
   std::printf("agent               %s (%s)\n", a.name.c_str(), a.dynamics_type.c_str());
   std::printf("tracker             %s%s\n", used.c_str(), automatic ? " (chosen by tracker: auto)" : "");
@@ -185,13 +250,17 @@ int run_track(const std::string& config, const std::string& agent, const std::st
   return 1;
 }
 
-int run_solve(const std::string& config, const std::string& out_requested, int runs, int threads, double global_budget) {
-  const LoadedProblem lp = load_problem(config);
+int run_solve(const std::string& config, const std::string& out_requested, int runs, int threads, double global_budget,
+              const Collective* cluster) {
+  const bool root = !cluster || cluster->rank() == 0;
+  const LoadedProblem lp = load_on_every_rank(config, cluster);
   SolveOptions so;
   so.verification_runs = runs;
   so.threads = threads;
   so.global_memory_budget_bytes = global_budget;
-  so.log = log_line;
+  so.cluster = cluster;
+  if (root) so.log = log_line;  // one progress stream: rank 0's
+  if (root && stderr_is_terminal()) so.live = live_line;
   std::string trackers;  // "abcd" or "abcd x9, funnel x1"
   {
     std::vector<std::pair<std::string, int>> counts;
@@ -203,9 +272,12 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
     for (const auto& [name, count] : counts)
       trackers += (trackers.empty() ? "" : ", ") + name + (counts.size() > 1 ? " x" + std::to_string(count) : "");
   }
-  log_line("[solve] " + lp.problem.name + ": " + std::to_string(lp.problem.agents.size()) + " agents, planner " +
-           lp.problem.planner.name + ", tracker " + (lp.problem.tracker.name == kAutoTracker ? "auto: " : "") + trackers);
+  if (root)
+    log_line("[solve] " + lp.problem.name + ": " + std::to_string(lp.problem.agents.size()) + " agents, planner " +
+             lp.problem.planner.name + ", tracker " + (lp.problem.tracker.name == kAutoTracker ? "auto: " : "") + trackers +
+             (cluster ? ", " + std::to_string(cluster->size()) + " MPI ranks" : ""));
   SolveOutcome out = solve(lp, so);
+  if (!root) return out.verified ? 0 : 1;  // rank 0 writes the output folder and prints the summary
   const std::string dir = out_dir_for(out_requested, lp.problem);
   const std::vector<std::string> written = write_solve_outputs(dir, out);
   const auto& v = out.verification;

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "marsyn/core/problem/agent_checks.hpp"
+#include "marsyn/core/tracking/mpi_plan_broadcast.hpp"
 #include "marsyn/core/tracking/global_abcd.hpp"
 #include "marsyn/core/tracking/track_agents.hpp"
 
@@ -63,7 +64,15 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
   bool certified = false;
   bool replan = true;  // false when only grids changed: the plan stays valid
   std::map<std::string, double> plan_extra;  // per constraint: grows where certification fell short
-  for (int iter = 0; iter < opt.max_outer_iterations && since(t_start) < opt.time_limit_s; ++iter) {
+  // Over MPI every rank runs this loop in lock step; rank 0's clock decides when time is up.
+  const bool root = !opt.cluster || opt.cluster->rank() == 0;
+  auto rank0_says = [&](bool mine) {
+    if (!opt.cluster || opt.cluster->size() <= 1) return mine;
+    std::vector<std::uint8_t> b{static_cast<std::uint8_t>(mine ? 1 : 0)};
+    opt.cluster->broadcast(b, 0);
+    return b.at(0) != 0;
+  };
+  for (int iter = 0; iter < opt.max_outer_iterations && rank0_says(since(t_start) < opt.time_limit_s); ++iter) {
     if (replan) {
     // 1. Plan (the planning stage lengthens the horizon itself when T fails).
     planning::PlanSearchOptions po;
@@ -77,7 +86,8 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
     for (const auto& a : pb.agents) params << " eps[" << a.name << "]=" << vec(a.eps);
     log("[plan] " + pb.planner.name + " on the product system (" + std::to_string(pb.product_state_dim()) +
         " states, " + std::to_string(pb.product_input_dim()) + " inputs)");
-    out.plan = planning::plan(pb, *planner, po);
+    if (root) out.plan = planning::plan(pb, *planner, po);
+    if (opt.cluster) mpi::broadcast_plan(*opt.cluster, out.plan);  // what the other ranks need of it
     out.attempts.push_back({"plan", params.str(),
                             out.plan.feasible ? "feasible, smallest robust margin " + std::to_string(out.plan.check.min_margin)
                                               : "no feasible plan: " + out.plan.check.message,
@@ -202,7 +212,8 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
           searched + (replan ? " and re-planning" : " and tracking again"));
   }
 
-  out.global = attempt_global_abcd(pb, instances, opt, log);
+  // The baseline is a figure for the report: rank 0's alone.
+  if (root) out.global = attempt_global_abcd(pb, instances, opt, log);
   if (out.global.attempted)
     out.attempts.push_back({"global ABCD", "eta_x, eta_u of the agents, product domain", out.global.status, out.global.time_s});
 
@@ -212,6 +223,7 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
     VerificationOptions vo;
     vo.runs = opt.verification_runs;
     vo.threads = opt.threads;
+    vo.collective = opt.cluster;
     int last_pct = -1;
     vo.progress = [&](int done, int total) {
       const int pct = 100 * done / total;

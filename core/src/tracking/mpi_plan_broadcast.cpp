@@ -1,4 +1,4 @@
-#include "mpi_plan_broadcast.hpp"
+#include "marsyn/core/tracking/mpi_plan_broadcast.hpp"
 
 #include "mpi_bytes.hpp"
 

@@ -1,5 +1,8 @@
 #include "marsyn/core/tracking/track_agents.hpp"
 
+#include "marsyn/core/tracking/rank_fanout.hpp"
+#include "marsyn/core/tracking/sweep_progress.hpp"
+
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -37,6 +40,11 @@ TrackingProblem tracking_problem(const Problem& pb, int index, const NominalTraj
 std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<NominalTrajectory>& nominal,
                                        const std::vector<std::shared_ptr<const Tracker>>& trackers,
                                        const SolveOptions& opt) {
+  if (opt.cluster && opt.cluster->size() > 1) {
+    SolveOptions here = opt;
+    here.cluster = nullptr;  // each rank's own agents: this function, on its threads
+    return track_agents_over_ranks(pb, nominal, trackers, here, *opt.cluster);
+  }
   const int N = static_cast<int>(pb.agents.size());
   std::vector<AgentOutcome> out(N);
   // Agents in parallel, one tracker thread each, when the work is spread over them; when one
@@ -70,7 +78,13 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
       out[i].name = a.name;
       out[i].tracker = a.tracker.name;
       try {
-        out[i].track = trackers[i]->track(tp, topt);
+        TrackOptions o = topt;
+        // One agent at a time with all threads: its sweep step by step (sweep_progress.hpp).
+        if (dominated && (opt.log || opt.live)) {
+          auto p = std::make_shared<SweepProgress>(a.name, opt.log, opt.live);
+          o.progress = [p](int done, int total) { (*p)(done, total); };
+        }
+        out[i].track = trackers[i]->track(tp, o);
       } catch (const std::exception& e) {
         out[i].track.status = TrackerStatus::InvalidInput;
         out[i].track.message = e.what();

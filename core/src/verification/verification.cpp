@@ -5,6 +5,8 @@
 #include <mutex>
 #include <thread>
 
+#include "mpi_runs.hpp"
+
 namespace marsyn {
 
 std::vector<Scenario> verification_scenarios(int runs, std::uint64_t seed) {
@@ -61,6 +63,7 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
   std::mutex progress_mutex;
   auto worker = [&] {
     for (int r = next++; r < static_cast<int>(scenarios.size()); r = next++) {
+      if (!mpi::owns_run(opt.collective, r)) continue;
       ClosedLoopRun run = simulate(closed, scenarios[r]);
       const SpecEvaluation ev = monitor.evaluate(run.states);
       RunSummary& s = results[r];
@@ -80,10 +83,10 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
       if (s.outside_domain)
         s.worst = "controller of " + problem.agents[run.outside_domain_agent].name + " had no input at step " +
                   std::to_string(run.outside_domain_step);
-      const int d = ++done;
+      const int d = ++done * (opt.collective ? opt.collective->size() : 1);  // all ranks: about as far as this one
       if (opt.progress) {
         std::lock_guard<std::mutex> lock(progress_mutex);
-        opt.progress(d, static_cast<int>(scenarios.size()));
+        opt.progress(std::min(d, static_cast<int>(scenarios.size())), static_cast<int>(scenarios.size()));
       }
     }
   };
@@ -91,6 +94,7 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
   for (int t = 1; t < std::max(1, opt.threads); ++t) pool.emplace_back(worker);
   worker();
   for (auto& t : pool) t.join();
+  if (opt.collective) mpi::exchange_runs(*opt.collective, results);
 
   rep.runs = static_cast<int>(results.size());
   int worst_run = 0;

@@ -4,6 +4,8 @@
 #include <functional>
 #include <string>
 
+#include "marsyn/collective.hpp"
+
 namespace marsyn {
 
 struct SolveOptions {
@@ -13,6 +15,12 @@ struct SolveOptions {
   double time_limit_s = 600.0;
   double global_memory_budget_bytes = 2e9;  // the global ABCD baseline is attempted below this
   std::function<void(const std::string&)> log;  // progress lines; may be empty
+  // A transient status line (a progress bar on a terminal), drawn over the previous one; an
+  // empty line clears it. May be empty: progress then goes to `log` as plain lines.
+  std::function<void(const std::string&)> live;
+  // The ranks of an MPI run (docs/mpi.md); nullptr: this process alone. Every rank calls
+  // solve() with the same problem; rank 0 plans and reports.
+  const Collective* cluster = nullptr;
 };
 
 }  // namespace marsyn

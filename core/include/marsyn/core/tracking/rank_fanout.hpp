@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "marsyn/collective.hpp"
-#include "marsyn/core/solve.hpp"
+#include "marsyn/core/tracking/track_agents.hpp"
 
 namespace marsyn {
 

@@ -4,6 +4,8 @@
 // specification is checked on the simulated states. The nominal inputs are also run open loop
 // under the paper's constant disturbances, to show what fails without feedback.
 #include <functional>
+
+#include "marsyn/collective.hpp"
 #include <string>
 #include <vector>
 
@@ -18,6 +20,9 @@ struct VerificationOptions {
   int threads = 2;
   int fine_substeps = 20;  // RK4 steps per period; the dense check's resolution is tau / fine_substeps
   std::function<void(int done, int total)> progress;  // may be empty
+  // The ranks of an MPI run: run r on rank r mod size, summaries exchanged (mpi_runs.hpp), the
+  // same report on every rank. nullptr: this process alone.
+  const Collective* collective = nullptr;
 };
 
 struct RunSummary {
