@@ -10,7 +10,7 @@
 
 #include "altro_solver.hpp"
 #include "marsyn/core/planning/plan.hpp"
-#include "scenarios.hpp"
+#include "plan_scenarios.hpp"
 
 namespace {
 

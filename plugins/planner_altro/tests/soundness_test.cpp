@@ -7,7 +7,7 @@
 #include <random>
 
 #include "altro_solver.hpp"
-#include "bench/scenarios.hpp"
+#include "bench/plan_scenarios.hpp"
 #include "marsyn/core/planning/geometry.hpp"
 #include "marsyn/core/planning/plan.hpp"
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "abcd_tracker.hpp"
-#include "scenarios.hpp"
+#include "track_scenarios.hpp"
 #include "synthesis.hpp"
 
 using namespace marsyn;

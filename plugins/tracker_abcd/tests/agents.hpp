@@ -5,7 +5,7 @@
 #include <string>
 
 #include "abcd_tracker.hpp"
-#include "scenarios.hpp"
+#include "track_scenarios.hpp"
 
 namespace marsyn::abcd::testing {
 

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "marsyn/fast_interval.hpp"
-#include "scenarios.hpp"
+#include "track_scenarios.hpp"
 #include "successor_box.hpp"
 
 using namespace marsyn;

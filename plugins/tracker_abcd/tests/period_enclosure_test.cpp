@@ -11,7 +11,7 @@
 #include "tube_simulation.hpp"
 #include "controller_file.hpp"
 #include "input_grid.hpp"
-#include "scenarios.hpp"
+#include "track_scenarios.hpp"
 #include "successor_box.hpp"
 #include "uniform_grid.hpp"
 

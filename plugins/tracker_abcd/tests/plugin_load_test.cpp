@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "marsyn/plugin.hpp"
-#include "scenarios.hpp"
+#include "track_scenarios.hpp"
 
 using namespace marsyn;
 

@@ -7,7 +7,7 @@
 #include <thread>
 
 #include "abcd_tracker.hpp"
-#include "scenarios.hpp"
+#include "track_scenarios.hpp"
 #include "thread_collective.hpp"
 
 using namespace marsyn;

@@ -7,7 +7,7 @@
 #include "abcd_tracker.hpp"
 #include "controller_file.hpp"
 #include "sampler.hpp"
-#include "scenarios.hpp"
+#include "track_scenarios.hpp"
 
 using namespace marsyn;
 using namespace marsyn::abcd;

@@ -1,4 +1,4 @@
-#include "scenarios.hpp"
+#include "plan_scenarios.hpp"
 
 #include <cmath>
 #include <stdexcept>
