@@ -32,7 +32,7 @@ GlobalPlan clamp_and_resimulate(const Problem& problem, const GlobalPlan& raw) {
         v = std::clamp(v, U.lo[c], U.hi[c]);
       }
     }
-  out.x = simulate(problem, out.u);
+  out.x = rollout(problem, out.u);
   return out;
 }
 
@@ -40,7 +40,7 @@ GlobalPlan extend(const Problem& problem, const GlobalPlan& p, int horizon) {
   GlobalPlan w = p;
   const int m = problem.product_input_dim();
   while (static_cast<int>(w.u.size()) < horizon) w.u.push_back(Eigen::VectorXd::Zero(m));
-  w.x = simulate(problem, w.u);
+  w.x = rollout(problem, w.u);
   return w;
 }
 

@@ -16,7 +16,7 @@
 
 namespace marsyn::planning {
 
-std::vector<Eigen::VectorXd> simulate(const Problem& problem, const std::vector<Eigen::VectorXd>& inputs) {
+std::vector<Eigen::VectorXd> rollout(const Problem& problem, const std::vector<Eigen::VectorXd>& inputs) {
   const auto xo = state_offsets(problem), uo = input_offsets(problem);
   std::vector<Eigen::VectorXd> x(inputs.size() + 1, Eigen::VectorXd(xo.back()));
   for (size_t i = 0; i < problem.agents.size(); ++i) x[0].segment(xo[i], problem.agents[i].n()) = problem.agents[i].x0;
@@ -160,7 +160,7 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan) {
       r.min_margin = -std::numeric_limits<double>::infinity();
       return r;
     }
-  const auto x = simulate(problem, plan.u);
+  const auto x = rollout(problem, plan.u);
   if (plan.x.size() == x.size())
     for (size_t k = 0; k < x.size(); ++k)
       if (plan.x[k].size() == x[k].size())

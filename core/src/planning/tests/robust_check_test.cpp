@@ -166,7 +166,7 @@ TEST(Projector, SplitsTheProductPlan) {
   p.agents.push_back(unicycle("a", {0, 0, 0}));
   p.agents.push_back(unicycle("b", {0, 2, 0}));
   auto g = straight(3, 2);
-  g.x = simulate(p, g.u);
+  g.x = rollout(p, g.u);
   const auto parts = ProductProjector().project(p, g);
   ASSERT_EQ(parts.size(), 2u);
   EXPECT_EQ(parts[1].agent, "b");

@@ -48,7 +48,7 @@ struct RobustCheck {
 inline constexpr int kFlowParts = 8;
 
 // x_0 = problem's x0, x_{k+1} = f_tau(x_k, u_k) (RK4, problem.rk4_substeps), no disturbance.
-std::vector<Eigen::VectorXd> simulate(const Problem& problem, const std::vector<Eigen::VectorXd>& inputs);
+std::vector<Eigen::VectorXd> rollout(const Problem& problem, const std::vector<Eigen::VectorXd>& inputs);
 
 // Re-simulates plan.u and checks the eps-robust spec along the result (plan.x is only compared);
 // under the continuous guarantee also between the samples.
