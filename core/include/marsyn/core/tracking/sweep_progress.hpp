@@ -32,8 +32,10 @@ class SweepProgress {
       if (done >= total) live_("");
       return;
     }
-    if (log_ && (t - last_ >= 10.0 || done >= total)) {
+    // The last step only after earlier lines: a short agent says nothing here.
+    if (log_ && (t - last_ >= 10.0 || (done >= total && printed_))) {
       last_ = t;
+      printed_ = true;
       log_(line);
     }
   }
@@ -44,6 +46,7 @@ class SweepProgress {
   Sink log_, live_;
   Clock::time_point t0_ = Clock::now();
   double last_ = 0.0;
+  bool printed_ = false;
   std::mutex m_;
 };
 
