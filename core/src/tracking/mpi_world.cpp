@@ -139,7 +139,14 @@ void World::abort(int exit_code) const {
 
 bool compiled_in() { return false; }
 std::string description() { return "not built in"; }
-World::World(int&, char**&) {}
+World::World(int&, char**&) {
+  // Started by mpirun although built without MPI: every process would solve alone and write the
+  // same folder; say so rather than let it pass unnoticed.
+  const char* size = std::getenv("OMPI_COMM_WORLD_SIZE");
+  if (size && std::atoi(size) > 1 && std::getenv("OMPI_COMM_WORLD_RANK") && std::atoi(std::getenv("OMPI_COMM_WORLD_RANK")) == 0)
+    std::fprintf(stderr, "marsyn: warning: started by mpirun with %s processes, but built without MPI "
+                         "(docs/mpi.md): each process runs alone\n", size);
+}
 World::~World() = default;
 void World::abort(int exit_code) const {
   std::fflush(stdout);
