@@ -74,4 +74,76 @@ double signed_distance(const Polygon& poly, const Eigen::Vector2d& p, Eigen::Vec
   return best;
 }
 
+// The real specification's distances (spec monitor, verification): a point against a convex
+// polygon in the problem's norm.
+namespace {
+
+double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+bool inside(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& p) {
+  for (std::size_t i = 0; i < poly.size(); ++i)
+    if (cross(poly[(i + 1) % poly.size()] - poly[i], p - poly[i]) < 0) return false;
+  return true;
+}
+
+// min over t in [0, 1] of |p - (a + t (b - a))|_inf. The objective is convex and piecewise
+// linear in t; its minimum is at an end point or where a component vanishes or the two
+// components have equal magnitude.
+double segment_distance_inf(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
+  const Eigen::Vector2d d0 = p - a, e = b - a;  // d(t) = d0 - t e
+  auto f = [&](double t) {
+    const Eigen::Vector2d d = d0 - t * e;
+    return std::max(std::abs(d.x()), std::abs(d.y()));
+  };
+  double best = std::min(f(0.0), f(1.0));
+  auto consider = [&](double num, double den) {
+    if (std::abs(den) < 1e-300) return;
+    const double t = num / den;
+    if (t > 0.0 && t < 1.0) best = std::min(best, f(t));
+  };
+  consider(d0.x(), e.x());                  // dx(t) = 0
+  consider(d0.y(), e.y());                  // dy(t) = 0
+  consider(d0.x() - d0.y(), e.x() - e.y());  // dx = dy
+  consider(d0.x() + d0.y(), e.x() + e.y());  // dx = -dy
+  return best;
+}
+
+double segment_distance_two(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
+  const Eigen::Vector2d e = b - a;
+  const double t = std::clamp((p - a).dot(e) / std::max(e.squaredNorm(), 1e-300), 0.0, 1.0);
+  return (p - (a + t * e)).norm();
+}
+
+template <class SegmentDistance, class Depth>
+double signed_distance(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& p, SegmentDistance seg,
+                       Depth depth) {
+  const std::size_t n = poly.size();
+  if (inside(poly, p)) {
+    // Inside: the smallest move that exits across some edge's supporting line.
+    double d = 1e300;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector2d e = poly[(i + 1) % n] - poly[i];
+      const Eigen::Vector2d normal = Eigen::Vector2d(e.y(), -e.x()).normalized();  // outward for CCW
+      const double h = (poly[i] - p).dot(normal);                                     // >= 0 inside
+      d = std::min(d, depth(h, normal));
+    }
+    return -d;
+  }
+  double d = 1e300;
+  for (std::size_t i = 0; i < n; ++i) d = std::min(d, seg(poly[i], poly[(i + 1) % n], p));
+  return d;
+}
+
+}  // namespace
+
+double signed_distance_inf(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& p) {
+  // An inf-norm ball of radius r reaches a line at Euclidean distance h when r |n|_1 = h.
+  return signed_distance(poly, p, segment_distance_inf,
+                         [](double h, const Eigen::Vector2d& n) { return h / n.lpNorm<1>(); });
+}
+
+double signed_distance_two(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& p) {
+  return signed_distance(poly, p, segment_distance_two, [](double h, const Eigen::Vector2d&) { return h; });
+}
+
 }  // namespace marsyn::planning

@@ -7,14 +7,14 @@
 
 #include <Eigen/Core>
 
+#include "marsyn/core/planning/geometry.hpp"
 #include "marsyn/problem.hpp"
 
 namespace marsyn {
 
-// Signed distance from p to a convex polygon (negative inside) in the inf-norm, exactly.
-double signed_distance_inf(const std::vector<Eigen::Vector2d>& ccw_polygon, const Eigen::Vector2d& p);
-// The same in the Euclidean norm.
-double signed_distance_two(const std::vector<Eigen::Vector2d>& ccw_polygon, const Eigen::Vector2d& p);
+// The real specification's distances are the one geometry module's (planning/geometry.hpp).
+using planning::signed_distance_inf;
+using planning::signed_distance_two;
 
 struct StepMargins {
   double obstacle = 1e300;   // min over agents and obstacles of d - delta
