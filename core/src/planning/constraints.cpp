@@ -9,18 +9,6 @@
 
 namespace marsyn::planning {
 
-std::vector<int> state_offsets(const Problem& problem) {
-  std::vector<int> off{0};
-  for (const auto& a : problem.agents) off.push_back(off.back() + a.n());
-  return off;
-}
-
-std::vector<int> input_offsets(const Problem& problem) {
-  std::vector<int> off{0};
-  for (const auto& a : problem.agents) off.push_back(off.back() + a.m());
-  return off;
-}
-
 void workspace_point_jacobian(const AgentSpec& agent, const double* x, double* p, double* J) {
   const int n = agent.n();
   const auto& ws = agent.workspace;
@@ -315,87 +303,6 @@ bool FormationConstraint::hessian(const double* x, const double* w, double* H) c
   const double gw[2] = {k * geo.d[0] * inv, k * geo.d[1] * inv};
   add_footprint_curvature(Pa, na, Pb, nb, gw, H);
   return true;
-}
-
-std::string obstacle_name(const Problem& pb, int o, const AgentSpec& a) {
-  const std::string& n = pb.obstacles[static_cast<size_t>(o)].name;
-  return "obstacle " + (n.empty() ? std::to_string(o) : n) + " vs " + a.name;
-}
-std::string collision_name(const AgentSpec& a, const AgentSpec& b) { return "collision " + a.name + " vs " + b.name; }
-std::string formation_name(const AgentSpec& a, const AgentSpec& b) { return "formation " + a.name + " - " + b.name; }
-std::string state_bound_name(const AgentSpec& a, int c) {
-  const std::string coord = a.dynamics ? a.dynamics->state_names()[static_cast<size_t>(c)] : "x" + std::to_string(c);
-  return "state bound " + coord + " of " + a.name;
-}
-
-PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOptions& opt) {
-  const int N = static_cast<int>(problem.agents.size());
-  if (N == 0) throw std::invalid_argument("marsyn::planning::assemble: the problem has no agents");
-  if (horizon <= 0) throw std::invalid_argument("marsyn::planning::assemble: horizon must be positive");
-  const auto xo = state_offsets(problem), uo = input_offsets(problem);
-  const int n = xo.back(), m = uo.back();
-  PlanningProblem pp;
-  pp.problem = &problem;
-  pp.horizon = horizon;
-  pp.x0.resize(n);
-  pp.input_bounds = {Eigen::VectorXd(m), Eigen::VectorXd(m)};
-  pp.state_bounds = {Eigen::VectorXd(n), Eigen::VectorXd(n)};
-  pp.goal = {Eigen::VectorXd(n), Eigen::VectorXd(n)};
-  std::vector<std::shared_ptr<const MarginTable>> margin(N);
-  auto more = [&](const std::string& name) {
-    const auto it = opt.extra.find(name);
-    return it == opt.extra.end() ? 0.0 : it->second;
-  };
-  for (int i = 0; i < N; ++i) {
-    const auto& a = problem.agents[i];
-    if (a.dynamics == nullptr || a.dynamics->state_dim() != a.n() || a.dynamics->input_dim() != a.m() ||
-        a.eps.size() != a.n() || a.state_bounds.dim() != a.n() || a.goal.dim() != a.n())
-      throw std::invalid_argument("marsyn::planning::assemble: inconsistent dimensions for agent " + a.name);
-    const Eigen::VectorXd shrink = a.eps.array() + opt.buffer;
-    Eigen::VectorXd shrink_x = shrink;
-    for (int c = 0; c < a.n(); ++c) shrink_x[c] += more(state_bound_name(a, c));
-    const Box X = a.state_bounds.shrunk(shrink_x);
-    pp.x0.segment(xo[i], a.n()) = a.x0;
-    const Box G = a.goal.shrunk(shrink);
-    pp.state_bounds.lo.segment(xo[i], a.n()) = X.lo;
-    pp.state_bounds.hi.segment(xo[i], a.n()) = X.hi;
-    pp.goal.lo.segment(xo[i], a.n()) = G.lo;
-    pp.goal.hi.segment(xo[i], a.n()) = G.hi;
-    pp.input_bounds.lo.segment(uo[i], a.m()) = a.input_bounds.lo;
-    pp.input_bounds.hi.segment(uo[i], a.m()) = a.input_bounds.hi;
-    margin[i] = std::make_shared<MarginTable>(a, a.state_bounds.shrunk(a.eps));
-  }
-  const double delta = problem.delta;
-  const bool inf = problem.delta_norm == Norm::Inf;
-  for (int i = 0; i < N; ++i) {
-    const auto& a = problem.agents[i];
-    for (size_t o = 0; o < problem.obstacles.size(); ++o) {
-      const auto& obs = problem.obstacles[o];
-      const std::string name = obstacle_name(problem, static_cast<int>(o), a);
-      pp.constraints.push_back(std::make_shared<ObstacleConstraint>(name, a, xo[i], obs.vertices, margin[i],
-                                                                    inf ? delta : 0.0,
-                                                                    (inf ? 0.0 : delta) + opt.buffer + more(name),
-                                                                    problem.distance_model));
-    }
-  }
-  if (problem.pairwise_collision)
-    for (int i = 0; i < N; ++i)
-      for (int j = i + 1; j < N; ++j) {
-        const auto &a = problem.agents[i], &b = problem.agents[j];
-        const std::string name = collision_name(a, b);
-        pp.constraints.push_back(std::make_shared<PairConstraint>(name, a, xo[i], b, xo[j], problem.delta_norm, delta,
-                                                                  margin[i], margin[j], opt.inf_norm_corner,
-                                                                  opt.buffer + more(name)));
-      }
-  for (const auto& f : problem.formation) {
-    if (f.i < 0 || f.j < 0 || f.i >= N || f.j >= N || f.i == f.j)
-      throw std::invalid_argument("marsyn::planning::assemble: formation pair with a bad agent index");
-    const auto &a = problem.agents[f.i], &b = problem.agents[f.j];
-    const std::string name = formation_name(a, b);
-    pp.constraints.push_back(std::make_shared<FormationConstraint>(name, a, xo[f.i], b, xo[f.j], f.lambda, f.mu,
-                                                                   margin[f.i], margin[f.j], opt.buffer + more(name)));
-  }
-  return pp;
 }
 
 }  // namespace marsyn::planning
