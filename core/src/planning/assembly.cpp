@@ -8,17 +8,9 @@
 
 namespace marsyn::planning {
 
-std::vector<int> state_offsets(const Problem& problem) {
-  std::vector<int> off{0};
-  for (const auto& a : problem.agents) off.push_back(off.back() + a.n());
-  return off;
-}
+std::vector<int> state_offsets(const Problem& problem) { return ProductLayout(problem).state; }
 
-std::vector<int> input_offsets(const Problem& problem) {
-  std::vector<int> off{0};
-  for (const auto& a : problem.agents) off.push_back(off.back() + a.m());
-  return off;
-}
+std::vector<int> input_offsets(const Problem& problem) { return ProductLayout(problem).input; }
 
 
 std::string obstacle_name(const Problem& pb, int o, const AgentSpec& a) {

@@ -81,8 +81,7 @@ nlohmann::json report_scene(const Problem& pb, const std::vector<NominalTrajecto
       json pts = json::array();  // [agent][step] = [x, y]
       for (std::size_t i = 0; i < pb.agents.size(); ++i) {
         json track = json::array();
-        int off = 0;
-        for (std::size_t j = 0; j < i; ++j) off += pb.agents[j].n();
+        const int off = ProductLayout(pb).state[i];
         for (const auto& x : kept.states) {
           double p[2];
           workspace_point<double>(*pb.agents[i].dynamics, pb.agents[i].workspace, x.data() + off, p);

@@ -66,8 +66,10 @@ GlobalAbcdRun run_global_abcd(const Problem& pb, const Tracker& tracker, int thr
   rp.w.resize(n);
   rp.eta_u.resize(m);
   rp.input_bounds = {Eigen::VectorXd(m), Eigen::VectorXd(m)};
-  int xo = 0, uo = 0;
-  for (const auto& a : pb.agents) {
+  const ProductLayout layout(pb);
+  for (std::size_t i = 0; i < pb.agents.size(); ++i) {
+    const AgentSpec& a = pb.agents[i];
+    const int xo = layout.state[i], uo = layout.input[i];
     rp.domain.lo.segment(xo, a.n()) = a.state_bounds.lo;
     rp.domain.hi.segment(xo, a.n()) = a.state_bounds.hi;
     rp.target.lo.segment(xo, a.n()) = a.goal.lo;
@@ -77,8 +79,6 @@ GlobalAbcdRun run_global_abcd(const Problem& pb, const Tracker& tracker, int thr
     rp.eta_u.segment(uo, a.m()) = a.eta_u;
     rp.input_bounds.lo.segment(uo, a.m()) = a.input_bounds.lo;
     rp.input_bounds.hi.segment(uo, a.m()) = a.input_bounds.hi;
-    xo += a.n();
-    uo += a.m();
   }
   rp.safe = rp.domain;
   rp.tau = pb.tau;
@@ -90,11 +90,8 @@ GlobalAbcdRun run_global_abcd(const Problem& pb, const Tracker& tracker, int thr
   run.boxes_computed = r.stats.boxes_computed;
   if (r.status == TrackerStatus::ControllerFound && r.controller) {
     Eigen::VectorXd x0(n), u(m);
-    xo = 0;
-    for (const auto& a : pb.agents) {
-      x0.segment(xo, a.n()) = a.x0;
-      xo += a.n();
-    }
+    const ProductLayout layout(pb);
+    for (std::size_t i = 0; i < pb.agents.size(); ++i) x0.segment(layout.state[i], pb.agents[i].n()) = pb.agents[i].x0;
     run.initial_state_winning = r.controller->input(x0.data(), 0, u.data()) == ControlStatus::Ok;
     run.status = run.initial_state_winning ? "controller: x0 winning" : "controller, but x0 is not winning";
   } else {

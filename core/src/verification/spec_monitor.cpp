@@ -6,11 +6,8 @@
 namespace marsyn {
 
 SpecMonitor::SpecMonitor(const Problem& problem) : problem_(problem) {
-  int off = 0;
-  for (const auto& a : problem.agents) {
-    offset_.push_back(off);
-    off += a.n();
-  }
+  const ProductLayout layout(problem);
+  offset_.assign(layout.state.begin(), layout.state.end() - 1);
   for (const auto& o : problem.obstacles) {
     Eigen::Vector4d b(1e300, 1e300, -1e300, -1e300);
     for (const auto& v : o.vertices) {

@@ -124,6 +124,21 @@ struct Problem {
   }
 };
 
+// Where each agent's coordinates sit in the product state and input: the agents side by side in
+// the order of the problem file. The one definition that planners, projection, the checks, the
+// global baseline and the reports read (agent i's state is x.segment(state[i], n_i)).
+struct ProductLayout {
+  std::vector<int> state{0}, input{0};  // per agent its first coordinate, then the total
+  explicit ProductLayout(const Problem& problem) {
+    for (const auto& a : problem.agents) {
+      state.push_back(state.back() + a.n());
+      input.push_back(input.back() + a.m());
+    }
+  }
+  int state_dim() const { return state.back(); }
+  int input_dim() const { return input.back(); }
+};
+
 // A plan for the product system: x[0..T] (product states), u[0..T-1] (product inputs).
 struct GlobalPlan {
   double tau = 0.1;

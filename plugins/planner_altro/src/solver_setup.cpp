@@ -11,14 +11,11 @@ namespace marsyn::altro::detail {
 
 void Solver::layout() {
   const auto& ag = prob_.agents;
-  int xo = 0, uo = 0;
-  for (const auto& a : ag) {
-    agents_.push_back({a.dynamics.get(), xo, uo, a.n(), a.m(), 0});
-    xo += a.n();
-    uo += a.m();
-  }
-  n_ = xo;
-  m_ = uo;
+  const ProductLayout at(prob_);
+  for (std::size_t i = 0; i < ag.size(); ++i)
+    agents_.push_back({ag[i].dynamics.get(), at.state[i], at.input[i], ag[i].n(), ag[i].m(), 0});
+  n_ = at.state_dim();
+  m_ = at.input_dim();
   const bool exact = opt_.coupling == "exact" || (opt_.coupling == "auto" && n_ <= opt_.exact_max_states);
   const int N = static_cast<int>(agents_.size());
   for (int i = 0; i < N; ++i) {
