@@ -118,13 +118,26 @@ std::string key_path(const std::string& parent, const std::string& key) {
 // yaml-cpp 0.7 keeps the first of two equal keys silently and turns a complex key into an
 // exception far from the file; walking the tree once after parsing rejects both with the key's
 // location. `budget` bounds the walk: aliases can make a small file expand exponentially.
-void check_tree(const YAML::Node& node, const std::string& file, const std::string& path, long& budget) {
+// `open` holds the nodes being walked, outermost first: yaml-cpp resolves an alias inside its own
+// anchor ('a: &a [x, *a]') to the enclosing node itself, a cycle that any recursive walk (this one,
+// or the loader's) would follow until the stack runs out.
+void check_tree(const YAML::Node& node, const std::string& file, const std::string& path, long& budget,
+                std::vector<YAML::Node>& open) {
+  for (const auto& o : open)
+    if (o.is(node)) {
+      const YAML::Mark m = node.Mark();
+      throw ConfigError(file, m.line + 1, m.column + 1, path,
+                        "an alias that contains itself (its anchor '&' encloses the '*'); a problem file "
+                        "cannot be a cycle");
+    }
   if (--budget < 0) {
     const YAML::Mark m = node.Mark();
     throw ConfigError(file, m.line + 1, m.column + 1, path,
                       "the document expands to more than " + std::to_string(kMaxYamlNodes) +
                           " YAML nodes (aliases repeating large parts?); a problem file is far smaller");
   }
+  if (!node.IsMap() && !node.IsSequence()) return;
+  open.push_back(node);
   if (node.IsMap()) {
     std::vector<std::pair<std::string, YAML::Mark>> seen;
     for (const auto& kv : node) {
@@ -141,12 +154,13 @@ void check_tree(const YAML::Node& node, const std::string& file, const std::stri
                             "duplicate key '" + key + "' (first given at line " + std::to_string(m.line + 1) +
                                 ", column " + std::to_string(m.column + 1) + "); give each key once");
       seen.emplace_back(key, km);
-      check_tree(kv.second, file, key_path(path, key), budget);
+      check_tree(kv.second, file, key_path(path, key), budget, open);
     }
   } else if (node.IsSequence()) {
     std::size_t i = 0;
-    for (const auto& item : node) check_tree(item, file, path + "[" + std::to_string(i++) + "]", budget);
+    for (const auto& item : node) check_tree(item, file, path + "[" + std::to_string(i++) + "]", budget, open);
   }
+  open.pop_back();
 }
 
 }  // namespace
@@ -188,7 +202,8 @@ YAML::Node load_file(const std::string& file) {
   if (docs.empty() || !docs[0].IsDefined() || docs[0].IsNull()) throw ConfigError(file, 0, 0, "", "the file is empty");
   long budget = kMaxYamlNodes;
   try {
-    check_tree(docs[0], file, "", budget);
+    std::vector<YAML::Node> open;
+    check_tree(docs[0], file, "", budget, open);
   } catch (const YAML::Exception& e) {
     throw ConfigError(file, e.mark.line + 1, e.mark.column + 1, "", std::string("malformed YAML: ") + e.msg);
   }
