@@ -13,17 +13,6 @@ std::vector<int> state_offsets(const Problem& problem) { return ProductLayout(pr
 std::vector<int> input_offsets(const Problem& problem) { return ProductLayout(problem).input; }
 
 
-std::string obstacle_name(const Problem& pb, int o, const AgentSpec& a) {
-  const std::string& n = pb.obstacles[static_cast<size_t>(o)].name;
-  return "obstacle " + (n.empty() ? std::to_string(o) : n) + " vs " + a.name;
-}
-std::string collision_name(const AgentSpec& a, const AgentSpec& b) { return "collision " + a.name + " vs " + b.name; }
-std::string formation_name(const AgentSpec& a, const AgentSpec& b) { return "formation " + a.name + " - " + b.name; }
-std::string state_bound_name(const AgentSpec& a, int c) {
-  const std::string coord = a.dynamics ? a.dynamics->state_names()[static_cast<size_t>(c)] : "x" + std::to_string(c);
-  return "state bound " + coord + " of " + a.name;
-}
-
 PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOptions& opt) {
   const int N = static_cast<int>(problem.agents.size());
   if (N == 0) throw std::invalid_argument("marsyn::planning::assemble: the problem has no agents");

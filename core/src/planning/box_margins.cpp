@@ -128,6 +128,20 @@ double box_formation_margin(const Box& a, const Box& b, double lambda, double mu
   return std::min(sub_down(dmin, band_lo), sub_down(band_hi, dmax));
 }
 
+double box_requirement_margin(const Problem& problem, const Requirement& r, const std::vector<Box>& ws) {
+  const Box& a = ws[static_cast<size_t>(r.a)];
+  switch (r.kind) {
+    case Requirement::Obstacle:
+      return box_obstacle_margin(a, problem.obstacles[static_cast<size_t>(r.b)].vertices, problem.delta,
+                                 problem.delta_norm);
+    case Requirement::Collision:
+      return box_pair_margin(a, ws[static_cast<size_t>(r.b)], problem.delta, problem.delta_norm);
+    case Requirement::Formation: break;
+  }
+  const FormationPair& f = problem.formation[static_cast<size_t>(r.index)];
+  return box_formation_margin(a, ws[static_cast<size_t>(r.b)], f.lambda, f.mu);
+}
+
 double box_inside_margin(const Box& box, const Box& X, int coord) {
   double m = kInf;
   const RoundToNearestScope nearest;

@@ -8,8 +8,6 @@
 
 namespace marsyn::planning {
 
-double WorkspaceMargin::two() const { return std::sqrt(x * x + y * y); }
-
 namespace {
 
 WorkspaceMargin linear_margin(const AgentSpec& a) {

@@ -10,6 +10,7 @@
 #include "marsyn/core/planning/flow_enclosure.hpp"
 #include "marsyn/core/planning/geometry.hpp"
 #include "marsyn/core/planning/margins.hpp"
+#include "marsyn/core/planning/spec_margins.hpp"
 #include "marsyn/fast_interval.hpp"
 #include "marsyn/interval.hpp"
 #include "marsyn/sampled_map.hpp"
@@ -69,7 +70,8 @@ void check_between_samples(const Problem& problem, const std::vector<Eigen::Vect
   const auto xo = state_offsets(problem), uo = input_offsets(problem);
   const int N = static_cast<int>(problem.agents.size()), T = static_cast<int>(u.size());
   const int P = kFlowParts;
-  std::vector<std::vector<Box>> ws(N, std::vector<Box>(P, Box{Eigen::VectorXd(2), Eigen::VectorXd(2)}));
+  // ws[s][i]: agent i's workspace box over part s of the current period.
+  std::vector<std::vector<Box>> ws(P, std::vector<Box>(N, Box{Eigen::VectorXd(2), Eigen::VectorXd(2)}));
   std::vector<Box> flow;
   std::vector<Interval> xb, pb(2);
   const bool inf = problem.delta_norm == Norm::Inf;
@@ -118,33 +120,27 @@ void check_between_samples(const Problem& problem, const std::vector<Eigen::Vect
           for (int c = 0; c < 2; ++c) {
             const int at = a.workspace.index[c];
             const double off = a.workspace.offset[c];
-            ws[i][s].lo[c] = at >= 0 ? fast_detail::add_down(grown.lo[at], off) : off;
-            ws[i][s].hi[c] = at >= 0 ? fast_detail::add_up(grown.hi[at], off) : off;
+            ws[s][i].lo[c] = at >= 0 ? fast_detail::add_down(grown.lo[at], off) : off;
+            ws[s][i].hi[c] = at >= 0 ? fast_detail::add_up(grown.hi[at], off) : off;
           }
         } else {
           workspace_point(*a.dynamics, a.workspace, xb.data(), pb.data());
           for (int c = 0; c < 2; ++c) {
-            ws[i][s].lo[c] = pb[c].lower();
-            ws[i][s].hi[c] = pb[c].upper();
+            ws[s][i].lo[c] = pb[c].lower();
+            ws[s][i].hi[c] = pb[c].upper();
           }
         }
-        for (size_t o = 0; o < problem.obstacles.size(); ++o)
-          t.record(box_obstacle_margin(ws[i][s], problem.obstacles[o].vertices, problem.delta, problem.delta_norm), k,
-                   [&] { return obstacle_name(problem, static_cast<int>(o), a); }, size(step[i]));
       }
     }
-    for (int s = 0; s < P; ++s) {
-      if (problem.pairwise_collision)
-        for (int i = 0; i < N; ++i)
-          for (int j = i + 1; j < N; ++j)
-            t.record(box_pair_margin(ws[i][s], ws[j][s], problem.delta, problem.delta_norm), k, [&] {
-              return collision_name(problem.agents[i], problem.agents[j]);
-            }, size(step[i] - step[j]));
-      for (const auto& f : problem.formation)
-        t.record(box_formation_margin(ws[f.i][s], ws[f.j][s], f.lambda, f.mu), k, [&] {
-          return formation_name(problem.agents[f.i], problem.agents[f.j]);
-        }, (step[f.i] - step[f.j]).norm());
-    }
+    auto motion = [&](const Requirement& q) {
+      if (q.kind == Requirement::Obstacle) return size(step[q.a]);
+      const Eigen::Vector2d d = step[q.a] - step[q.b];
+      return q.kind == Requirement::Collision ? size(d) : d.norm();
+    };
+    for (int s = 0; s < P; ++s)
+      for_each_requirement(problem, [&](const Requirement& q) {
+        t.record(box_requirement_margin(problem, q, ws[s]), k, [&] { return q.name(problem); }, motion(q));
+      });
   }
 }
 
@@ -167,59 +163,32 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan) {
         r.max_state_mismatch = std::max(r.max_state_mismatch, (plan.x[k] - x[k]).cwiseAbs().maxCoeff());
 
   const int N = static_cast<int>(problem.agents.size());
-  const bool inf = problem.delta_norm == Norm::Inf;
-  const double delta = problem.delta;
   Tally t, tu;
+  std::vector<Eigen::Vector2d> p(N);
+  std::vector<WorkspaceMargin> m(N);
   for (int k = 0; k <= T; ++k) {
-    std::vector<Eigen::Vector2d> p(N);
-    std::vector<WorkspaceMargin> m(N);
     for (int i = 0; i < N; ++i) {
       const auto& a = problem.agents[i];
       const Eigen::VectorXd xi = x[k].segment(xo[i], a.n());
       m[i] = margin_at(a, xi);
       workspace_point(*a.dynamics, a.workspace, xi.data(), p[i].data());
       const Box X = a.state_bounds.shrunk(a.eps);
-      for (int c = 0; c < a.n(); ++c)
-        t.record(std::min(xi[c] - X.lo[c], X.hi[c] - xi[c]), k, [&] {
-          return state_bound_name(a, c);
-        });
+      for (int c = 0; c < a.n(); ++c) t.record(inside_margin(X, c, xi[c]), k, [&] { return state_bound_name(a, c); });
       if (k < T) {
         const Eigen::VectorXd ui = plan.u[k].segment(uo[i], a.m());
         for (int c = 0; c < a.m(); ++c)
-          tu.record(std::min(ui[c] - a.input_bounds.lo[c], a.input_bounds.hi[c] - ui[c]), k, [&] {
+          tu.record(inside_margin(a.input_bounds, c, ui[c]), k, [&] {
             return "input bound " + a.dynamics->input_names()[c] + " of " + a.name;
           });
       } else {
         const Box G = a.goal.shrunk(a.eps);
         for (int c = 0; c < a.n(); ++c)
-          t.record(std::min(xi[c] - G.lo[c], G.hi[c] - xi[c]), k, [&] {
-            return "goal " + a.dynamics->state_names()[c] + " of " + a.name;
-          });
-      }
-      for (size_t o = 0; o < problem.obstacles.size(); ++o) {
-        const double g = inf ? delta : 0.0;
-        const Polygon grown = grow_by_box(problem.obstacles[o].vertices, m[i].x + g, m[i].y + g);
-        t.record(signed_distance(grown, p[i]) - (inf ? 0.0 : delta), k,
-                 [&] { return obstacle_name(problem, static_cast<int>(o), a); });
+          t.record(inside_margin(G, c, xi[c]), k, [&] { return "goal " + a.dynamics->state_names()[c] + " of " + a.name; });
       }
     }
-    if (problem.pairwise_collision)
-      for (int i = 0; i < N; ++i)
-        for (int j = i + 1; j < N; ++j) {
-          const Eigen::Vector2d d = p[i] - p[j];
-          // Inf-norm: the margin boxes add, and ||d'||_inf >= delta for every d' in
-          // d + box(mx_i + mx_j, my_i + my_j) iff one coordinate clears its sum.
-          const double margin =
-              inf ? std::max(std::abs(d.x()) - (delta + m[i].x + m[j].x), std::abs(d.y()) - (delta + m[i].y + m[j].y))
-                  : d.norm() - (delta + m[i].two() + m[j].two());
-          t.record(margin, k, [&] { return collision_name(problem.agents[i], problem.agents[j]); });
-        }
-    for (const auto& f : problem.formation) {
-      const double len = (p[f.i] - p[f.j]).norm(), slack = m[f.i].two() + m[f.j].two();
-      t.record(std::min(f.lambda + f.mu - slack - len, len - (f.lambda - f.mu + slack)), k, [&] {
-        return formation_name(problem.agents[f.i], problem.agents[f.j]);
-      });
-    }
+    for_each_requirement(problem, [&](const Requirement& q) {
+      t.record(requirement_margin(problem, q, p, &m), k, [&] { return q.name(problem); });
+    });
   }
   r.sampled_margin = t.min_;
   r.min_margin = t.min_;

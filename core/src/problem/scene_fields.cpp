@@ -6,26 +6,16 @@
 #include "agent_fields.hpp"
 #include "field_text.hpp"
 #include "marsyn/core/problem/input_limits.hpp"
-#include "marsyn/core/planning/geometry.hpp"
+#include "marsyn/core/planning/spec_margins.hpp"
 #include "plugin_fields.hpp"
 
 namespace marsyn::loader {
 
-// The real specification at k = 0, with the exact geometry of the robustness check
-// (planning/geometry.hpp): each agent's workspace point at x0 keeps delta from every obstacle and
-// from every other agent. A start violating it can never be planned for.
-double inf_distance(const planning::Polygon& poly, const Eigen::Vector2d& p, double upper) {
-  // The r with p on the boundary of poly grown by the box (r, r): bisection on the exact test.
-  double lo = 0, hi = upper;
-  for (int it = 0; it < 60; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (planning::signed_distance(planning::grow_by_box(poly, mid, mid), p) < 0 ? hi : lo) = mid;
-  }
-  return 0.5 * (lo + hi);
-}
-
 std::string point(const Eigen::Vector2d& p) { return "(" + fmt(p.x()) + ", " + fmt(p.y()) + ")"; }
 
+// The real specification at k = 0, with the exact geometry of the robustness check
+// (planning/spec_margins.hpp): each agent's workspace point at x0 keeps delta from every obstacle and
+// from every other agent. A start violating it can never be planned for.
 void check_start_geometry(const Problem& pb, const std::vector<Field>& x0_fields) {
   const bool inf = pb.delta_norm == Norm::Inf;
   const std::string norm = inf ? "inf-norm" : "Euclidean";
@@ -38,24 +28,22 @@ void check_start_geometry(const Problem& pb, const std::vector<Field>& x0_fields
   for (std::size_t i = 0; i < pb.agents.size(); ++i) {
     const AgentSpec& a = pb.agents[i];
     for (const auto& o : pb.obstacles) {
-      const double inside = planning::signed_distance(o.vertices, p[i]);
+      // The real specification's own margins (spec_margins.hpp), with no tube around x0.
+      const double depth = planning::obstacle_margin(o.vertices, p[i], {}, 0.0, Norm::Two);
+      const double margin = planning::obstacle_margin(o.vertices, p[i], {}, pb.delta, pb.delta_norm);
       const std::string what = "x0 puts " + a.name + "'s workspace point " + point(p[i]);
-      if (inside < 0) x0_fields[i].fail(what + " inside obstacle '" + o.name + "'");
-      const bool near = inf ? planning::signed_distance(planning::grow_by_box(o.vertices, pb.delta, pb.delta), p[i]) < 0
-                            : inside < pb.delta;
-      if (near) {
-        const double d = inf ? inf_distance(o.vertices, p[i], pb.delta) : inside;
-        x0_fields[i].fail(what + " at " + norm + " distance " + fmt(d) + " from obstacle '" + o.name +
+      if (depth < 0) x0_fields[i].fail(what + " inside obstacle '" + o.name + "'");
+      if (margin < 0)
+        x0_fields[i].fail(what + " at " + norm + " distance " + fmt(margin + pb.delta) + " from obstacle '" + o.name +
                           "', less than delta = " + fmt(pb.delta) + " (inside the obstacle grown by delta)");
-      }
     }
   }
   if (!pb.pairwise_collision) return;
   for (std::size_t j = 0; j < pb.agents.size(); ++j)
     for (std::size_t i = 0; i < j; ++i) {
-      const Eigen::Vector2d d = p[j] - p[i];
-      const double dist = inf ? d.cwiseAbs().maxCoeff() : d.norm();
-      if (dist < pb.delta)
+      const double margin = planning::collision_margin(p[j], {}, p[i], {}, pb.delta, pb.delta_norm);
+      const double dist = margin + pb.delta;
+      if (margin < 0)
         x0_fields[j].fail("x0 puts " + pb.agents[j].name + " at " + point(p[j]) + ", " + norm + " distance " + fmt(dist) +
                           " from " + pb.agents[i].name + " at " + point(p[i]) + " (agents[" + std::to_string(i) +
                           "]), less than delta = " + fmt(pb.delta));

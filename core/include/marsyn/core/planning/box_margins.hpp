@@ -4,8 +4,11 @@
 // The continuous-time check of a plan (robust_check) and the certification of the trackers'
 // period enclosures (certification.hpp) both read the spec through these functions, so "the
 // enclosures pass" and "the real spec holds" rest on one evaluator (docs/soundness.md, §10).
+#include <vector>
+
 #include "marsyn/box.hpp"
 #include "marsyn/core/planning/geometry.hpp"
+#include "marsyn/core/planning/spec_margins.hpp"
 #include "marsyn/problem.hpp"
 
 namespace marsyn::planning {
@@ -20,6 +23,9 @@ double box_pair_margin(const Box& a, const Box& b, double delta, Norm norm);
 
 // A lower bound of min(|p - q|_2 - (lambda - mu), (lambda + mu) - |p - q|_2) over p in A, q in B.
 double box_formation_margin(const Box& a, const Box& b, double lambda, double mu);
+
+// One requirement (spec_margins.hpp) on the agents' workspace boxes ws (problem order).
+double box_requirement_margin(const Problem& problem, const Requirement& r, const std::vector<Box>& ws);
 
 // min over coordinates of (box.lo - X.lo, X.hi - box.hi): >= 0 iff the box lies in X; with
 // coord >= 0, that coordinate only.

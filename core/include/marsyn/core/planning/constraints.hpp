@@ -10,6 +10,7 @@
 #include "marsyn/constraint.hpp"
 #include "marsyn/core/planning/geometry.hpp"
 #include "marsyn/core/planning/margins.hpp"
+#include "marsyn/core/planning/spec_margins.hpp"  // the requirements' names
 #include "marsyn/planner.hpp"
 
 namespace marsyn::planning {
@@ -27,13 +28,6 @@ struct AssemblyOptions {
   // the plan (or the trackers' period enclosures) too close between the samples.
   std::map<std::string, double> extra;
 };
-
-// The names of the specification's requirements, one spelling for the planning constraints, the
-// robust check and the certifier: AssemblyOptions::extra is keyed by them, so they must agree.
-std::string obstacle_name(const Problem& problem, int obstacle, const AgentSpec& agent);
-std::string collision_name(const AgentSpec& a, const AgentSpec& b);
-std::string formation_name(const AgentSpec& a, const AgentSpec& b);
-std::string state_bound_name(const AgentSpec& agent, int coordinate);
 
 // First product-state (input) coordinate of each agent; one more entry holds the total.
 std::vector<int> state_offsets(const Problem& problem);

@@ -3,6 +3,7 @@
 // the eps-box around the nominal state. The eps-robust spec grows every workspace constraint by
 // these margins (docs/planning.md, "Margins").
 #include <atomic>
+#include <cmath>
 #include <memory>
 #include <mutex>
 #include <vector>
@@ -17,7 +18,7 @@ namespace marsyn::planning {
 struct WorkspaceMargin {
   double x = 0.0, y = 0.0;
   double inf() const { return x > y ? x : y; }
-  double two() const;
+  double two() const { return std::sqrt(x * x + y * y); }
 };
 
 // A sound bound at one nominal state (exact for the linear map; an interval enclosure of the

@@ -2,6 +2,7 @@
 // Evaluates the *real* global specification (paper eq. 2 and 3, no eps) on simulated product
 // states: goals reached at the final step, obstacles and other agents at least delta away,
 // formation distances within lambda +- mu. Margins are signed: >= 0 satisfied, < 0 violated.
+// The requirements and their formulas are spec_margins.hpp's, the robust check's with no margin.
 #include <string>
 #include <vector>
 
@@ -44,7 +45,7 @@ class SpecMonitor {
   bool accumulate(const Eigen::VectorXd& x, StepMargins& running) const;
 
  private:
-  Eigen::Vector2d point(int agent, const Eigen::VectorXd& x) const;
+  void points(const Eigen::VectorXd& x, std::vector<Eigen::Vector2d>& p) const;  // the agents' workspace points
   const Problem& problem_;
   std::vector<int> offset_;
   std::vector<Eigen::Vector4d> bbox_;  // per obstacle: x_lo, y_lo, x_hi, y_hi

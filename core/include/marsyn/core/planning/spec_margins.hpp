@@ -1,0 +1,78 @@
+#pragma once
+// The global specification's requirements, once: which ones there are (each agent against each
+// obstacle, each pair of agents, each formation pair), their names, and their signed margins
+// (>= 0: met) at workspace points that may each move within a box around them. The eps-robust
+// check passes each agent's WorkspaceMargin (how far its point moves inside the eps-box of its
+// state); the verifier and the loader's start check pass none, which is the real specification
+// (paper eq. 2 and 3). "The robust plan implies the real spec" therefore rests on one formula
+// per requirement, with the margin box as its only difference.
+//
+// The same requirements on boxes of points, as sound lower bounds with rounding included (period
+// enclosures, the continuous nominal), are box_margins.hpp's: a point evaluator reports exact
+// depths of violations, a box evaluator only proves the requirement.
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "marsyn/core/planning/geometry.hpp"
+#include "marsyn/core/planning/margins.hpp"
+#include "marsyn/problem.hpp"
+
+namespace marsyn::planning {
+
+// The names of the specification's requirements, one spelling for the planning constraints, the
+// robust check, the verifier and the certifier: AssemblyOptions::extra is keyed by them, so they must agree.
+std::string obstacle_name(const Problem& problem, int obstacle, const AgentSpec& agent);
+std::string collision_name(const AgentSpec& a, const AgentSpec& b);
+std::string formation_name(const AgentSpec& a, const AgentSpec& b);
+std::string state_bound_name(const AgentSpec& agent, int coordinate);
+
+struct Requirement {
+  enum Kind { Obstacle, Collision, Formation } kind;
+  int a = 0;      // the agent (obstacle), the first agent (collision, formation)
+  int b = 0;      // the obstacle's index (obstacle), the second agent (collision, formation)
+  int index = 0;  // the formation pair's index in problem.formation (formation only)
+
+  std::string name(const Problem& problem) const;  // "obstacle wall vs drone1", "collision a vs b", ...
+};
+
+// Every workspace requirement of the problem once, always in this order: obstacles agent by
+// agent, then pairs i < j (when pairwise collision is on), then the formation pairs.
+template <class Visit>
+void for_each_requirement(const Problem& problem, Visit&& visit) {
+  const int n = static_cast<int>(problem.agents.size());
+  for (int i = 0; i < n; ++i)
+    for (int o = 0; o < static_cast<int>(problem.obstacles.size()); ++o) visit(Requirement{Requirement::Obstacle, i, o});
+  if (problem.pairwise_collision)
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j) visit(Requirement{Requirement::Collision, i, j});
+  for (int q = 0; q < static_cast<int>(problem.formation.size()); ++q)
+    visit(Requirement{Requirement::Formation, problem.formation[q].i, problem.formation[q].j, q});
+}
+
+// d(P grown by the box (m.x, m.y), p) - delta in the problem's norm, signed (negative inside):
+// >= 0 iff every point of p's box keeps delta from the obstacle (for convex P, exactly).
+double obstacle_margin(const Polygon& obstacle, const Eigen::Vector2d& p, const WorkspaceMargin& m, double delta,
+                       Norm norm);
+
+// The smallest ||p' - q'|| - delta over p' in p's box and q' in q's box (inf-norm exact; 2-norm:
+// the boxes' circumscribed discs).
+double collision_margin(const Eigen::Vector2d& p, const WorkspaceMargin& mp, const Eigen::Vector2d& q,
+                        const WorkspaceMargin& mq, double delta, Norm norm);
+
+// (mu - slack) - | |p - q|_2 - lambda |, slack the two boxes' circumscribed radii: >= 0 keeps
+// every pair of points of the boxes within lambda +- mu.
+double formation_margin(const Eigen::Vector2d& p, const WorkspaceMargin& mp, const Eigen::Vector2d& q,
+                        const WorkspaceMargin& mq, double lambda, double mu);
+
+// One requirement at the agents' points p (problem order); m: their margin boxes, or nullptr for
+// the real specification.
+double requirement_margin(const Problem& problem, const Requirement& r, const std::vector<Eigen::Vector2d>& p,
+                          const std::vector<WorkspaceMargin>* m = nullptr);
+
+// min(v - box.lo[c], box.hi[c] - v): how far coordinate c of a state keeps inside a box (goal,
+// state bounds; shrink the box by eps for the robust version).
+inline double inside_margin(const Box& box, int c, double v) { return std::min(v - box.lo[c], box.hi[c] - v); }
+
+}  // namespace marsyn::planning
