@@ -18,7 +18,7 @@
 
 #include "marsyn/core/verification/closed_loop.hpp"
 #include "marsyn/core/problem/config_error.hpp"
-#include "marsyn/core/planning/plan_file.hpp"
+#include "marsyn/core/planning/plan_io.hpp"
 #include "marsyn/core/plugins/plugin_registry.hpp"
 #include "marsyn/core/problem/problem_loader.hpp"
 #include "marsyn/core/problem/problem_summary.hpp"
@@ -130,7 +130,7 @@ py::dict nominal_dict(const Problem& pb, const std::vector<NominalTrajectory>& n
 // plan.json path; None means "plan now" where the caller allows it.
 std::vector<NominalTrajectory> nominal_from(const Problem& pb, const py::object& plan) {
   if (py::isinstance<py::str>(plan) || py::hasattr(plan, "__fspath__"))
-    return read_plan_json(py::str(py::module_::import("os").attr("fspath")(plan)).cast<std::string>(), pb);
+    return planning::read_plan_json(py::str(py::module_::import("os").attr("fspath")(plan)).cast<std::string>(), pb);
   if (!py::isinstance<py::dict>(plan)) throw py::type_error("plan: expected a dict from marsyn.plan/solve or a plan.json path");
   py::dict d = plan.cast<py::dict>();
   if (d.contains("nominal") && py::isinstance<py::dict>(d["nominal"])) d = d["nominal"].cast<py::dict>();  // solve()

@@ -21,7 +21,7 @@
 #include "marsyn/core/report/solve_outputs.hpp"
 #include "marsyn/core/solve.hpp"
 #include "marsyn/core/report/output_folder.hpp"
-#include "marsyn/core/planning/plan_file.hpp"
+#include "marsyn/core/planning/plan_io.hpp"
 #include "marsyn/core/planning/plan.hpp"
 #include "marsyn/core/problem/problem_loader.hpp"
 #include "marsyn/core/verification/spec_monitor.hpp"
@@ -125,7 +125,7 @@ std::vector<NominalTrajectory> nominal_for(const LoadedProblem& lp, const std::s
     log_line("[plan] straight line from x0 to the goal centre (ignores the dynamics, paper Sec. 3.5)");
     return straight_line(lp.problem);
   }
-  if (!plan_file.empty()) return read_plan_json(plan_file, lp.problem);
+  if (!plan_file.empty()) return planning::read_plan_json(plan_file, lp.problem);
   log_line("[plan] no --plan given: planning first with " + lp.problem.planner.name);
   auto planner = lp.registry->create<Planner>(lp.problem.planner.name, lp.problem.planner.params);
   const auto warm = warm_start_planner(lp);
@@ -344,7 +344,7 @@ int run_simulate(const std::string& config, const std::string& controllers_dir, 
     throw ConfigError("command line", 0, 0, "--disturbance", e.what());
   }
   const std::string plan_path = (fs::path(controllers_dir) / "plan.json").string();
-  const auto nominal = read_plan_json(plan_path, pb);
+  const auto nominal = planning::read_plan_json(plan_path, pb);
   // Each agent's controller, read back by the agent's own tracker.
   TrackerInstances trackers(lp.registry);
   const std::vector<std::shared_ptr<const Controller>> ctrls = read_agent_controllers(pb, trackers, controllers_dir);

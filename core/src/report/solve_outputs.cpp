@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "marsyn/core/planning/plan.hpp"
+#include "marsyn/core/planning/plan_io.hpp"
 #include "marsyn/core/report/output_folder.hpp"
 #include "marsyn/core/report/report_html.hpp"
 #include "marsyn/core/report/result_json.hpp"

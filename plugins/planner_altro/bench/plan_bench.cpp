@@ -9,7 +9,7 @@
 #include <iostream>
 
 #include "altro_solver.hpp"
-#include "marsyn/core/planning/plan.hpp"
+#include "marsyn/core/planning/plan_io.hpp"
 #include "plan_scenarios.hpp"
 
 namespace {

@@ -59,14 +59,6 @@ struct PlanOutcome {
 // throws std::invalid_argument for an inconsistent problem.
 PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearchOptions& options = {});
 
-// plan.json: problem name, horizon, tau, feasible, solver status, timings, iterations, violation,
-// smallest robust margin (and where), attempts, and per agent its states and inputs.
-void write_plan_json(const std::string& path, const Problem& problem, const PlanOutcome& outcome);
-
-// One CSV per agent, DIR/<agent>.csv: k, t, state names..., input names... (no inputs at k = T).
-// Returns the files written.
-std::vector<std::string> write_agent_csvs(const std::string& dir, const Problem& problem, const PlanOutcome& outcome);
-
 // A one-screen human summary.
 std::string summary(const Problem& problem, const PlanOutcome& outcome);
 
