@@ -6,7 +6,8 @@
 //   - the parsing: Params -> Options, members read in declaration order;
 //   - the checks: a Rule on the value (require) or any check on the options (check), run right
 //     after the value is read, or after every value is read (require_last, check_last: for
-//     cross-parameter rules, or a rule reported after the other parameters' rules).
+//     cross-parameter rules, or a rule reported after the other parameters' rules);
+//   - listed_as: the default's text in the listing where the member's value does not say it.
 // The type comes from the member (bool, int, long, double, std::string, std::vector<double>).
 // Integer ranges are also enforced by the loader from the declared range text (problem_loader).
 //
@@ -29,6 +30,7 @@
 #include <charconv>
 #include <deque>
 #include <functional>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <type_traits>
@@ -102,6 +104,7 @@ class ParamSet {
     std::function<void(const Params&, Options&)> read;
     std::function<std::string(const Options&, NumberText)> text;
     std::vector<Check> now, last;
+    std::optional<std::string> listed;  // listed_as(): the default's text in the listing
   };
 
  public:
@@ -128,6 +131,12 @@ class ParamSet {
     }
     Declared& check_last(Check c) {
       d_.last.push_back(std::move(c));
+      return *this;
+    }
+    // The default as the listing writes it, where the member's initial value does not say what
+    // it means (an empty list standing for "0.1 eps"). The parsing still starts from the member.
+    Declared& listed_as(std::string text) {
+      d_.listed = std::move(text);
       return *this;
     }
 
@@ -177,7 +186,7 @@ class ParamSet {
     std::vector<ParamSpec> out;
     for (const auto& d : decls_) {
       ParamSpec s = d.spec;
-      s.default_value = d.text(defaults, numbers_);
+      s.default_value = d.listed ? *d.listed : d.text(defaults, numbers_);
       out.push_back(std::move(s));
     }
     return out;

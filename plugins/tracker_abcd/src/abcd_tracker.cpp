@@ -8,48 +8,74 @@
 
 #include "controller_file.hpp"
 #include "marsyn/memory_budget.hpp"
+#include "marsyn/param_set.hpp"
 
 namespace marsyn::abcd {
 
-AbcdTracker::AbcdTracker(const Params& p) {
-  base_.successor.substeps = static_cast<int>(p.integer("substeps", 2));
-  base_.successor.taylor_terms = static_cast<int>(p.integer("taylor_terms", 10));
-  base_.successor.picard_iterations = static_cast<int>(p.integer("picard_iterations", 12));
-  base_.prefilter = p.boolean("prefilter", true);
-  base_.prefilter_substeps = static_cast<int>(p.integer("prefilter_substeps", 2));
-  threads_ = static_cast<int>(p.integer("threads", 0));
-  base_.enclosure_substeps = static_cast<int>(p.integer("enclosure_substeps", 8));
-  if (base_.enclosure_substeps < 1 || base_.enclosure_substeps > SuccessorBox::kMaxEncloseSubsteps)
-    throw ParamError("enclosure_substeps", "expected an integer in [1, 64]");
-  base_.enclosure_block = static_cast<int>(p.integer("enclosure_block", 4));
-  if (base_.enclosure_block < 1 || base_.enclosure_block > 64) throw ParamError("enclosure_block", "expected an integer in [1, 64]");
-  if (base_.successor.substeps < 1 || base_.successor.substeps > 1000)
-    throw ParamError("substeps", "expected an integer in [1, 1000]");
-  if (base_.successor.taylor_terms < 4 || base_.successor.taylor_terms > 16)
-    throw ParamError("taylor_terms", "expected an integer in [4, 16]");
-  if (base_.successor.picard_iterations < 1 || base_.successor.picard_iterations > 100)
-    throw ParamError("picard_iterations", "expected an integer in [1, 100]");
-  if (base_.prefilter_substeps < 1 || base_.prefilter_substeps > 1000)
-    throw ParamError("prefilter_substeps", "expected an integer in [1, 1000]");
-  if (threads_ < 0 || threads_ > 256) throw ParamError("threads", "expected an integer in [0, 256]");
+namespace {
+
+// When a range is checked: as soon as its value is read, or after every value is read.
+enum class Checked { on_read, last };
+
+// An integer parameter in [lo, hi]: the listed range "[lo, hi]" and the message "expected an
+// integer in [lo, hi]" come from the one pair.
+void integer_in(ParamSet<AbcdOptions>& s, std::string name, int AbcdOptions::*member, int lo, int hi, std::string doc,
+                Checked when) {
+  const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  auto d = s.add(std::move(name), member, range, std::move(doc));
+  const Rule<int> within{[lo, hi](const int& v) { return v >= lo && v <= hi; }, "expected an integer in " + range};
+  if (when == Checked::last) d.require_last(within);
+  else d.require(within);
 }
 
-std::vector<ParamSpec> AbcdTracker::param_specs() {
-  return {
-      {"substeps", ParamType::Int, "2", "[1, 1000]",
-       "substeps of the sound enclosure over one sampling period (more: tighter boxes, slower)"},
-      {"taylor_terms", ParamType::Int, "10", "[4, 16]", "matrix-exponential series terms before the rigorous tail bound"},
-      {"picard_iterations", ParamType::Int, "12", "[1, 100]", "a priori enclosure attempts before an input is dropped"},
-      {"prefilter", ParamType::Bool, "true", "true|false",
-       "skip inputs whose RK4 centre image leaves the next tube before computing their box (work only)"},
-      {"prefilter_substeps", ParamType::Int, "2", "[1, 1000]", "RK4 substeps of the prefilter's centre image"},
-      {"threads", ParamType::Int, "0", "[0, 256]", "worker threads; 0: the run's thread option"},
-      {"enclosure_substeps", ParamType::Int, "8", "[1, 64]",
-       "boxes per sampling period enclosing the closed loop between samples (continuous-time guarantee; more: tighter)"},
-      {"enclosure_block", ParamType::Int, "4", "[1, 64]",
-       "cells per block enclosed together between samples, along coordinates the field reads (fewer: tighter, slower)"},
-  };
+ParamSet<AbcdOptions> declare() {
+  using O = AbcdOptions;
+  // The enclosure's two ranges are checked as soon as each is read, the others after every
+  // value is read: the order the messages have always come in.
+  constexpr Checked on_read = Checked::on_read, last = Checked::last;
+  ParamSet<O> s;
+  integer_in(s, "substeps", &O::substeps, 1, 1000,
+             "substeps of the sound enclosure over one sampling period (more: tighter boxes, slower)", last);
+  integer_in(s, "taylor_terms", &O::taylor_terms, 4, 16, "matrix-exponential series terms before the rigorous tail bound",
+             last);
+  integer_in(s, "picard_iterations", &O::picard_iterations, 1, 100,
+             "a priori enclosure attempts before an input is dropped", last);
+  s.add("prefilter", &O::prefilter, "true|false",
+        "skip inputs whose RK4 centre image leaves the next tube before computing their box (work only)");
+  integer_in(s, "prefilter_substeps", &O::prefilter_substeps, 1, 1000, "RK4 substeps of the prefilter's centre image",
+             last);
+  integer_in(s, "threads", &O::threads, 0, 256, "worker threads; 0: the run's thread option", last);
+  integer_in(s, "enclosure_substeps", &O::enclosure_substeps, 1, SuccessorBox::kMaxEncloseSubsteps,
+             "boxes per sampling period enclosing the closed loop between samples (continuous-time guarantee; more: "
+             "tighter)",
+             on_read);
+  integer_in(s, "enclosure_block", &O::enclosure_block, 1, 64,
+             "cells per block enclosed together between samples, along coordinates the field reads (fewer: tighter, "
+             "slower)",
+             on_read);
+  return s;
 }
+
+const ParamSet<AbcdOptions>& declared() {
+  static const ParamSet<AbcdOptions> set = declare();
+  return set;
+}
+
+}  // namespace
+
+AbcdTracker::AbcdTracker(const Params& p) {
+  const AbcdOptions o = declared().parse(p);
+  base_.successor.substeps = o.substeps;
+  base_.successor.taylor_terms = o.taylor_terms;
+  base_.successor.picard_iterations = o.picard_iterations;
+  base_.prefilter = o.prefilter;
+  base_.prefilter_substeps = o.prefilter_substeps;
+  threads_ = o.threads;
+  base_.enclosure_substeps = o.enclosure_substeps;
+  base_.enclosure_block = o.enclosure_block;
+}
+
+std::vector<ParamSpec> AbcdTracker::param_specs() { return declared().specs(); }
 
 SynthesisOptions AbcdTracker::options_for(const TrackOptions& o) const {
   SynthesisOptions s = base_;

@@ -28,6 +28,19 @@ inline CellBounds x0_cell(const AgentSpec& a, int i) {
   return {cell_lo, cell_lo + a.eta_x[i]};
 }
 
+// The tracker's parameters with their defaults, each declared once in abcd_tracker.cpp
+// (marsyn/param_set.hpp): the listing, the parsing and the range checks read that declaration.
+struct AbcdOptions {
+  int substeps = 2;
+  int taylor_terms = 10;
+  int picard_iterations = 12;
+  bool prefilter = true;
+  int prefilter_substeps = 2;
+  int threads = 0;  // 0: TrackOptions::threads decides
+  int enclosure_substeps = 8;
+  int enclosure_block = 4;
+};
+
 class AbcdTracker : public marsyn::Tracker {
  public:
   explicit AbcdTracker(const Params& p = {});
@@ -50,7 +63,7 @@ class AbcdTracker : public marsyn::Tracker {
 
  private:
   SynthesisOptions base_;
-  int threads_ = 0;  // 0: TrackOptions::threads decides
+  int threads_;  // AbcdOptions::threads
 };
 
 }  // namespace marsyn::abcd

@@ -6,6 +6,7 @@
 
 #include "lqr.hpp"
 #include "marsyn/dual.hpp"
+#include "marsyn/param_set.hpp"
 
 namespace marsyn::funnel {
 namespace {
@@ -17,64 +18,73 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 // tried in turn: stiffer feedback (smaller R) contracts more, softer saturates less.
 constexpr double kInputWeightLadder[] = {1.0, 0.1, 10.0, 0.01, 100.0};
 
-int checked_int(const Params& p, const char* name, long def, long lo, long hi) {
-  const long v = p.integer(name, def);
-  if (v < lo || v > hi)
-    throw ParamError(name, "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
-                               std::to_string(v));
-  return static_cast<int>(v);
+// An integer parameter in [lo, hi], checked as soon as it is read (before it is narrowed): the
+// listed range "[lo, hi]" and the message "expected an integer in [lo, hi], got v" come from
+// the one pair.
+ParamSet<FunnelSettings>::Declared<long> integer_in(ParamSet<FunnelSettings>& s, const std::string& name,
+                                                    long FunnelSettings::*member, long lo, long hi, std::string doc) {
+  const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  auto d = s.add(name, member, range, std::move(doc));
+  d.check([name, member, lo, hi, range](const FunnelSettings& o) {
+    const long v = o.*member;
+    if (v < lo || v > hi) throw ParamError(name, "expected an integer in " + range + ", got " + std::to_string(v));
+  });
+  return d;
 }
 
-double checked_positive(const Params& p, const char* name, double def) {
-  const double v = p.real(name, def);
-  if (!(v > 0) || !std::isfinite(v)) throw ParamError(name, "expected a positive number");
-  return v;
+// A weight: positive and finite, checked as soon as it is read.
+void weight(ParamSet<FunnelSettings>& s, std::string name, double FunnelSettings::*member, std::string doc) {
+  s.add(std::move(name), member, "(0, inf)", std::move(doc))
+      .require({[](const double& v) { return v > 0 && std::isfinite(v); }, "expected a positive number"});
+}
+
+ParamSet<FunnelSettings> declare() {
+  using O = FunnelSettings;
+  ParamSet<O> s;
+  integer_in(s, "substeps", &O::substeps, 1, 1024,
+             "enclosure steps per sampling period, a multiple of enclosure_substeps (more: tighter, slower)");
+  // Reported under substeps, right after enclosure_substeps is read.
+  integer_in(s, "enclosure_substeps", &O::parts, 1, 64,
+             "boxes per sampling period enclosing the closed loop between samples (continuous-time guarantee)")
+      .check([](const O& o) {
+        if (o.substeps % o.parts != 0)
+          throw ParamError("substeps", "expected a multiple of enclosure_substeps (" + std::to_string(o.parts) + "), got " +
+                                           std::to_string(o.substeps));
+      });
+  integer_in(s, "picard_iterations", &O::picard_iterations, 1, 100, "a priori enclosure attempts per enclosure step");
+  integer_in(s, "max_generators", &O::max_generators, 0, 1000,
+             "zonotope generators kept before order reduction; 0: 3 (n + m)");
+  // Its length (the state dimension) is checked per agent (assess, track).
+  s.add("initial_radius", &O::initial_radius, "[0, eps)",
+        "half-widths of the initial box around x0 (one per state); empty: initial_fraction x eps")
+      .listed_as("0.1 eps")
+      .require({[](const std::vector<double>& radii) {
+                  for (double r : radii)
+                    if (!(r >= 0) || !std::isfinite(r)) return false;
+                  return true;
+                },
+                "expected non-negative numbers"});
+  s.add("initial_fraction", &O::initial_fraction, "[0, 1)", "initial box half-width as a fraction of eps")
+      .require({[](const double& v) { return v >= 0 && v < 1; }, "expected a number in [0, 1)"});
+  weight(s, "state_weight", &O::state_weight, "LQR state weight, times 1 / eps_i^2 (Bryson's rule)");
+  weight(s, "input_weight", &O::input_weight, "LQR input weight, times 1 / (half the input range)^2 (Bryson's rule)");
+  weight(s, "terminal_weight", &O::terminal_weight, "terminal cost P_T = terminal_weight Q");
+  s.add("weight_search", &O::weight_search, "true|false",
+        "when the weights give no verified funnel, try input weights x 0.1, 10, 0.01, 100 in turn");
+  integer_in(s, "rk4_substeps", &O::rk4_substeps, 1, 1000, "RK4 substeps of the sampled map linearized for the gains");
+  return s;
+}
+
+const ParamSet<FunnelSettings>& declared() {
+  static const ParamSet<FunnelSettings> set = declare();
+  return set;
 }
 
 }  // namespace
 
-FunnelTracker::FunnelTracker(const Params& p) {
-  s_.substeps = checked_int(p, "substeps", 16, 1, 1024);
-  s_.parts = checked_int(p, "enclosure_substeps", 8, 1, 64);
-  if (s_.substeps % s_.parts != 0)
-    throw ParamError("substeps", "expected a multiple of enclosure_substeps (" + std::to_string(s_.parts) + "), got " +
-                                     std::to_string(s_.substeps));
-  s_.picard_iterations = checked_int(p, "picard_iterations", 20, 1, 100);
-  s_.max_generators = checked_int(p, "max_generators", 0, 0, 1000);
-  s_.initial_radius = p.reals("initial_radius", {});
-  for (double r : s_.initial_radius)
-    if (!(r >= 0) || !std::isfinite(r)) throw ParamError("initial_radius", "expected non-negative numbers");
-  s_.initial_fraction = p.real("initial_fraction", 0.1);
-  if (!(s_.initial_fraction >= 0 && s_.initial_fraction < 1))
-    throw ParamError("initial_fraction", "expected a number in [0, 1)");
-  s_.state_weight = checked_positive(p, "state_weight", 1.0);
-  s_.input_weight = checked_positive(p, "input_weight", 1.0);
-  s_.terminal_weight = checked_positive(p, "terminal_weight", 1.0);
-  s_.weight_search = p.boolean("weight_search", true);
-  s_.rk4_substeps = checked_int(p, "rk4_substeps", 4, 1, 1000);
-}
+FunnelTracker::FunnelTracker(const Params& p) : s_(declared().parse(p)) {}
 
-std::vector<ParamSpec> FunnelTracker::param_specs() {
-  return {
-      {"substeps", ParamType::Int, "16", "[1, 1024]",
-       "enclosure steps per sampling period, a multiple of enclosure_substeps (more: tighter, slower)"},
-      {"enclosure_substeps", ParamType::Int, "8", "[1, 64]",
-       "boxes per sampling period enclosing the closed loop between samples (continuous-time guarantee)"},
-      {"picard_iterations", ParamType::Int, "20", "[1, 100]", "a priori enclosure attempts per enclosure step"},
-      {"max_generators", ParamType::Int, "0", "[0, 1000]",
-       "zonotope generators kept before order reduction; 0: 3 (n + m)"},
-      {"initial_radius", ParamType::RealVector, "0.1 eps", "[0, eps)",
-       "half-widths of the initial box around x0 (one per state); empty: initial_fraction x eps"},
-      {"initial_fraction", ParamType::Real, "0.1", "[0, 1)", "initial box half-width as a fraction of eps"},
-      {"state_weight", ParamType::Real, "1", "(0, inf)", "LQR state weight, times 1 / eps_i^2 (Bryson's rule)"},
-      {"input_weight", ParamType::Real, "1", "(0, inf)",
-       "LQR input weight, times 1 / (half the input range)^2 (Bryson's rule)"},
-      {"terminal_weight", ParamType::Real, "1", "(0, inf)", "terminal cost P_T = terminal_weight Q"},
-      {"weight_search", ParamType::Bool, "true", "true|false",
-       "when the weights give no verified funnel, try input weights x 0.1, 10, 0.01, 100 in turn"},
-      {"rk4_substeps", ParamType::Int, "4", "[1, 1000]", "RK4 substeps of the sampled map linearized for the gains"},
-  };
-}
+std::vector<ParamSpec> FunnelTracker::param_specs() { return declared().specs(); }
 
 TrackerAssessment FunnelTracker::assess(const AgentSpec& a, int horizon, double tau) const {
   TrackerAssessment r;

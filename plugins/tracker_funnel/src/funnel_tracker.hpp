@@ -11,16 +11,19 @@
 
 namespace marsyn::funnel {
 
+// The tracker's parameters with their defaults, each declared once in funnel_tracker.cpp
+// (marsyn/param_set.hpp): the listing, the parsing and the checks read that declaration. The
+// integers are long, as written in the config, so that a range is checked before narrowing.
 struct FunnelSettings {
-  int substeps = 16;
-  int parts = 8;
-  int picard_iterations = 20;
-  int max_generators = 0;
+  long substeps = 16;
+  long parts = 8;  // the parameter enclosure_substeps
+  long picard_iterations = 20;
+  long max_generators = 0;
   std::vector<double> initial_radius;  // empty: initial_fraction * eps
   double initial_fraction = 0.1;
   double state_weight = 1.0, input_weight = 1.0, terminal_weight = 1.0;
   bool weight_search = true;
-  int rk4_substeps = 4;
+  long rk4_substeps = 4;
 };
 
 class FunnelTracker : public marsyn::Tracker {
