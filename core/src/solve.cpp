@@ -1,6 +1,5 @@
 #include "marsyn/core/solve.hpp"
 
-#include <chrono>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -9,12 +8,11 @@
 #include "marsyn/core/tracking/mpi_plan_broadcast.hpp"
 #include "marsyn/core/tracking/global_abcd.hpp"
 #include "marsyn/core/tracking/track_agents.hpp"
+#include "marsyn/core/stopwatch.hpp"
 
 namespace marsyn {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 std::string vec(const Eigen::VectorXd& v) {
   std::ostringstream s;
@@ -34,7 +32,7 @@ std::string agent_parameters(const AgentSpec& a) {
 }  // namespace
 
 SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
-  const auto t_start = Clock::now();
+  const Stopwatch t_start;
   const PluginRegistry& reg = *loaded.registry;
   SolveOutcome out;
   out.problem = loaded.problem;
@@ -72,11 +70,11 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
     opt.cluster->broadcast(b, 0);
     return b.at(0) != 0;
   };
-  for (int iter = 0; iter < opt.max_outer_iterations && rank0_says(since(t_start) < opt.time_limit_s); ++iter) {
+  for (int iter = 0; iter < opt.max_outer_iterations && rank0_says(t_start.seconds() < opt.time_limit_s); ++iter) {
     if (replan) {
     // 1. Plan (the planning stage lengthens the horizon itself when T fails).
     planning::PlanSearchOptions po;
-    po.time_limit_s = std::max(1.0, opt.time_limit_s - since(t_start));
+    po.time_limit_s = std::max(1.0, opt.time_limit_s - t_start.seconds());
     po.log = [&](const std::string& s) { log("[plan] " + s); };
     po.warm_start_planner = warm_planner.get();
     po.assembly.extra = plan_extra;
@@ -114,7 +112,7 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
 
     }
     // 2-3. Project and track every agent.
-    const auto t_track = Clock::now();
+    const Stopwatch t_track;
     out.agents = track_agents(pb, out.plan.nominal, instances.for_agents(pb), opt);
     all_tracked = true;
     std::vector<int> failed;
@@ -128,7 +126,7 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
         failed.push_back(static_cast<int>(i));
       }
     }
-    log("[track] all agents in " + std::to_string(since(t_track)) + " s");
+    log("[track] all agents in " + std::to_string(t_track.seconds()) + " s");
     if (all_tracked) {
       if (pb.guarantee == Guarantee::Sampled) break;
       // 4. Certify the spec on the period enclosures (continuous time).
@@ -242,7 +240,7 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
     // guarantee (and, in continuous time, on the certificate above).
     out.failure = out.verified ? "" : "verification found violations (a soundness bug): " + out.verification.worst;
   }
-  out.total_time_s = since(t_start);
+  out.total_time_s = t_start.seconds();
   return out;
 }
 

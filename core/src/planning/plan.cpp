@@ -1,20 +1,16 @@
 #include "marsyn/core/planning/plan.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <optional>
 #include <sstream>
 
 #include "marsyn/core/planning/projector.hpp"
+#include "marsyn/core/stopwatch.hpp"
 
 namespace marsyn::planning {
 
 namespace {
-
-double now_s() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 // Solvers meet bounds only to their tolerance; clamping keeps U exact and the assembly buffer
 // absorbs the resulting state change.
@@ -46,7 +42,7 @@ GlobalPlan extend(const Problem& problem, const GlobalPlan& p, int horizon) {
 
 // The horizon search of one planner: T, then longer horizons, each warm-started from the last.
 PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSearchOptions& options,
-                   std::optional<GlobalPlan> warm, double t0) {
+                   std::optional<GlobalPlan> warm, const Stopwatch& clock) {
   PlanOutcome best;
   best.check.min_margin = -std::numeric_limits<double>::infinity();
   int horizon = problem.horizon;
@@ -59,7 +55,7 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
   int margin_retries = 0;
   constexpr int kMaxMarginRetries = 5;
   for (int attempt = 0; attempt < std::max(1, options.max_attempts) + margin_retries; ++attempt) {
-    const double left = options.time_limit_s - (now_s() - t0);
+    const double left = options.time_limit_s - clock.seconds();
     if (attempt > 0 && left <= 0) {
       if (options.log) options.log("time limit reached: no further horizons tried");
       break;
@@ -134,12 +130,12 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
 }  // namespace
 
 PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearchOptions& options) {
-  const double t0 = now_s();
+  const Stopwatch clock;
   std::optional<GlobalPlan> warm = options.warm_start;
   if (warm && warm->u.empty()) warm.reset();
   PlanOutcome first;
   if (options.warm_start_planner) {
-    first = search(problem, *options.warm_start_planner, options, warm, t0);
+    first = search(problem, *options.warm_start_planner, options, warm, clock);
     if (!first.plan.u.empty()) warm = first.plan;
     if (options.log)
       options.log(options.warm_start_planner->name() + " -> " + planner.name() + ": " +
@@ -147,7 +143,7 @@ PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearc
                                         : std::string(first.feasible ? "robust" : "best non-robust") + " plan (T = " +
                                               std::to_string(first.horizon) + ") as the warm start"));
   }
-  PlanOutcome best = search(problem, planner, options, warm, t0);
+  PlanOutcome best = search(problem, planner, options, warm, clock);
   if (options.warm_start_planner) {
     std::vector<PlanAttempt> all = first.attempts;
     all.insert(all.end(), best.attempts.begin(), best.attempts.end());
@@ -160,7 +156,7 @@ PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearc
     best.attempts = std::move(all);
   }
   if (!best.plan.u.empty()) best.nominal = ProductProjector().project(problem, best.plan);
-  best.total_time_s = now_s() - t0;
+  best.total_time_s = clock.seconds();
   return best;
 }
 

@@ -1,11 +1,11 @@
 #include "marsyn/core/tracking/global_abcd.hpp"
 
-#include <chrono>
 #include <cmath>
 #include <memory>
 
 #include "marsyn/core/tracking/product_dynamics.hpp"
 #include "marsyn/scalar.hpp"
+#include "marsyn/core/stopwatch.hpp"
 
 namespace marsyn {
 namespace {
@@ -55,7 +55,7 @@ std::function<bool(const double*, const double*)> product_unsafe(const Problem& 
 }
 
 GlobalAbcdRun run_global_abcd(const Problem& pb, const Tracker& tracker, int threads, double budget) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const Stopwatch clock;
   GlobalAbcdRun run;
   ReachAvoidProblem rp;
   rp.dynamics = std::make_shared<ProductDynamics>(pb.agents);
@@ -97,7 +97,7 @@ GlobalAbcdRun run_global_abcd(const Problem& pb, const Tracker& tracker, int thr
   } else {
     run.status = std::string(to_string(r.status)) + (r.message.empty() ? "" : ": " + r.message);
   }
-  run.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  run.time_s = clock.seconds();
   return run;
 }
 

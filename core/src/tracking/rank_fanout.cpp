@@ -3,7 +3,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <numeric>
@@ -13,14 +12,13 @@
 #include "marsyn/core/tracking/tracker_choice.hpp"
 #include "mpi_bytes.hpp"
 #include "marsyn/core/tracking/sweep_progress.hpp"
+#include "marsyn/core/stopwatch.hpp"
 
 namespace fs = std::filesystem;
 
 namespace marsyn {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 void put_stats(mpi::ByteWriter& w, const TrackerStats& s) {
   w.put(s.tube_cells);
@@ -151,7 +149,7 @@ std::vector<AgentOutcome> track_agents_over_ranks(const Problem& pb, const std::
   // 1. The heavy agents, one after the other, each over every rank. An exception here ends the
   // run (the CLI aborts every rank): the other ranks would wait for this one forever.
   for (int i : as.split) {
-    const auto t0 = Clock::now();
+    const Stopwatch t0;
     TrackOptions topt;
     topt.threads = opt.threads;
     topt.collective = &world;
@@ -163,7 +161,7 @@ std::vector<AgentOutcome> track_agents_over_ranks(const Problem& pb, const std::
     o.name = pb.agents[i].name;
     o.tracker = pb.agents[i].tracker.name;
     o.track = trackers[i]->track(tracking_problem(pb, i, nominal[i]), topt);
-    log(result_line(o, "all ranks", since(t0)));
+    log(result_line(o, "all ranks", t0.seconds()));
   }
 
   // 2. This rank's own agents, side by side on its threads (the single-process fan-out).

@@ -11,12 +11,11 @@
 #include <thread>
 
 #include "marsyn/core/tracking/tracker_choice.hpp"
+#include "marsyn/core/stopwatch.hpp"
 
 namespace marsyn {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 }  // namespace
 
@@ -74,7 +73,7 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
       }
       const AgentSpec& a = pb.agents[i];
       const TrackingProblem tp = tracking_problem(pb, i, nominal[i]);
-      const auto t0 = Clock::now();
+      const Stopwatch t0;
       out[i].name = a.name;
       out[i].tracker = a.tracker.name;
       try {
@@ -99,7 +98,7 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
         // Grid figures only from a tracker that has a grid.
         if (out[i].track.stats.tube_cells > 0)
           s << out[i].track.stats.tube_cells << " tube cells, N_l " << out[i].track.stats.state_input_pairs << ", ";
-        s << out[i].track.stats.boxes_computed << " boxes, " << since(t0) << " s";
+        s << out[i].track.stats.boxes_computed << " boxes, " << t0.seconds() << " s";
         if (!out[i].track.message.empty()) s << " (" << out[i].track.message << ")";
         opt.log(s.str());
       }
@@ -110,7 +109,7 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
   std::condition_variable beat_cv;
   bool finished = false;
   std::thread heartbeat([&] {
-    const auto t0 = Clock::now();
+    const Stopwatch t0;
     std::unique_lock<std::mutex> lock(beat_mutex);
     while (!beat_cv.wait_for(lock, std::chrono::seconds(15), [&] { return finished; })) {
       if (!opt.log) continue;
@@ -119,7 +118,7 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
       for (int i = 0; i < N; ++i)
         if (running[i]) names += (names.empty() ? "" : ", ") + pb.agents[i].name;
       std::ostringstream s;
-      s << "[track] " << done.load() << "/" << N << " agents done after " << static_cast<int>(since(t0))
+      s << "[track] " << done.load() << "/" << N << " agents done after " << static_cast<int>(t0.seconds())
         << " s; still working on " << (names.empty() ? "-" : names);
       opt.log(s.str());
     }

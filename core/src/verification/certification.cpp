@@ -2,13 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <chrono>
 #include <functional>
 #include <set>
 #include <sstream>
 
 #include "marsyn/core/planning/box_margins.hpp"
 #include "marsyn/core/planning/constraints.hpp"
+#include "marsyn/core/stopwatch.hpp"
 
 namespace marsyn {
 
@@ -37,7 +37,7 @@ std::string fmt(double v) {
 }  // namespace
 
 CertificationReport certify(const Problem& pb, const std::vector<std::shared_ptr<const Controller>>& ctrls) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const Stopwatch clock;
   CertificationReport r;
   const int N = static_cast<int>(pb.agents.size());
   if (static_cast<int>(ctrls.size()) != N) {
@@ -150,7 +150,7 @@ CertificationReport certify(const Problem& pb, const std::vector<std::shared_ptr
   if (worst->step >= 0)
     os << " (" << worst->where << " between steps " << worst->step << " and " << worst->step + 1 << ")";
   r.message = os.str();
-  r.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.time_s = clock.seconds();
   return r;
 }
 

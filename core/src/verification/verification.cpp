@@ -1,11 +1,11 @@
 #include "marsyn/core/verification/verification.hpp"
 
 #include <atomic>
-#include <chrono>
 #include <mutex>
 #include <thread>
 
 #include "mpi_runs.hpp"
+#include "marsyn/core/stopwatch.hpp"
 
 namespace marsyn {
 
@@ -44,7 +44,7 @@ KeptRun keep(const SpecMonitor& monitor, std::string label, const ClosedLoopRun&
 VerificationReport verify(const Problem& problem, const std::vector<NominalTrajectory>& nominal,
                           const std::vector<std::shared_ptr<const Controller>>& controllers,
                           const VerificationOptions& opt) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const Stopwatch clock;
   VerificationReport rep;
   const SpecMonitor monitor(problem);
   rep.continuous = problem.guarantee == Guarantee::Continuous;
@@ -148,7 +148,7 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
     kept.spec = std::move(ev);
     rep.kept.push_back(std::move(kept));
   }
-  rep.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  rep.time_s = clock.seconds();
   return rep;
 }
 
