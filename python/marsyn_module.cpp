@@ -606,12 +606,12 @@ PYBIND11_MODULE(marsyn, m) {
         const int width = run.states.empty() ? 0 : static_cast<int>(run.states.front().size());
         d["states"] = matrix(run.states, width);
         py::dict per_agent;
-        int offset = 0;
-        for (const auto& a : pb.agents) {
+        const ProductLayout layout(pb);
+        for (std::size_t i = 0; i < pb.agents.size(); ++i) {
+          const AgentSpec& a = pb.agents[i];
           std::vector<Eigen::VectorXd> xs;
-          for (const auto& s : run.states) xs.push_back(s.segment(offset, a.n()));
+          for (const auto& s : run.states) xs.push_back(s.segment(layout.state[i], a.n()));
           per_agent[py::str(a.name)] = matrix(xs, a.n());
-          offset += a.n();
         }
         d["agents"] = per_agent;
         d["disturbance"] = to_string(mode);

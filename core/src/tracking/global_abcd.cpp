@@ -32,16 +32,16 @@ std::function<bool(const double*, const double*)> product_unsafe(const Problem& 
     }
     obstacle_boxes.push_back(b);  // contains the polygon: distances to it are never larger
   }
-  return [&pb, obstacle_boxes](const double* lo, const double* hi) {
+  return [&pb, obstacle_boxes, layout = ProductLayout(pb)](const double* lo, const double* hi) {
     std::vector<std::array<double, 4>> ws;
-    int off = 0;
-    for (const auto& a : pb.agents) {
+    for (std::size_t k = 0; k < pb.agents.size(); ++k) {
+      const AgentSpec& a = pb.agents[k];
+      const int off = layout.state[k];
       std::vector<Interval> x(a.n());
       for (int i = 0; i < a.n(); ++i) x[i] = Interval(lo[off + i], hi[off + i]);
       Interval p[2];
       workspace_point<Interval>(*a.dynamics, a.workspace, x.data(), p);
       ws.push_back({p[0].lower(), p[1].lower(), p[0].upper(), p[1].upper()});
-      off += a.n();
     }
     for (const auto& w : ws)
       for (const auto& o : obstacle_boxes)

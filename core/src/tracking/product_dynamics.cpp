@@ -4,6 +4,8 @@ namespace marsyn {
 
 ProductDynamics::ProductDynamics(const std::vector<AgentSpec>& agents) {
   type_ = "product(";
+  // Offsets from the models' own dimensions, not ProductLayout's (x0, input bounds): a product of
+  // Dynamics is a model, and needs no agent data to be one.
   for (const auto& a : agents) {
     parts_.push_back(a.dynamics);
     names_.push_back(a.name);

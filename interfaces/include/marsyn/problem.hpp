@@ -92,6 +92,24 @@ enum class Guarantee { Continuous, Sampled };
 
 inline const char* to_string(Guarantee g) { return g == Guarantee::Continuous ? "continuous" : "sampled"; }
 
+struct Problem;
+
+// Where each agent's coordinates sit in the product state and input: the agents side by side in
+// the order of the problem file. The one definition that planners, projection, the checks, the
+// global baseline and the reports read (agent i's state is x.segment(state[i], n_i)).
+struct ProductLayout {
+  std::vector<int> state{0}, input{0};  // per agent its first coordinate, then the total
+  explicit ProductLayout(const std::vector<AgentSpec>& agents) {
+    for (const auto& a : agents) {
+      state.push_back(state.back() + a.n());
+      input.push_back(input.back() + a.m());
+    }
+  }
+  explicit ProductLayout(const Problem& problem);  // of problem.agents
+  int state_dim() const { return state.back(); }
+  int input_dim() const { return input.back(); }
+};
+
 struct Problem {
   std::string name;
   std::string source;  // the file it was loaded from
@@ -112,32 +130,11 @@ struct Problem {
   DistanceModelFactory distance_model;  // set with a collision plugin
   std::vector<std::string> plugin_paths;
 
-  int product_state_dim() const {
-    int n = 0;
-    for (const auto& a : agents) n += a.n();
-    return n;
-  }
-  int product_input_dim() const {
-    int m = 0;
-    for (const auto& a : agents) m += a.m();
-    return m;
-  }
+  int product_state_dim() const { return ProductLayout(agents).state_dim(); }
+  int product_input_dim() const { return ProductLayout(agents).input_dim(); }
 };
 
-// Where each agent's coordinates sit in the product state and input: the agents side by side in
-// the order of the problem file. The one definition that planners, projection, the checks, the
-// global baseline and the reports read (agent i's state is x.segment(state[i], n_i)).
-struct ProductLayout {
-  std::vector<int> state{0}, input{0};  // per agent its first coordinate, then the total
-  explicit ProductLayout(const Problem& problem) {
-    for (const auto& a : problem.agents) {
-      state.push_back(state.back() + a.n());
-      input.push_back(input.back() + a.m());
-    }
-  }
-  int state_dim() const { return state.back(); }
-  int input_dim() const { return input.back(); }
-};
+inline ProductLayout::ProductLayout(const Problem& problem) : ProductLayout(problem.agents) {}
 
 // A plan for the product system: x[0..T] (product states), u[0..T-1] (product inputs).
 struct GlobalPlan {

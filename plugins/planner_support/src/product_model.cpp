@@ -94,11 +94,13 @@ ProductModel::ProductModel(const PlanningProblem& p) : pp(p) {
   tau = prob.tau;
   substeps = prob.rk4_substeps;
   T = pp.horizon;
-  for (const auto& a : prob.agents) {
-    agents.push_back({a.dynamics.get(), n, m, a.n(), a.m()});
-    n += a.n();
-    m += a.m();
+  const ProductLayout layout(prob);
+  for (std::size_t i = 0; i < prob.agents.size(); ++i) {
+    const AgentSpec& a = prob.agents[i];
+    agents.push_back({a.dynamics.get(), layout.state[i], layout.input[i], a.n(), a.m()});
   }
+  n = layout.state_dim();
+  m = layout.input_dim();
   for (int i = 0; i < n; ++i) {
     if (std::isfinite(pp.state_bounds.lo[i])) path.add_lower(i, pp.state_bounds.lo[i]);
     if (std::isfinite(pp.state_bounds.hi[i])) path.add_upper(i, pp.state_bounds.hi[i]);
