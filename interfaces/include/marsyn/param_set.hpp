@@ -12,19 +12,16 @@
 // Integer ranges are also enforced by the loader from the declared range text (problem_loader).
 //
 //   struct Options { double r_input = 0.01; std::string mode = "fast"; int steps = 10; ... };
-//   const ParamSet<Options>& declared() {
-//     static const ParamSet<Options> set = [] {
-//       ParamSet<Options> s;
-//       s.add("r_input", &Options::r_input, "[0, inf)", "input weight")
-//           .require({[](double v) { return v >= 0; }, "expected a number >= 0"});
-//       s.choice("mode", &Options::mode, {"fast", "exact"}, "how to solve");  // "expected fast or exact"
-//       s.add("steps", &Options::steps, "[1, inf)", "steps per period");
-//       return s;
-//     }();
-//     return set;
+//   ParamSet<Options> declare() {
+//     ParamSet<Options> s;
+//     s.add("r_input", &Options::r_input, "[0, inf)", "input weight")
+//         .require({[](double v) { return v >= 0; }, "expected a number >= 0"});
+//     s.choice("mode", &Options::mode, {"fast", "exact"}, "how to solve");  // "expected fast or exact"
+//     s.add("steps", &Options::steps, "[1, inf)", "steps per period");
+//     return s;
 //   }
-//   static std::vector<ParamSpec> param_specs() { return declared().specs(); }
-//   explicit MyPlugin(const Params& p) : options_(declared().parse(p)) {}
+//   static std::vector<ParamSpec> param_specs() { return declared_once<declare>().specs(); }
+//   explicit MyPlugin(const Params& p) : options_(declared_once<declare>().parse(p)) {}
 //
 // Additive to params.hpp: plugins that build their ParamSpecs by hand keep working.
 #include <charconv>
@@ -123,6 +120,12 @@ class ParamSet {
       d_.last.push_back(refuse_unless(std::move(rule)));
       return *this;
     }
+    // ... refused with ParamError(reported_as, rule.message): one message that speaks for
+    // several parameters, reported under one name ("weights must be non-negative" under r_input).
+    Declared& require_last(Rule<T> rule, std::string reported_as) {
+      d_.last.push_back(refuse_unless(std::move(rule), std::move(reported_as)));
+      return *this;
+    }
     // Any check on the options: right after this value is read (earlier parameters are read,
     // later ones hold their defaults), or after every value is read (cross-parameter rules).
     Declared& check(Check c) {
@@ -141,9 +144,10 @@ class ParamSet {
     }
 
    private:
-    Check refuse_unless(Rule<T> rule) const {
-      return [name = d_.spec.name, member = member_, rule = std::move(rule)](const Options& o) {
-        if (!rule.ok(o.*member)) throw ParamError(name, rule.message);
+    Check refuse_unless(Rule<T> rule) const { return refuse_unless(std::move(rule), d_.spec.name); }
+    Check refuse_unless(Rule<T> rule, std::string field) const {
+      return [field = std::move(field), member = member_, rule = std::move(rule)](const Options& o) {
+        if (!rule.ok(o.*member)) throw ParamError(field, rule.message);
       };
     }
     Declaration& d_;
@@ -229,5 +233,15 @@ class ParamSet {
   NumberText numbers_;
   std::deque<Declaration> decls_;  // a deque: add() hands out references that later adds keep valid
 };
+
+// The ParamSet that `Declare` (a function returning a ParamSet) builds, built on first use and
+// kept for the program's life: the one set that a plugin's listing and parsing both read.
+//   std::vector<ParamSpec> Options::specs() { return declared_once<declare>().specs(); }
+//   Options Options::from(const Params& p) { return declared_once<declare>().parse(p); }
+template <auto Declare>
+const auto& declared_once() {
+  static const auto set = Declare();
+  return set;
+}
 
 }  // namespace marsyn

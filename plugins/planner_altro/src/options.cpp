@@ -82,15 +82,10 @@ ParamSet<Options> declare() {
   return s;
 }
 
-const ParamSet<Options>& declared() {
-  static const ParamSet<Options> set = declare();
-  return set;
-}
-
 }  // namespace
 
-std::vector<ParamSpec> Options::specs() { return declared().specs(); }
+std::vector<ParamSpec> Options::specs() { return declared_once<declare>().specs(); }
 
-Options Options::from(const Params& p) { return declared().parse(p); }
+Options Options::from(const Params& p) { return declared_once<declare>().parse(p); }
 
 }  // namespace marsyn::altro

@@ -12,28 +12,20 @@ ParamSet<Options> declare() {
   using O = Options;
   // A negative weight is reported under r_input and a non-positive tolerance under tol, as they
   // always were.
-  const auto weight = [](double O::*w) {
-    return [w](const O& o) {
-      if (o.*w < 0) throw ParamError("r_input", "weights must be non-negative");
-    };
-  };
-  const auto tolerance = [](double O::*t) {
-    return [t](const O& o) {
-      if (!(o.*t > 0)) throw ParamError("tol", "tolerances must be positive");
-    };
-  };
+  const Rule<double> weight{[](const double& w) { return !(w < 0); }, "weights must be non-negative"};
+  const Rule<double> tolerance{[](const double& t) { return t > 0; }, "tolerances must be positive"};
   ParamSet<O> s;
   s.choice("hessian", &O::hessian, {"exact", "differenced", "limited-memory"},
            "Hessian of the Lagrangian: AD second derivatives where the interfaces provide them (other blocks "
            "differenced, see the result message), central differences of the exact AD Jacobians, or Ipopt's L-BFGS");
-  s.add("r_input", &O::r_input, "[0, inf)", "weight of the input energy 1/2 |u|^2").check_last(weight(&O::r_input));
-  s.add("q_terminal", &O::q_terminal, "[0, inf)", "weight of 1/2 |x_T - goal centre|^2").check_last(weight(&O::q_terminal));
-  s.add("tol", &O::tol, "(0, 1)", "Ipopt tol").check_last(tolerance(&O::tol));
+  s.add("r_input", &O::r_input, "[0, inf)", "weight of the input energy 1/2 |u|^2").require_last(weight, "r_input");
+  s.add("q_terminal", &O::q_terminal, "[0, inf)", "weight of 1/2 |x_T - goal centre|^2").require_last(weight, "r_input");
+  s.add("tol", &O::tol, "(0, 1)", "Ipopt tol").require_last(tolerance, "tol");
   s.add("constr_viol_tol", &O::constr_viol_tol, "(0, 1e-4)", "Ipopt constr_viol_tol (defects and rows)")
-      .check_last(tolerance(&O::constr_viol_tol));
+      .require_last(tolerance, "tol");
   s.add("feasibility_tolerance", &O::feasibility_tolerance, "(0, 1e-3)",
         "largest violation of the re-simulated plan reported as exact")
-      .check_last(tolerance(&O::feasibility_tolerance));
+      .require_last(tolerance, "tol");
   s.add("max_iterations", &O::max_iterations, "[1, inf)", "Ipopt max_iter")
       .require_last({[](const int& v) { return !(v < 1); }, "must be at least 1"});
   s.add("bend", &O::bend, "[0, 1]", "lateral bend of the straight-line initial guess (x path length)");
@@ -51,15 +43,10 @@ ParamSet<Options> declare() {
   return s;
 }
 
-const ParamSet<Options>& declared() {
-  static const ParamSet<Options> set = declare();
-  return set;
-}
-
 }  // namespace
 
-std::vector<ParamSpec> Options::specs() { return declared().specs(); }
+std::vector<ParamSpec> Options::specs() { return declared_once<declare>().specs(); }
 
-Options Options::from(const Params& p) { return declared().parse(p); }
+Options Options::from(const Params& p) { return declared_once<declare>().parse(p); }
 
 }  // namespace marsyn::ipopt_planner

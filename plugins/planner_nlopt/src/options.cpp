@@ -11,16 +11,12 @@ namespace {
 ParamSet<Options> declare() {
   using O = Options;
   // A negative weight of either kind is reported under r_input, as it always was.
-  const auto weight = [](double O::*w) {
-    return [w](const O& o) {
-      if (o.*w < 0) throw ParamError("r_input", "weights must be non-negative");
-    };
-  };
+  const Rule<double> weight{[](const double& w) { return !(w < 0); }, "weights must be non-negative"};
   ParamSet<O> s;
   s.choice("algorithm", &O::algorithm, {"auglag_lbfgs", "auglag_slsqp", "slsqp", "mma"},
            "NLopt method: augmented Lagrangian around L-BFGS or SLSQP, or SLSQP / MMA on the constraints directly");
-  s.add("r_input", &O::r_input, "[0, inf)", "weight of the input energy 1/2 |u|^2").check_last(weight(&O::r_input));
-  s.add("q_terminal", &O::q_terminal, "[0, inf)", "weight of 1/2 |x_T - goal centre|^2").check_last(weight(&O::q_terminal));
+  s.add("r_input", &O::r_input, "[0, inf)", "weight of the input energy 1/2 |u|^2").require_last(weight, "r_input");
+  s.add("q_terminal", &O::q_terminal, "[0, inf)", "weight of 1/2 |x_T - goal centre|^2").require_last(weight, "r_input");
   s.add("feasibility_tolerance", &O::feasibility_tolerance, "(0, 1e-3)", "largest row violation reported as exact")
       .require_last({[](const double& v) { return v > 0; }, "must be positive"});
   s.add("xtol_rel", &O::xtol_rel, "(0, 1)", "NLopt relative input tolerance");
@@ -32,15 +28,10 @@ ParamSet<Options> declare() {
   return s;
 }
 
-const ParamSet<Options>& declared() {
-  static const ParamSet<Options> set = declare();
-  return set;
-}
-
 }  // namespace
 
-std::vector<ParamSpec> Options::specs() { return declared().specs(); }
+std::vector<ParamSpec> Options::specs() { return declared_once<declare>().specs(); }
 
-Options Options::from(const Params& p) { return declared().parse(p); }
+Options Options::from(const Params& p) { return declared_once<declare>().parse(p); }
 
 }  // namespace marsyn::nlopt_planner

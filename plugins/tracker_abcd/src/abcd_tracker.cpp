@@ -56,15 +56,10 @@ ParamSet<AbcdOptions> declare() {
   return s;
 }
 
-const ParamSet<AbcdOptions>& declared() {
-  static const ParamSet<AbcdOptions> set = declare();
-  return set;
-}
-
 }  // namespace
 
 AbcdTracker::AbcdTracker(const Params& p) {
-  const AbcdOptions o = declared().parse(p);
+  const AbcdOptions o = declared_once<declare>().parse(p);
   base_.successor.substeps = o.substeps;
   base_.successor.taylor_terms = o.taylor_terms;
   base_.successor.picard_iterations = o.picard_iterations;
@@ -75,7 +70,7 @@ AbcdTracker::AbcdTracker(const Params& p) {
   base_.enclosure_block = o.enclosure_block;
 }
 
-std::vector<ParamSpec> AbcdTracker::param_specs() { return declared().specs(); }
+std::vector<ParamSpec> AbcdTracker::param_specs() { return declared_once<declare>().specs(); }
 
 SynthesisOptions AbcdTracker::options_for(const TrackOptions& o) const {
   SynthesisOptions s = base_;

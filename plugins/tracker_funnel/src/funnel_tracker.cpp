@@ -75,16 +75,11 @@ ParamSet<FunnelSettings> declare() {
   return s;
 }
 
-const ParamSet<FunnelSettings>& declared() {
-  static const ParamSet<FunnelSettings> set = declare();
-  return set;
-}
-
 }  // namespace
 
-FunnelTracker::FunnelTracker(const Params& p) : s_(declared().parse(p)) {}
+FunnelTracker::FunnelTracker(const Params& p) : s_(declared_once<declare>().parse(p)) {}
 
-std::vector<ParamSpec> FunnelTracker::param_specs() { return declared().specs(); }
+std::vector<ParamSpec> FunnelTracker::param_specs() { return declared_once<declare>().specs(); }
 
 TrackerAssessment FunnelTracker::assess(const AgentSpec& a, int horizon, double tau) const {
   TrackerAssessment r;
