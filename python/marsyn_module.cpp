@@ -106,10 +106,10 @@ py::dict agent_dict(const AgentSpec& a) {
   d["goal"] = py::make_tuple(vector(a.goal.lo), vector(a.goal.hi));
   d["state_bounds"] = py::make_tuple(vector(a.state_bounds.lo), vector(a.state_bounds.hi));
   d["input_bounds"] = py::make_tuple(vector(a.input_bounds.lo), vector(a.input_bounds.hi));
-  d["w"] = vector(a.w);
-  d["eps"] = vector(a.eps);
-  d["eta_x"] = vector(a.eta_x);
-  d["eta_u"] = vector(a.eta_u);
+  d["w"] = vector(a.tube.w);
+  d["eps"] = vector(a.tube.eps);
+  d["eta_x"] = vector(a.tube.eta_x);
+  d["eta_u"] = vector(a.tube.eta_u);
   d["tracker"] = a.tracker.name;  // resolved per agent (never "auto")
   return d;
 }

@@ -23,9 +23,9 @@ std::string vec(const Eigen::VectorXd& v) {
 
 // An attempt's parameters for one agent: its tracker, eps, and the grids when it has them.
 std::string agent_parameters(const AgentSpec& a) {
-  std::string p = "tracker=" + a.tracker.name + " eps=" + vec(a.eps);
-  if (a.eta_x.size()) p += " eta_x=" + vec(a.eta_x);
-  if (a.eta_u.size()) p += " eta_u=" + vec(a.eta_u);
+  std::string p = "tracker=" + a.tracker.name + " eps=" + vec(a.tube.eps);
+  if (a.tube.eta_x.size()) p += " eta_x=" + vec(a.tube.eta_x);
+  if (a.tube.eta_u.size()) p += " eta_u=" + vec(a.tube.eta_u);
   return p;
 }
 
@@ -81,7 +81,7 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
     std::ostringstream params;
     params << "T=" << pb.horizon;
     if (!plan_extra.empty()) params << " extra clearance for " << plan_extra.size() << " constraint(s)";
-    for (const auto& a : pb.agents) params << " eps[" << a.name << "]=" << vec(a.eps);
+    for (const auto& a : pb.agents) params << " eps[" << a.name << "]=" << vec(a.tube.eps);
     log("[plan] " + pb.planner.name + " on the product system (" + std::to_string(pb.product_state_dim()) +
         " states, " + std::to_string(pb.product_input_dim()) + " inputs)");
     if (root) out.plan = planning::plan(pb, *planner, po);
@@ -95,8 +95,8 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
       bool changed = false;
       for (auto& a : pb.agents) {
         AgentSpec b = a;
-        b.eps *= 0.8;
-        if (b.eta_x.size() == b.eps.size()) b.eta_x = b.eta_x.cwiseMin(b.eps);  // a grid no coarser than the tube
+        b.tube.eps *= 0.8;
+        if (b.tube.eta_x.size() == b.tube.eps.size()) b.tube.eta_x = b.tube.eta_x.cwiseMin(b.tube.eps);  // a grid no coarser than the tube
         if (acceptable(b)) {
           a = b;
           changed = true;
@@ -192,7 +192,7 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
       }
       AgentSpec b = a;
       bool proposed = true;
-      if (iter % 2 == 0) b.eps *= 1.25;
+      if (iter % 2 == 0) b.tube.eps *= 1.25;
       else proposed = tracker_of(b)->refine(b);
       if (proposed && acceptable(b)) {
         a = b;

@@ -24,10 +24,10 @@ marsyn::AgentSpec unicycle(const marsyn::PluginRegistry& reg) {
   a.state_bounds.hi[2] = 3;
   a.input_bounds = {VectorXd::Constant(2, -2), VectorXd::Constant(2, 2)};
   a.goal = {VectorXd::Constant(3, 4.7), VectorXd::Constant(3, 5.3)};
-  a.w = VectorXd::Constant(3, 0.02);
-  a.eps = (VectorXd(3) << 0.2, 0.2, 0.24).finished();
-  a.eta_x = (VectorXd(3) << 0.025, 0.025, 0.03).finished();
-  a.eta_u = VectorXd::Constant(2, 0.3);
+  a.tube.w = VectorXd::Constant(3, 0.02);
+  a.tube.eps = (VectorXd(3) << 0.2, 0.2, 0.24).finished();
+  a.tube.eta_x = (VectorXd(3) << 0.025, 0.025, 0.03).finished();
+  a.tube.eta_u = VectorXd::Constant(2, 0.3);
   return a;
 }
 
@@ -54,7 +54,7 @@ TEST_F(AbcdAssessment, AcceptsAGridInsideTheTubeWithItsFigures) {
 
 TEST_F(AbcdAssessment, X0CellOutsideTheTubeNamesTheCoordinate) {
   auto a = unicycle(reg);
-  a.eta_x[0] = 0.5;
+  a.tube.eta_x[0] = 0.5;
   const auto r = abcd->assess(a, 20, 0.1);
   EXPECT_FALSE(r.ok);
   EXPECT_EQ(r.field, "eta_x");
@@ -66,14 +66,14 @@ TEST_F(AbcdAssessment, X0CellOutsideTheTubeNamesTheCoordinate) {
 
 TEST_F(AbcdAssessment, MissingGridsAreRefusedByName) {
   auto a = unicycle(reg);
-  a.eta_u.resize(0);
+  a.tube.eta_u.resize(0);
   auto r = abcd->assess(a, 20, 0.1);
   EXPECT_FALSE(r.ok);
   EXPECT_EQ(r.field, "eta_u");
   EXPECT_EQ(r.coordinate, -1);
   EXPECT_NE(r.message.find("the abcd tracker needs 'eta_u'"), std::string::npos) << r.message;
   a = unicycle(reg);
-  a.eta_x.resize(0);
+  a.tube.eta_x.resize(0);
   r = abcd->assess(a, 20, 0.1);
   EXPECT_EQ(r.field, "eta_x");
   EXPECT_NE(r.message.find("e.g. eps / 8 = [0.025, 0.025, 0.03]"), std::string::npos) << r.message;
@@ -94,10 +94,10 @@ TEST_F(AbcdAssessment, MemoryBudgetFromTheEnvironment) {
 TEST_F(AbcdAssessment, RefineMakesBothGridsFiner) {
   auto a = unicycle(reg);
   ASSERT_TRUE(abcd->refine(a));
-  EXPECT_DOUBLE_EQ(a.eta_x[0], 0.025 * 0.75);
-  EXPECT_DOUBLE_EQ(a.eta_x[2], 0.03 * 0.75);
-  EXPECT_DOUBLE_EQ(a.eta_u[1], 0.3 * 0.75);
-  EXPECT_EQ(a.eps[0], 0.2);  // eps is the orchestrator's, not the tracker's
+  EXPECT_DOUBLE_EQ(a.tube.eta_x[0], 0.025 * 0.75);
+  EXPECT_DOUBLE_EQ(a.tube.eta_x[2], 0.03 * 0.75);
+  EXPECT_DOUBLE_EQ(a.tube.eta_u[1], 0.3 * 0.75);
+  EXPECT_EQ(a.tube.eps[0], 0.2);  // eps is the orchestrator's, not the tracker's
 }
 
 }  // namespace

@@ -46,10 +46,10 @@ struct Fixture {
     a.goal = {VectorXd::Constant(2, -10), VectorXd::Constant(2, 10)};
     a.state_bounds = a.goal;
     a.input_bounds = {VectorXd::Constant(1, -5), VectorXd::Constant(1, 5)};
-    a.w = (VectorXd(2) << 0.0, 0.5).finished();
-    a.eps = VectorXd::Constant(2, 0.3);
-    a.eta_x = VectorXd::Constant(2, 0.05);
-    a.eta_u = VectorXd::Constant(1, 0.1);
+    a.tube.w = (VectorXd(2) << 0.0, 0.5).finished();
+    a.tube.eps = VectorXd::Constant(2, 0.3);
+    a.tube.eta_x = VectorXd::Constant(2, 0.05);
+    a.tube.eta_u = VectorXd::Constant(1, 0.1);
     a.workspace.index = {0, -1};
     a.workspace.offset = {0.0, 0.0};
     pb.agents.push_back(a);

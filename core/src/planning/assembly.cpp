@@ -34,9 +34,9 @@ PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOpti
   for (int i = 0; i < N; ++i) {
     const auto& a = problem.agents[i];
     if (a.dynamics == nullptr || a.dynamics->state_dim() != a.n() || a.dynamics->input_dim() != a.m() ||
-        a.eps.size() != a.n() || a.state_bounds.dim() != a.n() || a.goal.dim() != a.n())
+        a.tube.eps.size() != a.n() || a.state_bounds.dim() != a.n() || a.goal.dim() != a.n())
       throw std::invalid_argument("marsyn::planning::assemble: inconsistent dimensions for agent " + a.name);
-    const Eigen::VectorXd shrink = a.eps.array() + opt.buffer;
+    const Eigen::VectorXd shrink = a.tube.eps.array() + opt.buffer;
     Eigen::VectorXd shrink_x = shrink;
     for (int c = 0; c < a.n(); ++c) shrink_x[c] += more(state_bound_name(a, c));
     const Box X = a.state_bounds.shrunk(shrink_x);
@@ -48,7 +48,7 @@ PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOpti
     pp.goal.hi.segment(xo[i], a.n()) = G.hi;
     pp.input_bounds.lo.segment(uo[i], a.m()) = a.input_bounds.lo;
     pp.input_bounds.hi.segment(uo[i], a.m()) = a.input_bounds.hi;
-    margin[i] = std::make_shared<MarginTable>(a, a.state_bounds.shrunk(a.eps));
+    margin[i] = std::make_shared<MarginTable>(a, a.state_bounds.shrunk(a.tube.eps));
   }
   const double delta = problem.delta;
   const bool inf = problem.delta_norm == Norm::Inf;

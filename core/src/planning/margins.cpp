@@ -13,8 +13,8 @@ namespace {
 WorkspaceMargin linear_margin(const AgentSpec& a) {
   WorkspaceMargin m;
   const auto& ws = a.workspace;
-  m.x = ws.index[0] >= 0 ? a.eps[ws.index[0]] : 0.0;
-  m.y = ws.index[1] >= 0 ? a.eps[ws.index[1]] : 0.0;
+  m.x = ws.index[0] >= 0 ? a.tube.eps[ws.index[0]] : 0.0;
+  m.y = ws.index[1] >= 0 ? a.tube.eps[ws.index[1]] : 0.0;
   return m;
 }
 
@@ -34,7 +34,7 @@ WorkspaceMargin margin_at(const AgentSpec& a, const Eigen::VectorXd& x) {
   const int n = a.n();
   std::vector<Interval> box(n), point(n);
   for (int i = 0; i < n; ++i) {
-    box[i] = Interval(x[i] - a.eps[i], x[i] + a.eps[i]);
+    box[i] = Interval(x[i] - a.tube.eps[i], x[i] + a.tube.eps[i]);
     point[i] = Interval(x[i]);
   }
   Interval big[2], small[2];
@@ -94,7 +94,7 @@ WorkspaceMargin MarginTable::evaluate(long idx) const {
     r /= k_;
     cell[s] = Interval(edge(s, j), edge(s, j + 1));
   }
-  for (int i = 0; i < n; ++i) grown[i] = Interval(cell[i].lower() - a.eps[i], cell[i].upper() + a.eps[i]);
+  for (int i = 0; i < n; ++i) grown[i] = Interval(cell[i].lower() - a.tube.eps[i], cell[i].upper() + a.tube.eps[i]);
   Interval big[2], small[2];
   a.dynamics->footprint(a.workspace.footprint, grown.data(), big);
   a.dynamics->footprint(a.workspace.footprint, cell.data(), small);

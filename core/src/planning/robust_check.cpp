@@ -106,8 +106,8 @@ void check_between_samples(const Problem& problem, const std::vector<Eigen::Vect
         {
           const RoundToNearestScope nearest;  // fast_detail's directed rounding needs RN
           for (int c = 0; c < a.n(); ++c) {
-            grown.lo[c] = fast_detail::sub_down(flow[s].lo[c], a.eps[c]);
-            grown.hi[c] = fast_detail::add_up(flow[s].hi[c], a.eps[c]);
+            grown.lo[c] = fast_detail::sub_down(flow[s].lo[c], a.tube.eps[c]);
+            grown.hi[c] = fast_detail::add_up(flow[s].hi[c], a.tube.eps[c]);
           }
         }
         for (int c = 0; c < a.n(); ++c) xb[c] = Interval(grown.lo[c], grown.hi[c]);
@@ -172,7 +172,7 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan) {
       const Eigen::VectorXd xi = x[k].segment(xo[i], a.n());
       m[i] = margin_at(a, xi);
       workspace_point(*a.dynamics, a.workspace, xi.data(), p[i].data());
-      const Box X = a.state_bounds.shrunk(a.eps);
+      const Box X = a.state_bounds.shrunk(a.tube.eps);
       for (int c = 0; c < a.n(); ++c) t.record(inside_margin(X, c, xi[c]), k, [&] { return state_bound_name(a, c); });
       if (k < T) {
         const Eigen::VectorXd ui = plan.u[k].segment(uo[i], a.m());
@@ -181,7 +181,7 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan) {
             return "input bound " + a.dynamics->input_names()[c] + " of " + a.name;
           });
       } else {
-        const Box G = a.goal.shrunk(a.eps);
+        const Box G = a.goal.shrunk(a.tube.eps);
         for (int c = 0; c < a.n(); ++c)
           t.record(inside_margin(G, c, xi[c]), k, [&] { return "goal " + a.dynamics->state_names()[c] + " of " + a.name; });
       }

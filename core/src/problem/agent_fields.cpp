@@ -93,20 +93,20 @@ void validate_agent(const AgentSpec& a, const Field& x0f, const Field& goalf) {
                      fmt(hi) + "]");
       case AgentDefect::TubeOutsideBounds:
         x0f[si].fail("the tube around x0 leaves the state bounds in " + coord + ": x0 +- eps = [" +
-                     fmt(a.x0[i] - a.eps[i]) + ", " + fmt(a.x0[i] + a.eps[i]) + "] is not inside [" + fmt(lo) +
+                     fmt(a.x0[i] - a.tube.eps[i]) + ", " + fmt(a.x0[i] + a.tube.eps[i]) + "] is not inside [" + fmt(lo) +
                      ", " + fmt(hi) + "]");
       case AgentDefect::GoalEmpty:
         goalf.fail("the goal shrunk by eps is empty in " + coord + ": [" + fmt(a.goal.lo[i]) + " + " +
-                   fmt(a.eps[i]) + ", " + fmt(a.goal.hi[i]) + " - " + fmt(a.eps[i]) + "] = [" +
-                   fmt(a.goal.lo[i] + a.eps[i]) + ", " + fmt(a.goal.hi[i] - a.eps[i]) +
+                   fmt(a.tube.eps[i]) + ", " + fmt(a.goal.hi[i]) + " - " + fmt(a.tube.eps[i]) + "] = [" +
+                   fmt(a.goal.lo[i] + a.tube.eps[i]) + ", " + fmt(a.goal.hi[i] - a.tube.eps[i]) +
                    "]; enlarge the goal or reduce eps");
       case AgentDefect::GoalOutsideBounds:
         goalf.fail("the goal [" + fmt(a.goal.lo[i]) + ", " + fmt(a.goal.hi[i]) + "] in " + coord +
                    " lies outside the state bounds [" + fmt(lo) + ", " + fmt(hi) + "]");
       case AgentDefect::GoalUnreachable:
         goalf.fail("no eps-robust final state in " + coord + ": the goal shrunk by eps [" +
-                   fmt(a.goal.lo[i] + a.eps[i]) + ", " + fmt(a.goal.hi[i] - a.eps[i]) +
-                   "] and the state bounds shrunk by eps [" + fmt(lo + a.eps[i]) + ", " + fmt(hi - a.eps[i]) +
+                   fmt(a.goal.lo[i] + a.tube.eps[i]) + ", " + fmt(a.goal.hi[i] - a.tube.eps[i]) +
+                   "] and the state bounds shrunk by eps [" + fmt(lo + a.tube.eps[i]) + ", " + fmt(hi - a.tube.eps[i]) +
                    "] do not overlap; move the goal inside the state bounds or reduce eps");
     }
   }

@@ -140,12 +140,12 @@ LoadedProblem load_problem(const std::string& path) {
     a.goal = read_box(goalf, n, sn);
     a.state_bounds = read_box(agent_required(af, defaults, "state_bounds"), n, sn);
     a.input_bounds = read_box(agent_required(af, defaults, "input_bounds"), m, sm);
-    a.w = agent_required(af, defaults, "disturbance").non_negative_vector(n, sn);
-    a.eps = agent_required(af, defaults, "eps").positive_vector(n, sn);
+    a.tube.w = agent_required(af, defaults, "disturbance").non_negative_vector(n, sn);
+    a.tube.eps = agent_required(af, defaults, "eps").positive_vector(n, sn);
     // The grids are optional: only a grid tracker (abcd) reads them, and its assessment asks for
     // them when they are missing.
-    if (Field etaf = agent_field(af, defaults, "eta_x"); etaf.present()) a.eta_x = etaf.positive_vector(n, sn);
-    if (Field etauf = agent_field(af, defaults, "eta_u"); etauf.present()) a.eta_u = etauf.positive_vector(m, sm);
+    if (Field etaf = agent_field(af, defaults, "eta_x"); etaf.present()) a.tube.eta_x = etaf.positive_vector(n, sn);
+    if (Field etauf = agent_field(af, defaults, "eta_u"); etauf.present()) a.tube.eta_u = etauf.positive_vector(m, sm);
     if (Field ws = agent_field(af, defaults, "workspace"); ws.present()) {
       a.workspace = read_workspace(ws, *a.dynamics);
     } else if (spatial) {

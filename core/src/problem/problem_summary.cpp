@@ -55,8 +55,8 @@ std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& track
       if (!t.assessment.summary.empty()) tracker += ": " + t.assessment.summary;
     }
     s << std::setw(12) << a.name << std::setw(19) << a.dynamics_type << std::setw(7)
-      << (std::to_string(a.n()) + " x " + std::to_string(a.m())) << std::setw(31) << vec(a.eps) << std::setw(33)
-      << (a.eta_x.size() ? vec(a.eta_x) : std::string("-")) << tracker << "\n";
+      << (std::to_string(a.n()) + " x " + std::to_string(a.m())) << std::setw(31) << vec(a.tube.eps) << std::setw(33)
+      << (a.tube.eta_x.size() ? vec(a.tube.eta_x) : std::string("-")) << tracker << "\n";
   }
   s << "\nconstraints per step: " << c.per_step() << " (obstacle " << c.obstacle << ", collision " << c.collision
     << ", formation " << c.formation << "); obstacles " << pb.obstacles.size() << "\n";

@@ -42,7 +42,7 @@ nlohmann::json report_scene(const Problem& pb, const std::vector<NominalTrajecto
     json tube = json::array(), path = json::array();
     if (i < nominal.size())
       for (const auto& x : nominal[i].x) {
-        const auto b = workspace_box(a, x - a.eps, x + a.eps);
+        const auto b = workspace_box(a, x - a.tube.eps, x + a.tube.eps);
         tube.push_back({round4(b[0]), round4(b[1]), round4(b[2]), round4(b[3])});
         double p[2];
         workspace_point<double>(*a.dynamics, a.workspace, x.data(), p);

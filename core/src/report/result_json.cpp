@@ -67,9 +67,9 @@ nlohmann::json result_json(const SolveOutcome& o) {
     const AgentSpec& spec = o.problem.agents[i];
     agents.push_back({{"name", a.name},
                       {"dynamics", spec.dynamics_type},
-                      {"eps", std::vector<double>(spec.eps.data(), spec.eps.data() + spec.eps.size())},
-                      {"eta_x", std::vector<double>(spec.eta_x.data(), spec.eta_x.data() + spec.eta_x.size())},
-                      {"eta_u", std::vector<double>(spec.eta_u.data(), spec.eta_u.data() + spec.eta_u.size())},
+                      {"eps", std::vector<double>(spec.tube.eps.data(), spec.tube.eps.data() + spec.tube.eps.size())},
+                      {"eta_x", std::vector<double>(spec.tube.eta_x.data(), spec.tube.eta_x.data() + spec.tube.eta_x.size())},
+                      {"eta_u", std::vector<double>(spec.tube.eta_u.data(), spec.tube.eta_u.data() + spec.tube.eta_u.size())},
                       {"tracker", t},
                       {"controller", a.controller_file.empty() ? json(nullptr) : json(a.controller_file)}});
   }

@@ -25,10 +25,7 @@ TrackingProblem tracking_problem(const Problem& pb, int index, const NominalTraj
   tp.agent = a.name;
   tp.dynamics = a.dynamics;
   tp.nominal = nominal;
-  tp.eps = a.eps;
-  tp.eta_x = a.eta_x;
-  tp.eta_u = a.eta_u;
-  tp.w = a.w;
+  tp.tube = a.tube;
   tp.input_bounds = a.input_bounds;
   tp.state_bounds = a.state_bounds;
   tp.tau = pb.tau;

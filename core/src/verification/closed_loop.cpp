@@ -118,7 +118,7 @@ void adversarial_push(const Problem& pb, int i, const std::vector<Eigen::Vector2
     const int s = a.workspace.index[c];
     if (s < 0) continue;
     const double d = target[c] - pts[i][c];
-    if (d != 0) w[s] = d > 0 ? a.w[s] : -a.w[s];
+    if (d != 0) w[s] = d > 0 ? a.tube.w[s] : -a.tube.w[s];
   }
 }
 
@@ -138,7 +138,7 @@ ClosedLoopRun simulate(const SimulationSetup& s, const Scenario& scenario) {
   std::vector<DisturbanceSource> dist;
   for (int i = 0; i < N; ++i) {
     x[i] = pb.agents[i].x0;
-    dist.emplace_back(pb.agents[i].w, i, scenario);
+    dist.emplace_back(pb.agents[i].tube.w, i, scenario);
   }
   Eigen::VectorXd prod(pb.product_state_dim());
   auto stack = [&] {
@@ -151,7 +151,7 @@ ClosedLoopRun simulate(const SimulationSetup& s, const Scenario& scenario) {
   auto record = [&](int k) {
     stack();
     for (int i = 0; i < N; ++i) {
-      const Eigen::VectorXd dev = (x[i] - s.nominal[i].x[k]).cwiseAbs().cwiseQuotient(pb.agents[i].eps);
+      const Eigen::VectorXd dev = (x[i] - s.nominal[i].x[k]).cwiseAbs().cwiseQuotient(pb.agents[i].tube.eps);
       run.max_tube_excess = std::max(run.max_tube_excess, dev.maxCoeff());
     }
     run.states.push_back(prod);

@@ -43,6 +43,15 @@ struct PluginChoice {
   Params params;
 };
 
+// One agent's tube (paper Sec. 3), as the problem file gives it and every stage passes it on:
+// the disturbance bound, the tube's half-width and the grid of grid-based trackers.
+struct TubeParams {
+  Eigen::VectorXd w;      // disturbance bound: w in [-w, w] componentwise
+  Eigen::VectorXd eps;    // tube half-width per state coordinate (robustness margin)
+  Eigen::VectorXd eta_x;  // state grid cell size (empty when not given: only grid trackers read it)
+  Eigen::VectorXd eta_u;  // input grid spacing (empty when not given)
+};
+
 struct AgentSpec {
   std::string name;
   std::string dynamics_type;
@@ -51,10 +60,7 @@ struct AgentSpec {
   Box goal;         // Goal^i, in state coordinates
   Box state_bounds;  // X^i
   Box input_bounds;  // U^i
-  Eigen::VectorXd w;      // disturbance bound: w in [-w, w] componentwise
-  Eigen::VectorXd eps;    // tube half-width per state coordinate (robustness margin)
-  Eigen::VectorXd eta_x;  // state grid cell size (empty when not given: only grid trackers read it)
-  Eigen::VectorXd eta_u;  // input grid spacing (empty when not given)
+  TubeParams tube;  // w, eps, eta_x, eta_u: what the agent's tracker is asked to keep
   Workspace workspace;
   // The agent's tracker (name and parameters); the name is never "auto" once the problem is
   // loaded: the loader resolves `tracker: auto` per agent from each tracker's assessment.

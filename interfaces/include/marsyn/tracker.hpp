@@ -86,7 +86,7 @@ struct TrackingProblem {
   std::string agent;
   std::shared_ptr<const Dynamics> dynamics;
   NominalTrajectory nominal;
-  Eigen::VectorXd eps, eta_x, eta_u, w;
+  TubeParams tube;  // the agent's, unchanged
   Box input_bounds;
   Box state_bounds;
   double tau = 0.1;

@@ -31,8 +31,8 @@ AgentSpec agent(std::string name, std::shared_ptr<const Dynamics> dyn, V x0, Box
   a.x0 = std::move(x0);
   a.state_bounds = std::move(X);
   a.input_bounds = std::move(U);
-  a.eps = std::move(eps);
-  a.w = std::move(w);
+  a.tube.eps = std::move(eps);
+  a.tube.w = std::move(w);
   return a;
 }
 

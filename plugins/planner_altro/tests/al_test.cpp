@@ -29,7 +29,7 @@ AgentSpec unicycle(const std::string& name, Eigen::Vector3d x0, Eigen::Vector3d 
   a.state_bounds = {Eigen::Vector3d(-1, -3, -M_PI), Eigen::Vector3d(11, 3, M_PI)};
   a.input_bounds = {Eigen::Vector2d(-2, -2), Eigen::Vector2d(2, 2)};
   a.goal = {goal - Eigen::Vector3d(0.3, 0.3, 0.5), goal + Eigen::Vector3d(0.3, 0.3, 0.5)};
-  a.eps = Eigen::Vector3d(0.1, 0.1, 0.1);
+  a.tube.eps = Eigen::Vector3d(0.1, 0.1, 0.1);
   return a;
 }
 
@@ -177,7 +177,7 @@ Problem rest_to_rest(int T) {
   a.state_bounds = {Eigen::Vector2d(-5, -5), Eigen::Vector2d(5, 5)};
   a.input_bounds = {Eigen::VectorXd::Constant(1, -100), Eigen::VectorXd::Constant(1, 100)};
   a.goal = {Eigen::Vector2d(0.95, -0.05), Eigen::Vector2d(1.05, 0.05)};
-  a.eps = Eigen::Vector2d(0.01, 0.01);
+  a.tube.eps = Eigen::Vector2d(0.01, 0.01);
   a.workspace.index = {0, -1};
   p.agents.push_back(a);
   p.tau = 0.1;

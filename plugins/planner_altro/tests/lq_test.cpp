@@ -22,7 +22,7 @@ Problem integrator_problem(int T) {
   a.input_bounds = {Eigen::VectorXd::Constant(1, -1e6), Eigen::VectorXd::Constant(1, 1e6)};
   a.state_bounds = {Eigen::Vector2d(-1e6, -1e6), Eigen::Vector2d(1e6, 1e6)};
   a.goal = {Eigen::Vector2d(-1e3, -1e3), Eigen::Vector2d(1e3, 1e3)};  // centre 0, never active
-  a.eps = Eigen::Vector2d::Zero();
+  a.tube.eps = Eigen::Vector2d::Zero();
   a.workspace.index = {0, -1};
   p.agents.push_back(a);
   p.tau = 0.1;

@@ -46,7 +46,7 @@ double sampled_real_margin(const Problem& p, const std::vector<NominalTrajectory
         for (int c = 0; c < a.n(); ++c) {
           // Half the samples on the box's corners, where the extremes of monotone maps lie.
           const double r = s % 2 ? (unit(rng) > 0 ? 1.0 : -1.0) : unit(rng);
-          y[c] += r * a.eps[c];
+          y[c] += r * a.tube.eps[c];
         }
         for (int c = 0; c < a.n(); ++c)
           note(std::min(y[c] - a.state_bounds.lo[c], a.state_bounds.hi[c] - y[c]), "X of " + a.name, k);

@@ -21,8 +21,8 @@ inline Problem pendulum_problem(int horizon = 100) {
   a.goal = {Eigen::Vector2d(M_PI - 0.3, -0.3), Eigen::Vector2d(M_PI + 0.3, 0.3)};
   a.state_bounds = {Eigen::Vector2d(-2.5, -3), Eigen::Vector2d(4.5, 3)};
   a.input_bounds = {Eigen::VectorXd::Constant(1, -3), Eigen::VectorXd::Constant(1, 3)};
-  a.w = Eigen::Vector2d(0, 0.01);
-  a.eps = Eigen::Vector2d(0.2, 0.2);
+  a.tube.w = Eigen::Vector2d(0, 0.01);
+  a.tube.eps = Eigen::Vector2d(0.2, 0.2);
   a.workspace.index = {0, 1};
   p.agents.push_back(a);
   p.pairwise_collision = false;
@@ -46,8 +46,8 @@ inline Problem unicycle_crossing(int horizon = 60, bool obstacle = false) {
     a.input_bounds = {Eigen::Vector2d(-2, -2), Eigen::Vector2d(2, 2)};
     const Eigen::Vector3d r(0.4, 0.4, 10.0);
     a.goal = {goal - r, goal + r};
-    a.eps = Eigen::Vector3d(0.1, 0.1, 0.1);
-    a.w = Eigen::Vector3d(0, 0.01, 0.01);
+    a.tube.eps = Eigen::Vector3d(0.1, 0.1, 0.1);
+    a.tube.w = Eigen::Vector3d(0, 0.01, 0.01);
     a.workspace.index = {0, 1};
     return a;
   };

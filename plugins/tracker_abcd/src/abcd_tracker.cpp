@@ -118,14 +118,14 @@ std::string vec(const Eigen::VectorXd& v) {
 }
 
 bool has_grid(const AgentSpec& a) {
-  return a.eta_x.size() == a.n() && a.eta_u.size() == a.m() && a.n() > 0;
+  return a.tube.eta_x.size() == a.n() && a.tube.eta_u.size() == a.m() && a.n() > 0;
 }
 
 // The first coordinate whose x0 cell leaves [x0 - eps, x0 + eps], or -1.
 int x0_cell_defect(const AgentSpec& a) {
   for (int i = 0; i < a.n(); ++i) {
     const CellBounds cell = x0_cell(a, i);
-    if (cell.lo < a.x0[i] - a.eps[i] || cell.hi > a.x0[i] + a.eps[i]) return i;
+    if (cell.lo < a.x0[i] - a.tube.eps[i] || cell.hi > a.x0[i] + a.tube.eps[i]) return i;
   }
   return -1;
 }
@@ -146,11 +146,11 @@ TrackerAssessment AbcdTracker::assess(const AgentSpec& a, int horizon, double ta
   const int n = a.n(), m = a.m();
   for (const auto& [field, size, what, eps] :
        {std::tuple{"eta_x", n, "the cell size of its state grid", true}, std::tuple{"eta_u", m, "the spacing of its input grid", false}}) {
-    const Eigen::Index have = std::string(field) == "eta_x" ? a.eta_x.size() : a.eta_u.size();
+    const Eigen::Index have = std::string(field) == "eta_x" ? a.tube.eta_x.size() : a.tube.eta_u.size();
     if (have != size)
       return refuse(field, -1,
                     std::string("the abcd tracker needs '") + field + "', " + what + " (" + std::to_string(size) +
-                        " positive numbers" + (eps ? ", each at most eps, e.g. eps / 8 = " + vec(a.eps / 8) : "") +
+                        " positive numbers" + (eps ? ", each at most eps, e.g. eps / 8 = " + vec(a.tube.eps / 8) : "") +
                         "); give it or choose another tracker");
   }
   const auto names = a.dynamics ? a.dynamics->state_names() : std::vector<std::string>(n, "?");
@@ -158,26 +158,26 @@ TrackerAssessment AbcdTracker::assess(const AgentSpec& a, int horizon, double ta
     const CellBounds cell = x0_cell(a, i);
     return refuse("eta_x", i,
                   "x0's grid cell [" + fmt(cell.lo) + ", " + fmt(cell.hi) + "] in '" + names[i] +
-                      "' does not fit inside the tube [x0 - eps, x0 + eps] = [" + fmt(a.x0[i] - a.eps[i]) + ", " +
-                      fmt(a.x0[i] + a.eps[i]) + "]; choose eta_x <= eps (" + fmt(a.eps[i]) + ")");
+                      "' does not fit inside the tube [x0 - eps, x0 + eps] = [" + fmt(a.x0[i] - a.tube.eps[i]) + ", " +
+                      fmt(a.x0[i] + a.tube.eps[i]) + "]; choose eta_x <= eps (" + fmt(a.tube.eps[i]) + ")");
   }
   for (int i = 0; i < n; ++i) {
-    const double cells = (a.state_bounds.hi[i] - a.state_bounds.lo[i]) / a.eta_x[i];
+    const double cells = (a.state_bounds.hi[i] - a.state_bounds.lo[i]) / a.tube.eta_x[i];
     if (!(cells <= kMaxGridCellsPerCoordinate))
       return refuse("eta_x", i,
-                    "eta_x = " + fmt(a.eta_x[i]) + " makes " + fmt(cells) + " grid cells across the state bounds in '" +
+                    "eta_x = " + fmt(a.tube.eta_x[i]) + " makes " + fmt(cells) + " grid cells across the state bounds in '" +
                         names[i] + "'; at most " + fmt(kMaxGridCellsPerCoordinate) + " are supported");
   }
   // Storage: a u16 per (tube cell, step), prefix sums over two steps' tubes, the input grid over
   // U. Tube cells per step: prod_i (floor(2 eps_i / eta_x_i) + 1) at most.
   double tube = 1, tube_upper = 1, work_cells = 1, inputs = 1;
   for (int i = 0; i < n; ++i) {
-    const double c = std::floor(2 * a.eps[i] / a.eta_x[i]);
+    const double c = std::floor(2 * a.tube.eps[i] / a.tube.eta_x[i]);
     tube *= c + 1;
     tube_upper *= c;  // cells lying entirely inside one eps-box: at most floor(2 eps / eta)
     work_cells *= std::max(1.0, c);
   }
-  for (int j = 0; j < m; ++j) inputs *= std::floor((a.input_bounds.hi[j] - a.input_bounds.lo[j]) / a.eta_u[j] + 1e-9) + 1;
+  for (int j = 0; j < m; ++j) inputs *= std::floor((a.input_bounds.hi[j] - a.input_bounds.lo[j]) / a.tube.eta_u[j] + 1e-9) + 1;
   std::string source;
   const double budget = memory_budget_from_environment(&source);
   const double state_bytes = (static_cast<double>(horizon) + 1) * tube * 2 + 2 * tube * 8;
@@ -202,8 +202,8 @@ TrackerAssessment AbcdTracker::assess(const AgentSpec& a, int horizon, double ta
 bool AbcdTracker::refine(AgentSpec& agent) const {
   if (!has_grid(agent)) return false;
   AgentSpec b = agent;
-  b.eta_x *= 0.75;
-  b.eta_u *= 0.75;
+  b.tube.eta_x *= 0.75;
+  b.tube.eta_u *= 0.75;
   if (x0_cell_defect(b) >= 0) return false;
   agent = b;
   return true;

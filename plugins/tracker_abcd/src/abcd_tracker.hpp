@@ -24,8 +24,8 @@ struct CellBounds {
 };
 inline CellBounds x0_cell(const AgentSpec& a, int i) {
   const double lo = a.state_bounds.lo[i];
-  const double cell_lo = lo + std::floor((a.x0[i] - lo) / a.eta_x[i]) * a.eta_x[i];
-  return {cell_lo, cell_lo + a.eta_x[i]};
+  const double cell_lo = lo + std::floor((a.x0[i] - lo) / a.tube.eta_x[i]) * a.tube.eta_x[i];
+  return {cell_lo, cell_lo + a.tube.eta_x[i]};
 }
 
 // The tracker's parameters with their defaults, each declared once in abcd_tracker.cpp

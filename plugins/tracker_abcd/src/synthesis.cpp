@@ -100,8 +100,8 @@ TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o
   if (p.nominal.x.size() < 2) return invalid("the nominal trajectory needs at least two states");
   for (const auto& x : p.nominal.x)
     if (x.size() != n || !x.allFinite()) return invalid("a nominal state has the wrong dimension or is not finite");
-  for (auto [v, sz, name, pos] : {std::tuple{&p.eps, n, "eps", true}, {&p.eta_x, n, "eta_x", true},
-                                  {&p.w, n, "W", false}, {&p.eta_u, m, "eta_u", true}}) {
+  for (auto [v, sz, name, pos] : {std::tuple{&p.tube.eps, n, "eps", true}, {&p.tube.eta_x, n, "eta_x", true},
+                                  {&p.tube.w, n, "W", false}, {&p.tube.eta_u, m, "eta_u", true}}) {
     const std::string e = check_vector(*v, sz, name, pos);
     if (!e.empty()) return invalid(e);
   }
@@ -113,8 +113,8 @@ TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o
   UniformGrid g;
   InputGrid ug;
   try {
-    g = UniformGrid(to_std(p.state_bounds.lo), to_std(p.eta_x));
-    ug = InputGrid(to_std(p.input_bounds.lo), to_std(p.input_bounds.hi), to_std(p.eta_u));
+    g = UniformGrid(to_std(p.state_bounds.lo), to_std(p.tube.eta_x));
+    ug = InputGrid(to_std(p.input_bounds.lo), to_std(p.input_bounds.hi), to_std(p.tube.eta_u));
   } catch (const std::exception& e) {
     return invalid(e.what());
   }
@@ -129,8 +129,8 @@ TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o
   d.tau = p.tau;
   d.origin = g.origin();
   d.eta_x = g.eta();
-  d.eps = to_std(p.eps);
-  d.w = to_std(p.w);
+  d.eps = to_std(p.tube.eps);
+  d.w = to_std(p.tube.w);
   d.u_lo = ug.lo();
   d.u_hi = ug.hi();
   d.eta_u = ug.eta();
@@ -138,7 +138,7 @@ TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o
   TrackerStats& st = r.stats;
   std::int64_t total = 0;
   for (int k = 0; k <= T; ++k) {
-    d.boxes.push_back(tube_box(g, p.nominal.x[k].data(), p.eps.data()));
+    d.boxes.push_back(tube_box(g, p.nominal.x[k].data(), p.tube.eps.data()));
     const std::int64_t cells = d.boxes.back().size();
     st.tube_cells += cells;
     if (k < T) {

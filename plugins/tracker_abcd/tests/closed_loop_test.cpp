@@ -25,7 +25,7 @@ TEST_P(ClosedLoop, NeverLeavesTheTube) {
     Eigen::VectorXd x0(n);
     int guard = 0;
     do {
-      for (int i = 0; i < n; ++i) x0[i] = p.nominal.x[0][i] + p.eps[i] * unit(rng);
+      for (int i = 0; i < n; ++i) x0[i] = p.nominal.x[0][i] + p.tube.eps[i] * unit(rng);
     } while (!c.winning(x0.data(), 0) && ++guard < 100000);
     ASSERT_TRUE(c.winning(x0.data(), 0));
     std::vector<ClosedLoopOptions> modes;
@@ -45,7 +45,7 @@ TEST_P(ClosedLoop, NeverLeavesTheTube) {
       modes.push_back(o);
     }
     for (const auto& o : modes) {
-      const auto r = simulate_closed_loop(*p.dynamics, c, x0, p.nominal.x, p.eps, p.w, o);
+      const auto r = simulate_closed_loop(*p.dynamics, c, x0, p.nominal.x, p.tube.eps, p.tube.w, o);
       ++runs;
       EXPECT_TRUE(r.in_tube()) << GetParam() << " mode " << to_string(o.mode) << " vertex " << o.vertex
                                << ": violation at " << r.first_violation << ", gave up at " << r.controller_gave_up;

@@ -184,7 +184,7 @@ TEST(ExportC, PendulumBitIdenticalInBothEncodings) {
   ASSERT_EQ(a.result.status, TrackerStatus::ControllerFound) << a.result.message;
   const auto c = grid_controller(a.result);
   ASSERT_TRUE(c);
-  const auto qs = queries(*c, a.problem.nominal.x, a.problem.eps, 120000, 1);
+  const auto qs = queries(*c, a.problem.nominal.x, a.problem.tube.eps, 120000, 1);
   for (const char* enc : {"dense", "rle"}) {
     auto counts = check_c_against_cpp(*c, qs, "pendulum", enc);
     EXPECT_GT(counts[ControlStatus::Ok], 10000) << enc;
@@ -198,7 +198,7 @@ TEST(ExportC, DroneBitIdenticalInBothEncodings) {
   ASSERT_EQ(a.result.status, TrackerStatus::ControllerFound) << a.result.message;
   const auto c = grid_controller(a.result);
   ASSERT_TRUE(c);
-  const auto qs = queries(*c, a.problem.nominal.x, a.problem.eps, 120000, 2);
+  const auto qs = queries(*c, a.problem.nominal.x, a.problem.tube.eps, 120000, 2);
   for (const char* enc : {"dense", "rle"}) {
     auto counts = check_c_against_cpp(*c, qs, "drone1", enc);
     EXPECT_GT(counts[ControlStatus::Ok], 10000) << enc;

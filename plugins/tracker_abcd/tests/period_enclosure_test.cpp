@@ -208,7 +208,7 @@ void expect_closed_loop_inside(TrackingProblem p, double shrink, bool expect_esc
   const auto& grid = dynamic_cast<const GridController&>(c);
   for (int run = 0; run < 40; ++run) {
     Eigen::VectorXd x = p.nominal.x[0];
-    for (int i = 0; i < n; ++i) x[i] += p.eps[i] * (2 * unit(rng) - 1);
+    for (int i = 0; i < n; ++i) x[i] += p.tube.eps[i] * (2 * unit(rng) - 1);
     if (!grid.winning(x.data(), 0)) continue;
     for (int k = 0; k < T; ++k) {
       Eigen::VectorXd u(p.dynamics->input_dim());
@@ -231,8 +231,8 @@ void expect_closed_loop_inside(TrackingProblem p, double shrink, bool expect_esc
         Eigen::VectorXd w(n);
         const int mode = run % 3;
         for (int i = 0; i < n; ++i)
-          w[i] = mode == 0 ? p.w[i] * (2 * unit(rng) - 1)
-                           : ((((mode == 1 ? bits : rng()) >> i) & 1u) ? p.w[i] : -p.w[i]);
+          w[i] = mode == 0 ? p.tube.w[i] * (2 * unit(rng) - 1)
+                           : ((((mode == 1 ? bits : rng()) >> i) & 1u) ? p.tube.w[i] : -p.tube.w[i]);
         x = integrate_period(*p.dynamics, x, u.data(), p.tau / Q, 1, [&](int) { return w; });
       }
     }

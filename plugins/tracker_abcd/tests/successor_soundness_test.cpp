@@ -178,7 +178,7 @@ TEST(SuccessorSoundness, TrackerUsesAModelsHookAndStaysCorrect) {
     ClosedLoopOptions o;
     o.mode = run % 2 ? TubeDisturbance::VertexSwitching : TubeDisturbance::UniformRandom;
     o.seed = rng();
-    EXPECT_TRUE(simulate_closed_loop(*p.dynamics, c, x0, p.nominal.x, p.eps, p.w, o).in_tube());
+    EXPECT_TRUE(simulate_closed_loop(*p.dynamics, c, x0, p.nominal.x, p.tube.eps, p.tube.w, o).in_tube());
   }
 }
 

@@ -87,7 +87,7 @@ INSTANTIATE_TEST_SUITE_P(Tracker, ExampleAgents,
 
 TEST(Synthesis, TubeTooThinForTheDisturbanceHasNoController) {
   auto p = scenarios::drone(30);
-  p.w = scenarios::vec({0.0, 0.6, 0.6});  // pushes further per step than the tube is wide
+  p.tube.w = scenarios::vec({0.0, 0.6, 0.6});  // pushes further per step than the tube is wide
   AbcdTracker tracker;
   TrackOptions o;
   o.threads = 1;
@@ -97,7 +97,7 @@ TEST(Synthesis, TubeTooThinForTheDisturbanceHasNoController) {
   EXPECT_FALSE(r.stats.initial_state_winning);
 
   auto q = scenarios::vehicle();
-  q.eps = scenarios::vec({0.02, 0.03});  // two cells wide, W = 0.1 on the speed
+  q.tube.eps = scenarios::vec({0.02, 0.03});  // two cells wide, W = 0.1 on the speed
   const auto r2 = tracker.track(q, o);
   EXPECT_EQ(r2.status, TrackerStatus::NoController) << r2.message;
   EXPECT_FALSE(r2.controller);
@@ -105,7 +105,7 @@ TEST(Synthesis, TubeTooThinForTheDisturbanceHasNoController) {
 
 TEST(Synthesis, EpsBelowOneCellIsNoController) {
   auto p = scenarios::vehicle();
-  p.eps = scenarios::vec({0.004, 0.12});
+  p.tube.eps = scenarios::vec({0.004, 0.12});
   AbcdTracker tracker;
   const auto r = tracker.track(p, TrackOptions{});
   EXPECT_EQ(r.status, TrackerStatus::NoController);
@@ -113,7 +113,7 @@ TEST(Synthesis, EpsBelowOneCellIsNoController) {
 
 TEST(Synthesis, InvalidInputIsReported) {
   auto p = scenarios::vehicle();
-  p.eps = scenarios::vec({0.08});
+  p.tube.eps = scenarios::vec({0.08});
   AbcdTracker tracker;
   EXPECT_EQ(tracker.track(p, TrackOptions{}).status, TrackerStatus::InvalidInput);
   p = scenarios::vehicle();
@@ -179,11 +179,11 @@ TEST(Synthesis, TubeCellsLieEntirelyInTheEpsBox) {
   for (size_t k = 0; k < c->data().boxes.size(); ++k) {
     const IndexBox& b = c->data().boxes[k];
     for (int i = 0; i < b.n; ++i) {
-      EXPECT_GE(c->grid().cell(i, b.lo[i]).lower(), a.problem.nominal.x[k][i] - a.problem.eps[i]);
-      EXPECT_LE(c->grid().cell(i, b.hi[i]).upper(), a.problem.nominal.x[k][i] + a.problem.eps[i]);
+      EXPECT_GE(c->grid().cell(i, b.lo[i]).lower(), a.problem.nominal.x[k][i] - a.problem.tube.eps[i]);
+      EXPECT_LE(c->grid().cell(i, b.hi[i]).upper(), a.problem.nominal.x[k][i] + a.problem.tube.eps[i]);
       // and it is the largest such range
-      EXPECT_LT(c->grid().cell(i, b.lo[i] - 1).lower(), a.problem.nominal.x[k][i] - a.problem.eps[i]);
-      EXPECT_GT(c->grid().cell(i, b.hi[i] + 1).upper(), a.problem.nominal.x[k][i] + a.problem.eps[i]);
+      EXPECT_LT(c->grid().cell(i, b.lo[i] - 1).lower(), a.problem.nominal.x[k][i] - a.problem.tube.eps[i]);
+      EXPECT_GT(c->grid().cell(i, b.hi[i] + 1).upper(), a.problem.nominal.x[k][i] + a.problem.tube.eps[i]);
     }
   }
 }

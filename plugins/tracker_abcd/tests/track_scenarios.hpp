@@ -43,10 +43,10 @@ inline TrackingProblem drone(int steps = 103) {
   TrackingProblem p;
   p.agent = "drone";
   p.dynamics = std::make_shared<models::Unicycle>();
-  p.eps = vec({0.2, 0.2, 0.24});
-  p.eta_x = vec({0.025, 0.025, 0.03});
-  p.eta_u = vec({0.3, 0.3});
-  p.w = vec({0.0, 0.025, 0.025});
+  p.tube.eps = vec({0.2, 0.2, 0.24});
+  p.tube.eta_x = vec({0.025, 0.025, 0.03});
+  p.tube.eta_u = vec({0.3, 0.3});
+  p.tube.w = vec({0.0, 0.025, 0.025});
   p.input_bounds = {vec({-2.4, -2.4}), vec({2.4, 2.4})};
   p.state_bounds = {vec({-1, -1, -2}), vec({11, 11, 3.3})};
   p.nominal = simulate_nominal(*p.dynamics, vec({0, 0, M_PI / 4}), steps, p.tau, [](int k, const Eigen::VectorXd&) {
@@ -60,10 +60,10 @@ inline TrackingProblem lane_merging() {
   TrackingProblem p;
   p.agent = "lane_car";
   p.dynamics = std::make_shared<models::Unicycle>();
-  p.eps = vec({0.16, 0.16, 0.16});
-  p.eta_x = vec({0.02, 0.02, 0.02});
-  p.eta_u = vec({0.3, 0.15});
-  p.w = vec({0.03, 0.03, 0.03});
+  p.tube.eps = vec({0.16, 0.16, 0.16});
+  p.tube.eta_x = vec({0.02, 0.02, 0.02});
+  p.tube.eta_u = vec({0.3, 0.15});
+  p.tube.w = vec({0.03, 0.03, 0.03});
   p.input_bounds = {vec({-0.9, -2.1}), vec({3, 2.1})};
   p.state_bounds = {vec({-0.5, 0.1, -1}), vec({15, 7.4, 0.4})};
   p.nominal = simulate_nominal(*p.dynamics, vec({8, 3.9, -0.64}), 110, p.tau, [](int k, const Eigen::VectorXd&) {
@@ -77,10 +77,10 @@ inline TrackingProblem formation() {
   TrackingProblem p;
   p.agent = "formation_drone";
   p.dynamics = std::make_shared<models::Unicycle>();
-  p.eps = vec({0.24, 0.24, 0.24});
-  p.eta_x = vec({0.03, 0.03, 0.03});
-  p.eta_u = vec({0.3, 0.15});
-  p.w = vec({0.03, 0.03, 0.03});
+  p.tube.eps = vec({0.24, 0.24, 0.24});
+  p.tube.eta_x = vec({0.03, 0.03, 0.03});
+  p.tube.eta_u = vec({0.3, 0.15});
+  p.tube.w = vec({0.03, 0.03, 0.03});
   p.input_bounds = {vec({-0.9, -3}), vec({4.8, 3})};
   p.state_bounds = {vec({-2, -2, 0.6}), vec({17, 17, 1.6})};
   p.nominal = simulate_nominal(*p.dynamics, vec({0, 0, M_PI / 4}), 100, p.tau, [](int k, const Eigen::VectorXd&) {
@@ -94,10 +94,10 @@ inline TrackingProblem crane(int steps = 70) {
   TrackingProblem p;
   p.agent = "crane";
   p.dynamics = std::make_shared<models::CartPole>();
-  p.eps = vec({0.135, 0.385, 0.176, 0.768});
-  p.eta_x = vec({0.015, 0.035, 0.016, 0.064});
-  p.eta_u = vec({0.2});
-  p.w = vec({0, 0.05, 0, 0});
+  p.tube.eps = vec({0.135, 0.385, 0.176, 0.768});
+  p.tube.eta_x = vec({0.015, 0.035, 0.016, 0.064});
+  p.tube.eta_u = vec({0.2});
+  p.tube.w = vec({0, 0.05, 0, 0});
   p.input_bounds = {vec({-7}), vec({7})};
   p.state_bounds = {vec({-0.195, -1.99, 1.20, -5.44}), vec({5.49, 4.37, 4.68, 5.28})};
   // Moves the cart about 5 m in 7 s (the slow term) while a force near the pendulum's natural
@@ -114,10 +114,10 @@ inline TrackingProblem vehicle() {
   TrackingProblem p;
   p.agent = "vehicle";
   p.dynamics = std::make_shared<models::DoubleIntegrator>();
-  p.eps = vec({0.08, 0.12});
-  p.eta_x = vec({0.01, 0.015});
-  p.eta_u = vec({0.1});
-  p.w = vec({0, 0.1});
+  p.tube.eps = vec({0.08, 0.12});
+  p.tube.eta_x = vec({0.01, 0.015});
+  p.tube.eta_u = vec({0.1});
+  p.tube.w = vec({0, 0.1});
   p.input_bounds = {vec({-3}), vec({3})};
   p.state_bounds = {vec({3, -3}), vec({9, 1.995})};
   p.nominal = simulate_nominal(*p.dynamics, vec({8, 0}), 70, p.tau, [](int k, const Eigen::VectorXd&) {
@@ -131,10 +131,10 @@ inline TrackingProblem pendulum(int steps = 160) {
   TrackingProblem p;
   p.agent = "pendulum";
   p.dynamics = std::make_shared<models::Pendulum>();
-  p.eps = vec({0.2, 0.2});
-  p.eta_x = vec({0.02, 0.02});
-  p.eta_u = vec({0.25});
-  p.w = vec({0, 0.01});
+  p.tube.eps = vec({0.2, 0.2});
+  p.tube.eta_x = vec({0.02, 0.02});
+  p.tube.eta_u = vec({0.25});
+  p.tube.w = vec({0, 0.01});
   p.input_bounds = {vec({-4}), vec({4})};
   p.state_bounds = {vec({-4, -4}), vec({4, 4})};
   p.nominal = simulate_nominal(*p.dynamics, vec({0, 0}), steps, p.tau, [](int k, const Eigen::VectorXd& x) {

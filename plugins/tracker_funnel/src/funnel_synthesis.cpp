@@ -244,8 +244,8 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
   d.n = n;
   d.m = m;
   d.tau = p.tau;
-  d.eps.assign(p.eps.data(), p.eps.data() + n);
-  d.w.assign(p.w.data(), p.w.data() + n);
+  d.eps.assign(p.tube.eps.data(), p.tube.eps.data() + n);
+  d.w.assign(p.tube.w.data(), p.tube.w.data() + n);
   d.u_lo.assign(p.input_bounds.lo.data(), p.input_bounds.lo.data() + m);
   d.u_hi.assign(p.input_bounds.hi.data(), p.input_bounds.hi.data() + m);
   for (int k = 0; k <= T; ++k) d.x_nom.emplace_back(p.nominal.x[k].data(), p.nominal.x[k].data() + n);
@@ -260,7 +260,7 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
 
   // V_0: the initial box, stored as it is tested (plain comparisons, no rounding).
   std::vector<double> elo, ehi;
-  eps_box(p.nominal.x[0], p.eps, elo, ehi);
+  eps_box(p.nominal.x[0], p.tube.eps, elo, ehi);
   StepSet& s0 = d.sets[0];
   s0.lo.resize(n);
   s0.hi.resize(n);
@@ -269,7 +269,7 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
     s0.hi[i] = (fi(p.nominal.x[0][i]) + fi(o.initial_radius[i])).upper();
     if (s0.lo[i] < elo[i] || s0.hi[i] > ehi[i]) {
       out.why = "the initial box (radius " + num(o.initial_radius[i]) + " along " + f.state_names()[i] +
-                ") is not inside the eps-box (eps " + num(p.eps[i]) + ")";
+                ") is not inside the eps-box (eps " + num(p.tube.eps[i]) + ")";
       return out;
     }
   }
@@ -295,7 +295,7 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
   // How much of the eps-box a verified set spans: its hull, which its box also bounds.
   auto record_fill = [&](const Zonotope& z, const StepSet& set) {
     for (int i = 0; i < n; ++i) {
-      const double r = std::min(z.radius(i), 0.5 * (set.hi[i] - set.lo[i])) / p.eps[i];
+      const double r = std::min(z.radius(i), 0.5 * (set.hi[i] - set.lo[i])) / p.tube.eps[i];
       out.max_fill = std::max(out.max_fill, r);
       fill_sum += r;
       ++fill_count;
@@ -364,7 +364,7 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
     for (int i = 0; i < n; ++i) {
       double r = 0.0;
       for (Eigen::Index j = 0; j < fr.end.G.cols(); ++j) r += std::fabs(fr.end.G(i, j));
-      worst = std::max(worst, r / p.eps[i]);
+      worst = std::max(worst, r / p.tube.eps[i]);
     }
     return worst;
   };
@@ -407,14 +407,14 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
     zend.G = fr.end.G.topRows(n);
     drop_zero_generators(zend);
     StepSet& next = d.sets[k + 1];
-    eps_box(p.nominal.x[k + 1], p.eps, next.lo, next.hi);
+    eps_box(p.nominal.x[k + 1], p.tube.eps, next.lo, next.hi);
     for (int i = 0; i < n; ++i) {
       const FastInterval h = zend.hull(i);
       if (h.lower() < next.lo[i] || h.upper() > next.hi[i]) {
         const double over = std::max(next.lo[i] - h.lower(), h.upper() - next.hi[i]);
         out.why = "at step " + std::to_string(k + 1) + " of " + std::to_string(T) + ", " + f.state_names()[i] +
                   " can leave the eps-tube by " + num(over) + " (enclosure half-width " + num(zend.radius(i)) +
-                  " vs eps " + num(p.eps[i]) + (out.saturated_steps ? "; some inputs saturated" : "") + ")";
+                  " vs eps " + num(p.tube.eps[i]) + (out.saturated_steps ? "; some inputs saturated" : "") + ")";
         out.reached_step = k;
         return out;
       }
@@ -439,7 +439,7 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
         score = end_fill(pn.fr);
       } else {
         score = 0.0;
-        for (int i = 0; i < n; ++i) score = std::max(score, c.next.radius(i) / p.eps[i]);
+        for (int i = 0; i < n; ++i) score = std::max(score, c.next.radius(i) / p.tube.eps[i]);
       }
       if (!fit.ok || score < best) {
         best = score;

@@ -98,13 +98,13 @@ TrackerAssessment FunnelTracker::assess(const AgentSpec& a, int horizon, double 
     return r;
   }
   for (int i = 0; i < n; ++i) {
-    const double r0 = s_.initial_radius.empty() ? s_.initial_fraction * a.eps[i] : s_.initial_radius[i];
-    if (!(r0 < a.eps[i])) {
+    const double r0 = s_.initial_radius.empty() ? s_.initial_fraction * a.tube.eps[i] : s_.initial_radius[i];
+    if (!(r0 < a.tube.eps[i])) {
       r.ok = false;
       r.field = "initial_radius";
       r.coordinate = i;
       r.message = "the initial box (half-width " + std::to_string(r0) + ") must lie strictly inside the eps-box (eps " +
-                  std::to_string(a.eps[i]) + ")";
+                  std::to_string(a.tube.eps[i]) + ")";
       return r;
     }
   }
@@ -152,7 +152,7 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
     res.message = "the funnel tracker handles agents with states + inputs <= " + std::to_string(kMaxDual);
     return res;
   }
-  if (T < 1 || static_cast<int>(p.nominal.x.size()) != T + 1 || p.eps.size() != n || p.w.size() != n ||
+  if (T < 1 || static_cast<int>(p.nominal.x.size()) != T + 1 || p.tube.eps.size() != n || p.tube.w.size() != n ||
       p.input_bounds.dim() != m) {
     res.message = "inconsistent tracking problem (nominal length, eps, w or input bounds)";
     return res;
@@ -168,12 +168,12 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
   vo.parts = s_.parts;
   vo.initial_radius.resize(n);
   for (int i = 0; i < n; ++i)
-    vo.initial_radius[i] = s_.initial_radius.empty() ? s_.initial_fraction * p.eps[i] : s_.initial_radius[i];
+    vo.initial_radius[i] = s_.initial_radius.empty() ? s_.initial_fraction * p.tube.eps[i] : s_.initial_radius[i];
 
   LqrWeights wt;
   wt.q.resize(n);
   wt.r.resize(m);
-  for (int i = 0; i < n; ++i) wt.q[i] = s_.state_weight / (p.eps[i] * p.eps[i]);
+  for (int i = 0; i < n; ++i) wt.q[i] = s_.state_weight / (p.tube.eps[i] * p.tube.eps[i]);
   wt.terminal = s_.terminal_weight;
   const int tries = s_.weight_search ? static_cast<int>(std::size(kInputWeightLadder)) : 1;
   VerifyOutcome best;

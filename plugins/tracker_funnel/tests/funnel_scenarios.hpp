@@ -43,8 +43,8 @@ inline TrackingProblem unicycle(int steps = 60) {
   TrackingProblem p;
   p.agent = "drone";
   p.dynamics = std::make_shared<models::Unicycle>();
-  p.eps = vec({0.2, 0.2, 0.24});
-  p.w = vec({0.0, 0.025, 0.025});
+  p.tube.eps = vec({0.2, 0.2, 0.24});
+  p.tube.w = vec({0.0, 0.025, 0.025});
   p.input_bounds = {vec({-2.4, -2.4}), vec({2.4, 2.4})};
   p.state_bounds = {vec({-1, -1, -2}), vec({11, 11, 3.3})};
   p.nominal = simulate(*p.dynamics, vec({0, 0, M_PI / 4}), steps, p.tau, [](double t) {
@@ -57,8 +57,8 @@ inline TrackingProblem crane(int steps = 40) {
   TrackingProblem p;
   p.agent = "crane";
   p.dynamics = std::make_shared<models::CartPole>();
-  p.eps = vec({0.135, 0.385, 0.176, 0.768});
-  p.w = vec({0, 0.05, 0, 0});
+  p.tube.eps = vec({0.135, 0.385, 0.176, 0.768});
+  p.tube.w = vec({0, 0.05, 0, 0});
   p.input_bounds = {vec({-7}), vec({7})};
   p.state_bounds = {vec({-0.195, -1.99, 1.20, -5.44}), vec({5.49, 4.37, 4.68, 5.28})};
   p.nominal = simulate(*p.dynamics, vec({0, 0, M_PI, 0}), steps, p.tau, [](double t) {
@@ -71,8 +71,8 @@ inline TrackingProblem bicycle(int steps = 50) {
   TrackingProblem p;
   p.agent = "bicycle";
   p.dynamics = std::make_shared<models::Bicycle>();
-  p.eps = vec({0.2, 0.2, 0.2, 0.2, 0.15});
-  p.w = vec({0.02, 0.02, 0.02, 0.05, 0.02});
+  p.tube.eps = vec({0.2, 0.2, 0.2, 0.2, 0.15});
+  p.tube.w = vec({0.02, 0.02, 0.02, 0.05, 0.02});
   p.input_bounds = {vec({-2, -1.5}), vec({2, 1.5})};
   p.state_bounds = {vec({-10, -10, -4, -1, -0.6}), vec({10, 10, 4, 3, 0.6})};
   p.nominal = simulate(*p.dynamics, vec({0, 0, 0, 1, 0}), steps, p.tau, [](double t) {
@@ -85,8 +85,8 @@ inline TrackingProblem planar_quadrotor(int steps = 50) {
   TrackingProblem p;
   p.agent = "pquad";
   p.dynamics = std::make_shared<models::PlanarQuadrotor>();
-  p.eps = vec({0.2, 0.2, 0.2, 0.3, 0.3, 0.5});
-  p.w = vec({0, 0, 0, 0.05, 0.05, 0.05});
+  p.tube.eps = vec({0.2, 0.2, 0.2, 0.3, 0.3, 0.5});
+  p.tube.w = vec({0, 0, 0, 0.05, 0.05, 0.05});
   p.input_bounds = {vec({5, -8}), vec({15, 8})};
   p.state_bounds = {vec({-10, -10, -1, -5, -5, -5}), vec({10, 10, 1, 5, 5, 5})};
   p.workspace.index = {0, 1};
@@ -101,8 +101,8 @@ inline TrackingProblem quadrotor(int steps = 30) {
   TrackingProblem p;
   p.agent = "quad";
   p.dynamics = std::make_shared<models::Quadrotor>();
-  p.eps = vec({0.2, 0.2, 0.2, 0.15, 0.15, 0.2, 0.3, 0.3, 0.3, 0.6, 0.6, 0.6});
-  p.w = vec({0, 0, 0, 0, 0, 0, 0.01, 0.01, 0.01, 0.02, 0.02, 0.02});
+  p.tube.eps = vec({0.2, 0.2, 0.2, 0.15, 0.15, 0.2, 0.3, 0.3, 0.3, 0.6, 0.6, 0.6});
+  p.tube.w = vec({0, 0, 0, 0, 0, 0, 0.01, 0.01, 0.01, 0.02, 0.02, 0.02});
   p.input_bounds = {vec({5, -10, -10, -5}), vec({15, 10, 10, 5})};
   p.state_bounds = {vec({-10, -10, -10, -1, -1, -3, -5, -5, -5, -6, -6, -6}), vec({10, 10, 10, 1, 1, 3, 5, 5, 5, 6, 6, 6})};
   p.nominal = simulate(*p.dynamics, vec({0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0}), steps, p.tau, [](double t) {

@@ -183,7 +183,7 @@ INSTANTIATE_TEST_SUITE_P(Models, FunnelSoundness,
 
 TEST(FunnelSoundness, TooLargeADisturbanceGivesNoController) {
   TrackingProblem p = scenario("unicycle");
-  p.w = p.w * 0 + Eigen::VectorXd::Constant(3, 1.5);  // 1.5 units/s against a 0.2-wide tube
+  p.tube.w = p.tube.w * 0 + Eigen::VectorXd::Constant(3, 1.5);  // 1.5 units/s against a 0.2-wide tube
   const TrackResult r = FunnelTracker().track(p, {});
   EXPECT_EQ(r.status, TrackerStatus::NoController) << r.message;
   EXPECT_FALSE(r.controller);
@@ -194,7 +194,7 @@ TEST(FunnelSoundness, InitialSetMustFitTheTube) {
   const TrackingProblem p = scenario("unicycle");
   AgentSpec a;
   a.x0 = p.nominal.x[0];
-  a.eps = p.eps;
+  a.tube.eps = p.tube.eps;
   a.input_bounds = p.input_bounds;
   Params big;
   big.set("initial_radius", std::vector<double>{0.1, 0.25, 0.1});  // 0.25 > eps_y = 0.2

@@ -38,21 +38,21 @@ TEST(Margins, CraneTipMarginIsSoundAndNotWild) {
   a.name = "crane";
   a.dynamics = crane;
   a.x0 = Eigen::Vector4d(0, 0, M_PI, 0);
-  a.eps = Eigen::Vector4d(0.135, 0.385, 0.176, 0.768);
+  a.tube.eps = Eigen::Vector4d(0.135, 0.385, 0.176, 0.768);
   a.workspace.footprint = 0;
   a.state_bounds = {Eigen::Vector4d(-0.195, -1.99, 1.20, -5.44), Eigen::Vector4d(5.49, 4.37, 4.68, 5.28)};
-  const auto g = global_margin(a, a.state_bounds.shrunk(a.eps));
+  const auto g = global_margin(a, a.state_bounds.shrunk(a.tube.eps));
   // |dp_x| <= eps_z + tip * eps_theta, and the cover adds only a little.
   EXPECT_GE(g.x, 0.135 + 0.5 * std::sin(0.176) - 1e-9);
   EXPECT_LE(g.x, 0.135 + 0.5 * 0.176 + 0.03);
   // Sampled states in the eps-box never move the tip further than the bounds.
-  const MarginTable table(a, a.state_bounds.shrunk(a.eps));
+  const MarginTable table(a, a.state_bounds.shrunk(a.tube.eps));
   std::srand(7);
   for (int trial = 0; trial < 2000; ++trial) {
     Eigen::Vector4d x;
     for (int i = 0; i < 4; ++i) {
       const double r = std::rand() / double(RAND_MAX);
-      x[i] = a.state_bounds.lo[i] + a.eps[i] + r * (a.state_bounds.hi[i] - a.state_bounds.lo[i] - 2 * a.eps[i]);
+      x[i] = a.state_bounds.lo[i] + a.tube.eps[i] + r * (a.state_bounds.hi[i] - a.state_bounds.lo[i] - 2 * a.tube.eps[i]);
     }
     const auto local = margin_at(a, x);
     EXPECT_LE(local.x, g.x + 1e-12);
@@ -61,7 +61,7 @@ TEST(Margins, CraneTipMarginIsSoundAndNotWild) {
     EXPECT_LE(local.x, cell.x + 1e-12);
     EXPECT_LE(local.y, cell.y + 1e-12);
     Eigen::Vector4d y = x;
-    for (int i = 0; i < 4; ++i) y[i] += a.eps[i] * (2 * (std::rand() / double(RAND_MAX)) - 1);
+    for (int i = 0; i < 4; ++i) y[i] += a.tube.eps[i] * (2 * (std::rand() / double(RAND_MAX)) - 1);
     double px[2], py[2];
     crane->footprint_point(0, x.data(), px);
     crane->footprint_point(0, y.data(), py);

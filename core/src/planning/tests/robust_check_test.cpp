@@ -19,8 +19,8 @@ AgentSpec unicycle(const std::string& name, Eigen::Vector3d x0) {
   a.state_bounds = {Eigen::Vector3d(-10, -10, -4), Eigen::Vector3d(10, 10, 4)};
   a.input_bounds = {Eigen::Vector2d(-2, -2), Eigen::Vector2d(2, 2)};
   a.goal = {Eigen::Vector3d(-10, -10, -4), Eigen::Vector3d(10, 10, 4)};
-  a.eps = Eigen::Vector3d(0.1, 0.1, 0.1);
-  a.w = Eigen::Vector3d::Zero();
+  a.tube.eps = Eigen::Vector3d(0.1, 0.1, 0.1);
+  a.tube.w = Eigen::Vector3d::Zero();
   return a;
 }
 
