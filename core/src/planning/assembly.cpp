@@ -52,33 +52,48 @@ PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOpti
   }
   const double delta = problem.delta;
   const bool inf = problem.delta_norm == Norm::Inf;
-  for (int i = 0; i < N; ++i) {
-    const auto& a = problem.agents[i];
-    for (size_t o = 0; o < problem.obstacles.size(); ++o) {
-      const auto& obs = problem.obstacles[o];
-      const std::string name = obstacle_name(problem, static_cast<int>(o), a);
-      pp.constraints.push_back(std::make_shared<ObstacleConstraint>(name, a, xo[i], obs.vertices, margin[i],
-                                                                    inf ? delta : 0.0,
-                                                                    (inf ? 0.0 : delta) + opt.buffer + more(name),
-                                                                    problem.distance_model));
-    }
-  }
-  if (problem.pairwise_collision)
-    for (int i = 0; i < N; ++i)
-      for (int j = i + 1; j < N; ++j) {
-        const auto &a = problem.agents[i], &b = problem.agents[j];
-        const std::string name = collision_name(a, b);
-        pp.constraints.push_back(std::make_shared<PairConstraint>(name, a, xo[i], b, xo[j], problem.delta_norm, delta,
-                                                                  margin[i], margin[j], opt.inf_norm_corner,
-                                                                  opt.buffer + more(name)));
+  // The requirements once; `clear[i]` is agent i's clearance beyond the buffer (0 at the knots).
+  auto requirements = [&](const std::vector<double>& clear, std::vector<std::shared_ptr<const Constraint>>& out) {
+    for (int i = 0; i < N; ++i) {
+      const auto& a = problem.agents[i];
+      for (size_t o = 0; o < problem.obstacles.size(); ++o) {
+        const auto& obs = problem.obstacles[o];
+        const std::string name = obstacle_name(problem, static_cast<int>(o), a);
+        out.push_back(std::make_shared<ObstacleConstraint>(name, a, xo[i], obs.vertices, margin[i], inf ? delta : 0.0,
+                                                           (inf ? 0.0 : delta) + opt.buffer + clear[i] + more(name),
+                                                           problem.distance_model));
       }
-  for (const auto& f : problem.formation) {
-    if (f.i < 0 || f.j < 0 || f.i >= N || f.j >= N || f.i == f.j)
-      throw std::invalid_argument("marsyn::planning::assemble: formation pair with a bad agent index");
-    const auto &a = problem.agents[f.i], &b = problem.agents[f.j];
-    const std::string name = formation_name(a, b);
-    pp.constraints.push_back(std::make_shared<FormationConstraint>(name, a, xo[f.i], b, xo[f.j], f.lambda, f.mu,
-                                                                   margin[f.i], margin[f.j], opt.buffer + more(name)));
+    }
+    if (problem.pairwise_collision)
+      for (int i = 0; i < N; ++i)
+        for (int j = i + 1; j < N; ++j) {
+          const auto &a = problem.agents[i], &b = problem.agents[j];
+          const std::string name = collision_name(a, b);
+          out.push_back(std::make_shared<PairConstraint>(name, a, xo[i], b, xo[j], problem.delta_norm, delta, margin[i],
+                                                         margin[j], opt.inf_norm_corner,
+                                                         opt.buffer + clear[i] + clear[j] + more(name)));
+        }
+    for (const auto& f : problem.formation) {
+      if (f.i < 0 || f.j < 0 || f.i >= N || f.j >= N || f.i == f.j)
+        throw std::invalid_argument("marsyn::planning::assemble: formation pair with a bad agent index");
+      const auto &a = problem.agents[f.i], &b = problem.agents[f.j];
+      const std::string name = formation_name(a, b);
+      out.push_back(std::make_shared<FormationConstraint>(name, a, xo[f.i], b, xo[f.j], f.lambda, f.mu, margin[f.i],
+                                                          margin[f.j], opt.buffer + clear[f.i] + clear[f.j] + more(name)));
+    }
+  };
+  requirements(std::vector<double>(N, 0.0), pp.constraints);
+  if (problem.guarantee == Guarantee::Continuous && opt.between_points > 0) {
+    pp.between_points = opt.between_points;
+    const double spacing = problem.tau / (opt.between_points + 1);
+    std::vector<double> clear(N);
+    for (int i = 0; i < N; ++i) {
+      const auto& a = problem.agents[i];
+      clear[i] = opt.between_clearance * spacing * workspace_speed_bound(a);
+      pp.between.push_back(std::make_shared<StateBoxConstraint>(
+          "state bounds of " + a.name, xo[i], Box{pp.state_bounds.lo.segment(xo[i], a.n()), pp.state_bounds.hi.segment(xo[i], a.n())}));
+    }
+    requirements(clear, pp.between);
   }
   return pp;
 }

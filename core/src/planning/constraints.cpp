@@ -305,4 +305,28 @@ bool FormationConstraint::hessian(const double* x, const double* w, double* H) c
   return true;
 }
 
+StateBoxConstraint::StateBoxConstraint(std::string name, int offset, const Box& box) : name_(std::move(name)) {
+  for (int c = 0; c < box.dim(); ++c) {
+    const bool lo = std::isfinite(box.lo[c]), hi = std::isfinite(box.hi[c]);
+    if (!lo && !hi) continue;
+    const int at = static_cast<int>(support_.size());
+    support_.push_back(offset + c);
+    if (lo) rows_.push_back({at, -1.0, box.lo[c]});
+    if (hi) rows_.push_back({at, 1.0, box.hi[c]});
+  }
+}
+
+void StateBoxConstraint::evaluate(const double* x, double* g, double* jac) const {
+  const int w = static_cast<int>(support_.size());
+  for (size_t r = 0; r < rows_.size(); ++r) {
+    const Row& row = rows_[r];
+    g[r] = row.sign * (x[support_[row.coord]] - row.bound);
+    if (jac) {
+      double* J = jac + r * w;
+      for (int i = 0; i < w; ++i) J[i] = 0.0;
+      J[row.coord] = row.sign;
+    }
+  }
+}
+
 }  // namespace marsyn::planning

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "marsyn/core/planning/constraints.hpp"  // workspace_point_jacobian
 #include "marsyn/interval.hpp"
 
 namespace marsyn::planning {
@@ -143,6 +144,40 @@ WorkspaceMargin MarginTable::max() const {
 
 WorkspaceMargin global_margin(const AgentSpec& a, const Box& region, int cells_per_dim) {
   return MarginTable(a, region, cells_per_dim).max();
+}
+
+double workspace_speed_bound(const AgentSpec& a) {
+  const int n = a.n(), m = a.m();
+  std::vector<Interval> x(n), u(m), f(n);
+  Eigen::VectorXd centre(n);
+  for (int i = 0; i < n; ++i) {
+    double lo = a.state_bounds.lo[i], hi = a.state_bounds.hi[i];
+    const double gc = a.goal.center()[i], g = std::isfinite(gc) ? gc : a.x0[i], span = std::abs(g - a.x0[i]) + 1.0;
+    if (!std::isfinite(lo)) lo = std::min(a.x0[i], g) - span;
+    if (!std::isfinite(hi)) hi = std::max(a.x0[i], g) + span;
+    x[i] = Interval(lo, hi);
+    centre[i] = 0.5 * (lo + hi);
+  }
+  for (int j = 0; j < m; ++j) u[j] = Interval(a.input_bounds.lo[j], a.input_bounds.hi[j]);
+  a.dynamics->field(x.data(), u.data(), f.data());
+  Eigen::VectorXd speed(n);
+  for (int i = 0; i < n; ++i) speed[i] = std::max(std::abs(f[i].lower()), std::abs(f[i].upper()));
+  double out = 0.0;
+  const auto& ws = a.workspace;
+  if (ws.linear()) {
+    for (int c = 0; c < 2; ++c)
+      if (ws.index[c] >= 0) out = std::max(out, speed[ws.index[c]]);
+  } else {
+    double p[2];
+    std::vector<double> J(2 * n);
+    workspace_point_jacobian(a, centre.data(), p, J.data());
+    for (int c = 0; c < 2; ++c) {
+      double v = 0.0;
+      for (int i = 0; i < n; ++i) v += std::abs(J[c * n + i]) * speed[i];
+      out = std::max(out, v);
+    }
+  }
+  return std::isfinite(out) ? out : 0.0;
 }
 
 }  // namespace marsyn::planning

@@ -48,15 +48,17 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
   int horizon = problem.horizon;
   if (horizon <= 0) throw std::invalid_argument("marsyn::planning::plan: the problem's horizon must be positive");
   if (warm) horizon = std::max(horizon, warm->horizon());
-  // Continuous time: a plan robust at its samples whose flow cuts a corner between them is
-  // re-planned at the same horizon with every constraint's buffer grown by the shortfall
-  // (bounded), before a longer horizon is tried.
+  // Continuous time: the requirements are imposed between the samples too (the assembly's
+  // interior points), so a converged plan normally passes the exact check at once. One that is
+  // robust at its samples and still short between them is re-planned at the same horizon with
+  // more clearance for the requirements that fell short (a small budget per horizon; clearance
+  // only grows, so rounds do not undo each other), before a longer horizon is tried.
   AssemblyOptions assembly = options.assembly;
-  int margin_retries = 0;
-  constexpr int kMaxMarginRetries = 5;
-  for (int attempt = 0; attempt < std::max(1, options.max_attempts) + margin_retries; ++attempt) {
+  int horizons = 0, retries_here = 0;
+  constexpr int kRetriesPerHorizon = 2;
+  while (horizons < std::max(1, options.max_attempts)) {
     const double left = options.time_limit_s - clock.seconds();
-    if (attempt > 0 && left <= 0) {
+    if (!best.attempts.empty() && left <= 0) {
       if (options.log) options.log("time limit reached: no further horizons tried");
       break;
     }
@@ -104,8 +106,8 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
     if (!clean.u.empty()) warm = clean;
     const bool between_only = a.check.continuous && a.check.sampled_margin >= 0 && a.check.min_input_margin >= 0 &&
                               a.check.between_margin < 0 && std::isfinite(a.check.between_margin);
-    if (between_only && margin_retries < kMaxMarginRetries) {
-      ++margin_retries;
+    if (between_only && retries_here < kRetriesPerHorizon) {
+      ++retries_here;
       // More clearance for exactly the requirements that fell short: 1.5 times the shortfall, and
       // at least half the knot-to-knot motion involved, since a point between two knots is
       // within half their distance of one of them (any norm), so that much clearance at the knots
@@ -122,6 +124,8 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
       }
       continue;
     }
+    ++horizons;
+    retries_here = 0;
     horizon = std::max(horizon + 1, static_cast<int>(std::ceil(horizon * options.horizon_growth)));
   }
   return best;

@@ -60,17 +60,33 @@ class NamedTally : public Tally {
       }
     }
   }
+  // Takes another tally's minimum and shortfalls (a period checked on its own).
+  void merge(const NamedTally& o) {
+    if (!(o.min_ >= min_)) {
+      min_ = o.min_;
+      step_ = o.step_;
+      name_ = o.name_;
+    }
+    for (const auto& [n, b] : o.negative) {
+      auto [it, fresh] = negative.try_emplace(n, b);
+      if (!fresh) {
+        it->second.margin = std::min(it->second.margin, b.margin);
+        it->second.motion = std::max(it->second.motion, b.motion);
+      }
+    }
+  }
   std::map<std::string, BetweenShortfall> negative;
 };
 
-// The eps-box around the exact flow between samples k and k+1 (every agent, kFlowParts parts),
+// The eps-box around the exact flow between samples k and k+1 (every agent, `parts` parts),
 // against bounds, obstacles, the other agents in the same part of the period, and formation.
-void check_between_samples(const Problem& problem, const std::vector<Eigen::VectorXd>& x,
-                           const std::vector<Eigen::VectorXd>& u, NamedTally& t) {
+// Returns false when a part has no enclosure (recorded as -inf).
+bool check_period(const Problem& problem, const std::vector<Eigen::VectorXd>& x,
+                  const std::vector<Eigen::VectorXd>& u, int k, int parts, NamedTally& t) {
   const auto xo = state_offsets(problem), uo = input_offsets(problem);
-  const int N = static_cast<int>(problem.agents.size()), T = static_cast<int>(u.size());
-  const int P = kFlowParts;
-  // ws[s][i]: agent i's workspace box over part s of the current period.
+  const int N = static_cast<int>(problem.agents.size());
+  const int P = parts;
+  // ws[s][i]: agent i's workspace box over part s of the period.
   std::vector<std::vector<Box>> ws(P, std::vector<Box>(N, Box{Eigen::VectorXd(2), Eigen::VectorXd(2)}));
   std::vector<Box> flow;
   std::vector<Interval> xb, pb(2);
@@ -79,68 +95,87 @@ void check_between_samples(const Problem& problem, const std::vector<Eigen::Vect
   // their difference (collisions, formation), in the problem's norm.
   std::vector<Eigen::Vector2d> step(N);
   auto size = [&](const Eigen::Vector2d& d) { return inf ? d.lpNorm<Eigen::Infinity>() : d.norm(); };
+  for (int i = 0; i < N; ++i) {
+    const auto& a = problem.agents[i];
+    double p0[2], p1[2];
+    workspace_point<double>(*a.dynamics, a.workspace, x[k].data() + xo[i], p0);
+    workspace_point<double>(*a.dynamics, a.workspace, x[k + 1].data() + xo[i], p1);
+    step[i] = Eigen::Vector2d(p1[0] - p0[0], p1[1] - p0[1]);
+  }
+  for (int i = 0; i < N; ++i) {
+    const auto& a = problem.agents[i];
+    const Eigen::VectorXd xi = x[k].segment(xo[i], a.n()), ui = u[k].segment(uo[i], a.m());
+    // The exact disturbance-free flow from the nominal state under the nominal input (the
+    // continuous nominal), each part's box grown by eps: the eps-robust spec between the
+    // samples. The tube's own excursion within a period is what the certifier measures on the
+    // trackers' enclosures; where it falls short, the outer search adds clearance to exactly
+    // those constraints (AssemblyOptions::extra).
+    const Box point{xi, xi};
+    if (!flow_boxes(*a.dynamics, point, ui, Eigen::VectorXd::Zero(a.n()), problem.tau, P, flow)) {
+      t.record(-std::numeric_limits<double>::infinity(), k, [&] { return "no enclosure of the flow of " + a.name; });
+      return false;
+    }
+    xb.resize(a.n());
+    for (int s = 0; s < P; ++s) {
+      Box grown{Eigen::VectorXd(a.n()), Eigen::VectorXd(a.n())};
+      {
+        const RoundToNearestScope nearest;  // fast_detail's directed rounding needs RN
+        for (int c = 0; c < a.n(); ++c) {
+          grown.lo[c] = fast_detail::sub_down(flow[s].lo[c], a.tube.eps[c]);
+          grown.hi[c] = fast_detail::add_up(flow[s].hi[c], a.tube.eps[c]);
+        }
+      }
+      for (int c = 0; c < a.n(); ++c) xb[c] = Interval(grown.lo[c], grown.hi[c]);
+      for (int c = 0; c < a.n(); ++c)
+        t.record(box_inside_margin(grown, a.state_bounds, c), k, [&] { return state_bound_name(a, c); },
+                 std::abs(x[k + 1][xo[i] + c] - x[k][xo[i] + c]));
+      if (a.workspace.linear()) {  // exact up to one directed addition, no interval type needed
+        const RoundToNearestScope nearest;
+        for (int c = 0; c < 2; ++c) {
+          const int at = a.workspace.index[c];
+          const double off = a.workspace.offset[c];
+          ws[s][i].lo[c] = at >= 0 ? fast_detail::add_down(grown.lo[at], off) : off;
+          ws[s][i].hi[c] = at >= 0 ? fast_detail::add_up(grown.hi[at], off) : off;
+        }
+      } else {
+        workspace_point(*a.dynamics, a.workspace, xb.data(), pb.data());
+        for (int c = 0; c < 2; ++c) {
+          ws[s][i].lo[c] = pb[c].lower();
+          ws[s][i].hi[c] = pb[c].upper();
+        }
+      }
+    }
+  }
+  auto motion = [&](const Requirement& q) {
+    if (q.kind == Requirement::Obstacle) return size(step[q.a]);
+    const Eigen::Vector2d d = step[q.a] - step[q.b];
+    return q.kind == Requirement::Collision ? size(d) : d.norm();
+  };
+  for (int s = 0; s < P; ++s)
+    for_each_requirement(problem, [&](const Requirement& q) {
+      t.record(box_requirement_margin(problem, q, ws[s]), k, [&] { return q.name(problem); }, motion(q));
+    });
+  return true;
+}
+
+// Every period with kFlowParts parts; a period that falls short is checked again with finer
+// parts (kFlowRefinement times as many, up to kFlowMaxParts): each part's box still encloses the
+// flow over that part, so the finer verdict is as sound and less pessimistic by the motion over
+// a part that a coarse box adds.
+void check_between_samples(const Problem& problem, const std::vector<Eigen::VectorXd>& x,
+                           const std::vector<Eigen::VectorXd>& u, NamedTally& t) {
+  const int T = static_cast<int>(u.size());
   for (int k = 0; k < T; ++k) {
-    for (int i = 0; i < N; ++i) {
-      const auto& a = problem.agents[i];
-      double p0[2], p1[2];
-      workspace_point<double>(*a.dynamics, a.workspace, x[k].data() + xo[i], p0);
-      workspace_point<double>(*a.dynamics, a.workspace, x[k + 1].data() + xo[i], p1);
-      step[i] = Eigen::Vector2d(p1[0] - p0[0], p1[1] - p0[1]);
+    NamedTally period;
+    int parts = kFlowParts;
+    bool enclosed = check_period(problem, x, u, k, parts, period);
+    while (enclosed && !(period.min_ >= 0) && parts * kFlowRefinement <= kFlowMaxParts) {
+      parts *= kFlowRefinement;
+      period = NamedTally();
+      enclosed = check_period(problem, x, u, k, parts, period);
     }
-    for (int i = 0; i < N; ++i) {
-      const auto& a = problem.agents[i];
-      const Eigen::VectorXd xi = x[k].segment(xo[i], a.n()), ui = u[k].segment(uo[i], a.m());
-      // The exact disturbance-free flow from the nominal state under the nominal input (the
-      // continuous nominal), each part's box grown by eps: the eps-robust spec between the
-      // samples. The tube's own excursion within a period is what the certifier measures on the
-      // trackers' enclosures; where it falls short, the outer search adds clearance to exactly
-      // those constraints (AssemblyOptions::extra).
-      const Box point{xi, xi};
-      if (!flow_boxes(*a.dynamics, point, ui, Eigen::VectorXd::Zero(a.n()), problem.tau, P, flow)) {
-        t.record(-std::numeric_limits<double>::infinity(), k, [&] { return "no enclosure of the flow of " + a.name; });
-        return;
-      }
-      xb.resize(a.n());
-      for (int s = 0; s < P; ++s) {
-        Box grown{Eigen::VectorXd(a.n()), Eigen::VectorXd(a.n())};
-        {
-          const RoundToNearestScope nearest;  // fast_detail's directed rounding needs RN
-          for (int c = 0; c < a.n(); ++c) {
-            grown.lo[c] = fast_detail::sub_down(flow[s].lo[c], a.tube.eps[c]);
-            grown.hi[c] = fast_detail::add_up(flow[s].hi[c], a.tube.eps[c]);
-          }
-        }
-        for (int c = 0; c < a.n(); ++c) xb[c] = Interval(grown.lo[c], grown.hi[c]);
-        for (int c = 0; c < a.n(); ++c)
-          t.record(box_inside_margin(grown, a.state_bounds, c), k,
-                   [&] { return state_bound_name(a, c); },
-                   std::abs(x[k + 1][xo[i] + c] - x[k][xo[i] + c]));
-        if (a.workspace.linear()) {  // exact up to one directed addition, no interval type needed
-          const RoundToNearestScope nearest;
-          for (int c = 0; c < 2; ++c) {
-            const int at = a.workspace.index[c];
-            const double off = a.workspace.offset[c];
-            ws[s][i].lo[c] = at >= 0 ? fast_detail::add_down(grown.lo[at], off) : off;
-            ws[s][i].hi[c] = at >= 0 ? fast_detail::add_up(grown.hi[at], off) : off;
-          }
-        } else {
-          workspace_point(*a.dynamics, a.workspace, xb.data(), pb.data());
-          for (int c = 0; c < 2; ++c) {
-            ws[s][i].lo[c] = pb[c].lower();
-            ws[s][i].hi[c] = pb[c].upper();
-          }
-        }
-      }
-    }
-    auto motion = [&](const Requirement& q) {
-      if (q.kind == Requirement::Obstacle) return size(step[q.a]);
-      const Eigen::Vector2d d = step[q.a] - step[q.b];
-      return q.kind == Requirement::Collision ? size(d) : d.norm();
-    };
-    for (int s = 0; s < P; ++s)
-      for_each_requirement(problem, [&](const Requirement& q) {
-        t.record(box_requirement_margin(problem, q, ws[s]), k, [&] { return q.name(problem); }, motion(q));
-      });
+    t.merge(period);
+    if (!enclosed) return;
   }
 }
 

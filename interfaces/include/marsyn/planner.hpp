@@ -42,6 +42,14 @@ struct PlanningProblem {
   Box state_bounds;                  // X^x shrunk by eps
   Box goal;                          // Goal^x shrunk by eps (terminal state)
   std::vector<std::shared_ptr<const Constraint>> constraints;  // avoid set grown by eps
+  // Continuous time: the requirements again, on the flow between the samples. Each constraint
+  // here (stage AllSteps, on the product state) must also hold at the interior points
+  // x_{k,j}, j = 1..between_points, of every period k = 0..T-1: the
+  // disturbance-free flow from x_k under u_k after the fraction j / (between_points + 1) of tau
+  // (flow_point in sampled_map.hpp). They are functions of (x_k, u_k), so planners differentiate them through
+  // the partial RK4 step. Empty (or between_points == 0) under the sampled guarantee.
+  std::vector<std::shared_ptr<const Constraint>> between;
+  int between_points = 0;
   int horizon = 0;
   std::optional<GlobalPlan> warm_start;
 };

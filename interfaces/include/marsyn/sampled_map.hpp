@@ -3,7 +3,9 @@
 // with a constant disturbance w added to the right-hand side. Templated so that the same code
 // gives states (double) and exact discrete Jacobians (DualD). It is an approximation of the
 // flow; trackers never rely on it for soundness (they enclose the flow, docs/soundness.md).
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include "marsyn/dynamics.hpp"
@@ -61,6 +63,48 @@ inline void rk4_jacobians(const Dynamics& f, const double* x, const double* u, d
     for (int j = 0; j < n; ++j) A[i * n + j] = out[i].derivative(j);
     for (int j = 0; j < m; ++j) B[i * m + j] = out[i].derivative(n + j);
   }
+}
+
+// The interior point j (1..points) of a period: RK4 from x under u over the fraction
+// j / (points + 1) of tau with about the sampled map's step length (its substeps scaled, at least
+// one): with points + 1 == substeps, the map's own substep states up to rounding.
+struct FlowPointStep {
+  double h = 0.0;  // length of the partial period, s
+  int substeps = 1;
+};
+inline FlowPointStep flow_point_step(double tau, int substeps, int j, int points) {
+  const double f = static_cast<double>(j) / (points + 1);
+  FlowPointStep s;
+  s.h = tau * f;
+  s.substeps = std::max(1, static_cast<int>(std::ceil(substeps * f - 1e-9)));
+  return s;
+}
+
+// The interior point j of a period (PlanningProblem::between_points): the
+// RK4 state after the fraction j / (points + 1) of tau from x under u, and when A, B are
+// non-null its exact Jacobians in x and u (row-major n x n, n x m).
+inline void flow_point(const Dynamics& f, const double* x, const double* u, double tau, int substeps, int j,
+                       int points, double* out, double* A, double* B) {
+  const FlowPointStep s = flow_point_step(tau, substeps, j, points);
+  if (A && B) rk4_jacobians(f, x, u, s.h, s.substeps, out, A, B);
+  else rk4_step<double>(f, x, u, nullptr, s.h, s.substeps, out);
+}
+
+// Every interior point of a period at once: out[(j - 1) * n ...] for j = 1..points. When
+// points + 1 == substeps they are the sampled map's own substep states, one substep apart (the
+// same arithmetic as rk4_step), so they cost less than one step of the map.
+inline void flow_points(const Dynamics& f, const double* x, const double* u, double tau, int substeps, int points,
+                        double* out) {
+  const int n = f.state_dim();
+  if (points + 1 == substeps) {
+    const double* from = x;
+    for (int j = 1; j <= points; ++j) {
+      rk4_step<double>(f, from, u, nullptr, tau, substeps, out + (j - 1) * n, 1);
+      from = out + (j - 1) * n;
+    }
+    return;
+  }
+  for (int j = 1; j <= points; ++j) flow_point(f, x, u, tau, substeps, j, points, out + (j - 1) * n, nullptr, nullptr);
 }
 
 }  // namespace marsyn

@@ -22,12 +22,45 @@ bool Solver::polish(double& viol, std::string& worst, double deadline) {
       double c;
       std::vector<std::pair<int, double>> grad;  // product state (or input) index, dc/d
       bool input;
+      std::vector<std::pair<int, double>> ugrad = {};  // a between row's direct dc/du_k
     };
     std::vector<Row> rows;
     auto take = [&](int k, double c, std::vector<std::pair<int, double>> g, bool input) {
       if (c > -active) rows.push_back({k, c, std::move(g), input});
     };
     std::vector<double> g(64), jac;
+    // Between rows of period k: dc/dx_k (swept back like a state row at step k) and dc/du_k.
+    if (points_ > 0) {
+      std::vector<AgentGradient> grads;
+      Vec Z;
+      for (int k = 0; k < T_; ++k) {
+        interior_points(X_[k], U_[k], Z);
+        for (int j = 1; j <= points_; ++j) {
+          const double* z = Z.data() + static_cast<long>(j - 1) * n_;
+          std::fill(have_jac_.begin(), have_jac_.end(), 0);
+          for (const auto& r : between_) {
+            g.resize(std::max<size_t>(g.size(), r.rows));
+            r.c->evaluate(z, g.data(), nullptr);
+            bool any = false;
+            for (int i = 0; i < r.rows; ++i) any |= g[i] > -active;
+            if (!any) continue;
+            jac.resize(static_cast<size_t>(r.rows) * r.c->support().size());
+            r.c->evaluate(z, g.data(), jac.data());
+            for (int i = 0; i < r.rows; ++i) {
+              if (g[i] <= -active) continue;
+              between_gradients(k, j, r, jac.data(), i, grads);
+              Row row{k, g[i], {}, false};
+              for (const auto& ga : grads) {
+                const auto& a = agents_[ga.agent];
+                for (int c = 0; c < a.n; ++c) row.grad.push_back({a.xo + c, ga.cx[c]});
+                for (int c = 0; c < a.m; ++c) row.ugrad.push_back({a.uo + c, ga.cu[c]});
+              }
+              rows.push_back(std::move(row));
+            }
+          }
+        }
+      }
+    }
     for (int k = 0; k < T_; ++k)
       for (int j = 0; j < m_; ++j) {
         take(k, pp_.input_bounds.lo[j] - U_[k][j], {{j, -1.0}}, true);
@@ -77,6 +110,7 @@ bool Solver::polish(double& viol, std::string& worst, double deadline) {
         for (const auto& [j, d] : row.grad) J(r, static_cast<long>(row.k) * m_ + j) += d;
         continue;
       }
+      for (const auto& [j, d] : row.ugrad) J(r, static_cast<long>(row.k) * m_ + j) += d;
       // Adjoint sweep restricted to the agents the row reads (the dynamics do not couple them).
       std::vector<int> who;
       for (const auto& [i, d] : row.grad) {
@@ -92,7 +126,9 @@ bool Solver::polish(double& viol, std::string& worst, double deadline) {
       for (int ai : who) v.segment(agents_[ai].xo, agents_[ai].n).setZero();
     }
     Mat M = J * J.transpose();
-    M.diagonal().array() += 1e-12 * (1.0 + M.diagonal().maxCoeff());
+    // Rows at neighbouring interior points and knots are nearly parallel: a little damping keeps
+    // the least-norm step from blowing up on them (1e-12 without them, as before).
+    M.diagonal().array() += (points_ > 0 ? 1e-8 : 1e-12) * (1.0 + M.diagonal().maxCoeff());
     const Vec y = M.ldlt().solve(t);
     const Vec dU = J.transpose() * y;
     if (!dU.allFinite()) return false;

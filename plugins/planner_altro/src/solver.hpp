@@ -59,6 +59,22 @@ class Solver {
   double total_cost(const std::vector<Vec>& X, const std::vector<Vec>& U) const;
   double max_violation(const std::vector<Vec>& X, const std::vector<Vec>& U, std::string* worst) const;
   void update_multipliers();
+  // Between the samples (PlanningProblem::between, solver_between.cpp): rows at the interior
+  // points of each period, functions of (x_k, u_k) through the partial RK4 step.
+  // Z: the interior points of the period from x under u, point-major (points_ x n_).
+  void interior_points(const Vec& x, const Vec& u, Vec& Z) const;
+  double between_cost(int k, const Vec& x, const Vec& u) const;
+  double between_violation(const std::vector<Vec>& X, const std::vector<Vec>& U, std::string* worst, double v) const;
+  void update_between_multipliers();
+  void expand_between(int k);
+  // Row i of a between row's gradient in (x_k, u_k), per agent it reads: dg/dz times the
+  // partial step's Jacobians. Used by the expansion and the final projection.
+  struct AgentGradient {
+    int agent;
+    Vec cx, cu;
+  };
+  void between_gradients(int k, int j, const ConstraintRef& r, const double* jac, int row,
+                         std::vector<AgentGradient>& out);
   // Final projection: Gauss-Newton steps on the inputs onto the active constraints.
   bool polish(double& viol, std::string& worst, double deadline);
   // iLQR
@@ -77,8 +93,16 @@ class Solver {
   std::vector<AgentBlock> agents_;
   std::vector<Group> groups_;
   std::vector<int> xgroup_, xlocal_;  // product state index -> group, index in group
-  std::vector<ConstraintRef> stage_, terminal_;
-  int stage_rows_ = 0, terminal_rows_ = 0;
+  std::vector<ConstraintRef> stage_, terminal_, between_;
+  int stage_rows_ = 0, terminal_rows_ = 0, between_rows_ = 0;
+  int points_ = 0;                     // interior points per period (0: samples only)
+  std::vector<int> agent_of_;          // product state index -> agent
+  std::vector<Vec> lam_b_;             // [k]: multipliers of the between rows, point-major
+  std::vector<Mat> Luu_, Lux_;         // [k * G + group]: the between rows' blocks in u and (u, x)
+  // Partial-step Jacobians of the current iterate at one (k, j), per agent, filled on demand.
+  std::vector<Mat> Az_, Bz_;
+  std::vector<char> have_jac_;
+  mutable Vec z_;
 
   std::vector<Vec> X_, U_, ref_;
   Vec goal_centre_;

@@ -20,6 +20,7 @@ double Solver::stage_cost(int k, const Vec& x, const Vec* u) const {
       J += phr((*u)[j] - pp_.input_bounds.hi[j], lam_uhi_[k][j], rho_);
     }
   }
+  if (u && points_ > 0) J += between_cost(k, x, *u);  // u_0 moves the flow after x0 too
   if (k == 0) return J;  // x0 is fixed: constraints there cannot be influenced
   for (int i = 0; i < n_; ++i) {
     if (std::isfinite(pp_.state_bounds.lo[i])) J += phr(pp_.state_bounds.lo[i] - x[i], lam_xlo_[k][i], rho_);
@@ -87,6 +88,7 @@ double Solver::max_violation(const std::vector<Vec>& X, const std::vector<Vec>& 
     for (int j = 0; j < r.rows; ++j)
       if (g[j] > v) note(g[j], r.c->name());
   }
+  if (points_ > 0) v = between_violation(X, U, worst, v);
   return v;
 }
 
@@ -118,6 +120,7 @@ void Solver::update_multipliers() {
     r.c->evaluate(X_[T_].data(), g.data(), nullptr);
     for (int j = 0; j < r.rows; ++j) upd(lam_t_[r.lam_offset + j], g[j]);
   }
+  if (points_ > 0) update_between_multipliers();
 }
 
 }  // namespace marsyn::altro::detail

@@ -75,6 +75,7 @@ void Solver::expand_costs() {
         }
       }
     }
+    if (points_ > 0 && !term) expand_between(k);
     if (k == 0) continue;
     auto add = [&](const ConstraintRef& r, const double* lam) {
       g.resize(std::max<size_t>(g.size(), r.rows));
@@ -141,6 +142,10 @@ bool Solver::backward(double reg, double& dv1, double& dv2) {
         Qux.middleRows(lu, a.m).noalias() = Bk.transpose().lazyProduct(PA.middleRows(lo, a.n));
         Qx.segment(lo, a.n).noalias() += Ak.transpose() * p.segment(lo, a.n);
         Qu.segment(lu, a.m).noalias() += Bk.transpose() * p.segment(lo, a.n);
+      }
+      if (points_ > 0) {
+        Quu += Luu_[k * G + gi];
+        Qux += Lux_[k * G + gi];
       }
       Eigen::LLT<Mat> llt(Quu);
       if (llt.info() != Eigen::Success) return false;
@@ -212,6 +217,14 @@ PlanResult Solver::run() {
   lu_.resize(lxx_.size());
   K_.resize(lxx_.size());
   d_.resize(lxx_.size());
+  if (points_ > 0) {
+    lam_b_.assign(T_, Vec::Zero(static_cast<long>(points_) * between_rows_));
+    Luu_.resize(lxx_.size());
+    Lux_.resize(lxx_.size());
+    Az_.resize(N);
+    Bz_.resize(N);
+    have_jac_.assign(N, 0);
+  }
   rho_ = opt_.penalty_initial;
   initial_guess();
   Xn_ = X_;

@@ -36,8 +36,11 @@ void Solver::layout() {
       xgroup_[a.xo + i] = a.group;
       xlocal_[a.xo + i] = a.xo + i - groups_[a.group].xo;
     }
-  for (const auto& c : pp_.constraints) {
-    ConstraintRef r{c.get(), c->size(), 0, {}, {}, 0};
+  agent_of_.resize(n_);
+  for (int i = 0; i < static_cast<int>(agents_.size()); ++i)
+    for (int c = 0; c < agents_[i].n; ++c) agent_of_[agents_[i].xo + c] = i;
+  auto ref = [&](const Constraint* c) {
+    ConstraintRef r{c, c->size(), 0, {}, {}, 0};
     std::vector<int> seen;
     for (int s : c->support()) {
       r.group_of.push_back(xgroup_[s]);
@@ -45,6 +48,18 @@ void Solver::layout() {
       if (std::find(seen.begin(), seen.end(), xgroup_[s]) == seen.end()) seen.push_back(xgroup_[s]);
     }
     r.groups_touched = static_cast<int>(seen.size());
+    return r;
+  };
+  points_ = pp_.between.empty() ? 0 : std::max(0, pp_.between_points);
+  if (points_ > 0)
+    for (const auto& c : pp_.between) {
+      ConstraintRef r = ref(c.get());
+      r.lam_offset = between_rows_;
+      between_rows_ += r.rows;
+      between_.push_back(std::move(r));
+    }
+  for (const auto& c : pp_.constraints) {
+    ConstraintRef r = ref(c.get());
     auto& list = c->stage() == ConstraintStage::Terminal ? terminal_ : stage_;
     int& rows = c->stage() == ConstraintStage::Terminal ? terminal_rows_ : stage_rows_;
     r.lam_offset = rows;

@@ -19,7 +19,7 @@ class Shooting {
  public:
   Shooting(const planner_support::ProductModel& model, const Options& o, const PlanOptions& run)
       : M_(model), o_(o), run_(run), T_(model.T), n_(model.n), m_(model.m), N_(model.T * model.m) {
-    rows_ = T_ * M_.path.rows() + M_.terminal.rows();
+    rows_ = T_ * M_.path.rows() + M_.terminal.rows() + T_ * M_.points * M_.between.rows();
     U_.assign(T_, Vec(m_));
     A_.resize(T_);
     B_.resize(T_);
@@ -54,7 +54,25 @@ class Shooting {
     // S = d x_k / d U (n x N), zero beyond the inputs already applied.
     Mat S = Mat::Zero(n_, grad ? N_ : 0);
     if (grad) std::fill(grad, grad + static_cast<size_t>(rows_) * N_, 0.0);
+    const int br = M_.between.rows();
+    std::vector<double> bjac(std::max(M_.between.nonzeros(), 1));
+    Mat Jb(br, n_), Az, Bz;
+    Vec zj(n_);
     for (int k = 1; k <= T_; ++k) {
+      // The between rows of period k - 1 (S is still d x_{k-1} / dU here).
+      for (int j = 1; j <= M_.points && br > 0; ++j) {
+        const int r0 = T_ * pr + tr + ((k - 1) * M_.points + (j - 1)) * br;
+        M_.interior(X_[k - 1].data(), U_[k - 1].data(), j, zj.data());
+        M_.between.evaluate(zj.data(), c + r0, grad ? bjac.data() : nullptr);
+        if (grad) {
+          M_.between.dense(bjac.data(), Jb);
+          M_.interior_jacobians(X_[k - 1].data(), U_[k - 1].data(), j, Az, Bz);
+          Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> G(grad + static_cast<size_t>(r0) * N_, br, N_);
+          const int used = (k - 1) * m_;
+          if (used > 0) G.leftCols(used) = (Jb * Az) * S.leftCols(used);
+          G.middleCols(used, m_) = Jb * Bz;
+        }
+      }
       if (grad) {
         const int used = (k - 1) * m_;
         if (used > 0) S.leftCols(used) = A_[k - 1] * S.leftCols(used);

@@ -47,6 +47,17 @@ void finite_box(const planner_support::ProductModel& M, Vec& lo, Vec& hi) {
 
 bool rows_ok(const planner_support::RowSet& rows, const double* x) { return rows.rows() == 0 || rows.worst(x, nullptr) <= 0.0; }
 
+// The requirements between the samples, at the interior points of the period from x under u.
+bool between_ok(const planner_support::ProductModel& M, const double* x, const double* u) {
+  if (M.points == 0 || M.between.rows() == 0) return true;
+  std::vector<double> z(M.n);
+  for (int j = 1; j <= M.points; ++j) {
+    M.interior(x, u, j, z.data());
+    if (!rows_ok(M.between, z.data())) return false;
+  }
+  return true;
+}
+
 class GoalBox : public ob::GoalSampleableRegion {
  public:
   GoalBox(const ob::SpaceInformationPtr& si, const planner_support::ProductModel& M, Vec lo, Vec hi, double t_max)
@@ -109,7 +120,7 @@ bool hold_in_goal(const planner_support::ProductModel& M, const Options& o, std:
     for (auto& u : cand) {
       for (int j = 0; j < M.m; ++j) u[j] = std::clamp(u[j], pp.input_bounds.lo[j], pp.input_bounds.hi[j]);
       M.step(X.back().data(), u.data(), next.data());
-      if (!rows_ok(M.path, next.data())) continue;
+      if (!rows_ok(M.path, next.data()) || !between_ok(M, X.back().data(), u.data())) continue;
       const double out = M.terminal.rows() ? std::max(0.0, M.terminal.worst(next.data(), nullptr)) : 0.0;
       const std::pair<double, double> s{out, (next - M.goal_centre).cwiseProduct(scale).squaredNorm()};
       if (s < best) best = s, best_u = u, best_x = next;
@@ -175,12 +186,16 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
     double* y = out->as<ob::RealVectorStateSpace::StateType>()->values;
     const int steps = std::max(1, static_cast<int>(std::lround(duration / tau)));
     std::vector<double> a(x, x + n), b(n);
+    bool between = true;
     for (int k = 0; k < steps; ++k) {
+      between = between && between_ok(M, a.data(), u);
       M.step(a.data(), u, b.data());
       a.swap(b);
     }
     std::copy(a.begin(), a.end(), y);
-    y[n] = x[n] + tw * tau * steps;
+    // A motion that breaks a requirement between its samples: a time past the space's bounds
+    // makes the landing state invalid, so OMPL discards the motion (the checker sees states only).
+    y[n] = between ? x[n] + tw * tau * steps : std::numeric_limits<double>::infinity();
   });
   si->setStateValidityChecker([&M, n, si_raw = si.get()](const ob::State* s) {
     const double* x = s->as<ob::RealVectorStateSpace::StateType>()->values;

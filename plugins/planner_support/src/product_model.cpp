@@ -116,6 +116,28 @@ ProductModel::ProductModel(const PlanningProblem& p) : pp(p) {
                                                             : pp.x0[i];
   }
   for (const auto& c : pp.constraints) (c->stage() == ConstraintStage::Terminal ? terminal : path).add(c.get());
+  points = pp.between.empty() ? 0 : std::max(0, pp.between_points);
+  if (points > 0)
+    for (const auto& c : pp.between) between.add(c.get());
+}
+
+void ProductModel::interior(const double* x, const double* u, int j, double* z) const {
+  for (const auto& a : agents)
+    flow_point(*a.dyn, x + a.xo, u + a.uo, tau, substeps, j, points, z + a.xo, nullptr, nullptr);
+}
+
+void ProductModel::interior_jacobians(const double* x, const double* u, int j, Eigen::MatrixXd& A,
+                                      Eigen::MatrixXd& B) const {
+  A.setZero(n, n);
+  B.setZero(n, m);
+  double z[kMaxDual], Ar[kMaxDual * kMaxDual], Br[kMaxDual * kMaxDual];
+  for (const auto& a : agents) {
+    flow_point(*a.dyn, x + a.xo, u + a.uo, tau, substeps, j, points, z, Ar, Br);
+    for (int i = 0; i < a.n; ++i) {
+      for (int c = 0; c < a.n; ++c) A(a.xo + i, a.xo + c) = Ar[i * a.n + c];
+      for (int c = 0; c < a.m; ++c) B(a.xo + i, a.uo + c) = Br[i * a.m + c];
+    }
+  }
 }
 
 void ProductModel::step(const double* x, const double* u, double* out) const {
@@ -161,6 +183,16 @@ double ProductModel::violation(const std::vector<Eigen::VectorXd>& X, const std:
     std::string name;
     const double e = terminal.worst(X.back().data(), &name);
     if (e > v) v = e, w = name + " at the end";
+  }
+  if (points > 0 && between.rows() > 0) {
+    Eigen::VectorXd z(n);
+    for (size_t k = 0; k + 1 < X.size() && k < U.size(); ++k)
+      for (int j = 1; j <= points; ++j) {
+        interior(X[k].data(), U[k].data(), j, z.data());
+        std::string name;
+        const double e = between.worst(z.data(), &name);
+        if (e > v) v = e, w = name + " between k = " + std::to_string(k) + " and " + std::to_string(k + 1);
+      }
   }
   if (worst) *worst = w;
   return v;

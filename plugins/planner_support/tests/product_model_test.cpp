@@ -10,6 +10,7 @@
 
 #include "marsyn/core/planning/constraints.hpp"
 #include "marsyn/planner_support/product_model.hpp"
+#include "marsyn/sampled_map.hpp"
 #include "test_problems.hpp"
 
 using namespace marsyn;
@@ -107,4 +108,85 @@ TEST(RowSet, SparseJacobianIsCentralDifferencesOfTheRows) {
   for (double v : g) largest = std::max(largest, v);
   EXPECT_EQ(rows.worst(x.data(), &name), largest);
   EXPECT_FALSE(name.empty());
+}
+
+// Between the samples (continuous guarantee): the interior points are the sampled map's own
+// substep states, their Jacobians are central differences, and the rows there count in the
+// violation.
+TEST(ProductModel, InteriorPointsAreTheMapsSubstepStates) {
+  auto p = testproblems::unicycle_crossing(6, true);
+  p.guarantee = Guarantee::Continuous;
+  const auto pp = planning::assemble(p, p.horizon);
+  const ProductModel M(pp);
+  ASSERT_EQ(M.points, 3);
+  ASSERT_EQ(p.rk4_substeps, 4);
+  ASSERT_GT(M.between.rows(), 0);
+  const auto U = some_inputs(M);
+  const auto X = M.rollout(U);
+  Eigen::VectorXd z(M.n), sub(M.n);
+  for (int j = 1; j <= M.points; ++j) {
+    M.interior(X[2].data(), U[2].data(), j, z.data());
+    for (const auto& a : M.agents)
+      rk4_step<double>(*a.dyn, X[2].data() + a.xo, U[2].data() + a.uo, nullptr, M.tau, M.substeps, sub.data() + a.xo, j);
+    EXPECT_LT((z - sub).cwiseAbs().maxCoeff(), 1e-14) << "j = " << j;
+    std::vector<double> all(static_cast<size_t>(M.points) * 3);
+    flow_points(*M.agents[0].dyn, X[2].data(), U[2].data(), M.tau, M.substeps, M.points, all.data());
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(all[(j - 1) * 3 + c], sub[c]) << "j = " << j << ", c = " << c;
+  }
+}
+
+TEST(ProductModel, InteriorJacobiansAreCentralDifferences) {
+  auto p = testproblems::unicycle_crossing(6, true);
+  p.guarantee = Guarantee::Continuous;
+  const auto pp = planning::assemble(p, p.horizon);
+  const ProductModel M(pp);
+  Eigen::VectorXd x = pp.x0, u = some_inputs(M)[3];
+  x[2] += 0.7;
+  x[5] -= 0.3;
+  const double h = 1e-6;
+  for (int j = 1; j <= M.points; ++j) {
+    Eigen::MatrixXd A, B;
+    M.interior_jacobians(x.data(), u.data(), j, A, B);
+    Eigen::VectorXd fp(M.n), fm(M.n);
+    for (int c = 0; c < M.n; ++c) {
+      Eigen::VectorXd xp = x, xm = x;
+      xp[c] += h;
+      xm[c] -= h;
+      M.interior(xp.data(), u.data(), j, fp.data());
+      M.interior(xm.data(), u.data(), j, fm.data());
+      EXPECT_LT((A.col(c) - (fp - fm) / (2 * h)).cwiseAbs().maxCoeff(), 1e-7) << "j = " << j << ", x" << c;
+    }
+    for (int c = 0; c < M.m; ++c) {
+      Eigen::VectorXd up = u, um = u;
+      up[c] += h;
+      um[c] -= h;
+      M.interior(x.data(), up.data(), j, fp.data());
+      M.interior(x.data(), um.data(), j, fm.data());
+      EXPECT_LT((B.col(c) - (fp - fm) / (2 * h)).cwiseAbs().maxCoeff(), 1e-7) << "j = " << j << ", u" << c;
+    }
+    EXPECT_GT(B.cwiseAbs().maxCoeff(), 1e-3);  // the input moves the point: not a vacuous check
+  }
+}
+
+TEST(ProductModel, ViolationCountsTheRowsBetweenTheSamples) {
+  // One unicycle whose samples straddle a thin wall: every knot clears it, the flow does not.
+  auto p = testproblems::unicycle_obstacle(2);
+  p.guarantee = Guarantee::Continuous;
+  p.tau = 1.0;
+  p.obstacles[0].vertices = {{2.95, -1}, {3.05, -1}, {3.05, 1}, {2.95, 1}};
+  p.agents[0].x0 = Eigen::Vector3d(2.0, 0, 0);
+  auto pp = planning::assemble(p, p.horizon);
+  ProductModel M(pp);
+  std::vector<Eigen::VectorXd> U(2, Eigen::Vector2d(2.0, 0.0));  // 2 m per period: over the wall
+  const auto X = M.rollout(U);
+  ASSERT_NEAR(X[1][0], 4.0, 1e-9);
+  EXPECT_LE(M.path.worst(X[1].data(), nullptr), 0.0);  // the knot is clear of the wall
+  std::string worst;
+  EXPECT_GT(M.violation(X, U, &worst), 0.3);
+  EXPECT_NE(worst.find("between k = 0 and 1"), std::string::npos) << worst;
+  p.guarantee = Guarantee::Sampled;  // the paper's semantics: only the knots count
+  pp = planning::assemble(p, p.horizon);
+  const ProductModel S(pp);
+  EXPECT_EQ(S.points, 0);
+  EXPECT_LT(S.violation(X, U, nullptr), 0.3);
 }

@@ -23,6 +23,14 @@ struct AssemblyOptions {
   // required distance: a smooth lower bound of max(|dx|/rx, |dy|/ry), exact when the two differ
   // by at least 2c, conservative by at most 4c/27 otherwise (docs/planning.md).
   double inf_norm_corner = 0.3;
+  // Continuous time (problem.guarantee == Continuous): interior points of every period at which
+  // the requirements are imposed too (PlanningProblem::between), and the extra clearance they
+  // keep beyond `buffer`, as a fraction of the largest distance an agent's workspace point can
+  // cover between two interior points (max speed over X x U, by interval evaluation): the exact
+  // check encloses the flow between them in boxes, and a straight chord between two points that
+  // clear a convex set can cut into it by up to half its length. 0 points: samples only.
+  int between_points = 1;
+  double between_clearance = 0.75;
   // Extra slack for single constraints, by name ("obstacle <o> vs <agent>", "collision <a> vs
   // <b>", "formation <a> - <b>", "state bound <state name> of <agent>"): where a continuous-time check found
   // the plan (or the trackers' period enclosures) too close between the samples.
@@ -61,6 +69,28 @@ class ObstacleConstraint final : public Constraint {
   std::shared_ptr<const MarginTable> margins_;
   double grow_, clearance_;
   std::shared_ptr<const DistanceModel> distance_;
+};
+
+// An agent's state box at the interior points of a period (the knots keep theirs in
+// PlanningProblem::state_bounds): one row per finite bound, lo - x <= 0 or x - hi <= 0.
+class StateBoxConstraint final : public Constraint {
+ public:
+  StateBoxConstraint(std::string name, int offset, const Box& box);
+  std::string name() const override { return name_; }
+  int size() const override { return static_cast<int>(rows_.size()); }
+  ConstraintStage stage() const override { return ConstraintStage::AllSteps; }
+  const std::vector<int>& support() const override { return support_; }
+  void evaluate(const double* x, double* g, double* jac) const override;
+  bool hessian(const double*, const double*, double*) const override { return true; }  // linear
+
+ private:
+  struct Row {
+    int coord;  // index into support_
+    double sign, bound;
+  };
+  std::string name_;
+  std::vector<int> support_;
+  std::vector<Row> rows_;
 };
 
 class PairConstraint final : public Constraint {

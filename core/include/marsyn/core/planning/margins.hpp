@@ -57,4 +57,11 @@ class MarginTable {
 // The largest bound of the table: one margin valid at every state of the region.
 WorkspaceMargin global_margin(const AgentSpec& agent, const Box& region, int cells_per_dim = 256);
 
+// How fast the agent's workspace point can move (per workspace coordinate, the larger of the
+// two), over its state bounds (coordinates without finite bounds: the hull of x0 and the goal,
+// widened by their distance) and its input bounds. The field by interval arithmetic; a footprint's
+// Jacobian at the box centre. An estimate that sizes the planner's clearance between the samples
+// (AssemblyOptions::between_clearance), not a bound anything sound rests on: 0 if not finite.
+double workspace_speed_bound(const AgentSpec& agent);
+
 }  // namespace marsyn::planning

@@ -33,7 +33,7 @@ struct RobustCheck {
   std::string message;              // one line for humans
   // Continuous time (problem.guarantee == Continuous): the same requirements between the
   // samples, on the eps-box around enclosures (flow_enclosure.hpp, kFlowParts parts of every
-  // period) of the exact disturbance-free flow from x_k under u_k: the continuous nominal.
+  // period, more where that falls short) of the exact disturbance-free flow from x_k under u_k: the continuous nominal.
   // min_margin above is the smaller of the sampled and the between-samples margins.
   bool continuous = false;
   double sampled_margin = 0.0;
@@ -46,6 +46,10 @@ struct RobustCheck {
 };
 
 inline constexpr int kFlowParts = 8;
+// A period short between the samples is checked again with kFlowRefinement times as many parts,
+// up to kFlowMaxParts (finer boxes, the same enclosure argument).
+inline constexpr int kFlowRefinement = 4;
+inline constexpr int kFlowMaxParts = 128;
 
 // x_0 = problem's x0, x_{k+1} = f_tau(x_k, u_k) (RK4, problem.rk4_substeps), no disturbance.
 std::vector<Eigen::VectorXd> rollout(const Problem& problem, const std::vector<Eigen::VectorXd>& inputs);

@@ -55,12 +55,20 @@ class ProductModel {
   int substeps = 4;
   std::vector<Agent> agents;
   RowSet path, terminal;        // path at k = 1..T, terminal at k = T (in addition)
+  // Between the samples (PlanningProblem::between): these rows at the interior points
+  // j = 1..points of every period k = 0..T-1, functions of (x_k, u_k).
+  RowSet between;
+  int points = 0;
   Eigen::VectorXd goal_centre;  // a point of the shrunk goal (centre where bounded)
 
   void step(const double* x, const double* u, double* out) const;
   // Block-diagonal product Jacobians, dense: A (n x n), B (n x m).
   void jacobians(const double* x, const double* u, Eigen::MatrixXd& A, Eigen::MatrixXd& B) const;
   std::vector<Eigen::VectorXd> rollout(const std::vector<Eigen::VectorXd>& U) const;
+  // The interior point j (1..points) of the period from x under u, and its block-diagonal
+  // product Jacobians in x (n x n) and u (n x m).
+  void interior(const double* x, const double* u, int j, double* z) const;
+  void interior_jacobians(const double* x, const double* u, int j, Eigen::MatrixXd& A, Eigen::MatrixXd& B) const;
   // Largest violation of every requirement (inputs, path, terminal) along a rollout.
   double violation(const std::vector<Eigen::VectorXd>& X, const std::vector<Eigen::VectorXd>& U,
                    std::string* worst) const;

@@ -1,0 +1,161 @@
+// The requirements between the samples (PlanningProblem::between): rows at the interior points
+// z_j = phi(x_k, u_k, j) of every period, which depend on the step's input as well as its state.
+// They enter the augmented Lagrangian like the stage rows; their Gauss-Newton model adds blocks
+// in u and (u, x) to the stage's quadratic model (Luu_, Lux_), which the backward pass adds to Quu
+// and Qux.
+#include <algorithm>
+#include <cmath>
+
+#include "marsyn/sampled_map.hpp"
+#include "rk4.hpp"
+#include "solver.hpp"
+
+namespace marsyn::altro::detail {
+
+void Solver::interior_points(const Vec& x, const Vec& u, Vec& Z) const {
+  Z.resize(static_cast<long>(points_) * n_);
+  double tmp[kMaxDual * 16];
+  for (const auto& a : agents_) {
+    double* buf = points_ * a.n <= kMaxDual * 16 ? tmp : nullptr;
+    std::vector<double> heap;
+    if (!buf) heap.resize(static_cast<size_t>(points_) * a.n), buf = heap.data();
+    flow_points(*a.dyn, x.data() + a.xo, u.data() + a.uo, prob_.tau, prob_.rk4_substeps, points_, buf);
+    for (int j = 0; j < points_; ++j)
+      for (int c = 0; c < a.n; ++c) Z[static_cast<long>(j) * n_ + a.xo + c] = buf[j * a.n + c];
+  }
+}
+
+double Solver::between_cost(int k, const Vec& x, const Vec& u) const {
+  double J = 0.0;
+  std::vector<double>& g = scratch_;
+  interior_points(x, u, z_);
+  for (int j = 1; j <= points_; ++j) {
+    const double* z = z_.data() + static_cast<long>(j - 1) * n_;
+    const double* lam = lam_b_[k].data() + static_cast<long>(j - 1) * between_rows_;
+    for (const auto& r : between_) {
+      if (static_cast<int>(g.size()) < r.rows) g.resize(r.rows);
+      r.c->evaluate(z, g.data(), nullptr);
+      for (int i = 0; i < r.rows; ++i) J += phr(g[i], lam[r.lam_offset + i], rho_);
+    }
+  }
+  return J;
+}
+
+double Solver::between_violation(const std::vector<Vec>& X, const std::vector<Vec>& U, std::string* worst,
+                                 double v) const {
+  std::vector<double> g(64);
+  Vec Z;
+  for (int k = 0; k < T_; ++k) {
+    interior_points(X[k], U[k], Z);
+    for (int j = 1; j <= points_; ++j) {
+      const double* z = Z.data() + static_cast<long>(j - 1) * n_;
+      for (const auto& r : between_) {
+        g.resize(std::max<size_t>(g.size(), r.rows));
+        r.c->evaluate(z, g.data(), nullptr);
+        for (int i = 0; i < r.rows; ++i)
+          if (g[i] > v) {
+            v = g[i];
+            if (worst) *worst = r.c->name() + " between steps";
+          }
+      }
+    }
+  }
+  return v;
+}
+
+void Solver::update_between_multipliers() {
+  std::vector<double> g(64);
+  Vec Z;
+  for (int k = 0; k < T_; ++k) {
+    interior_points(X_[k], U_[k], Z);
+    for (int j = 1; j <= points_; ++j) {
+      const double* z = Z.data() + static_cast<long>(j - 1) * n_;
+      double* lam = lam_b_[k].data() + static_cast<long>(j - 1) * between_rows_;
+      for (const auto& r : between_) {
+        g.resize(std::max<size_t>(g.size(), r.rows));
+        r.c->evaluate(z, g.data(), nullptr);
+        for (int i = 0; i < r.rows; ++i) lam[r.lam_offset + i] = std::max(0.0, lam[r.lam_offset + i] + rho_ * g[i]);
+      }
+    }
+  }
+}
+
+void Solver::between_gradients(int k, int j, const ConstraintRef& r, const double* jac, int row,
+                               std::vector<AgentGradient>& out) {
+  out.clear();
+  const auto& sup = r.c->support();
+  const FlowPointStep step = flow_point_step(prob_.tau, prob_.rk4_substeps, j, points_);
+  const double* J = jac + static_cast<size_t>(row) * sup.size();
+  for (size_t e = 0; e < sup.size(); ++e) {
+    if (J[e] == 0.0) continue;
+    const int ai = agent_of_[sup[e]];
+    const auto& a = agents_[ai];
+    if (!have_jac_[ai]) {
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> Ar(a.n, a.n), Br(a.n, a.m);
+      rk4_jacobians_staged(*a.dyn, X_[k].data() + a.xo, U_[k].data() + a.uo, step.h, step.substeps, Ar.data(),
+                           Br.data());
+      Az_[ai] = Ar;
+      Bz_[ai] = Br;
+      have_jac_[ai] = 1;
+    }
+    auto it = std::find_if(out.begin(), out.end(), [&](const AgentGradient& g) { return g.agent == ai; });
+    if (it == out.end()) {
+      out.push_back({ai, Vec::Zero(a.n), Vec::Zero(a.m)});
+      it = out.end() - 1;
+    }
+    const int li = sup[e] - a.xo;
+    it->cx.noalias() += J[e] * Az_[ai].row(li).transpose();
+    it->cu.noalias() += J[e] * Bz_[ai].row(li).transpose();
+  }
+}
+
+void Solver::expand_between(int k) {
+  const int G = static_cast<int>(groups_.size());
+  for (int gi = 0; gi < G; ++gi) {
+    Luu_[k * G + gi].setZero(groups_[gi].m, groups_[gi].m);
+    Lux_[k * G + gi].setZero(groups_[gi].m, groups_[gi].n);
+  }
+  std::vector<double> g(64), jac;
+  std::vector<AgentGradient> grads;
+  Vec Z;
+  interior_points(X_[k], U_[k], Z);
+  for (int j = 1; j <= points_; ++j) {
+    const double* z = Z.data() + static_cast<long>(j - 1) * n_;
+    std::fill(have_jac_.begin(), have_jac_.end(), 0);
+    const double* lam = lam_b_[k].data() + static_cast<long>(j - 1) * between_rows_;
+    for (const auto& r : between_) {
+      g.resize(std::max<size_t>(g.size(), r.rows));
+      r.c->evaluate(z, g.data(), nullptr);
+      bool any = false;
+      for (int i = 0; i < r.rows; ++i) any |= lam[r.lam_offset + i] + rho_ * g[i] > 0;
+      if (!any) continue;
+      jac.resize(static_cast<size_t>(r.rows) * r.c->support().size());
+      r.c->evaluate(z, g.data(), jac.data());
+      // As for the stage rows: cross-group blocks dropped, kept ones scaled by the groups touched.
+      const double scale = rho_ * r.groups_touched;
+      for (int i = 0; i < r.rows; ++i) {
+        const double mu = lam[r.lam_offset + i] + rho_ * g[i];
+        if (mu <= 0) continue;
+        between_gradients(k, j, r, jac.data(), i, grads);
+        for (const auto& ga : grads) {
+          const auto& a = agents_[ga.agent];
+          const int gi = a.group;
+          const auto& gr = groups_[gi];
+          const int xa = a.xo - gr.xo, ua = a.uo - gr.uo;
+          lx_[k * G + gi].segment(xa, a.n) += mu * ga.cx;
+          lu_[k * G + gi].segment(ua, a.m) += mu * ga.cu;
+          for (const auto& gb : grads) {
+            const auto& b = agents_[gb.agent];
+            if (b.group != gi) continue;
+            const int xb = b.xo - gr.xo, ub = b.uo - gr.uo;
+            lxx_[k * G + gi].block(xa, xb, a.n, b.n).noalias() += scale * ga.cx * gb.cx.transpose();
+            Luu_[k * G + gi].block(ua, ub, a.m, b.m).noalias() += scale * ga.cu * gb.cu.transpose();
+            Lux_[k * G + gi].block(ua, xb, a.m, b.n).noalias() += scale * ga.cu * gb.cx.transpose();
+          }
+        }
+      }
+    }
+  }
+}
+
+}  // namespace marsyn::altro::detail

@@ -1,0 +1,62 @@
+// Requirements between the samples inside the planning problem (continuous guarantee): a plan
+// whose knots alone are constrained cuts the corner of an obstacle between two knots; with the
+// interior points of every period in the problem, the first solve passes the exact continuous
+// check.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "altro_solver.hpp"
+#include "marsyn/core/planning/plan.hpp"
+#include "test_problems.hpp"
+
+using namespace marsyn;
+
+namespace {
+
+class Altro final : public Planner {
+ public:
+  std::string name() const override { return "altro"; }
+  PlanResult solve(const PlanningProblem& p, const PlanOptions& r) const override { return altro::solve(p, r, o_); }
+  altro::Options o_ = altro::Options::from({});
+};
+
+// One unicycle along the diagonal of the field past the corner of a box: the shortest way hugs
+// the (grown) corner, where a chord between two knots cuts in.
+Problem corner(int horizon) {
+  Problem p = testproblems::unicycle_obstacle(horizon);
+  auto& a = p.agents[0];
+  a.x0 = Eigen::Vector3d(0, 0, M_PI / 4);
+  a.state_bounds = {Eigen::Vector3d(-1, -1, -2 * M_PI), Eigen::Vector3d(7, 7, 2 * M_PI)};
+  const Eigen::Vector3d goal(6, 6, M_PI / 4), r(0.4, 0.4, 10.0);
+  a.goal = {goal - r, goal + r};
+  p.obstacles[0].vertices = {{2.0, 3.3}, {3.2, 3.3}, {3.2, 4.5}, {2.0, 4.5}};
+  p.guarantee = Guarantee::Continuous;
+  return p;
+}
+
+}  // namespace
+
+TEST(BetweenSamples, KnotsAloneCutTheCorner) {
+  const Problem p = corner(45);
+  planning::PlanSearchOptions o;
+  o.assembly.between_points = 0;  // the sampled requirements only
+  o.max_attempts = 1;
+  const auto out = planning::plan(p, Altro(), o);
+  ASSERT_FALSE(out.attempts.empty());
+  const auto& c = out.attempts.front().check;
+  EXPECT_GE(c.sampled_margin, 0.0) << c.message;
+  EXPECT_LT(c.between_margin, 0.0) << c.message;  // robust at the knots, not between them
+}
+
+TEST(BetweenSamples, OneSolvePassesTheContinuousCheck) {
+  const Problem p = corner(45);
+  planning::PlanSearchOptions o;
+  o.max_attempts = 1;
+  const auto out = planning::plan(p, Altro(), o);
+  ASSERT_EQ(out.attempts.size(), 1u) << out.check.message;  // no re-plan after the fact
+  EXPECT_TRUE(out.feasible) << out.check.message;
+  EXPECT_TRUE(out.check.continuous);
+  EXPECT_GE(out.check.between_margin, 0.0) << out.check.message;
+  EXPECT_LE(out.result.max_violation, 1e-6) << out.result.message;  // the solver met the rows
+}
