@@ -54,6 +54,9 @@ PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOpti
   const bool inf = problem.delta_norm == Norm::Inf;
   // The requirements once; `clear[i]` is agent i's clearance beyond the buffer (0 at the knots).
   auto requirements = [&](const std::vector<double>& clear, std::vector<std::shared_ptr<const Constraint>>& out) {
+    // The larger of the two, not the sum: the relative motion reaches the sum only when both
+    // move at full speed against each other, and the band of a formation is narrow.
+    auto pair_clear = [&](int i, int j) { return std::max(clear[i], clear[j]); };
     for (int i = 0; i < N; ++i) {
       const auto& a = problem.agents[i];
       for (size_t o = 0; o < problem.obstacles.size(); ++o) {
@@ -71,7 +74,7 @@ PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOpti
           const std::string name = collision_name(a, b);
           out.push_back(std::make_shared<PairConstraint>(name, a, xo[i], b, xo[j], problem.delta_norm, delta, margin[i],
                                                          margin[j], opt.inf_norm_corner,
-                                                         opt.buffer + clear[i] + clear[j] + more(name)));
+                                                         opt.buffer + pair_clear(i, j) + more(name)));
         }
     for (const auto& f : problem.formation) {
       if (f.i < 0 || f.j < 0 || f.i >= N || f.j >= N || f.i == f.j)
@@ -79,7 +82,7 @@ PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOpti
       const auto &a = problem.agents[f.i], &b = problem.agents[f.j];
       const std::string name = formation_name(a, b);
       out.push_back(std::make_shared<FormationConstraint>(name, a, xo[f.i], b, xo[f.j], f.lambda, f.mu, margin[f.i],
-                                                          margin[f.j], opt.buffer + clear[f.i] + clear[f.j] + more(name)));
+                                                          margin[f.j], opt.buffer + pair_clear(f.i, f.j) + more(name)));
     }
   };
   requirements(std::vector<double>(N, 0.0), pp.constraints);
@@ -89,7 +92,7 @@ PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOpti
     std::vector<double> clear(N);
     for (int i = 0; i < N; ++i) {
       const auto& a = problem.agents[i];
-      clear[i] = opt.between_clearance * spacing * workspace_speed_bound(a);
+      clear[i] = opt.between_clearance * spacing * workspace_speed_bound(a, problem.tau * horizon);
       pp.between.push_back(std::make_shared<StateBoxConstraint>(
           "state bounds of " + a.name, xo[i], Box{pp.state_bounds.lo.segment(xo[i], a.n()), pp.state_bounds.hi.segment(xo[i], a.n())}));
     }

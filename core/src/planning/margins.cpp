@@ -146,7 +146,7 @@ WorkspaceMargin global_margin(const AgentSpec& a, const Box& region, int cells_p
   return MarginTable(a, region, cells_per_dim).max();
 }
 
-double workspace_speed_bound(const AgentSpec& a) {
+double workspace_speed_bound(const AgentSpec& a, double horizon_s) {
   const int n = a.n(), m = a.m();
   std::vector<Interval> x(n), u(m), f(n);
   Eigen::VectorXd centre(n);
@@ -177,7 +177,20 @@ double workspace_speed_bound(const AgentSpec& a) {
       out = std::max(out, v);
     }
   }
-  return std::isfinite(out) ? out : 0.0;
+  if (!std::isfinite(out)) return 0.0;
+  // The box's worst case is far above what a plan does where the state box is wide (the crane's
+  // rates): at most twice the average speed from the start to the goal over the horizon.
+  if (horizon_s > 0) {
+    double p0[2], p1[2];
+    const Eigen::VectorXd g = a.goal.center();
+    if (g.allFinite()) {
+      workspace_point_jacobian(a, a.x0.data(), p0, nullptr);
+      workspace_point_jacobian(a, g.data(), p1, nullptr);
+      const double mean = std::max(std::abs(p1[0] - p0[0]), std::abs(p1[1] - p0[1])) / horizon_s;
+      out = std::min(out, 2.0 * mean);
+    }
+  }
+  return out;
 }
 
 }  // namespace marsyn::planning

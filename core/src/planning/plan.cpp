@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "marsyn/core/planning/projector.hpp"
+#include "marsyn/core/planning/workspace_gaps.hpp"
 #include "marsyn/core/stopwatch.hpp"
 
 namespace marsyn::planning {
@@ -160,6 +161,11 @@ PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearc
     best.attempts = std::move(all);
   }
   if (!best.plan.u.empty()) best.nominal = ProductProjector().project(problem, best.plan);
+  // A gap closed at every horizon explains a failure better than "try a longer horizon".
+  if (!best.feasible && options.log)
+    for (const auto& gap : narrow_gaps(problem))
+      options.log("closed gap: " + describe(gap) + "; a longer horizon cannot open it (a route around it, a smaller "
+                  "eps or delta can)");
   best.total_time_s = clock.seconds();
   return best;
 }
@@ -175,6 +181,9 @@ std::string summary(const Problem& problem, const PlanOutcome& o) {
        << (a.check.passed ? "robust" : "not robust") << " (margin " << a.check.min_margin << ")\n";
   os << (o.feasible ? "FEASIBLE" : "NO FEASIBLE PLAN") << ": horizon " << o.horizon << ", total " << o.total_time_s
      << " s\n  " << o.check.message << "\n";
+  if (!o.feasible)
+    for (const auto& gap : narrow_gaps(problem))
+      os << "  closed gap: " << describe(gap) << " (a longer horizon cannot open it)\n";
   return os.str();
 }
 

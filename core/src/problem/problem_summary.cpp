@@ -3,6 +3,8 @@
 #include <iomanip>
 #include <sstream>
 
+#include "marsyn/core/planning/workspace_gaps.hpp"
+
 namespace marsyn {
 
 ConstraintCounts count_constraints(const Problem& pb) {
@@ -63,6 +65,7 @@ std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& track
   s << "constraints over the horizon: " << static_cast<long long>(c.per_step()) * (pb.horizon + 1)
     << " inequalities + " << pb.product_input_dim() * pb.horizon * 2 << " input bounds + "
     << pb.product_state_dim() * 2 << " goal bounds\n";
+  for (const auto& gap : planning::narrow_gaps(pb)) s << "warning: " << planning::describe(gap) << "\n";
   return s.str();
 }
 

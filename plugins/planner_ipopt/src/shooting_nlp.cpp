@@ -30,6 +30,7 @@ ShootingNlp::ShootingNlp(const planner_support::ProductModel& model, const Optio
       path_rows_ += c->size();
     }
   }
+  setup_between();
   build_patterns();
 }
 
@@ -97,11 +98,12 @@ void ShootingNlp::build_patterns() {
     hrow_.push_back(xvar(T_, i));
     hcol_.push_back(xvar(T_, i));
   }
+  between_patterns();  // Jacobian rows and Hessian blocks, after everything above
 }
 
 bool ShootingNlp::get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag, IndexStyleEnum& style) {
   n = T_ * (n_ + m_);
-  m = T_ * n_ + T_ * path_rows_ + terminal_rows_;
+  m = T_ * n_ + T_ * path_rows_ + terminal_rows_ + T_ * points_ * between_rows_;
   nnz_jac_g = static_cast<Index>(jrow_.size());
   nnz_h_lag = static_cast<Index>(hrow_.size());
   style = C_STYLE;
@@ -125,7 +127,7 @@ bool ShootingNlp::get_bounds_info(Index, Number* x_l, Number* x_u, Index, Number
       x_l[uvar(k, j)] = pp.input_bounds.lo[j];
       x_u[uvar(k, j)] = pp.input_bounds.hi[j];
     }
-  const int defects = T_ * n_, total = defects + T_ * path_rows_ + terminal_rows_;
+  const int defects = T_ * n_, total = defects + T_ * path_rows_ + terminal_rows_ + T_ * points_ * between_rows_;
   for (int r = 0; r < defects; ++r) g_l[r] = g_u[r] = 0.0;
   for (int r = defects; r < total; ++r) {
     g_l[r] = -kIpoptInf;
@@ -254,6 +256,7 @@ bool ShootingNlp::eval_g(Index, const Number* z, bool, Index, Number* g) {
   };
   for (int k = 1; k <= T_; ++k) rows_of(path_, T_ * n_ + (k - 1) * path_rows_, k);
   rows_of(terminal_, T_ * n_ + T_ * path_rows_, T_);
+  if (points_ > 0) between_g(z, g);
   return true;
 }
 
@@ -287,6 +290,7 @@ bool ShootingNlp::eval_jac_g(Index, const Number* z, bool, Index, Index, Index* 
   };
   for (int k = 1; k <= T_; ++k) rows_of(path_, k);
   rows_of(terminal_, T_);
+  if (points_ > 0) e += between_jacobian(z, v + e);
   return true;
 }
 
@@ -344,6 +348,7 @@ bool ShootingNlp::eval_h(Index, const Number* z, bool, Number sigma, Index, cons
   for (int k = 1; k <= T_; ++k) blocks_of(path_, T_ * n_ + (k - 1) * path_rows_, k);
   blocks_of(terminal_, T_ * n_ + T_ * path_rows_, T_);
   for (int i = 0; i < n_; ++i) v[e++] = sigma * o_.q_terminal;
+  if (points_ > 0) e += between_hessian(z, lambda, exact, v + e);
   ++h_evals_;
   h_seconds_ += planner_support::now_seconds() - start;
   return true;

@@ -47,6 +47,7 @@ class ShootingNlp : public Ipopt::TNLP {
   // How the blocks of the last eval_h were computed (AD second derivatives or differences).
   struct HessianBlocks {
     long dynamics_exact = 0, dynamics_differenced = 0, constraints_exact = 0, constraints_differenced = 0;
+    long between = 0;  // blocks of the rows between the samples (exact or differenced as above)
   };
   int hessian_evaluations() const { return h_evals_; }
   double hessian_seconds() const { return h_seconds_; }
@@ -59,6 +60,24 @@ class ShootingNlp : public Ipopt::TNLP {
   // Values and agent Jacobians of f_tau at every step, for the current z.
   void linearize(const Number* z);
   void build_patterns();
+  // Rows between the samples (shooting_between.cpp), after the terminal rows.
+  struct Between {
+    const Constraint* c;
+    int offset;               // within one interior point's block of rows
+    std::vector<int> agents;  // the agents its support reads
+  };
+  void setup_between();
+  std::vector<int> between_vars(const Between& b, int k) const;
+  void between_patterns();
+  void interior_at(const Number* z, int k, int j, bool jacobians);
+  Eigen::MatrixXd between_jz(const Between& b, int k) const;
+  void between_g(const Number* z, Number* g);
+  size_t between_jacobian(const Number* z, Number* v);
+  size_t between_hessian(const Number* z, const Number* lambda, bool exact, Number* v);
+  std::vector<Between> between_;
+  int between_rows_ = 0, points_ = 0;
+  std::vector<double> point_;                  // an interior point of the product state
+  std::vector<std::vector<double>> zA_, zB_;   // its per-agent Jacobians (row-major)
 
   const planner_support::ProductModel& model_;
   const Options& o_;

@@ -116,7 +116,9 @@ TEST(RowSet, SparseJacobianIsCentralDifferencesOfTheRows) {
 TEST(ProductModel, InteriorPointsAreTheMapsSubstepStates) {
   auto p = testproblems::unicycle_crossing(6, true);
   p.guarantee = Guarantee::Continuous;
-  const auto pp = planning::assemble(p, p.horizon);
+  planning::AssemblyOptions three;
+  three.between_points = 3;  // with 4 substeps: every substep state
+  const auto pp = planning::assemble(p, p.horizon, three);
   const ProductModel M(pp);
   ASSERT_EQ(M.points, 3);
   ASSERT_EQ(p.rk4_substeps, 4);

@@ -25,12 +25,13 @@ struct AssemblyOptions {
   double inf_norm_corner = 0.3;
   // Continuous time (problem.guarantee == Continuous): interior points of every period at which
   // the requirements are imposed too (PlanningProblem::between), and the extra clearance they
-  // keep beyond `buffer`, as a fraction of the largest distance an agent's workspace point can
-  // cover between two interior points (max speed over X x U, by interval evaluation): the exact
-  // check encloses the flow between them in boxes, and a straight chord between two points that
-  // clear a convex set can cut into it by up to half its length. 0 points: samples only.
+  // keep beyond `buffer`: this fraction of the distance the agent's workspace point covers
+  // between two interior points at its estimated speed (workspace_speed_bound over the horizon;
+  // a pair or formation takes the larger of its two agents'). A straight chord between two
+  // points that clear a convex set can cut into it by up to half its length, and the exact check
+  // encloses the flow in boxes. 0 points: the knots only (docs/planning.md, "Between the samples").
   int between_points = 1;
-  double between_clearance = 0.75;
+  double between_clearance = 1.0;
   // Extra slack for single constraints, by name ("obstacle <o> vs <agent>", "collision <a> vs
   // <b>", "formation <a> - <b>", "state bound <state name> of <agent>"): where a continuous-time check found
   // the plan (or the trackers' period enclosures) too close between the samples.

@@ -57,11 +57,13 @@ class MarginTable {
 // The largest bound of the table: one margin valid at every state of the region.
 WorkspaceMargin global_margin(const AgentSpec& agent, const Box& region, int cells_per_dim = 256);
 
-// How fast the agent's workspace point can move (per workspace coordinate, the larger of the
-// two), over its state bounds (coordinates without finite bounds: the hull of x0 and the goal,
-// widened by their distance) and its input bounds. The field by interval arithmetic; a footprint's
-// Jacobian at the box centre. An estimate that sizes the planner's clearance between the samples
-// (AssemblyOptions::between_clearance), not a bound anything sound rests on: 0 if not finite.
-double workspace_speed_bound(const AgentSpec& agent);
+// How fast the agent's workspace point moves in a plan (per workspace coordinate, the larger of
+// the two): the field's bound over its state bounds (coordinates without finite bounds: the hull
+// of x0 and the goal, widened by their distance) and input bounds, by interval arithmetic (a
+// footprint's Jacobian at the box centre), and with horizon_s > 0 at most twice the average speed
+// from the start to the goal centre over that time. An estimate that sizes the planner's
+// clearance between the samples (AssemblyOptions::between_clearance), not a bound anything sound
+// rests on: 0 if not finite.
+double workspace_speed_bound(const AgentSpec& agent, double horizon_s = 0.0);
 
 }  // namespace marsyn::planning

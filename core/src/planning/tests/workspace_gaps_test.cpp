@@ -1,0 +1,88 @@
+// The closed-gap diagnosis on constructed fields: a gap narrower than 2 (delta + eps) is named
+// with its width and the agents it is closed to; a wide gap, overlapping obstacles and a gap that
+// only the larger agent cannot pass are told apart.
+#include <gtest/gtest.h>
+
+#include "marsyn/core/planning/workspace_gaps.hpp"
+
+using namespace marsyn;
+using namespace marsyn::planning;
+
+namespace {
+
+Obstacle box(const std::string& name, double x0, double y0, double x1, double y1) {
+  Obstacle o;
+  o.name = name;
+  o.vertices = {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+  o.is_box = true;
+  return o;
+}
+
+AgentSpec agent(const std::string& name, double eps) {
+  AgentSpec a;
+  a.name = name;
+  a.x0 = Eigen::Vector3d(0, 0, 0);
+  a.state_bounds = {Eigen::Vector3d(-1, -1, -3), Eigen::Vector3d(11, 11, 3)};
+  a.goal = {Eigen::Vector3d(9, 9, -1), Eigen::Vector3d(10, 10, 1)};
+  a.tube.eps = Eigen::Vector3d(eps, eps, 0.3);
+  a.workspace.index = {0, 1};
+  return a;
+}
+
+Problem field(double gap) {
+  Problem p;
+  p.delta = 0.24;
+  p.delta_norm = Norm::Inf;
+  p.agents = {agent("small", 0.1), agent("large", 0.2)};
+  p.obstacles = {box("west", 2, 2, 4, 6), box("east", 4 + gap, 2, 6 + gap, 6)};
+  return p;
+}
+
+}  // namespace
+
+TEST(WorkspaceGaps, ANarrowGapIsNamedWithItsWidthAndTheAgentsItCloses) {
+  const auto gaps = narrow_gaps(field(0.5));  // needs 2 (0.24 + 0.1) = 0.68 and 0.88
+  ASSERT_EQ(gaps.size(), 1u);
+  EXPECT_EQ(gaps[0].first, "obstacle west");
+  EXPECT_EQ(gaps[0].second, "obstacle east");
+  EXPECT_NEAR(gaps[0].width, 0.5, 1e-12);
+  EXPECT_NEAR(gaps[0].needed, 0.88, 1e-12);
+  EXPECT_EQ(gaps[0].agents, (std::vector<std::string>{"small", "large"}));
+  const std::string text = describe(gaps[0]);
+  EXPECT_NE(text.find("obstacle west and obstacle east"), std::string::npos) << text;
+  EXPECT_NE(text.find("0.5 wide"), std::string::npos) << text;
+}
+
+TEST(WorkspaceGaps, OnlyTheAgentsThatCannotPassAreNamed) {
+  const auto gaps = narrow_gaps(field(0.8));  // open to "small" (0.68), closed to "large" (0.88)
+  ASSERT_EQ(gaps.size(), 1u);
+  EXPECT_EQ(gaps[0].agents, (std::vector<std::string>{"large"}));
+}
+
+TEST(WorkspaceGaps, WideGapsAndOverlapsAreNotGaps) {
+  EXPECT_TRUE(narrow_gaps(field(0.9)).empty());
+  EXPECT_TRUE(narrow_gaps(field(-0.5)).empty());  // overlapping: one obstacle
+}
+
+TEST(WorkspaceGaps, AnObstacleNearTheEdgeOfTheWorkspace) {
+  Problem p = field(3.0);
+  p.obstacles.push_back(box("shelf", 3, 10.5, 5, 10.9));  // 0.1 from the edge y = 11
+  const auto gaps = narrow_gaps(p);
+  ASSERT_EQ(gaps.size(), 2u);  // one per agent's workspace
+  EXPECT_EQ(gaps[0].first, "obstacle shelf");
+  EXPECT_NE(gaps[0].second.find("y = 11"), std::string::npos) << gaps[0].second;
+  EXPECT_NEAR(gaps[0].width, 0.1, 1e-9);
+}
+
+TEST(WorkspaceGaps, TheEuclideanNormMeasuresDiagonalGapsByTheirLength) {
+  Problem p = field(0.0);
+  p.delta_norm = Norm::Two;
+  p.obstacles = {box("a", 4, 4, 5, 5), box("b", 5.5, 5.5, 6.5, 6.5)};  // corners 0.5 apart on both axes
+  auto gaps = narrow_gaps(p);  // Euclidean width 0.707 < 2 (0.24 + 0.2 sqrt 2) = 1.046
+  ASSERT_EQ(gaps.size(), 1u);
+  EXPECT_NEAR(gaps[0].width, std::sqrt(0.5), 1e-9);
+  p.delta_norm = Norm::Inf;
+  gaps = narrow_gaps(p);  // inf-norm width 0.5
+  ASSERT_EQ(gaps.size(), 1u);
+  EXPECT_NEAR(gaps[0].width, 0.5, 1e-9);
+}

@@ -1,0 +1,103 @@
+#include "marsyn/core/planning/workspace_gaps.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "marsyn/core/planning/geometry.hpp"
+#include "marsyn/core/planning/margins.hpp"
+
+namespace marsyn::planning {
+
+namespace {
+
+// Distance between two disjoint convex polygons in the given norm: attained at a vertex of one
+// of them against the other (the Minkowski difference's edges are the polygons' edges), so the
+// exact point-to-polygon distances suffice. 0 when they overlap.
+double polygon_distance(const Polygon& a, const Polygon& b, Norm norm) {
+  auto d = [&](const Polygon& poly, const Eigen::Vector2d& p) {
+    return norm == Norm::Inf ? signed_distance_inf(poly, p) : signed_distance_two(poly, p);
+  };
+  double out = std::numeric_limits<double>::infinity();
+  for (const auto& v : a) out = std::min(out, d(b, v));
+  for (const auto& v : b) out = std::min(out, d(a, v));
+  return std::max(out, 0.0);
+}
+
+struct Edge {
+  std::string name;
+  int axis;      // workspace coordinate
+  double at;     // the edge's position
+  bool low;      // the edge bounds the coordinate from below
+};
+
+}  // namespace
+
+std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
+  std::vector<NarrowGap> out;
+  const bool inf = problem.delta_norm == Norm::Inf;
+  std::vector<double> need(problem.agents.size());
+  for (size_t i = 0; i < problem.agents.size(); ++i) {
+    const auto& a = problem.agents[i];
+    const WorkspaceMargin m = global_margin(a, a.state_bounds.shrunk(a.tube.eps), 16);
+    need[i] = 2.0 * (problem.delta + (inf ? m.inf() : m.two()));
+  }
+  auto closed = [&](const std::string& first, const std::string& second, double width,
+                    const std::vector<size_t>& who) {
+    NarrowGap g{first, second, width, 0.0, {}};
+    for (size_t i : who)
+      if (width < need[i]) {
+        g.needed = std::max(g.needed, need[i]);
+        g.agents.push_back(problem.agents[i].name);
+      }
+    if (!g.agents.empty()) out.push_back(std::move(g));
+  };
+  std::vector<size_t> everyone(problem.agents.size());
+  for (size_t i = 0; i < everyone.size(); ++i) everyone[i] = i;
+  const auto& obs = problem.obstacles;
+  for (size_t p = 0; p < obs.size(); ++p)
+    for (size_t q = p + 1; q < obs.size(); ++q) {
+      const double w = polygon_distance(obs[p].vertices, obs[q].vertices, problem.delta_norm);
+      if (w > 0) closed("obstacle " + obs[p].name, "obstacle " + obs[q].name, w, everyone);
+    }
+  // An obstacle near the edge of an agent's workspace (a linear workspace: its state bounds).
+  for (size_t i = 0; i < problem.agents.size(); ++i) {
+    const auto& a = problem.agents[i];
+    if (!a.workspace.linear()) continue;
+    std::vector<Edge> edges;
+    for (int c = 0; c < 2; ++c) {
+      const int at = a.workspace.index[c];
+      if (at < 0) continue;
+      const double off = a.workspace.offset[c];
+      const char* axis = c == 0 ? "x" : "y";
+      if (std::isfinite(a.state_bounds.lo[at]))
+        edges.push_back({std::string("the edge ") + axis + " = " + std::to_string(a.state_bounds.lo[at] + off) +
+                             " of " + a.name + "'s workspace",
+                         c, a.state_bounds.lo[at] + off, true});
+      if (std::isfinite(a.state_bounds.hi[at]))
+        edges.push_back({std::string("the edge ") + axis + " = " + std::to_string(a.state_bounds.hi[at] + off) +
+                             " of " + a.name + "'s workspace",
+                         c, a.state_bounds.hi[at] + off, false});
+    }
+    for (const auto& o : obs)
+      for (const auto& e : edges) {
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (const auto& v : o.vertices) lo = std::min(lo, v[e.axis]), hi = std::max(hi, v[e.axis]);
+        const double w = e.low ? lo - e.at : e.at - hi;
+        if (w > 0) closed("obstacle " + o.name, e.name, w, {i});
+      }
+  }
+  return out;
+}
+
+std::string describe(const NarrowGap& g) {
+  std::ostringstream os;
+  os << g.first << " and " << g.second << " leave a gap " << g.width << " wide; passing it needs " << g.needed
+     << " (2 (delta + eps)): closed to ";
+  for (size_t i = 0; i < g.agents.size(); ++i) os << (i ? ", " : "") << g.agents[i];
+  os << " at every horizon";
+  return os.str();
+}
+
+}  // namespace marsyn::planning
