@@ -55,14 +55,14 @@ bool stderr_is_terminal() { return ::isatty(::fileno(stderr)) != 0; }
 // Over MPI, rank 0 validates the problem first and tells the others: a bad file is reported
 // once, by rank 0, and every rank ends with exit code 2 without MPI_Abort; only then do the
 // other ranks load the same file (each needs the models).
-LoadedProblem load_on_every_rank(const std::string& config, const Collective* cluster) {
-  if (!cluster || cluster->size() <= 1) return load_problem(config);
+LoadedProblem load_on_every_rank(const std::string& config, const LoadOptions& load, const Collective* cluster) {
+  if (!cluster || cluster->size() <= 1) return load_problem(config, load);
   const bool root = cluster->rank() == 0;
   std::optional<LoadedProblem> lp;
   std::exception_ptr failure;
   if (root) {
     try {
-      lp.emplace(load_problem(config));
+      lp.emplace(load_problem(config, load));
     } catch (...) {
       failure = std::current_exception();
     }
@@ -74,7 +74,7 @@ LoadedProblem load_on_every_rank(const std::string& config, const Collective* cl
     if (root) std::rethrow_exception(failure);
     throw QuietExit{2};
   }
-  if (!root) lp.emplace(load_problem(config));
+  if (!root) lp.emplace(load_problem(config, load));
   return std::move(*lp);
 }
 
@@ -145,8 +145,8 @@ bool g_failure_shared = false;
 void mark_failure_shared() { g_failure_shared = true; }
 bool failure_is_shared() { return g_failure_shared; }
 
-int run_plan(const std::string& config, const std::string& out_requested) {
-  const LoadedProblem lp = load_problem(config);
+int run_plan(const std::string& config, const std::string& out_requested, const LoadOptions& load) {
+  const LoadedProblem lp = load_problem(config, load);
   const Problem& pb = lp.problem;
   auto planner = lp.registry->create<Planner>(pb.planner.name, pb.planner.params);
   const auto warm = warm_start_planner(lp);
@@ -170,9 +170,9 @@ int run_plan(const std::string& config, const std::string& out_requested) {
 }
 
 int run_track(const std::string& config, const std::string& agent, const std::string& plan_file,
-              const std::string& out_requested, int threads, const Collective* cluster) {
+              const std::string& out_requested, int threads, const LoadOptions& load, const Collective* cluster) {
   const bool root = !cluster || cluster->rank() == 0;
-  const LoadedProblem lp = load_on_every_rank(config, cluster);
+  const LoadedProblem lp = load_on_every_rank(config, load, cluster);
   const Problem& pb = lp.problem;
   int index = -1;
   const AgentSpec& a = find_agent(pb, agent, &index);
@@ -185,6 +185,7 @@ int run_track(const std::string& config, const std::string& agent, const std::st
   const TrackingProblem tp = tracking_problem(pb, index, nominal[index]);
   TrackOptions to;
   to.threads = threads;
+  to.memory_budget_bytes = lp.memory_budget.bytes;  // the budget the loader's assessment judged
   to.collective = cluster;  // every rank shares this agent's sweep (docs/mpi.md)
   if (root)
     to.progress = [p = std::make_shared<SweepProgress>(a.name, log_line, stderr_is_terminal() ? live_line : SweepProgress::Sink{})](
@@ -251,9 +252,9 @@ int run_track(const std::string& config, const std::string& agent, const std::st
 }
 
 int run_solve(const std::string& config, const std::string& out_requested, int runs, int threads, double global_budget,
-              const Collective* cluster) {
+              const LoadOptions& load, const Collective* cluster) {
   const bool root = !cluster || cluster->rank() == 0;
-  const LoadedProblem lp = load_on_every_rank(config, cluster);
+  const LoadedProblem lp = load_on_every_rank(config, load, cluster);
   SolveOptions so;
   so.verification_runs = runs;
   so.threads = threads;
@@ -334,8 +335,8 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
 }
 
 int run_simulate(const std::string& config, const std::string& controllers_dir, const std::string& mode_text,
-                 unsigned long seed, const std::string& out_file) {
-  const LoadedProblem lp = load_problem(config);
+                 unsigned long seed, const std::string& out_file, const LoadOptions& load) {
+  const LoadedProblem lp = load_problem(config, load);
   const Problem& pb = lp.problem;
   DisturbanceMode mode;
   try {

@@ -55,7 +55,7 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
   auto tracker_of = [&](const AgentSpec& a) { return instances.get(a.tracker); };
   // The checks a proposed eps or tracker setting must pass: core's (bounds, goal) and the tracker's.
   auto acceptable = [&](const AgentSpec& a) {
-    return agent_consistent(a) && assess_tracker(instances, a.tracker, a, pb.horizon, pb.tau).ok;
+    return agent_consistent(a) && assess_tracker(instances, a.tracker, a, {pb.horizon, pb.tau, loaded.memory_budget}).ok;
   };
 
   bool all_tracked = false;
@@ -113,7 +113,7 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
     }
     // 2-3. Project and track every agent.
     const Stopwatch t_track;
-    out.agents = track_agents(pb, out.plan.nominal, instances.for_agents(pb), opt);
+    out.agents = track_agents(pb, out.plan.nominal, instances.for_agents(pb), opt, loaded.memory_budget);
     all_tracked = true;
     std::vector<int> failed;
     for (std::size_t i = 0; i < out.agents.size(); ++i) {
@@ -179,7 +179,7 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
         AgentSpec b = a;
         b.tracker = choice.fallbacks.front();
         choice.fallbacks.erase(choice.fallbacks.begin());
-        const TrackerAssessment as = assess_tracker(instances, b.tracker, b, pb.horizon, pb.tau);
+        const TrackerAssessment as = assess_tracker(instances, b.tracker, b, {pb.horizon, pb.tau, loaded.memory_budget});
         if (!as.ok) continue;
         fell_back += (fell_back.empty() ? "" : ", ") + a.name + ": " + a.tracker.name + " -> " + b.tracker.name;
         choice.assessment = as;

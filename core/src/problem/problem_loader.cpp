@@ -35,13 +35,14 @@ const std::vector<std::string> kAgentKeys = {"name",         "dynamics",    "x0"
 
 }  // namespace
 
-LoadedProblem load_problem(const std::string& path) {
+LoadedProblem load_problem(const std::string& path, const LoadOptions& options) {
   const YAML::Node root = yaml::load_file(path);
   Field top(root, path, "");
   top.expect_map();
   top.allow_only(kTopKeys);
 
   LoadedProblem out;
+  out.memory_budget = options.memory_budget;
   Problem& pb = out.problem;
   pb.source = path;
   pb.name = top.child("name").present() ? top.child("name").text() : name_from_stem(fs::path(path).stem().string());
@@ -155,12 +156,11 @@ LoadedProblem load_problem(const std::string& path) {
       a.workspace.index = {0, n > 1 ? 1 : -1};
     }
     validate_agent(a, x0f, goalf);
-    memory_budget_bytes();  // a malformed MARSYN_MEMORY_BUDGET is reported before any tracker reads it
     // The agent's own tracker, else the default's, else the top level's (Fields are never
     // assigned: a YAML::Node assignment would write into the document).
     const Field tf = agent_field(af, defaults, "tracker");
     const TrackerRequest req = tf.present() ? read_tracker_request(tf, *out.registry) : top_tracker;
-    out.trackers.push_back(resolve_tracker(a, req, tracker_instances, *out.registry, pb, af, defaults));
+    out.trackers.push_back(resolve_tracker(a, req, tracker_instances, *out.registry, pb, out.memory_budget, af, defaults));
     x0_fields.push_back(x0f);
     pb.agents.push_back(std::move(a));
   }
@@ -172,8 +172,8 @@ LoadedProblem load_problem(const std::string& path) {
   if (Field f = top.child("formation"); f.present()) read_formation(f, pb);
   check_start_geometry(pb, x0_fields);
   {
-    std::string source;
-    const double budget = memory_budget_bytes(&source);
+    const double budget = out.memory_budget.bytes;
+    const std::string& source = out.memory_budget.source;
     const MemoryEstimate e = planner_memory(pb);
     if (!(e.bytes <= budget)) {
       // Blame the horizon when a horizon of 1000 steps would fit, the agent count otherwise.
