@@ -1,6 +1,7 @@
 #pragma once
 // One function per subcommand. Each returns the process exit code: 0 success, 1 the problem was
 // processed but the method failed (no plan, no controller), 2 bad input.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,8 +17,10 @@ int run_plan(const std::string& config, const std::string& out_dir, const LoadOp
 // `cluster`: the ranks of an MPI run (docs/mpi.md), nullptr alone; rank 0 prints and writes.
 int run_track(const std::string& config, const std::string& agent, const std::string& plan_file,
               const std::string& out_dir, int threads, const LoadOptions& load, const Collective* cluster = nullptr);
+// time_limit_s: the search's budget in seconds (--time-limit); unset: the file's
+// `search: {time_limit}`, else SolveOptions' default.
 int run_solve(const std::string& config, const std::string& out_dir, int runs, int threads, double global_budget,
-              const LoadOptions& load, const Collective* cluster = nullptr);
+              std::optional<double> time_limit_s, const LoadOptions& load, const Collective* cluster = nullptr);
 
 // An MPI run's failure every rank already knows of (rank 0 found the problem file bad): main
 // ends normally with the exit code instead of aborting every rank.

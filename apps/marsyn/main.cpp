@@ -33,6 +33,8 @@ int main(int argc, char** argv) {
   std::string config, out, agent, plan_file, controllers, mode = "uniform", sim_out;
   int threads = 2, runs = 1000;
   double global_budget = 2e9;
+  double time_limit = 0;
+  CLI::Option* time_limit_option = nullptr;
   unsigned long seed = 1;
   auto* check = app.add_subcommand("check", "load and validate a problem file, print a summary");
   check->add_option("CONFIG", config, "problem file (YAML)")->required();
@@ -71,6 +73,10 @@ int main(int argc, char** argv) {
   solve->add_option("--global-budget", global_budget,
                     "memory budget [bytes] under which the global ABCD baseline is attempted (default 2e9; 0: never)")
       ->check(CLI::Range(0.0, 1e15));
+  time_limit_option = solve->add_option("--time-limit", time_limit,
+                    "the search's budget in seconds: it plans and tracks again while a change is left and time remains "
+                    "(default: the file's search: {time_limit}, else 600; docs/search.md)")
+      ->check(CLI::Range(1e-3, 1e9));
 
   auto* simulate = app.add_subcommand("simulate", "replay the closed loop of all agents with their controllers");
   simulate->add_option("CONFIG", config, "problem file (YAML)")->required();
@@ -138,7 +144,8 @@ int main(int argc, char** argv) {
     if (*track) return marsyn::cli::run_track(config, agent, plan_file, out, threads, load, cluster);
     if (*solve)
       return marsyn::cli::run_solve(config.empty() ? marsyn::cli::default_example() : config, out, runs, threads, global_budget,
-                                    load, cluster);
+                                    time_limit_option->count() ? std::optional<double>(time_limit) : std::nullopt, load,
+                                    cluster);
     if (*simulate) return marsyn::cli::run_simulate(config, controllers, mode, seed, sim_out, load);
     if (*bench)
       return marsyn::cli::run_bench(bench_examples, bench_planners, bench_stage, !no_track, runs, threads, bench_out, load);

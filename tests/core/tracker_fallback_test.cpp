@@ -80,13 +80,13 @@ TEST(TrackerFallback, NamedTrackerIsNeverReplaced) {
   EXPECT_FALSE(lp.trackers[0].automatic);
   EXPECT_TRUE(lp.trackers[0].fallbacks.empty());
   marsyn::SolveOptions so = quick();
-  so.max_outer_iterations = 3;
+  so.max_rounds = 2;
   const marsyn::SolveOutcome o = marsyn::solve(lp, so);
   EXPECT_FALSE(o.verified);
   EXPECT_EQ(o.failure, "no controller for pendulum");
   const auto t = tracking_attempts(o);
   ASSERT_EQ(t.size(), 2u);
-  // Remark 2: eps x 1.25 and a new plan; then never has nothing to refine and the search stops.
+  // Remark 2: never has nothing to refine, so eps x 1.25 and a new plan; then the round limit.
   EXPECT_EQ(t[0].parameters, "tracker=never eps=(0.2,0.2) eta_x=(0.01,0.01) eta_u=(0.1)");
   EXPECT_EQ(t[1].parameters, "tracker=never eps=(0.25,0.25) eta_x=(0.01,0.01) eta_u=(0.1)");
   EXPECT_EQ(plans(o), 2);
@@ -100,7 +100,7 @@ TEST(TrackerFallback, SolveHandsTheLoadedBudgetToAssessmentAndSynthesis) {
   const auto lp = marsyn::load_problem(p, marsyn::LoadOptions{{1073741824.0, "test"}});
   EXPECT_EQ(lp.memory_budget.bytes, 1073741824.0);
   marsyn::SolveOptions so = quick();
-  so.max_outer_iterations = 1;
+  so.max_rounds = 1;
   const marsyn::SolveOutcome o = marsyn::solve(lp, so);
   ASSERT_EQ(o.agents.size(), 1u);
   EXPECT_NE(o.agents[0].track.message.find("(memory budget: assessed 1073741824, tracked 1073741824)"), std::string::npos)

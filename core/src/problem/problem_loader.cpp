@@ -28,7 +28,7 @@ using namespace loader;
 const std::vector<std::string> kTopKeys = {
     "name",  "description", "tau",     "horizon",      "rk4_substeps", "delta",     "delta_norm",
     "pairwise_collision", "guarantee", "planner", "tracker", "collision", "plugin_paths", "defaults", "agents", "obstacles",
-    "formation"};
+    "formation", "search"};
 const std::vector<std::string> kAgentKeys = {"name",         "dynamics",    "x0",    "goal",
                                              "state_bounds", "input_bounds", "disturbance", "eps",
                                              "eta_x",        "eta_u",        "workspace",   "tracker"};
@@ -70,6 +70,11 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
   }
 
   pb.tau = top.required("tau").positive();
+  if (Field search = top.child("search"); search.present()) {
+    search.expect_map();
+    search.allow_only({"time_limit"});
+    if (Field t = search.child("time_limit"); t.present()) out.search_time_limit_s = t.positive();
+  }
   pb.horizon = static_cast<int>(top.required("horizon").integer_in(1, kMaxHorizon, "steps"));
   if (Field f = top.child("rk4_substeps"); f.present())
     pb.rk4_substeps = static_cast<int>(f.integer_in(1, kMaxRk4Substeps, "RK4 substeps per step"));

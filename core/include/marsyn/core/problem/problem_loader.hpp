@@ -2,6 +2,7 @@
 // Loading and validating a problem file (format: docs/problem-format.md). Every rejection is a
 // ConfigError naming file, line, field path and what was expected.
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "marsyn/core/plugins/plugin_registry.hpp"
@@ -22,6 +23,8 @@ struct LoadedProblem {
   // The budget the loader judged every estimate against (LoadOptions::memory_budget); the
   // stages after it (solve, track) judge theirs against the same value.
   MemoryBudget memory_budget;
+  // The file's `search:` block (docs/search.md); unset fields keep SolveOptions' values.
+  std::optional<double> search_time_limit_s;
 };
 
 // What a front end asks of the loader besides the file.
