@@ -103,24 +103,25 @@ Proposal propose(Lever lever, const Failure& failure, const Team& team, TrackerI
     p.agents[i] = b;
     p.changed.push_back(i);
   };
+  // eps times `factor` for the agents `who`; a smaller tube keeps a grid no coarser than itself.
+  auto scale_eps = [&](const std::vector<int>& who, double factor) {
+    for (int i : who) {
+      AgentSpec b = p.agents[i];
+      b.tube.eps *= factor;
+      if (factor < 1 && b.tube.eta_x.size() == b.tube.eps.size()) b.tube.eta_x = b.tube.eta_x.cwiseMin(b.tube.eps);
+      consider(i, b);
+    }
+    p.replan = true;
+  };
+  std::vector<int> everyone(p.agents.size());
+  for (std::size_t i = 0; i < everyone.size(); ++i) everyone[i] = static_cast<int>(i);
   switch (lever) {
     case Lever::ShrinkEps:
-      for (std::size_t i = 0; i < p.agents.size(); ++i) {
-        AgentSpec b = p.agents[i];
-        b.tube.eps *= 0.8;
-        if (b.tube.eta_x.size() == b.tube.eps.size()) b.tube.eta_x = b.tube.eta_x.cwiseMin(b.tube.eps);  // a grid no coarser than the tube
-        consider(static_cast<int>(i), b);
-      }
-      p.replan = true;
+      scale_eps(everyone, 0.8);
       if (p.changed.empty()) p.why_not = "no agent's tracker accepts a smaller eps";
       break;
     case Lever::EnlargeEps:
-      for (int i : failure.agents) {
-        AgentSpec b = p.agents[i];
-        b.tube.eps *= 1.25;
-        consider(i, b);
-      }
-      p.replan = true;
+      scale_eps(failure.agents, 1.25);
       if (p.changed.empty()) p.why_not = "a wider tube is refused by the goal, the state bounds or the tracker";
       break;
     case Lever::Refine:

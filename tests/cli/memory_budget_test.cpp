@@ -4,6 +4,7 @@
 // the budget its track() was given.
 #include <gtest/gtest.h>
 
+#include "one_unicycle.hpp"
 #include "run.hpp"
 
 using marsyn::test::run_marsyn;
@@ -11,21 +12,8 @@ using marsyn::test::write_temp;
 
 namespace {
 
-const std::string kProbe = std::string(R"(name: budget-probe
-tau: 0.1
-horizon: 20
-tracker: never
-plugin_paths: [)") + NEVER_TRACKER_DIR + R"(]
-agents:
-  - name: budget_probe
-    dynamics: unicycle
-    x0: [0, 2, 0]
-    goal: {center: [5, 2, 0], radius: [0.3, 0.3, 0.4]}
-    state_bounds: {lo: [-1, -1, -2], hi: [11, 11, 3]}
-    input_bounds: {lo: [-2, -2], hi: [2, 2]}
-    disturbance: [0, 0.02, 0.02]
-    eps: [0.2, 0.2, 0.24]
-)";
+const std::string kProbe = marsyn::test::one_unicycle(
+    std::string("tracker: never\nplugin_paths: [") + NEVER_TRACKER_DIR + "]", "budget_probe");
 
 TEST(MemoryBudget, TrackHandsTheCommandLineBudgetToTheSynthesis) {
   const std::string file = write_temp("budget_probe.yaml", kProbe);

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "one_unicycle.hpp"
 #include "run.hpp"
 
 using marsyn::test::run_marsyn;
@@ -23,22 +24,8 @@ std::string pendulum_with(const std::string& from, const std::string& to) {
 }
 
 // A unicycle whose grid has long values: three of them filled the old fixed-width column.
-const char* const kLongEta = R"(name: long-eta
-tau: 0.1
-horizon: 20
-tracker: abcd
-agents:
-  - name: a
-    dynamics: unicycle
-    x0: [0, 2, 0]
-    goal: {center: [5, 2, 0], radius: [0.3, 0.3, 0.4]}
-    state_bounds: {lo: [-1, -1, -2], hi: [11, 11, 3]}
-    input_bounds: {lo: [-2, -2], hi: [2, 2]}
-    disturbance: [0, 0.02, 0.02]
-    eps: [0.2, 0.2, 0.24]
-    eta_x: [0.0123456789, 0.0123456789, 0.0123456789]
-    eta_u: [0.3, 0.3]
-)";
+const std::string kLongEta = marsyn::test::one_unicycle(
+    "tracker: abcd", "a", "    eta_x: [0.0123456789, 0.0123456789, 0.0123456789]\n    eta_u: [0.3, 0.3]\n");
 
 TEST(Reporting, CheckTableKeepsLongValuesOutOfTheTrackerColumn) {
   const std::string file = write_temp("long_eta.yaml", kLongEta);
