@@ -93,7 +93,7 @@ nlohmann::json result_json(const SolveOutcome& o) {
               {"chosen", choice && choice->automatic ? "auto" : "given"},
               {"assessment", choice ? json(choice->assessment.summary) : json(nullptr)},
               {"status", tracked ? to_string(a.track.status) : "not tracked"},
-              {"time_s_all_rounds", tracking_time_all_rounds(o, a.name)},
+              {"all_rounds_time_s", tracking_time_all_rounds(o, a.name)},
               {"state_input_pairs", s.state_input_pairs},
               {"tube_cells", s.tube_cells},
               {"boxes_computed", s.boxes_computed},
