@@ -16,11 +16,11 @@
 
 namespace {
 std::string g_path;
+// A small budget keeps the loader's estimates, not the fuzzer's RSS limit, in charge.
+const marsyn::LoadOptions kLoad{{256.0 * 1024 * 1024, "the fuzzer's budget"}};
 }
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  // A small budget keeps the loader's estimates, not the fuzzer's RSS limit, in charge.
-  setenv("MARSYN_MEMORY_BUDGET", "256M", 1);
   const char* tmp = std::getenv("TMPDIR");
   g_path = std::string(tmp && *tmp ? tmp : "/tmp") + "/marsyn-fuzz-" + std::to_string(::getpid()) + ".yaml";
   return 0;
@@ -34,7 +34,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (size && std::fwrite(data, 1, size, f) != size) std::abort();
   std::fclose(f);
   try {
-    const marsyn::LoadedProblem lp = marsyn::load_problem(g_path);
+    const marsyn::LoadedProblem lp = marsyn::load_problem(g_path, kLoad);
     (void)lp;
   } catch (const marsyn::ConfigError& e) {
     // The message must be one printable line.

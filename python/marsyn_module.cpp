@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
+#include <optional>
 
 #include "marsyn/core/verification/closed_loop.hpp"
 #include "marsyn/core/problem/config_error.hpp"
@@ -352,12 +353,23 @@ PYBIND11_MODULE(marsyn, m) {
 
   m.def(
       "load",
-      [](const py::object& path) {
+      [](const py::object& path, const py::object& memory_budget) {
         const std::string file = py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
-        return PyProblem{std::make_shared<LoadedProblem>(load_problem(file))};
+        LoadOptions lo;
+        if (!memory_budget.is_none()) {
+          const std::string text = py::str(memory_budget).cast<std::string>();
+          const std::optional<double> bytes = parse_bytes(text);
+          if (!bytes)
+            throw py::value_error("memory_budget: expected a positive number of bytes such as 8e9 or '8G', got '" + text +
+                                  "'");
+          lo.memory_budget = {*bytes, "memory_budget"};
+        }
+        return PyProblem{std::make_shared<LoadedProblem>(load_problem(file, lo))};
       },
-      py::arg("path"),
-      "Load and validate a problem file. Bad input raises marsyn.ConfigError with the CLI's located message "
+      py::arg("path"), py::arg("memory_budget") = py::none(),
+      "Load and validate a problem file. memory_budget (bytes, or a string such as '2G'; default half of the physical "
+      "memory) is what the trackers' and the planner's estimates are judged against, here and when this problem is "
+      "tracked or solved. Bad input raises marsyn.ConfigError with the CLI's located message "
       "(attributes file, line, column, path, message).");
 
   py::class_<PyController>(m, "Controller", "A synthesized controller C(x, k).")
@@ -520,6 +532,7 @@ PYBIND11_MODULE(marsyn, m) {
         const TrackingProblem tp = tracking_problem(pb, index, nominal[static_cast<size_t>(index)]);
         TrackOptions to;
         to.threads = threads;
+        to.memory_budget_bytes = lp.memory_budget.bytes;
         TrackResult r;
         {
           py::gil_scoped_release release;

@@ -80,7 +80,7 @@ std::string num(double v, int prec = 3) {
 }  // namespace
 
 int run_bench(const std::string& examples_list, const std::string& planners_list, const std::string& stage,
-              bool track, int runs, int threads, const std::string& out_dir) {
+              bool track, int runs, int threads, const std::string& out_dir, const LoadOptions& load) {
   std::vector<std::string> examples = split(examples_list);
   if (examples.empty()) examples = {"pendulum", "crane_vehicle", "multi_drone", "lane_merging", "formation"};
   std::vector<Row> rows;
@@ -88,7 +88,7 @@ int run_bench(const std::string& examples_list, const std::string& planners_list
     const std::vector<std::string> head = {"example", "status", "T_plan s", "N_l (max)", "T_abs s (max)", "T_syn s (max)",
                                            "verify runs", "violations", "open-loop viol.", "total s"};
     for (const auto& ex : examples) {
-      const LoadedProblem lp = load_problem(resolve_example(ex));
+      const LoadedProblem lp = load_problem(resolve_example(ex), load);
       SolveOptions so;
       so.verification_runs = runs;
       so.threads = threads;
@@ -112,7 +112,7 @@ int run_bench(const std::string& examples_list, const std::string& planners_list
   const std::vector<std::string> head = {"example", "planner", "feasible", "plan s", "iterations", "cost",
                                          "min robust margin", "horizon", "tracking"};
   for (const auto& ex : examples) {
-    const LoadedProblem lp = load_problem(resolve_example(ex));
+    const LoadedProblem lp = load_problem(resolve_example(ex), load);
     std::vector<std::string> planners = split(planners_list);
     if (planners.empty()) planners = lp.registry->names("planner");
     for (const auto& name : planners) {
@@ -133,7 +133,7 @@ int run_bench(const std::string& examples_list, const std::string& planners_list
         TrackerInstances trackers(lp.registry);
         SolveOptions so;
         so.threads = threads;
-        const auto agents = track_agents(pb, o.nominal, trackers.for_agents(pb), so);
+        const auto agents = track_agents(pb, o.nominal, trackers.for_agents(pb), so, lp.memory_budget);
         int ok = 0;
         for (const auto& a : agents) ok += a.track.status == TrackerStatus::ControllerFound;
         tracking = std::to_string(ok) + "/" + std::to_string(agents.size()) + " agents";

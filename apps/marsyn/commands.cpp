@@ -45,8 +45,8 @@ std::string default_example() {
   throw std::runtime_error("the default example examples/multi_drone.yaml was not found; give a CONFIG");
 }
 
-int run_check(const std::string& config) {
-  const LoadedProblem loaded = load_problem(config);
+int run_check(const std::string& config, const LoadOptions& load) {
+  const LoadedProblem loaded = load_problem(config, load);
   std::cout << summarize(loaded.problem, loaded.trackers) << "\nok: " << config << " is a valid marsyn problem\n";
   return 0;
 }

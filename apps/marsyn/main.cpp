@@ -23,8 +23,8 @@ int main(int argc, char** argv) {
   app.fallthrough();
   std::string memory_budget;
   app.add_option("--memory-budget", memory_budget,
-                 "memory the stages may plan to use, checked against estimates when a problem is loaded: bytes, or "
-                 "with K/M/G/T (default: half of the physical memory; same as env MARSYN_MEMORY_BUDGET)");
+                 "memory the stages may plan to use, checked against the estimates when a problem is loaded and by the "
+                 "trackers while they synthesize: bytes, or with K/M/G/T (default: half of the physical memory)");
 
   bool show_params = false;
   auto* plugins = app.add_subcommand("plugins", "list every plugin found: kind, name, library");
@@ -33,6 +33,8 @@ int main(int argc, char** argv) {
   std::string config, out, agent, plan_file, controllers, mode = "uniform", sim_out;
   int threads = 2, runs = 1000;
   double global_budget = 2e9;
+  double time_limit = 0;
+  CLI::Option* time_limit_option = nullptr;
   unsigned long seed = 1;
   auto* check = app.add_subcommand("check", "load and validate a problem file, print a summary");
   check->add_option("CONFIG", config, "problem file (YAML)")->required();
@@ -71,6 +73,10 @@ int main(int argc, char** argv) {
   solve->add_option("--global-budget", global_budget,
                     "memory budget [bytes] under which the global ABCD baseline is attempted (default 2e9; 0: never)")
       ->check(CLI::Range(0.0, 1e15));
+  time_limit_option = solve->add_option("--time-limit", time_limit,
+                    "the search's budget in seconds: it plans and tracks again while a change is left and time remains "
+                    "(default: the file's search: {time_limit}, else 600; docs/search.md)")
+      ->check(CLI::Range(1e-3, 1e9));
 
   auto* simulate = app.add_subcommand("simulate", "replay the closed loop of all agents with their controllers");
   simulate->add_option("CONFIG", config, "problem file (YAML)")->required();
@@ -118,24 +124,31 @@ int main(int argc, char** argv) {
     world.abort(code);
   };
 
-  // One place for the budget: the loader reads MARSYN_MEMORY_BUDGET (and rejects a bad value
-  // with a located message).
-  if (!memory_budget.empty()) setenv("MARSYN_MEMORY_BUDGET", memory_budget.c_str(), 1);
+  // One budget for the run, handed to the loader and from there to every stage.
+  marsyn::LoadOptions load;
+  if (!memory_budget.empty()) {
+    const std::optional<double> bytes = marsyn::parse_bytes(memory_budget);
+    if (!bytes)
+      return fail("--memory-budget: expected a positive number of bytes such as 8e9 or 8G, got '" + memory_budget + "'",
+                  2);
+    load.memory_budget = {*bytes, "--memory-budget"};
+  }
 
   try {
     if (*plugins) return marsyn::cli::run_plugins(show_params);
-    if (*check) return marsyn::cli::run_check(config);
+    if (*check) return marsyn::cli::run_check(config, load);
     if (*export_cmd)
       return marsyn::cli::run_export(export_inputs, export_format, export_out, export_prefix, export_encoding, export_tracker);
 #ifdef MARSYN_WITH_PIPELINE
-    if (*plan) return marsyn::cli::run_plan(config, out);
-    if (*track) return marsyn::cli::run_track(config, agent, plan_file, out, threads, cluster);
+    if (*plan) return marsyn::cli::run_plan(config, out, load);
+    if (*track) return marsyn::cli::run_track(config, agent, plan_file, out, threads, load, cluster);
     if (*solve)
       return marsyn::cli::run_solve(config.empty() ? marsyn::cli::default_example() : config, out, runs, threads, global_budget,
+                                    time_limit_option->count() ? std::optional<double>(time_limit) : std::nullopt, load,
                                     cluster);
-    if (*simulate) return marsyn::cli::run_simulate(config, controllers, mode, seed, sim_out);
+    if (*simulate) return marsyn::cli::run_simulate(config, controllers, mode, seed, sim_out, load);
     if (*bench)
-      return marsyn::cli::run_bench(bench_examples, bench_planners, bench_stage, !no_track, runs, threads, bench_out);
+      return marsyn::cli::run_bench(bench_examples, bench_planners, bench_stage, !no_track, runs, threads, bench_out, load);
 #endif
   } catch (const marsyn::cli::QuietExit& e) {
     return e.code;

@@ -52,17 +52,28 @@ void live_line(const std::string& s) {
 
 bool stderr_is_terminal() { return ::isatty(::fileno(stderr)) != 0; }
 
+// "1 agent", "3 agents".
+std::string count_of(std::size_t n, const std::string& noun) {
+  return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
+}
+
+std::size_t planned_rounds(const SearchReport& s) {
+  std::size_t n = 0;
+  for (const auto& r : s.rounds) n += r.planned;
+  return n;
+}
+
 // Over MPI, rank 0 validates the problem first and tells the others: a bad file is reported
 // once, by rank 0, and every rank ends with exit code 2 without MPI_Abort; only then do the
 // other ranks load the same file (each needs the models).
-LoadedProblem load_on_every_rank(const std::string& config, const Collective* cluster) {
-  if (!cluster || cluster->size() <= 1) return load_problem(config);
+LoadedProblem load_on_every_rank(const std::string& config, const LoadOptions& load, const Collective* cluster) {
+  if (!cluster || cluster->size() <= 1) return load_problem(config, load);
   const bool root = cluster->rank() == 0;
   std::optional<LoadedProblem> lp;
   std::exception_ptr failure;
   if (root) {
     try {
-      lp.emplace(load_problem(config));
+      lp.emplace(load_problem(config, load));
     } catch (...) {
       failure = std::current_exception();
     }
@@ -74,7 +85,7 @@ LoadedProblem load_on_every_rank(const std::string& config, const Collective* cl
     if (root) std::rethrow_exception(failure);
     throw QuietExit{2};
   }
-  if (!root) lp.emplace(load_problem(config));
+  if (!root) lp.emplace(load_problem(config, load));
   return std::move(*lp);
 }
 
@@ -145,8 +156,8 @@ bool g_failure_shared = false;
 void mark_failure_shared() { g_failure_shared = true; }
 bool failure_is_shared() { return g_failure_shared; }
 
-int run_plan(const std::string& config, const std::string& out_requested) {
-  const LoadedProblem lp = load_problem(config);
+int run_plan(const std::string& config, const std::string& out_requested, const LoadOptions& load) {
+  const LoadedProblem lp = load_problem(config, load);
   const Problem& pb = lp.problem;
   auto planner = lp.registry->create<Planner>(pb.planner.name, pb.planner.params);
   const auto warm = warm_start_planner(lp);
@@ -165,14 +176,14 @@ int run_plan(const std::string& config, const std::string& out_requested) {
     csvs = planning::write_agent_csvs(folder.dir().string(), pb, out).size();
   }
   std::cout << planning::summary(pb, out);
-  std::cout << "wrote " << plan_json << " and " << csvs << " CSV files\n";
+  std::cout << "wrote " << plan_json << " and " << count_of(csvs, "CSV file") << "\n";
   return out.feasible ? 0 : 1;
 }
 
 int run_track(const std::string& config, const std::string& agent, const std::string& plan_file,
-              const std::string& out_requested, int threads, const Collective* cluster) {
+              const std::string& out_requested, int threads, const LoadOptions& load, const Collective* cluster) {
   const bool root = !cluster || cluster->rank() == 0;
-  const LoadedProblem lp = load_on_every_rank(config, cluster);
+  const LoadedProblem lp = load_on_every_rank(config, load, cluster);
   const Problem& pb = lp.problem;
   int index = -1;
   const AgentSpec& a = find_agent(pb, agent, &index);
@@ -185,6 +196,7 @@ int run_track(const std::string& config, const std::string& agent, const std::st
   const TrackingProblem tp = tracking_problem(pb, index, nominal[index]);
   TrackOptions to;
   to.threads = threads;
+  to.memory_budget_bytes = lp.memory_budget.bytes;  // the budget the loader's assessment judged
   to.collective = cluster;  // every rank shares this agent's sweep (docs/mpi.md)
   if (root)
     to.progress = [p = std::make_shared<SweepProgress>(a.name, log_line, stderr_is_terminal() ? live_line : SweepProgress::Sink{})](
@@ -251,10 +263,12 @@ int run_track(const std::string& config, const std::string& agent, const std::st
 }
 
 int run_solve(const std::string& config, const std::string& out_requested, int runs, int threads, double global_budget,
-              const Collective* cluster) {
+              std::optional<double> time_limit_s, const LoadOptions& load, const Collective* cluster) {
   const bool root = !cluster || cluster->rank() == 0;
-  const LoadedProblem lp = load_on_every_rank(config, cluster);
+  const LoadedProblem lp = load_on_every_rank(config, load, cluster);
   SolveOptions so;
+  if (lp.search_time_limit_s) so.time_limit_s = *lp.search_time_limit_s;
+  if (time_limit_s) so.time_limit_s = *time_limit_s;  // the command line over the file
   so.verification_runs = runs;
   so.threads = threads;
   so.global_memory_budget_bytes = global_budget;
@@ -273,7 +287,7 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
       trackers += (trackers.empty() ? "" : ", ") + name + (counts.size() > 1 ? " x" + std::to_string(count) : "");
   }
   if (root)
-    log_line("[solve] " + lp.problem.name + ": " + std::to_string(lp.problem.agents.size()) + " agents, planner " +
+    log_line("[solve] " + lp.problem.name + ": " + count_of(lp.problem.agents.size(), "agent") + ", planner " +
              lp.problem.planner.name + ", tracker " + (lp.problem.tracker.name == kAutoTracker ? "auto: " : "") + trackers +
              (cluster ? ", " + std::to_string(cluster->size()) + " MPI ranks" : ""));
   SolveOutcome out = solve(lp, so);
@@ -286,8 +300,9 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
   std::printf("guarantee     %s\n", out.problem.guarantee == Guarantee::Continuous
                                         ? "continuous: safe for every t in [0, T tau], between the samples too"
                                         : "sampled: safe at t = k tau only (the paper's semantics)");
-  std::printf("plan          %s, T = %d, %.3f s, smallest robust margin %.4g", out.plan.feasible ? "feasible" : "infeasible",
-              out.plan.horizon, out.plan.total_time_s, out.plan.check.min_margin);
+  std::printf("plan          %s, T = %d, %.3f s over %s, smallest robust margin %.4g",
+              out.plan.feasible ? "feasible" : "infeasible", out.plan.horizon, out.search.plan_time_s,
+              count_of(planned_rounds(out.search), "planning round").c_str(), out.plan.check.min_margin);
   if (out.plan.check.continuous)
     std::printf(" (at the samples %.4g, between them %.4g)", out.plan.check.sampled_margin, out.plan.check.between_margin);
   std::printf("\n");
@@ -296,7 +311,14 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
                 to_string(a.track.status),
                 a.track.stats.state_input_pairs, a.track.stats.boxes_computed,
                 a.track.stats.abstraction_time_s + a.track.stats.synthesis_time_s);
+  std::printf("tracking      %.3f s over every round\n", out.search.track_time_s);
   if (out.certification_ran) std::printf("certification %s\n", out.certification.message.c_str());
+  std::printf("search        %s\n", out.search.message().c_str());
+  // Every change the search made to what the file says, per agent, with the failure it answered.
+  for (const auto& r : out.search.rounds)
+    for (const auto& c : r.changes)
+      std::printf("  %-12s %s %s -> %s (round %d: %s)\n", c.agent.empty() ? "(team)" : c.agent.c_str(), c.what.c_str(),
+                  c.from.c_str(), c.to.c_str(), r.index, r.reason.c_str());
   if (out.verification_ran) {
     if (v.between.min() < 1e299)
       std::printf("verification  %d closed-loop runs, %d violations, smallest margin %.4g at the samples, %.4g between "
@@ -334,8 +356,8 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
 }
 
 int run_simulate(const std::string& config, const std::string& controllers_dir, const std::string& mode_text,
-                 unsigned long seed, const std::string& out_file) {
-  const LoadedProblem lp = load_problem(config);
+                 unsigned long seed, const std::string& out_file, const LoadOptions& load) {
+  const LoadedProblem lp = load_problem(config, load);
   const Problem& pb = lp.problem;
   DisturbanceMode mode;
   try {

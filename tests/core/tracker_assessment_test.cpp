@@ -80,15 +80,13 @@ TEST_F(AbcdAssessment, MissingGridsAreRefusedByName) {
   EXPECT_FALSE(abcd->refine(a));
 }
 
-TEST_F(AbcdAssessment, MemoryBudgetFromTheEnvironment) {
-  setenv("MARSYN_MEMORY_BUDGET", "100K", 1);
-  const auto r = abcd->assess(unicycle(reg), 20, 0.1);
-  unsetenv("MARSYN_MEMORY_BUDGET");
+TEST_F(AbcdAssessment, MemoryBudgetFromTheRequest) {
+  const auto r = abcd->assess(unicycle(reg), marsyn::AssessRequest{20, 0.1, {100 * 1024.0, "--memory-budget"}});
   EXPECT_FALSE(r.ok);
   EXPECT_EQ(r.field, "eta_x");
   EXPECT_EQ(r.message,
             "the tracker would need about 284954 bytes for this agent (4.91e+03 tube cells per step x 21 steps), more "
-            "than the memory budget of 102400 bytes (MARSYN_MEMORY_BUDGET); enlarge eta_x");
+            "than the memory budget of 102400 bytes (--memory-budget); enlarge eta_x");
 }
 
 TEST_F(AbcdAssessment, RefineMakesBothGridsFiner) {

@@ -14,24 +14,14 @@
 #include "marsyn/core/report/result_json.hpp"
 #include "marsyn/core/solve.hpp"
 #include "marsyn/core/problem/problem_loader.hpp"
+#include "pendulum_variant.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-// The pendulum example with the test tracker's folder on plugin_paths and its `tracker` line
-// replaced by `tracker_line`.
 std::string pendulum(const std::string& name, const std::string& tracker_line) {
-  std::ifstream in(std::string(MARSYN_SOURCE_DIR) + "/examples/pendulum.yaml");
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string s = text.str();
-  s.replace(s.find("tracker: abcd\n"), 14, tracker_line + "\nplugin_paths: [" + NEVER_TRACKER_DIR + "]\n");
-  const fs::path dir = fs::temp_directory_path() / ("marsyn_fallback_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  const fs::path p = dir / (name + ".yaml");
-  std::ofstream(p) << s;
-  return p.string();
+  return marsyn::test::pendulum_variant("fallback_" + name, tracker_line);
 }
 
 std::vector<marsyn::Attempt> tracking_attempts(const marsyn::SolveOutcome& o) {
@@ -90,17 +80,31 @@ TEST(TrackerFallback, NamedTrackerIsNeverReplaced) {
   EXPECT_FALSE(lp.trackers[0].automatic);
   EXPECT_TRUE(lp.trackers[0].fallbacks.empty());
   marsyn::SolveOptions so = quick();
-  so.max_outer_iterations = 3;
+  so.max_rounds = 2;
   const marsyn::SolveOutcome o = marsyn::solve(lp, so);
   EXPECT_FALSE(o.verified);
   EXPECT_EQ(o.failure, "no controller for pendulum");
   const auto t = tracking_attempts(o);
   ASSERT_EQ(t.size(), 2u);
-  // Remark 2: eps x 1.25 and a new plan; then never has nothing to refine and the search stops.
+  // Remark 2: never has nothing to refine, so eps x 1.25 and a new plan; then the round limit.
   EXPECT_EQ(t[0].parameters, "tracker=never eps=(0.2,0.2) eta_x=(0.01,0.01) eta_u=(0.1)");
   EXPECT_EQ(t[1].parameters, "tracker=never eps=(0.25,0.25) eta_x=(0.01,0.01) eta_u=(0.1)");
   EXPECT_EQ(plans(o), 2);
   EXPECT_EQ(marsyn::result_json(o)["agents"][0]["tracker"]["chosen"], "given");
+}
+
+// Issue 27 item 3: the budget the loader judged (LoadOptions) is the one the trackers'
+// assessment and synthesis receive inside solve(), not a default of their own.
+TEST(TrackerFallback, SolveHandsTheLoadedBudgetToAssessmentAndSynthesis) {
+  const std::string p = marsyn::test::pendulum_variant("budget", "tracker: never", {{"- name: pendulum", "- name: budget_pendulum"}});
+  const auto lp = marsyn::load_problem(p, marsyn::LoadOptions{{1073741824.0, "test"}});
+  EXPECT_EQ(lp.memory_budget.bytes, 1073741824.0);
+  marsyn::SolveOptions so = quick();
+  so.max_rounds = 1;
+  const marsyn::SolveOutcome o = marsyn::solve(lp, so);
+  ASSERT_EQ(o.agents.size(), 1u);
+  EXPECT_NE(o.agents[0].track.message.find("(memory budget: assessed 1073741824, tracked 1073741824)"), std::string::npos)
+      << o.agents[0].track.message;
 }
 
 }  // namespace

@@ -4,11 +4,12 @@ gives the result of one process). Usage: compare_results.py A B; exit 1 with the
 import json
 import sys
 
-# What legitimately differs between runs: wall-clock and CPU times, and the peak memory of the
-# reporting process.
+# What legitimately differs between runs: wall-clock and CPU times, the peak memory of the
+# reporting process, and the search's stop message (it names the seconds the search took).
 def strip(v):
     if isinstance(v, dict):
-        return {k: strip(x) for k, x in v.items() if not (k.endswith("time_s") or k == "peak_memory_bytes")}
+        return {k: strip(x) for k, x in v.items()
+                if not (k.endswith("time_s") or k in ("peak_memory_bytes", "stop_message"))}
     if isinstance(v, list):
         return [strip(x) for x in v]
     return v

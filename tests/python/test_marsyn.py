@@ -51,6 +51,21 @@ except marsyn.ConfigError as e:
     check(cli_message == "error: " + str(e), "same message as the CLI: %r vs %r" % (cli_message, str(e)))
     check(e.line > 0 and e.file == bad and "eps" in e.path, "located: %s:%d %s" % (e.file, e.line, e.path))
 
+# The memory budget is the caller's, as --memory-budget is the CLI's: the same located refusal.
+cli = subprocess.run([exe, "--memory-budget", "1K", "check", example], capture_output=True, text=True)
+try:
+    marsyn.load(example, memory_budget="1K")
+    check(False, "marsyn.load(memory_budget='1K') refuses the pendulum")
+except marsyn.ConfigError as e:
+    same = cli.stderr.strip().replace("(--memory-budget)", "(memory_budget)") == "error: " + str(e)
+    check(same, "the CLI's budget message, with Python's name for the source: %r vs %r" % (cli.stderr, str(e)))
+    check("(memory_budget)" in str(e), "the message names the budget's source: %s" % e)
+try:
+    marsyn.load(example, memory_budget="lots")
+    check(False, "marsyn.load(memory_budget='lots') raises")
+except ValueError as e:
+    check("memory_budget: expected a positive number of bytes" in str(e), "a bad budget says what was expected: %s" % e)
+
 kinds = {(p["kind"], p["name"]) for p in marsyn.plugins()}
 check(("tracker", "abcd") in kinds and ("planner", "altro") in kinds, "plugins() lists abcd and altro: %s" % kinds)
 

@@ -142,11 +142,13 @@ Field assessment_field(const TrackerAssessment& as, const Field& af, const Field
 }
 
 AgentTrackers resolve_tracker(AgentSpec& a, const TrackerRequest& req, TrackerInstances& trackers,
-                              const PluginRegistry& reg, const Problem& pb, const Field& af, const Field& defaults) {
+                              const PluginRegistry& reg, const Problem& pb, const MemoryBudget& budget, const Field& af,
+                              const Field& defaults) {
+  const AssessRequest ask{pb.horizon, pb.tau, budget};
   AgentTrackers out;
   out.automatic = req.automatic;
   if (!req.automatic) {
-    const TrackerAssessment as = assess_tracker(trackers, req.choice, a, pb.horizon, pb.tau);
+    const TrackerAssessment as = assess_tracker(trackers, req.choice, a, ask);
     out.asked.emplace_back(req.choice.name, as);
     if (!as.ok) assessment_field(as, af, defaults, req.field).fail(as.message);
     a.tracker = req.choice;
@@ -163,7 +165,7 @@ AgentTrackers resolve_tracker(AgentSpec& a, const TrackerRequest& req, TrackerIn
               "or plugin_paths");
   std::vector<std::pair<double, std::size_t>> ok;  // (work_s, index into asked)
   for (const auto& name : names) {
-    const TrackerAssessment as = assess_tracker(trackers, {name, {}}, a, pb.horizon, pb.tau);
+    const TrackerAssessment as = assess_tracker(trackers, {name, {}}, a, ask);
     if (as.ok) ok.emplace_back(as.work_s, out.asked.size());
     out.asked.emplace_back(name, as);
   }

@@ -29,8 +29,10 @@ struct TrackerRequest {
 TrackerRequest read_tracker_request(const Field& f, const PluginRegistry& reg);
 
 // Resolves the agent's tracker (AgentSpec::tracker) by the trackers' own assessments; a refusal
-// (or, for auto, every tracker's) is a located error at the field the tracker names.
+// (or, for auto, every tracker's) is a located error at the field the tracker names. The
+// trackers judge their estimates against `budget`.
 AgentTrackers resolve_tracker(AgentSpec& a, const TrackerRequest& req, TrackerInstances& trackers,
-                              const PluginRegistry& reg, const Problem& pb, const Field& af, const Field& defaults);
+                              const PluginRegistry& reg, const Problem& pb, const MemoryBudget& budget, const Field& af,
+                              const Field& defaults);
 
 }  // namespace marsyn::loader

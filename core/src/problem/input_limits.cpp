@@ -35,15 +35,6 @@ std::string name_from_stem(const std::string& stem) {
   return out.empty() ? "problem" : out;
 }
 
-double memory_budget_bytes(std::string* source) {
-  const double v = memory_budget_from_environment(source);
-  if (std::isnan(v))
-    throw ConfigError("environment", 0, 0, "MARSYN_MEMORY_BUDGET",
-                      std::string("expected a positive number of bytes such as 8e9 or 8G, got '") +
-                          std::getenv("MARSYN_MEMORY_BUDGET") + "'");
-  return v;
-}
-
 namespace {
 std::string g(double v) {
   char buf[32];

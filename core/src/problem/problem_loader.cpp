@@ -28,20 +28,21 @@ using namespace loader;
 const std::vector<std::string> kTopKeys = {
     "name",  "description", "tau",     "horizon",      "rk4_substeps", "delta",     "delta_norm",
     "pairwise_collision", "guarantee", "planner", "tracker", "collision", "plugin_paths", "defaults", "agents", "obstacles",
-    "formation"};
+    "formation", "search"};
 const std::vector<std::string> kAgentKeys = {"name",         "dynamics",    "x0",    "goal",
                                              "state_bounds", "input_bounds", "disturbance", "eps",
                                              "eta_x",        "eta_u",        "workspace",   "tracker"};
 
 }  // namespace
 
-LoadedProblem load_problem(const std::string& path) {
+LoadedProblem load_problem(const std::string& path, const LoadOptions& options) {
   const YAML::Node root = yaml::load_file(path);
   Field top(root, path, "");
   top.expect_map();
   top.allow_only(kTopKeys);
 
   LoadedProblem out;
+  out.memory_budget = options.memory_budget;
   Problem& pb = out.problem;
   pb.source = path;
   pb.name = top.child("name").present() ? top.child("name").text() : name_from_stem(fs::path(path).stem().string());
@@ -69,6 +70,11 @@ LoadedProblem load_problem(const std::string& path) {
   }
 
   pb.tau = top.required("tau").positive();
+  if (Field search = top.child("search"); search.present()) {
+    search.expect_map();
+    search.allow_only({"time_limit"});
+    if (Field t = search.child("time_limit"); t.present()) out.search_time_limit_s = t.positive();
+  }
   pb.horizon = static_cast<int>(top.required("horizon").integer_in(1, kMaxHorizon, "steps"));
   if (Field f = top.child("rk4_substeps"); f.present())
     pb.rk4_substeps = static_cast<int>(f.integer_in(1, kMaxRk4Substeps, "RK4 substeps per step"));
@@ -155,12 +161,11 @@ LoadedProblem load_problem(const std::string& path) {
       a.workspace.index = {0, n > 1 ? 1 : -1};
     }
     validate_agent(a, x0f, goalf);
-    memory_budget_bytes();  // a malformed MARSYN_MEMORY_BUDGET is reported before any tracker reads it
     // The agent's own tracker, else the default's, else the top level's (Fields are never
     // assigned: a YAML::Node assignment would write into the document).
     const Field tf = agent_field(af, defaults, "tracker");
     const TrackerRequest req = tf.present() ? read_tracker_request(tf, *out.registry) : top_tracker;
-    out.trackers.push_back(resolve_tracker(a, req, tracker_instances, *out.registry, pb, af, defaults));
+    out.trackers.push_back(resolve_tracker(a, req, tracker_instances, *out.registry, pb, out.memory_budget, af, defaults));
     x0_fields.push_back(x0f);
     pb.agents.push_back(std::move(a));
   }
@@ -172,8 +177,8 @@ LoadedProblem load_problem(const std::string& path) {
   if (Field f = top.child("formation"); f.present()) read_formation(f, pb);
   check_start_geometry(pb, x0_fields);
   {
-    std::string source;
-    const double budget = memory_budget_bytes(&source);
+    const double budget = out.memory_budget.bytes;
+    const std::string& source = out.memory_budget.source;
     const MemoryEstimate e = planner_memory(pb);
     if (!(e.bytes <= budget)) {
       // Blame the horizon when a horizon of 1000 steps would fit, the agent count otherwise.

@@ -1,5 +1,7 @@
 #include "marsyn/core/problem/problem_summary.hpp"
 
+#include <algorithm>
+#include <array>
 #include <iomanip>
 #include <sstream>
 
@@ -41,8 +43,9 @@ std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& track
   s << "plugins   planner "
     << (pb.warm_start_planner.name.empty() ? "" : pb.warm_start_planner.name + " -> ") << pb.planner.name << ", tracker " << pb.tracker.name << ", obstacle distances "
     << (pb.collision.name.empty() ? "exact (core)" : pb.collision.name) << "\n\n";
-  s << std::left << std::setw(12) << "agent" << std::setw(19) << "dynamics" << std::setw(7) << "n x m"
-    << std::setw(31) << "eps" << std::setw(33) << "eta_x" << "tracker\n";
+  // The agent table: each column as wide as its widest cell plus two spaces, so that no value
+  // (a long eta_x) runs into the next column.
+  std::vector<std::array<std::string, 6>> rows{{"agent", "dynamics", "n x m", "eps", "eta_x", "tracker"}};
   for (std::size_t i = 0; i < pb.agents.size(); ++i) {
     const AgentSpec& a = pb.agents[i];
     // The tracker's own figures (abcd: tube cells per step and grid inputs), from its assessment.
@@ -56,9 +59,15 @@ std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& track
       }
       if (!t.assessment.summary.empty()) tracker += ": " + t.assessment.summary;
     }
-    s << std::setw(12) << a.name << std::setw(19) << a.dynamics_type << std::setw(7)
-      << (std::to_string(a.n()) + " x " + std::to_string(a.m())) << std::setw(31) << vec(a.tube.eps) << std::setw(33)
-      << (a.tube.eta_x.size() ? vec(a.tube.eta_x) : std::string("-")) << tracker << "\n";
+    rows.push_back({a.name, a.dynamics_type, std::to_string(a.n()) + " x " + std::to_string(a.m()), vec(a.tube.eps),
+                    a.tube.eta_x.size() ? vec(a.tube.eta_x) : std::string("-"), tracker});
+  }
+  std::array<std::size_t, 6> width{};
+  for (const auto& r : rows)
+    for (std::size_t c = 0; c < r.size(); ++c) width[c] = std::max(width[c], r[c].size() + 2);
+  for (const auto& r : rows) {
+    for (std::size_t c = 0; c + 1 < r.size(); ++c) s << std::left << std::setw(static_cast<int>(width[c])) << r[c];
+    s << r.back() << "\n";
   }
   s << "\nconstraints per step: " << c.per_step() << " (obstacle " << c.obstacle << ", collision " << c.collision
     << ", formation " << c.formation << "); obstacles " << pb.obstacles.size() << "\n";

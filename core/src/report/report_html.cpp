@@ -21,7 +21,7 @@ h2{font-size:15px;margin:0 0 10px 0;color:#3d4852}
 table{border-collapse:collapse;font-size:13px;width:100%}
 th,td{border-bottom:1px solid #e2e8f0;padding:4px 8px;text-align:right}
 th:first-child,td:first-child{text-align:left}
-#att td:nth-child(3),#att td:nth-child(4){text-align:left;font-size:12px}
+#att td:nth-child(3),#att td:nth-child(5),#rounds td:nth-child(2),#rounds td:nth-child(3),#rounds td:nth-child(4),#rounds td:nth-child(6){text-align:left;font-size:12px}
 th{background:#f1f5f8;font-weight:600}
 canvas{width:100%;border:1px solid #dae1e7;border-radius:4px;background:#fff}
 .controls{display:flex;gap:8px;align-items:center;margin-top:8px;font-size:13px}
@@ -47,7 +47,8 @@ canvas{width:100%;border:1px solid #dae1e7;border-radius:4px;background:#fff}
 <h2 style="margin-top:16px">Open loop, per run (smallest margin and its step; below 0 = violation)</h2><table id="olr"></table></section>
 <section class="wide"><h2>Distance to threshold over continuous time (smallest margin over obstacles, collisions and formation at every integration substep; below 0 = violation)</h2>
 <div id="plot"></div><div class="legend" id="legend"></div></section>
-<section class="wide"><h2>Attempts of the outer search</h2><table id="att"></table></section>
+<section class="wide"><h2>The outer search: its rounds (docs/search.md)</h2><p id="stop" class="muted"></p><table id="rounds"></table>
+<h2 style="margin-top:16px">Attempts of the outer search</h2><table id="att"></table></section>
 </main>
 <script>
 const R = /*RESULT*/;
@@ -58,7 +59,8 @@ $('title').textContent = 'marsyn: ' + (R.problem || '');
 const verified = R.status === 'verified';
 $('badge').textContent = verified ? 'VERIFIED' : 'FAILED';
 $('badge').className = 'badge ' + (verified ? 'ok' : 'bad');
-$('sub').textContent = (R.agents ? R.agents.length : 0) + ' agents, total ' + fmt(R.total_time_s, 2) + ' s, guarantee: ' +
+const count = (n, w) => n + ' ' + w + (n === 1 ? '' : 's');
+$('sub').textContent = count(R.agents ? R.agents.length : 0, 'agent') + ', total ' + fmt(R.total_time_s, 2) + ' s, guarantee: ' +
   (R.guarantee === 'sampled' ? 'sampled (t = k tau only)' : 'continuous (every t in [0, T tau])') +
   (verified || !R.failure ? '' : ' | ' + R.failure);
 const mark = (x, text) => x !== null && x !== undefined && x < 0 ? '<b style="color:#e3342f">' + text + '</b>' : text;
@@ -92,8 +94,15 @@ const part = p => p ? fmt(p.margin) + ' (k=' + p.step + ')' : '-';
 table($('olr'), ['disturbance', 'obstacle', 'collision', 'formation', 'goal'],
   (ol.by_run || []).map(r => [r.disturbance, ...['obstacle', 'collision', 'formation'].map(k =>
     mark(r[k] && r[k].margin, part(r[k]))), mark(r.goal_margin, fmt(r.goal_margin))]));
-table($('att'), ['#', 'stage', 'parameters', 'outcome', 'time [s]'],
-  (R.attempts || []).map((a, i) => [i + 1, a.stage || '', a.parameters || '', a.outcome || '', fmt(a.time_s, 3)]));
+table($('att'), ['#', 'stage', 'parameters', 'T', 'outcome', 'time [s]'],
+  (R.attempts || []).map((a, i) => [i + 1, esc(a.stage || ''), esc(a.parameters || ''), fmt(a.horizon, 0), esc(a.outcome || ''), fmt(a.time_s, 3)]));
+const se = R.search || {};
+$('stop').textContent = se.stop_message || '';
+table($('rounds'), ['round', 'action', 'why', 'changes (from -> to)', 'T', 'outcome', 'plan [s]', 'track [s]', 'certify [s]', 'round [s]'],
+  (se.rounds || []).map(r => [r.round, esc(r.action), esc(r.reason || '-'),
+    esc((r.changes || []).map(c => (c.agent ? c.agent + ' ' : '') + c.what + ' ' + c.from + ' -> ' + c.to).join('; ') || '-'),
+    fmt(r.horizon, 0) + (r.planned ? '' : ' (kept)'), esc(r.outcome), fmt(r.plan_time_s, 2), fmt(r.track_time_s, 2),
+    fmt(r.certify_time_s, 2), fmt(r.time_s, 2)]));
 
 // Workspace animation.
 const cv = $('cv'), ctx = cv.getContext('2d');

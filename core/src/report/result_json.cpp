@@ -23,6 +23,43 @@ nlohmann::json open_loop_runs_json(const std::vector<OpenLoopRun>& runs) {
   return out;
 }
 
+// The search (docs/search.md): why it stopped, and per round the action, its reason, what it
+// changed and where the round's time went. Times are totals; the rounds give the split.
+nlohmann::json search_json(const SearchReport& s) {
+  using nlohmann::json;
+  json rounds = json::array();
+  for (const auto& r : s.rounds) {
+    json changes = json::array();
+    for (const auto& c : r.changes)
+      changes.push_back({{"agent", c.agent.empty() ? json(nullptr) : json(c.agent)}, {"what", c.what}, {"from", c.from}, {"to", c.to}});
+    rounds.push_back({{"round", r.index},
+                      {"action", r.action},
+                      {"reason", r.reason.empty() ? json(nullptr) : json(r.reason)},
+                      {"changes", changes},
+                      {"planned", r.planned},
+                      {"horizon", r.horizon},
+                      {"outcome", r.outcome},
+                      {"plan_time_s", r.plan_time_s},
+                      {"track_time_s", r.track_time_s},
+                      {"certify_time_s", r.certify_time_s},
+                      {"time_s", r.time_s}});
+  }
+  json not_tried = json::array();
+  for (const auto& n : s.not_tried) not_tried.push_back({{"lever", n.lever}, {"why", n.why}});
+  return {{"stop_message", s.message()},      {"stopped", s.stop_reason},     {"tried", s.tried()},
+          {"not_tried", not_tried},      {"time_limit_s", s.time_limit_s}, {"time_s", s.time_s},
+          {"plan_time_s", s.plan_time_s}, {"track_time_s", s.track_time_s}, {"certify_time_s", s.certify_time_s},
+          {"rounds", rounds}};
+}
+
+// An agent's tracking time summed over every round that tracked it.
+double tracking_time_all_rounds(const SolveOutcome& o, const std::string& agent) {
+  double t = 0;
+  for (const auto& a : o.attempts)
+    if (a.stage == "track " + agent) t += a.time_s;
+  return t;
+}
+
 }  // namespace
 
 nlohmann::json result_json(const SolveOutcome& o) {
@@ -36,7 +73,8 @@ nlohmann::json result_json(const SolveOutcome& o) {
   j["tracker"] = o.problem.tracker.name;  // the request: a tracker or "auto"; each agent's is agents[i].tracker.name
   j["plan"] = {{"planner", o.problem.planner.name},
                {"status", o.plan.feasible ? "feasible" : to_string(o.plan.result.status)},
-               {"time_s", o.plan.total_time_s},
+               {"time_s", o.search.plan_time_s},  // every round's planning; search.rounds has the split
+               {"last_round_time_s", o.plan.total_time_s},
                {"horizon", o.plan.horizon},
                {"iterations", o.plan.result.iterations},
                {"min_robust_margin", o.plan.check.min_margin},
@@ -44,15 +82,18 @@ nlohmann::json result_json(const SolveOutcome& o) {
                {"sampled_robust_margin", o.plan.check.sampled_margin},
                {"between_samples_robust_margin",
                 o.plan.check.continuous ? json(o.plan.check.between_margin) : json(nullptr)}};
+  // Every agent of the problem, tracked or not (a failed plan tracks none).
   json agents = json::array();
-  for (std::size_t i = 0; i < o.agents.size(); ++i) {
-    const auto& a = o.agents[i];
+  for (std::size_t i = 0; i < o.problem.agents.size(); ++i) {
+    const bool tracked = i < o.agents.size();
+    const AgentOutcome a = tracked ? o.agents[i] : AgentOutcome{o.problem.agents[i].name, "", {}, ""};
     const auto& s = a.track.stats;
     const AgentTrackers* choice = i < o.trackers.size() ? &o.trackers[i] : nullptr;
     json t = {{"name", a.tracker.empty() ? o.problem.agents[i].tracker.name : a.tracker},
               {"chosen", choice && choice->automatic ? "auto" : "given"},
               {"assessment", choice ? json(choice->assessment.summary) : json(nullptr)},
-              {"status", to_string(a.track.status)},
+              {"status", tracked ? to_string(a.track.status) : "not tracked"},
+              {"all_rounds_time_s", tracking_time_all_rounds(o, a.name)},
               {"state_input_pairs", s.state_input_pairs},
               {"tube_cells", s.tube_cells},
               {"boxes_computed", s.boxes_computed},
@@ -121,8 +162,14 @@ nlohmann::json result_json(const SolveOutcome& o) {
                       {"boxes_computed", o.global.boxes_computed}};
   json att = json::array();
   for (const auto& a : o.attempts)
-    att.push_back({{"stage", a.stage}, {"parameters", a.parameters}, {"outcome", a.outcome}, {"time_s", a.time_s}});
+    att.push_back({{"stage", a.stage},
+                   {"parameters", a.parameters},
+                   {"horizon", a.horizon > 0 ? json(a.horizon) : json(nullptr)},
+                   {"outcome", a.outcome},
+                   {"time_s", a.time_s}});
   j["attempts"] = att;
+  j["search"] = search_json(o.search);
+  j["tracking_time_s"] = o.search.track_time_s;  // every round's tracking, wall time
   j["total_time_s"] = o.total_time_s;
   return j;
 }

@@ -129,14 +129,15 @@ RankAssignment assign_agents_to_ranks(const std::vector<double>& work, int ranks
 
 std::vector<AgentOutcome> track_agents_over_ranks(const Problem& pb, const std::vector<NominalTrajectory>& nominal,
                                                   const std::vector<std::shared_ptr<const Tracker>>& trackers,
-                                                  const SolveOptions& opt, const Collective& world) {
+                                                  const SolveOptions& opt, const MemoryBudget& budget,
+                                                  const Collective& world) {
   const int N = static_cast<int>(pb.agents.size()), R = world.size(), me = world.rank();
   auto log = [&](const std::string& s) {
     if (opt.log) opt.log(s);
   };
   std::vector<double> work(static_cast<size_t>(N), 0.0);
   for (int i = 0; i < N; ++i)
-    work[i] = std::max(0.0, assess_tracker(*trackers[i], pb.agents[i], static_cast<int>(nominal[i].x.size()) - 1, pb.tau).work_s);
+    work[i] = std::max(0.0, assess_tracker(*trackers[i], pb.agents[i], {static_cast<int>(nominal[i].x.size()) - 1, pb.tau, budget}).work_s);
   const RankAssignment as = assign_agents_to_ranks(work, R);
   {
     std::string where;
@@ -152,6 +153,7 @@ std::vector<AgentOutcome> track_agents_over_ranks(const Problem& pb, const std::
     const Stopwatch t0;
     TrackOptions topt;
     topt.threads = opt.threads;
+    topt.memory_budget_bytes = budget.bytes;
     topt.collective = &world;
     if (opt.log || opt.live) {
       auto p = std::make_shared<SweepProgress>(pb.agents[i].name + " (all " + std::to_string(R) + " ranks)", opt.log, opt.live);
@@ -178,7 +180,7 @@ std::vector<AgentOutcome> track_agents_over_ranks(const Problem& pb, const std::
       sub_nominal.push_back(nominal[i]);
       sub_trackers.push_back(trackers[i]);
     }
-    std::vector<AgentOutcome> got = track_agents(sub, sub_nominal, sub_trackers, opt);
+    std::vector<AgentOutcome> got = track_agents(sub, sub_nominal, sub_trackers, opt, budget);
     for (std::size_t q = 0; q < mine.size(); ++q) out[static_cast<size_t>(mine[q])] = std::move(got[q]);
   }
 

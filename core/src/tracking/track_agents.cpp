@@ -35,11 +35,11 @@ TrackingProblem tracking_problem(const Problem& pb, int index, const NominalTraj
 
 std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<NominalTrajectory>& nominal,
                                        const std::vector<std::shared_ptr<const Tracker>>& trackers,
-                                       const SolveOptions& opt) {
+                                       const SolveOptions& opt, const MemoryBudget& budget) {
   if (opt.cluster && opt.cluster->size() > 1) {
     SolveOptions here = opt;
     here.cluster = nullptr;  // each rank's own agents: this function, on its threads
-    return track_agents_over_ranks(pb, nominal, trackers, here, *opt.cluster);
+    return track_agents_over_ranks(pb, nominal, trackers, here, budget, *opt.cluster);
   }
   const int N = static_cast<int>(pb.agents.size());
   std::vector<AgentOutcome> out(N);
@@ -50,7 +50,7 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
   double total_work = 0, max_work = 0;
   for (int i = 0; i < N; ++i) {
     const double w =
-        std::max(0.0, assess_tracker(*trackers[i], pb.agents[i], static_cast<int>(nominal[i].x.size()) - 1, pb.tau).work_s);
+        std::max(0.0, assess_tracker(*trackers[i], pb.agents[i], {static_cast<int>(nominal[i].x.size()) - 1, pb.tau, budget}).work_s);
     work_estimate[i] = w;
     total_work += w;
     max_work = std::max(max_work, w);
@@ -59,6 +59,7 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
   const int workers = dominated ? 1 : std::max(1, std::min(opt.threads, N));
   TrackOptions topt;
   topt.threads = dominated ? opt.threads : 1;
+  topt.memory_budget_bytes = budget.bytes;
   std::atomic<int> next{0}, done{0};
   std::mutex log_mutex;
   std::vector<char> running(N, 0);

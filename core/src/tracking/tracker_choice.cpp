@@ -32,23 +32,23 @@ TrackerAssessment failed(const std::string& what) {
 }
 }  // namespace
 
-TrackerAssessment assess_tracker(const Tracker& tracker, const AgentSpec& agent, int horizon, double tau) {
+TrackerAssessment assess_tracker(const Tracker& tracker, const AgentSpec& agent, const AssessRequest& request) {
   try {
-    return tracker.assess(agent, horizon, tau);
+    return tracker.assess(agent, request);
   } catch (const std::exception& e) {
     return failed(std::string("the assessment failed: ") + e.what());
   }
 }
 
 TrackerAssessment assess_tracker(TrackerInstances& trackers, const PluginChoice& choice, const AgentSpec& agent,
-                                 int horizon, double tau) {
+                                 const AssessRequest& request) {
   std::shared_ptr<const Tracker> t;
   try {
     t = trackers.get(choice);
   } catch (const std::exception& e) {
     return failed(std::string("the tracker could not be created: ") + e.what());
   }
-  return assess_tracker(*t, agent, horizon, tau);
+  return assess_tracker(*t, agent, request);
 }
 
 std::map<std::string, std::string> recorded_trackers(const std::string& dir) {

@@ -11,6 +11,7 @@
 #include "marsyn/collective.hpp"
 #include "marsyn/controller_export.hpp"
 #include "marsyn/export.hpp"
+#include "marsyn/memory_budget.hpp"
 #include "marsyn/problem.hpp"
 
 namespace marsyn {
@@ -123,7 +124,8 @@ struct TrackerStats {
 
 struct TrackOptions {
   int threads = 0;  // 0: hardware concurrency
-  double memory_budget_bytes = 8e9;
+  // The run's budget (memory_budget.hpp), the one the assessment judged: the front end sets it.
+  double memory_budget_bytes = machine_memory_budget().bytes;
   // The ranks sharing this one agent's synthesis (docs/mpi.md): every rank of the group calls
   // track() with the same problem and options, and each returns the same result. nullptr or a
   // group of one: this process alone. A tracker that cannot split its work may ignore it (each
@@ -156,6 +158,15 @@ struct TrackerAssessment {
   std::string summary;  // one line for `marsyn check`, e.g. "<= 1600 tube cells per step"
 };
 
+// What assess() is asked: the horizon (steps) and period (seconds) of the tracking to come, and
+// the run's memory budget, which the assessment's estimate is judged against (the same value
+// reaches track() as TrackOptions::memory_budget_bytes).
+struct AssessRequest {
+  int horizon = 0;
+  double tau = 0.1;
+  MemoryBudget memory_budget = machine_memory_budget();
+};
+
 class Tracker {
  public:
   virtual ~Tracker() = default;
@@ -166,8 +177,13 @@ class Tracker {
     r.message = name() + " does not support whole-domain reach-avoid";
     return r;
   }
-  // Before planning: can this tracker work on the agent over `horizon` steps of `tau`, and at
-  // what cost? The default accepts everything at no estimated cost.
+  // Before planning: can this tracker work on the agent over request.horizon steps of
+  // request.tau, within request.memory_budget, and at what cost? Core calls this form. The
+  // default asks the older form below, for trackers that judge no memory budget.
+  virtual TrackerAssessment assess(const AgentSpec& agent, const AssessRequest& request) const {
+    return assess(agent, request.horizon, request.tau);
+  }
+  // The older form, without the budget; the default accepts everything at no estimated cost.
   virtual TrackerAssessment assess(const AgentSpec& agent, int horizon, double tau) const {
     (void)agent, (void)horizon, (void)tau;
     return {};

@@ -142,7 +142,14 @@ TrackerAssessment refuse(const std::string& field, int coordinate, const std::st
 }  // namespace
 
 TrackerAssessment AbcdTracker::assess(const AgentSpec& a, int horizon, double tau) const {
-  (void)tau;
+  AssessRequest req;
+  req.horizon = horizon;
+  req.tau = tau;
+  return assess(a, req);
+}
+
+TrackerAssessment AbcdTracker::assess(const AgentSpec& a, const AssessRequest& req) const {
+  const int horizon = req.horizon;
   const int n = a.n(), m = a.m();
   for (const auto& [field, size, what, eps] :
        {std::tuple{"eta_x", n, "the cell size of its state grid", true}, std::tuple{"eta_u", m, "the spacing of its input grid", false}}) {
@@ -178,8 +185,8 @@ TrackerAssessment AbcdTracker::assess(const AgentSpec& a, int horizon, double ta
     work_cells *= std::max(1.0, c);
   }
   for (int j = 0; j < m; ++j) inputs *= std::floor((a.input_bounds.hi[j] - a.input_bounds.lo[j]) / a.tube.eta_u[j] + 1e-9) + 1;
-  std::string source;
-  const double budget = memory_budget_from_environment(&source);
+  const double budget = req.memory_budget.bytes;
+  const std::string& source = req.memory_budget.source;
   const double state_bytes = (static_cast<double>(horizon) + 1) * tube * 2 + 2 * tube * 8;
   if (!(state_bytes <= budget))
     return refuse("eta_x", -1,

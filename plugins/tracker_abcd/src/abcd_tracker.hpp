@@ -52,7 +52,9 @@ class AbcdTracker : public marsyn::Tracker {
   std::shared_ptr<const Controller> read_controller(const std::string& path) const override;
   // The grid's rules for one agent (docs/tracker.md, "Assessment"): eta_x and eta_u given, x0's
   // cell inside the tube, at most 2^40 cells per coordinate, tube and input storage within the
-  // memory budget (marsyn/memory_budget.hpp); work_s from tube cells x steps x grid inputs.
+  // memory budget request.memory_budget; work_s from tube cells x steps x grid inputs.
+  TrackerAssessment assess(const AgentSpec& agent, const AssessRequest& request) const override;
+  // The same against the machine's default budget (machine_memory_budget()).
   TrackerAssessment assess(const AgentSpec& agent, int horizon, double tau) const override;
   // Remark 2: eta_x and eta_u times 0.75, refused (false, agent unchanged) when x0's cell would
   // no longer fit the tube or the agent has no grid.

@@ -1,11 +1,12 @@
 #pragma once
 // The user's main job (`marsyn solve`): plan -> project -> track every agent (in parallel) ->
-// verify -> report, inside the outer search of the paper's Remark 2: when planning fails, the
+// certify -> verify -> report, inside the outer search of the paper's Remark 2 (docs/search.md):
+// round after round, while a lever is left and the time limit allows, when planning fails the
 // horizon grows (inside the planning stage) and then eps shrinks; when an agent's tracking fails,
-// an agent of `tracker: auto` first moves to the next tracker that accepted it, otherwise its eps
-// is enlarged or its tracker refines its own knobs (Tracker::refine; abcd: finer grids), and the
-// problem is re-planned when eps changed. Every attempt is
-// recorded with its parameters, outcome and time.
+// an agent of `tracker: auto` first moves to the next tracker that accepted it, then its tracker
+// refines its own knobs (Tracker::refine; abcd: finer grids), then its eps is enlarged and the
+// problem re-planned; when certification falls short, the plan gets more clearance. Every
+// attempt and every round is recorded with its parameters, outcome and time.
 #include <functional>
 #include <memory>
 #include <string>
@@ -14,6 +15,7 @@
 #include "marsyn/core/verification/certification.hpp"
 #include "marsyn/core/planning/plan.hpp"
 #include "marsyn/core/problem/problem_loader.hpp"
+#include "marsyn/core/search_report.hpp"
 #include "marsyn/core/solve_options.hpp"
 #include "marsyn/core/tracking/global_abcd.hpp"
 #include "marsyn/core/tracking/track_agents.hpp"
@@ -23,10 +25,11 @@
 namespace marsyn {
 
 struct Attempt {
-  std::string stage;       // "plan", "track <agent>", "verify"
-  std::string parameters;  // e.g. "T=104 eps=(0.2,0.2,0.24)"
+  std::string stage;       // "plan", "track <agent>", "certify", "verify", "global ABCD"
+  std::string parameters;  // e.g. "planner=altro T=104 eps[a]=(0.2,0.2,0.24)"
   std::string outcome;
   double time_s = 0;
+  int horizon = 0;         // T this attempt used (its own: the planning stage lengthens it); 0: none
 };
 
 struct SolveOutcome {
@@ -43,6 +46,7 @@ struct SolveOutcome {
   // Per agent: how its tracker was chosen, its assessment, the auto fallbacks not yet used.
   std::vector<AgentTrackers> trackers;
   std::vector<Attempt> attempts;
+  SearchReport search;  // the rounds, why it stopped, and the time per round
   double total_time_s = 0;
 };
 

@@ -11,8 +11,12 @@ namespace marsyn {
 struct SolveOptions {
   int verification_runs = 1000;
   int threads = 2;
-  int max_outer_iterations = 4;             // bounded search
+  // The search's budget (docs/search.md): it goes on while a lever is left and its estimate of
+  // the next round fits in what is left of this many seconds.
   double time_limit_s = 600.0;
+  // A backstop only: the levers' own caps and "never the same attempt twice" end the search long
+  // before (at most about 20 rounds).
+  int max_rounds = 100;
   double global_memory_budget_bytes = 2e9;  // the global ABCD baseline is attempted below this
   std::function<void(const std::string&)> log;  // progress lines; may be empty
   // A transient status line (a progress bar on a terminal), drawn over the previous one; an

@@ -1,7 +1,7 @@
 #pragma once
 // Limits on what a problem file may ask for, checked by the loader before any stage allocates
 // (docs/problem-format.md, "Checks"): names that become file names, hard bounds on counts, and
-// the planning stage's memory estimate against a budget.
+// the planning stage's memory estimate against the run's budget (LoadOptions::memory_budget).
 #include <cstddef>
 #include <string>
 
@@ -21,12 +21,6 @@ std::string name_from_stem(const std::string& stem);
 inline constexpr long kMaxHorizon = 100000;      // steps
 inline constexpr long kMaxRk4Substeps = 1000;    // per step
 inline constexpr std::size_t kMaxAgents = 1000;
-
-// The memory the stages may plan to use: MARSYN_MEMORY_BUDGET (bytes; suffixes K, M, G, T
-// accepted, powers of 1024) or, by default, half of the machine's physical memory (one
-// definition, marsyn/memory_budget.hpp, which trackers' assessments read too). `source`
-// receives a short description for messages. A malformed variable is a ConfigError.
-double memory_budget_bytes(std::string* source = nullptr);
 
 struct MemoryEstimate {
   double bytes = 0;

@@ -2,10 +2,12 @@
 // Loading and validating a problem file (format: docs/problem-format.md). Every rejection is a
 // ConfigError naming file, line, field path and what was expected.
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "marsyn/core/plugins/plugin_registry.hpp"
 #include "marsyn/core/tracking/tracker_choice.hpp"
+#include "marsyn/memory_budget.hpp"
 #include "marsyn/problem.hpp"
 
 namespace marsyn {
@@ -18,9 +20,19 @@ struct LoadedProblem {
   // Per agent (index for index): how its tracker (AgentSpec::tracker) was chosen, the chosen
   // tracker's assessment and, for `tracker: auto`, the fallbacks.
   std::vector<AgentTrackers> trackers;
+  // The budget the loader judged every estimate against (LoadOptions::memory_budget); the
+  // stages after it (solve, track) judge theirs against the same value.
+  MemoryBudget memory_budget;
+  // The file's `search:` block (docs/search.md); unset fields keep SolveOptions' values.
+  std::optional<double> search_time_limit_s;
 };
 
-LoadedProblem load_problem(const std::string& path);
+// What a front end asks of the loader besides the file.
+struct LoadOptions {
+  MemoryBudget memory_budget = machine_memory_budget();
+};
+
+LoadedProblem load_problem(const std::string& path, const LoadOptions& options = {});
 
 // The default planner when a config names none; the default tracker is `auto` (kAutoTracker).
 inline constexpr const char* kDefaultPlanner = "altro";

@@ -24,6 +24,7 @@ RankAssignment assign_agents_to_ranks(const std::vector<double>& work, int ranks
 
 std::vector<AgentOutcome> track_agents_over_ranks(const Problem& problem, const std::vector<NominalTrajectory>& nominal,
                                                   const std::vector<std::shared_ptr<const Tracker>>& trackers,
-                                                  const SolveOptions& options, const Collective& world);
+                                                  const SolveOptions& options, const MemoryBudget& budget,
+                                                  const Collective& world);
 
 }  // namespace marsyn

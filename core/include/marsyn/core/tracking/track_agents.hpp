@@ -22,10 +22,11 @@ struct AgentOutcome {
 TrackingProblem tracking_problem(const Problem& problem, int index, const NominalTrajectory& nominal);
 
 // Tracks every agent along its nominal trajectory with its own tracker (trackers[i] for agent
-// i, e.g. TrackerInstances::for_agents), agents in parallel (threads from options). Logs one
-// line per agent and a heartbeat every 15 s.
+// i, e.g. TrackerInstances::for_agents), agents in parallel (threads from options), each
+// within `budget` (the run's, LoadedProblem::memory_budget: the one the assessments judged).
+// Logs one line per agent and a heartbeat every 15 s.
 std::vector<AgentOutcome> track_agents(const Problem& problem, const std::vector<NominalTrajectory>& nominal,
                                        const std::vector<std::shared_ptr<const Tracker>>& trackers,
-                                       const SolveOptions& options);
+                                       const SolveOptions& options, const MemoryBudget& budget);
 
 }  // namespace marsyn

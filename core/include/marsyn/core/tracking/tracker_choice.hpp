@@ -44,9 +44,9 @@ class TrackerInstances {
 
 // The tracker's assessment of the agent; an exception (from creating the tracker or from
 // assess) becomes a refusal whose message says so, never an escape from the loader.
-TrackerAssessment assess_tracker(const Tracker& tracker, const AgentSpec& agent, int horizon, double tau);
+TrackerAssessment assess_tracker(const Tracker& tracker, const AgentSpec& agent, const AssessRequest& request);
 TrackerAssessment assess_tracker(TrackerInstances& trackers, const PluginChoice& choice, const AgentSpec& agent,
-                                 int horizon, double tau);
+                                 const AssessRequest& request);
 
 // The tracker that wrote each agent's controller, as `marsyn solve` records it in
 // `<dir>/result.json` (agents[i].name -> agents[i].tracker.name); empty when the folder has no
