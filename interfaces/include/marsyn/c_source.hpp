@@ -1,0 +1,124 @@
+#pragma once
+// Writing a controller as dependency-free C99 (`marsyn export --format c`, docs/deploy.md): the
+// pieces every tracker's generator shares, so that all exported controllers have one header
+// layout (dimensions, status codes, `<prefix>_input` and the runtime monitor `<prefix>_inside`)
+// and write their constants the same exact way. Header-only, for tracker plugins.
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <ostream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace marsyn::c_source {
+
+// [A-Za-z_][A-Za-z0-9_]*: what a C symbol prefix must be.
+inline bool is_c_identifier(const std::string& s) {
+  if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+  for (char ch : s)
+    if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_')) return false;
+  return true;
+}
+
+// The agent's name made into a C identifier (other characters become '_', a leading digit gets
+// "c_" in front): the default prefix.
+inline std::string default_prefix(const std::string& agent) {
+  std::string s = agent.empty() ? "controller" : agent;
+  for (auto& ch : s)
+    if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_') || static_cast<unsigned char>(ch) > 127) ch = '_';
+  if (std::isdigit(static_cast<unsigned char>(s[0]))) s = "c_" + s;
+  return s;
+}
+
+// A hexadecimal floating literal: C99 reads it back as the very same double.
+inline std::string hex_double(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%a", v);
+  return buf;
+}
+
+inline std::string upper(std::string s) {
+  for (auto& ch : s) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  return s;
+}
+
+// "{a, b, ...}" with line breaks; C99 has no empty arrays, so count 0 writes "{0}".
+template <class F>
+void array_body(std::ostream& o, long long count, F value) {
+  o << "{";
+  if (count == 0) {
+    o << "0}";
+    return;
+  }
+  for (long long i = 0; i < count; ++i) o << (i % 16 == 0 ? "\n  " : " ") << value(i) << (i + 1 < count ? "," : "");
+  o << "\n}";
+}
+
+// "{{..}, {..}}", one row per line (rows, cols >= 1).
+template <class F>
+void array_body_2d(std::ostream& o, long long rows, long long cols, F value) {
+  o << "{";
+  for (long long r = 0; r < rows; ++r) {
+    o << "\n  {";
+    for (long long c = 0; c < cols; ++c) o << (c ? ", " : "") << value(r * cols + c);
+    o << "}" << (r + 1 < rows ? "," : "");
+  }
+  o << "\n}";
+}
+
+// What one exported controller declares; `about` is the header's opening comment (without the
+// comment markers' first and last line), `horizon` is T (-1: time-invariant).
+struct CHeader {
+  std::string prefix, about;
+  int n = 0, m = 0, horizon = 0;
+  double tau = 0.0;
+};
+
+inline std::string header_text(const CHeader& h) {
+  const std::string P = upper(h.prefix);
+  std::ostringstream o;
+  o << "/* " << h.about << " */\n"
+    << "#ifndef " << P << "_H_\n#define " << P << "_H_\n\n"
+    << "#ifdef __cplusplus\nextern \"C\" {\n#endif\n\n"
+    << "#define " << P << "_STATE_DIM " << h.n << "\n"
+    << "#define " << P << "_INPUT_DIM " << h.m << "\n"
+    << "#define " << P << "_HORIZON " << h.horizon << "  /* -1: time-invariant */\n"
+    << "#define " << P << "_TAU " << hex_double(h.tau) << "  /* sampling period [s], " << h.tau << " */\n\n"
+    << "#define " << P << "_OK 0\n#define " << P << "_OUTSIDE_DOMAIN 1\n#define " << P << "_OUTSIDE_HORIZON 2\n\n"
+    << "/* The verified input for x at step k: " << P << "_OK (u written), " << P << "_OUTSIDE_DOMAIN or " << P
+    << "_OUTSIDE_HORIZON. */\n"
+    << "int " << h.prefix << "_input(const double *x, int k, double *u);\n"
+    << "/* Runtime monitor: 1 when x lies in the set the guarantee covers at step k (0 <= k <= T), else 0.\n"
+    << " * 0 means the robot has left what was verified (a sensor fault, a disturbance beyond W). */\n"
+    << "int " << h.prefix << "_inside(const double *x, int k);\n\n"
+    << "#ifdef __cplusplus\n}\n#endif\n\n#endif /* " << P << "_H_ */\n";
+  return o.str();
+}
+
+// The includes and the guards every source starts with: the arithmetic must round each
+// operation to double (no x87 excess precision) and must not fuse a multiply and an add, or the
+// answers would differ from marsyn's in the last bits (docs/deploy.md).
+inline std::string source_preamble(const std::string& prefix) {
+  const std::string P = upper(prefix);
+  std::ostringstream o;
+  o << "#include \"" << prefix << ".h\"\n\n#include <float.h>\n#include <math.h>\n#include <stdint.h>\n\n"
+    << "#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD != 0 && FLT_EVAL_METHOD != -1 && !defined(" << P
+    << "_ALLOW_EXCESS_PRECISION)\n"
+    << "#error \"" << prefix << ".c needs double arithmetic without excess precision (FLT_EVAL_METHOD 0); see docs/deploy.md\"\n"
+    << "#endif\n"
+    << "/* No fused multiply-add: C99's own switch (clang honours it; gcc does not know the pragma but\n"
+    << " * contracts nothing under -std=c99, only in its GNU modes: build with -std=c99 or -ffp-contract=off). */\n"
+    << "#if defined(__clang__)\n#pragma STDC FP_CONTRACT OFF\n#endif\n\n";
+  return o.str();
+}
+
+inline void write_text(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw std::runtime_error("cannot open " + path.string() + " for writing");
+  out << text;
+  if (!out) throw std::runtime_error("write to " + path.string() + " failed");
+}
+
+}  // namespace marsyn::c_source
