@@ -14,6 +14,8 @@
 #include "export_c.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstring>
 #include <sstream>
 
 #include "marsyn/c_source.hpp"
@@ -29,38 +31,98 @@ using c_source::hex_double;
 
 int unsigned_bytes(unsigned long long v) { return v <= 0xFFull ? 1 : v <= 0xFFFFull ? 2 : 4; }
 
-// The sets' numbers (c, then S or G and tol) in one pool, each step's at an offset.
+// box_k's bounds as eps_box (funnel_synthesis.cpp) computes them with directed rounding, here
+// with round-to-nearest operations only (the C target may have no rounding modes): the rounding
+// error of a - b, or a + b, is exact by TwoSum, and a step to the neighbouring double is
+// t +- phi |t| with phi = 2^-53 (1 + 2^-52) (Rump, Zimmermann, Boldo, Melquiond 2009). Used only
+// where it gives the stored bound's very bits (checked per step at export), so the C's box test
+// is the C++ one.
+double up_difference(double a, double b) {
+  const double t = a - b, bb = t - a, e = (a - (t - bb)) + (-b - bb);
+  return e > 0.0 ? t + 0x1.0000000000001p-53 * std::fabs(t) : t;
+}
+double down_sum(double a, double b) {
+  const double t = a + b, bb = t - a, e = (a - (t - bb)) + (b - bb);
+  return e < 0.0 ? t - 0x1.0000000000001p-53 * std::fabs(t) : t;
+}
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// The C's set kinds: the file's (0 box, 1 parallelotope, 2 zonotope), 3 for a zonotope whose
+// last n generators are the coordinate axes scaled (G = [G' | diag(r)], every other entry of
+// those columns +0.0, as Girard's reduction leaves them: stored as r, not n x n), plus
+// kExplicitBox when box_k is not x_k +- eps rounded inward (the initial box).
+constexpr int kAxisZonotope = 3, kExplicitBox = 4;
+
+bool axis_tail(const StepSet& s, int n) {
+  if (s.kind != kZonotope || s.generators < n) return false;
+  const int first = s.generators - n;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double v = s.S[static_cast<size_t>((first + j) * n + i)];
+      if (i == j ? v == 0.0 : !same_bits(v, 0.0)) return false;
+    }
+  return true;
+}
+
+bool eps_box_of(const FunnelData& d, int k) {
+  const StepSet& s = d.sets[static_cast<size_t>(k)];
+  for (int i = 0; i < d.n; ++i) {
+    const double x = d.x_nom[static_cast<size_t>(k)][static_cast<size_t>(i)], e = d.eps[static_cast<size_t>(i)];
+    if (!same_bits(up_difference(x, e), s.lo[static_cast<size_t>(i)]) || !same_bits(down_sum(x, e), s.hi[static_cast<size_t>(i)]))
+      return false;
+  }
+  return true;
+}
+
+// Per step the C kind and the numbers it needs in one pool, each step's at an offset: explicit
+// box lo, hi; then c and S (kind 1), c, G and tol (kind 2) or c, G', r and tol (kind 3).
 struct SetPool {
   std::vector<double> values;
   std::vector<unsigned long long> at;  // T + 1
+  std::vector<int> kind;               // T + 1, C kinds
   int max_generators = 0;
-  bool any_zonotope = false, any_parallelotope = false;
+  bool any_zonotope = false, any_parallelotope = false, any_axis = false;
   int offset_bytes = 1;
 };
 
 SetPool pool_of(const FunnelData& d) {
   SetPool p;
-  for (const StepSet& s : d.sets) {
+  const int n = d.n;
+  for (int k = 0; k <= d.horizon(); ++k) {
+    const StepSet& s = d.sets[static_cast<size_t>(k)];
     p.at.push_back(p.values.size());
-    if (s.kind == kBox) continue;
-    p.values.insert(p.values.end(), s.c.begin(), s.c.end());
-    p.values.insert(p.values.end(), s.S.begin(), s.S.end());
-    if (s.kind == kZonotope) {
+    int kind = s.kind;
+    if (!eps_box_of(d, k)) {
+      kind |= kExplicitBox;
+      p.values.insert(p.values.end(), s.lo.begin(), s.lo.end());
+      p.values.insert(p.values.end(), s.hi.begin(), s.hi.end());
+    }
+    if (s.kind != kBox) p.values.insert(p.values.end(), s.c.begin(), s.c.end());
+    if (s.kind == kParallelotope) {
+      p.values.insert(p.values.end(), s.S.begin(), s.S.end());
+      p.any_parallelotope = true;
+    } else if (s.kind == kZonotope) {
+      const bool axis = axis_tail(s, n);
+      const int dense = axis ? s.generators - n : s.generators;
+      p.values.insert(p.values.end(), s.S.begin(), s.S.begin() + static_cast<long>(dense) * n);
+      for (int j = 0; axis && j < n; ++j) p.values.push_back(s.S[static_cast<size_t>((dense + j) * n + j)]);
       p.values.insert(p.values.end(), s.tol.begin(), s.tol.end());
       p.max_generators = std::max(p.max_generators, s.generators);
       p.any_zonotope = true;
-    } else {
-      p.any_parallelotope = true;
+      p.any_axis = p.any_axis || axis;
+      if (axis) kind = (kind & kExplicitBox) | kAxisZonotope;
     }
+    p.kind.push_back(kind);
   }
   p.offset_bytes = unsigned_bytes(p.values.size());
   return p;
 }
 
-// x_k, u_k, K_k, box lo/hi, u_lo/u_hi (doubles); kind and generators (u8), offsets; the pool.
+// x_k (k <= T), u_k, K_k, eps, u_lo, u_hi and the pool (doubles); kind and generators (u8) and
+// the pool's offsets per step.
 long long const_bytes(const FunnelData& d, const SetPool& p) {
   const long long T = d.horizon(), n = d.n, m = d.m;
-  const long long doubles = T * (n + m + m * n) + 2 * (T + 1) * n + 2 * m + std::max<long long>(1, static_cast<long long>(p.values.size()));
+  const long long doubles = (T + 1) * n + T * (m + m * n) + n + 2 * m + std::max<long long>(1, static_cast<long long>(p.values.size()));
   return 8 * doubles + (T + 1) * (1 + (p.any_zonotope ? 1 : 0) + p.offset_bytes);
 }
 
@@ -160,41 +222,65 @@ std::string source(const FunnelData& d, const SetPool& pool, const std::string& 
     array_body_2d(c, steps, cols, [&](long long i) { return hex_double(rows[static_cast<size_t>(i / cols)][static_cast<size_t>(i % cols)]); });
     c << ";\n";
   };
-  vec_table("nominal states x_k, k < T", "xk", d.x_nom, T, n);
+  vec_table("nominal states x_k (k = 0..T)", "xk", d.x_nom, T + 1, n);
   vec_table("nominal inputs u_k", "uk", d.u_nom, T, m);
   vec_table("gains K_k, m x n row-major", "K", d.K, T, m * n);
-  std::vector<std::vector<double>> lo, hi;
-  for (const StepSet& s : d.sets) lo.push_back(s.lo), hi.push_back(s.hi);
-  vec_table("box_k (k = 0..T), inside x_k +- eps: every V_k lies in it", "lo", lo, T + 1, n);
-  vec_table("", "hi", hi, T + 1, n);
-  c << "static const double " << p << "ulo[" << m << "] = ";
+  const bool any_eps_box = std::any_of(pool.kind.begin(), pool.kind.end(), [](int k) { return !(k & kExplicitBox); });
+  c << "static const double " << p << "eps[" << n << "] = ";
+  array_body(c, n, [&](long long i) { return hex_double(d.eps[static_cast<size_t>(i)]); });
+  c << ";\nstatic const double " << p << "ulo[" << m << "] = ";
   array_body(c, m, [&](long long i) { return hex_double(d.u_lo[static_cast<size_t>(i)]); });
   c << ";\nstatic const double " << p << "uhi[" << m << "] = ";
   array_body(c, m, [&](long long i) { return hex_double(d.u_hi[static_cast<size_t>(i)]); });
-  c << ";\n\n/* V_k beyond its box: 0 nothing (the initial box), 1 parallelotope |S (x - c)|_inf <= 1, 2 zonotope c + G xi */\n"
+  c << ";\n\n/* V_k within box_k: 0 nothing more (the initial box), 1 parallelotope |S (x - c)|_inf <= 1, 2 zonotope\n"
+       " * c + G xi, 3 zonotope c + [G' | diag(r)] xi; + 4: box_k is stored (else it is x_k +- eps rounded inward) */\n"
     << "static const uint8_t " << p << "kind[" << T + 1 << "] = ";
-  array_body(c, T + 1, [&](long long k) { return std::to_string(d.sets[static_cast<size_t>(k)].kind); });
+  array_body(c, T + 1, [&](long long k) { return std::to_string(pool.kind[static_cast<size_t>(k)]); });
   if (pool.any_zonotope) {
     c << ";\n/* generators of zonotope steps */\nstatic const uint8_t " << p << "gens[" << T + 1 << "] = ";
     array_body(c, T + 1, [&](long long k) { return std::to_string(d.sets[static_cast<size_t>(k)].generators); });
   }
-  c << ";\n/* where step k's numbers start in set[]: c (n), then S (n x n row-major) or G (n x g column-major) and tol (n) */\n"
+  c << ";\n/* where step k's numbers start in set[]: [box lo, hi (n each)], then c (n) and S (n x n row-major),\n"
+       " * or c, G (n x g column-major) and tol (n), or c, G' (n x (g - n)), r (n) and tol */\n"
     << "static const uint" << 8 * pool.offset_bytes << "_t " << p << "at[" << T + 1 << "] = ";
   array_body(c, T + 1, [&](long long k) { return std::to_string(pool.at[static_cast<size_t>(k)]); });
   c << ";\nstatic const double " << p << "set[" << std::max<size_t>(1, pool.values.size()) << "] = ";
   array_body(c, static_cast<long long>(pool.values.size()), [&](long long i) { return hex_double(pool.values[static_cast<size_t>(i)]); });
   c << ";\n\n";
+  if (any_eps_box)
+    c << "/* a - b rounded up and a + b rounded down with round-to-nearest operations only: TwoSum's exact error\n"
+         " * says which way the sum was rounded, t +- 2^-53 (1 + 2^-52) |t| is the neighbouring double. marsyn\n"
+         " * checked at export that this gives box_k's stored bits at every step it is used for. */\n"
+      << "static double " << p << "up_difference(double a, double b)\n{\n"
+      << "  const double t = a - b, bb = t - a, e = (a - (t - bb)) + (-b - bb);\n"
+      << "  return e > 0.0 ? t + 0x1.0000000000001p-53 * fabs(t) : t;\n}\n\n"
+      << "static double " << p << "down_sum(double a, double b)\n{\n"
+      << "  const double t = a + b, bb = t - a, e = (a - (t - bb)) + (b - bb);\n"
+      << "  return e < 0.0 ? t - 0x1.0000000000001p-53 * fabs(t) : t;\n}\n\n";
   if (pool.any_zonotope) write_solver(c, p, n, pool.max_generators);
 
-  c << "int " << prefix << "_inside(const double *x, int k)\n{\n  const double *c;\n  int i, j;\n"
+  c << "int " << prefix << "_inside(const double *x, int k)\n{\n  const double *c;\n  int i, j, kind;\n"
     << "  if (k < 0 || k > " << T << ")\n    return 0;\n"
-    << "  for (j = 0; j < " << n << "; ++j)\n"
-    << "    if (!(x[j] >= " << p << "lo[k][j] && x[j] <= " << p << "hi[k][j]))\n      return 0; /* also NaN */\n"
-    << "  c = " << p << "set + " << p << "at[k];\n";
+    << "  c = " << p << "set + " << p << "at[k];\n  kind = " << p << "kind[k];\n"
+    << "  if (kind & 4) {\n"
+    << "    for (j = 0; j < " << n << "; ++j)\n"
+    << "      if (!(x[j] >= c[j] && x[j] <= c[" << n << " + j]))\n        return 0; /* also NaN */\n"
+    << "    c += " << 2 * n << ";\n    kind &= 3;\n  }";
+  if (any_eps_box)
+    c << " else {\n    for (j = 0; j < " << n << "; ++j)\n"
+      << "      if (!(x[j] >= " << p << "up_difference(" << p << "xk[k][j], " << p << "eps[j]) && x[j] <= " << p << "down_sum("
+      << p << "xk[k][j], " << p << "eps[j])))\n        return 0;\n  }";
+  c << "\n";
   if (pool.any_zonotope) {
-    c << "  if (" << p << "kind[k] == 2) {\n"
-      << "    const int g = " << p << "gens[k];\n    const double *G = c + " << n << ", *tol = G + " << n << " * g;\n"
-      << "    double d[" << n << "], xi[" << std::max(1, pool.max_generators) << "];\n"
+    const int G = std::max(1, pool.max_generators);
+    c << "  if (kind >= 2) {\n"
+      << "    const int g = " << p << "gens[k], dense = kind == 3 ? g - " << n << " : g;\n"
+      << "    const double *tol = c + " << n << " + " << n << " * dense + (kind == 3 ? " << n << " : 0);\n"
+      << "    double G[" << n * G << "], d[" << n << "], xi[" << G << "];\n"
+      << "    for (j = 0; j < " << n << " * dense; ++j)\n      G[j] = c[" << n << " + j];\n"
+      << "    for (j = dense; j < g; ++j) /* the axis generators: +0.0 off the diagonal, as in the .ctrl file */\n"
+      << "      for (i = 0; i < " << n << "; ++i)\n        G[j * " << n << " + i] = i == j - dense ? c[" << n << " + " << n
+      << " * dense + i] : 0.0;\n"
       << "    for (j = 0; j < " << n << "; ++j)\n      d[j] = x[j] - c[j];\n"
       << "    " << p << "coefficients(G, g, d, xi);\n"
       << "    /* the residual allowance holds for coefficients in the cube only */\n"
@@ -204,14 +290,14 @@ std::string source(const FunnelData& d, const SetPool& pool, const std::string& 
       << "      if (!(fabs(r) <= tol[i]))\n        return 0;\n    }\n    return 1;\n  }\n";
   }
   if (pool.any_parallelotope) {
-    c << "  if (" << p << "kind[k] == 1) {\n"
+    c << "  if (kind == 1) {\n"
       << "    /* the rounding of exactly this loop is bounded by the verification (docs/soundness.md section 11) */\n"
       << "    const double *S = c + " << n << ";\n"
       << "    for (i = 0; i < " << n << "; ++i) {\n      double y = 0.0;\n"
       << "      for (j = 0; j < " << n << "; ++j)\n        y += S[i * " << n << " + j] * (x[j] - c[j]);\n"
       << "      if (!(fabs(y) <= 1.0))\n        return 0;\n    }\n  }\n";
   }
-  if (!pool.any_zonotope && !pool.any_parallelotope) c << "  (void)c;\n  (void)i;\n";
+  if (!pool.any_zonotope && !pool.any_parallelotope) c << "  (void)i;\n  (void)kind;\n";
   c << "  return 1;\n}\n\n";
 
   c << "int " << prefix << "_input(const double *x, int k, double *u)\n{\n  int i, j;\n"

@@ -45,6 +45,45 @@ TEST(FunnelExportC, BicycleBitIdenticalWithZonotopes) { expect_identical("bicycl
 
 TEST(FunnelExportC, UnicycleBitIdenticalWithParallelotopes) { expect_identical("unicycle", kParallelotope); }
 
+// The compact tables (box_k recomputed from x_k and eps, axis generators stored as their
+// diagonal) are used only where they reproduce the file's bits; elsewhere the C stores the numbers
+// as they are. Forcing those fallbacks (a -0.0 off the diagonal, a bound one ulp inward) must
+// still answer bit for bit, through the other code paths; steps whose V_k is box_k itself put the
+// recomputed bounds to the test on the faces (elsewhere V_k lies strictly inside box_k).
+TEST(FunnelExportC, StoredBoxesAndDenseGeneratorsWhereTheCompactFormsDoNotApply) {
+  const auto c = controller("bicycle");
+  ASSERT_TRUE(c);
+  FunnelData d = c->data();
+  int forced_dense = 0, forced_box = 0, box_only = 0;
+  for (int k = 1; k < static_cast<int>(d.sets.size()); ++k) {
+    StepSet& s = d.sets[static_cast<size_t>(k)];
+    if (k % 3 == 1) {  // V_k = box_k: the recomputed eps-box alone decides, faces included
+      s = StepSet{s.lo, s.hi};
+      ++box_only;
+      continue;
+    }
+    if (s.kind == kZonotope && k % 2 == 0) {
+      s.S[static_cast<size_t>((s.generators - 1) * d.n)] = -0.0;  // last generator, first row
+      ++forced_dense;
+    }
+    if (k % 3 == 0) {
+      s.lo[1] = std::nextafter(s.lo[1], INFINITY);
+      ++forced_box;
+    }
+  }
+  ASSERT_GT(box_only, 3);
+  ASSERT_GT(forced_dense, 3);
+  const FunnelController modified(d);
+  FunnelData boxes_only = c->data();  // the same box-only steps, compact forms everywhere else
+  for (int k = 1; k < static_cast<int>(d.sets.size()); k += 3) boxes_only.sets[static_cast<size_t>(k)] = d.sets[static_cast<size_t>(k)];
+  EXPECT_EQ(c_const_bytes(d), c_const_bytes(boxes_only) + forced_dense * 8 * d.n * (d.n - 1) + forced_box * 16 * d.n);
+  const auto r = testing::compare_export(modified, scratch("fallbacks"), "fallbacks", 100000, 8);
+  ASSERT_EQ(r.error, "");
+  EXPECT_EQ(r.mismatches, 0) << r.first_mismatches;
+  EXPECT_GT(r.inside, 10000);
+  EXPECT_GT(r.boundary, 5000);
+}
+
 TEST(FunnelExportC, ScsIsRefusedWithTheReasonAndBadRequestsAreErrors) {
   const auto c = controller("unicycle");
   ASSERT_TRUE(c);
