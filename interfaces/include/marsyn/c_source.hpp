@@ -98,19 +98,27 @@ inline std::string header_text(const CHeader& h) {
 }
 
 // The includes and the guards every source starts with: the arithmetic must round each
-// operation to double (no x87 excess precision) and must not fuse a multiply and an add, or the
-// answers would differ from marsyn's in the last bits (docs/deploy.md).
-inline std::string source_preamble(const std::string& prefix) {
+// operation to double (no x87 excess precision) and, when the source multiplies and adds
+// (`multiply_adds`), must not fuse the two into one FMA, or the answers would differ from
+// marsyn's in the last bits (docs/deploy.md).
+inline std::string source_preamble(const std::string& prefix, bool multiply_adds) {
   const std::string P = upper(prefix);
   std::ostringstream o;
   o << "#include \"" << prefix << ".h\"\n\n#include <float.h>\n#include <math.h>\n#include <stdint.h>\n\n"
     << "#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD != 0 && FLT_EVAL_METHOD != -1 && !defined(" << P
     << "_ALLOW_EXCESS_PRECISION)\n"
     << "#error \"" << prefix << ".c needs double arithmetic without excess precision (FLT_EVAL_METHOD 0); see docs/deploy.md\"\n"
-    << "#endif\n"
-    << "/* No fused multiply-add: C99's own switch (clang honours it; gcc does not know the pragma but\n"
-    << " * contracts nothing under -std=c99, only in its GNU modes: build with -std=c99 or -ffp-contract=off). */\n"
-    << "#if defined(__clang__)\n#pragma STDC FP_CONTRACT OFF\n#endif\n\n";
+    << "#endif\n";
+  if (multiply_adds)
+    o << "/* No fused multiply-add: C99's own switch, which clang honours. gcc ignores it, contracts nothing\n"
+      << " * under -std=c99 but does in its GNU modes (-std=gnu99, the default) where the target has FMA. */\n"
+      << "#if defined(__clang__)\n#pragma STDC FP_CONTRACT OFF\n#endif\n"
+      << "#if defined(__GNUC__) && !defined(__clang__) && defined(__FP_FAST_FMA) && !defined(__STRICT_ANSI__) && !defined(" << P
+      << "_NO_CONTRACTION)\n"
+      << "#error \"" << prefix << ".c: gcc fuses a * b + c into one FMA in GNU modes on this target; compile with -std=c99, or with "
+      << "-ffp-contract=off and -D" << P << "_NO_CONTRACTION (docs/deploy.md)\"\n"
+      << "#endif\n";
+  o << "\n";
   return o.str();
 }
 

@@ -192,7 +192,7 @@ std::string source_text(const ControllerData& d, const Tables& t, const std::str
     << " table entries, " << t.palette.size() << " distinct inputs; encoding: "
     << (rle ? "runs (" + std::to_string(t.run_end.size()) + ")" : "bit-packed (" + std::to_string(t.bits) + " bits per entry)")
     << "; const data " << (rle ? t.rle_bytes() : t.dense_bytes()) << " bytes. */\n"
-    << c_source::source_preamble(prefix);
+    << c_source::source_preamble(prefix, false);
   c << "/* grid origin and cell size per state coordinate (exact hexadecimal literals) */\n";
   c << "static const double " << p << "origin[" << d.n << "] = ";
   array_body(c, d.n, [&](long long i) { return hex_double(d.origin[static_cast<size_t>(i)]); });

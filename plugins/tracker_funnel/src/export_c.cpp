@@ -215,7 +215,7 @@ std::string source(const FunnelData& d, const SetPool& pool, const std::string& 
     << (req.source.empty() ? "" : " from " + req.source) << ".\n * " << T << " steps; verified sets: " << counts[kBox]
     << " boxes, " << counts[kParallelotope] << " parallelotopes, " << counts[kZonotope]
     << " zonotopes; const data " << const_bytes(d, pool) << " bytes. */\n"
-    << c_source::source_preamble(prefix);
+    << c_source::source_preamble(prefix, true);
   auto vec_table = [&](const std::string& what, const std::string& name, const std::vector<std::vector<double>>& rows,
                        int steps, int cols) {
     c << "/* " << what << " */\nstatic const double " << p << name << "[" << steps << "][" << cols << "] = ";
