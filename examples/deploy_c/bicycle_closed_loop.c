@@ -16,6 +16,7 @@
 #include <stdlib.h>
 
 #include "bicycle.h"
+#include "rk4_period.h"
 
 #define WHEELBASE 0.5 /* the model's default, which bicycles.yaml keeps */
 #define SUBSTEPS 20
@@ -33,23 +34,10 @@ static void field(const double *x, const double *u, const double *w, double *dx)
   dx[4] = u[1] + w[4];
 }
 
-/* One sampling period under the constant input u (zero-order hold), RK4. */
-static void period(double *x, const double *u)
+static void draw(double *w)
 {
-  const double h = BICYCLE_TAU / SUBSTEPS;
-  int s, i;
-  for (s = 0; s < SUBSTEPS; ++s) {
-    double k1[5], k2[5], k3[5], k4[5], y[5], w[5];
-    for (i = 0; i < 5; ++i) w[i] = W[i] * (2.0 * rand() / (double)RAND_MAX - 1.0);
-    field(x, u, w, k1);
-    for (i = 0; i < 5; ++i) y[i] = x[i] + 0.5 * h * k1[i];
-    field(y, u, w, k2);
-    for (i = 0; i < 5; ++i) y[i] = x[i] + 0.5 * h * k2[i];
-    field(y, u, w, k3);
-    for (i = 0; i < 5; ++i) y[i] = x[i] + h * k3[i];
-    field(y, u, w, k4);
-    for (i = 0; i < 5; ++i) x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-  }
+  int i;
+  for (i = 0; i < 5; ++i) w[i] = W[i] * (2.0 * rand() / (double)RAND_MAX - 1.0);
 }
 
 int main(int argc, char **argv)
@@ -66,7 +54,7 @@ int main(int argc, char **argv)
     status = bicycle_input(x, k, u);
     if (status != BICYCLE_OK) break;
     printf("%d,%.2f,%.6f,%.6f,%.6f,%.6f,%.6f,%.4f,%.4f,1\n", k, k * BICYCLE_TAU, x[0], x[1], x[2], x[3], x[4], u[0], u[1]);
-    period(x, u);
+    rk4_period(x, u, BICYCLE_STATE_DIM, BICYCLE_TAU, SUBSTEPS, field, draw);
   }
   if (monitor && status == BICYCLE_OK) monitor = bicycle_inside(x, k);
   for (i = 0; i < 5; ++i) in_goal = in_goal && fabs(x[i] - goal_centre[i]) <= goal_radius[i];

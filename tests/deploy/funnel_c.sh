@@ -28,18 +28,13 @@ mkdir -p "$dir/alone"
 cp "$dir/bicycles/west.ctrl" "$dir/alone/"
 "$marsyn" export "$dir/alone/west.ctrl" --format c --out "$dir/alone" > /dev/null || fail "export without result.json"
 
-bad() {
-  name=$1 expect=$2; shift 2
-  set +e
-  "$marsyn" "$@" > /dev/null 2> "$dir/err.txt"
-  rc=$?
-  set -e
-  [ $rc -eq 2 ] || fail "$name: exit code $rc, expected 2"
-  [ "$(wc -l < "$dir/err.txt")" -eq 1 ] || fail "$name: not one line: $(cat "$dir/err.txt")"
-  grep -q "^error: .*$expect" "$dir/err.txt" || fail "$name: $(cat "$dir/err.txt")"
-}
-bad "scs of a funnel controller" "funnel controller has no grid" export "$dir/bicycles/east.ctrl" --format scs --out "$dir/x"
-bad "scs of a solve folder" "funnel controller has no grid" export "$dir/bicycles" --format scs --out "$dir/x"
-bad "funnel file read as abcd" "east.ctrl" export "$dir/bicycles/east.ctrl" --format c --tracker abcd --out "$dir/x"
+. "$src/tests/deploy/bad_input.sh"
+said() { grep -q "$1" "$dir/err.txt" || fail "not the reason: $(cat "$dir/err.txt")"; }
+bad "scs of a funnel controller" export "$dir/bicycles/east.ctrl" --format scs --out "$dir/x"
+said "funnel controller has no grid"
+bad "scs of a solve folder" export "$dir/bicycles" --format scs --out "$dir/x"
+said "funnel controller has no grid"
+bad "funnel file read as abcd" export "$dir/bicycles/east.ctrl" --format c --tracker abcd --out "$dir/x"
+said "east.ctrl"
 [ ! -e "$dir/x" ] || [ -z "$(ls -A "$dir/x")" ] || fail "bad input wrote files"
 echo "ok: $(cat "$dir/closed_loop1.txt"); $(cat "$dir/kick.txt")"

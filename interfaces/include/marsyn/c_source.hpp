@@ -12,6 +12,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "marsyn/controller_export.hpp"
+
 namespace marsyn::c_source {
 
 // [A-Za-z_][A-Za-z0-9_]*: what a C symbol prefix must be.
@@ -122,11 +124,45 @@ inline std::string source_preamble(const std::string& prefix, bool multiply_adds
   return o.str();
 }
 
+// The symbol prefix a C request asks for (its own, else the agent's name made into one); false
+// with the reason in r.message when the prefix or the encoding is bad. Every tracker accepts
+// abcd's encodings, so that one request can export a folder of mixed controllers.
+inline bool c_request_prefix(const ExportRequest& req, const std::string& agent, std::string& prefix, ExportResult& r) {
+  prefix = req.prefix.empty() ? default_prefix(agent) : req.prefix;
+  if (!is_c_identifier(prefix)) {
+    r.message = "prefix '" + prefix + "' is not a C identifier ([A-Za-z_][A-Za-z0-9_]*)";
+    return false;
+  }
+  if (req.encoding != "auto" && req.encoding != "dense" && req.encoding != "rle") {
+    r.message = "unknown encoding '" + req.encoding + "'; expected auto, dense or rle";
+    return false;
+  }
+  return true;
+}
+
 inline void write_text(const std::filesystem::path& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   if (!out) throw std::runtime_error("cannot open " + path.string() + " for writing");
   out << text;
   if (!out) throw std::runtime_error("write to " + path.string() + " failed");
+}
+
+// Writes <out_dir>/<prefix>.h and .c (the folder created when missing) and lists them in
+// r.files; false with the reason in r.message.
+inline bool write_header_and_source(const ExportRequest& req, const std::string& prefix, const std::string& header,
+                                    const std::string& source, ExportResult& r) {
+  try {
+    const std::filesystem::path dir(req.out_dir.empty() ? "." : req.out_dir);
+    std::filesystem::create_directories(dir);
+    const std::filesystem::path h = dir / (prefix + ".h"), c = dir / (prefix + ".c");
+    write_text(h, header);
+    write_text(c, source);
+    r.files = {h.string(), c.string()};
+  } catch (const std::exception& e) {
+    r.message = e.what();
+    return false;
+  }
+  return true;
 }
 
 }  // namespace marsyn::c_source

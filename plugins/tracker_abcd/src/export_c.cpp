@@ -18,8 +18,6 @@
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -30,7 +28,6 @@
 namespace marsyn::abcd {
 namespace {
 
-namespace fs = std::filesystem;
 using c_source::array_body;
 using c_source::array_body_2d;
 using c_source::hex_double;
@@ -299,32 +296,16 @@ CTableSizes c_table_sizes(const ControllerData& d) {
 ExportResult export_c(const GridController& ctrl, const ExportRequest& req) {
   ExportResult r;
   const ControllerData& d = ctrl.data();
-  const std::string prefix = req.prefix.empty() ? default_prefix(d.agent) : req.prefix;
-  if (!is_c_identifier(prefix)) {
-    r.message = "prefix '" + prefix + "' is not a C identifier ([A-Za-z_][A-Za-z0-9_]*)";
-    return r;
-  }
-  if (req.encoding != "auto" && req.encoding != "dense" && req.encoding != "rle") {
-    r.message = "unknown encoding '" + req.encoding + "'; expected auto, dense or rle";
-    return r;
-  }
+  std::string prefix;
+  if (!c_source::c_request_prefix(req, d.agent, prefix, r)) return r;
   const Tables t = build_tables(d);
   if (t.table_max > 0xFFFFFFFFll) {
     r.message = "a step's tube has more than 2^32 cells; the C lookup indexes tables with 32 bits";
     return r;
   }
   const bool rle = req.encoding == "rle" || (req.encoding == "auto" && t.rle_bytes() < t.dense_bytes());
-  try {
-    const fs::path dir(req.out_dir.empty() ? "." : req.out_dir);
-    fs::create_directories(dir);
-    const fs::path h = dir / (prefix + ".h"), c = dir / (prefix + ".c");
-    c_source::write_text(h, header_text(d, prefix, req));
-    c_source::write_text(c, source_text(d, t, prefix, rle, req));
-    r.files = {h.string(), c.string()};
-  } catch (const std::exception& e) {
-    r.message = e.what();
+  if (!c_source::write_header_and_source(req, prefix, header_text(d, prefix, req), source_text(d, t, prefix, rle, req), r))
     return r;
-  }
   r.ok = true;
   r.encoding = rle ? "rle" : "dense";
   r.dense_bytes = t.dense_bytes();

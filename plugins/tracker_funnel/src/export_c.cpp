@@ -24,7 +24,6 @@
 namespace marsyn::funnel {
 namespace {
 
-namespace fs = std::filesystem;
 using c_source::array_body;
 using c_source::array_body_2d;
 using c_source::hex_double;
@@ -316,31 +315,14 @@ long long c_const_bytes(const FunnelData& d) { return const_bytes(d, pool_of(d))
 
 ExportResult export_c(const FunnelData& d, const ExportRequest& req) {
   ExportResult r;
-  const std::string prefix = req.prefix.empty() ? c_source::default_prefix(d.agent) : req.prefix;
-  if (!c_source::is_c_identifier(prefix)) {
-    r.message = "prefix '" + prefix + "' is not a C identifier ([A-Za-z_][A-Za-z0-9_]*)";
-    return r;
-  }
-  if (req.encoding != "auto" && req.encoding != "dense" && req.encoding != "rle") {
-    r.message = "unknown encoding '" + req.encoding + "'; expected auto, dense or rle";
-    return r;
-  }
+  std::string prefix;
+  if (!c_source::c_request_prefix(req, d.agent, prefix, r)) return r;
   const SetPool pool = pool_of(d);
   if (pool.values.size() > 0xFFFFFFFFull) {
     r.message = "the verified sets hold more than 2^32 numbers; the C tables index them with 32 bits";
     return r;
   }
-  try {
-    const fs::path dir(req.out_dir.empty() ? "." : req.out_dir);
-    fs::create_directories(dir);
-    const fs::path h = dir / (prefix + ".h"), c = dir / (prefix + ".c");
-    c_source::write_text(h, header(d, prefix, req));
-    c_source::write_text(c, source(d, pool, prefix, req));
-    r.files = {h.string(), c.string()};
-  } catch (const std::exception& e) {
-    r.message = e.what();
-    return r;
-  }
+  if (!c_source::write_header_and_source(req, prefix, header(d, prefix, req), source(d, pool, prefix, req), r)) return r;
   r.ok = true;
   r.encoding = "plain";
   r.const_data_bytes = const_bytes(d, pool);
