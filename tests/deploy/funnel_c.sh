@@ -22,6 +22,12 @@ for seed in 1 2 3; do
   "$dir/closed_loop" $seed > "$dir/trajectory$seed.csv" 2> "$dir/closed_loop$seed.txt" || fail "closed loop (seed $seed): $(cat "$dir/closed_loop$seed.txt")"
 done
 "$dir/closed_loop" 1 0.5 > /dev/null 2> "$dir/kick.txt" || fail "monitor: $(cat "$dir/kick.txt")"
+# gcc's GNU modes would fuse the multiply-adds where the target has FMA (changing inputs' last
+# bits): the source must refuse that build and accept the ISO one.
+if [ "$(uname -m)" = x86_64 ] && "$cc" --version | grep -q "Free Software Foundation"; then
+  ! "$cc" -std=gnu99 -mfma -O2 -c "$dir/east/bicycle.c" -o "$dir/fused.o" 2> /dev/null || fail "a build that fuses multiply-adds was not refused"
+  "$cc" -std=c99 -mfma -O2 -c "$dir/east/bicycle.c" -o "$dir/iso.o" || fail "-std=c99 -mfma does not build"
+fi
 
 # Written by `marsyn track` (no result.json beside it): the file itself names its tracker.
 mkdir -p "$dir/alone"
