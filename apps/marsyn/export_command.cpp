@@ -3,7 +3,6 @@
 // is bad input here (a missing or corrupt file, a bad prefix, an unwritable folder): one line on
 // stderr and exit code 2.
 #include <algorithm>
-#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -11,6 +10,7 @@
 #include <set>
 
 #include "commands.hpp"
+#include "marsyn/c_source.hpp"
 #include "marsyn/core/plugins/plugin_registry.hpp"
 #include "marsyn/core/problem/problem_loader.hpp"
 #include "marsyn/core/tracking/tracker_choice.hpp"
@@ -24,11 +24,6 @@ namespace {
 int fail(const std::string& what) {
   std::cerr << "error: " << what << "\n";
   return 2;
-}
-
-bool c_identifier(const std::string& s) {
-  if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
-  return std::all_of(s.begin(), s.end(), [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'; });
 }
 
 // The tracker that wrote `file` (<agent>.ctrl) as the result.json beside it records it; empty
@@ -46,7 +41,7 @@ int run_export(const std::vector<std::string>& inputs, const std::string& format
   if (format != "c" && format != "scs") return fail("--format: unknown format '" + format + "'; expected c or scs");
   if (encoding != "auto" && encoding != "dense" && encoding != "rle")
     return fail("--encoding: unknown encoding '" + encoding + "'; expected auto, dense or rle");
-  if (!prefix.empty() && !c_identifier(prefix))
+  if (!prefix.empty() && !c_source::is_c_identifier(prefix))
     return fail("--prefix: '" + prefix + "' is not a C identifier ([A-Za-z_][A-Za-z0-9_]*)");
 
   std::vector<std::string> files;
@@ -70,15 +65,19 @@ int run_export(const std::vector<std::string>& inputs, const std::string& format
 
   PluginRegistry registry;
   std::map<std::string, std::shared_ptr<Tracker>> trackers;
-  // The tracker that reads `file`: --tracker, else the one result.json names for it, else abcd.
+  auto created = [&](const std::string& name) -> std::shared_ptr<Tracker> {  // throws for an unknown name
+    if (auto it = trackers.find(name); it != trackers.end()) return it->second;
+    return trackers[name] = registry.create<Tracker>(name);
+  };
+  // The tracker that reads `file`: --tracker, else the one result.json names for it, else abcd
+  // (and, when abcd cannot read the file, the first other tracker that can).
   auto tracker_for = [&](const std::string& file, std::string* error) -> std::shared_ptr<Tracker> {
     std::string name = tracker_name;
     std::string recorded;
     if (name.empty()) recorded = tracker_from_result(file);
     if (name.empty()) name = recorded.empty() ? "abcd" : recorded;
-    if (auto it = trackers.find(name); it != trackers.end()) return it->second;
     try {
-      return trackers[name] = registry.create<Tracker>(name);
+      return created(name);
     } catch (const std::exception&) {
       std::string names;
       for (const auto& n : registry.names("tracker")) names += (names.empty() ? "" : ", ") + n;
@@ -102,7 +101,18 @@ int run_export(const std::vector<std::string>& inputs, const std::string& format
     try {
       ctrl = tracker->read_controller(file);
     } catch (const std::exception& e) {
-      return fail(e.what());
+      // A controller written by `marsyn track` has no result.json beside it: the file itself says
+      // which tracker wrote it (each reader checks its own magic), so ask the others.
+      if (tracker_name.empty() && tracker_from_result(file).empty())
+        for (const auto& other : registry.names("tracker")) {
+          if (other == "abcd") continue;
+          try {
+            ctrl = created(other)->read_controller(file);
+            break;
+          } catch (const std::exception&) {  // not this tracker's file either
+          }
+        }
+      if (!ctrl) return fail(e.what());
     }
     ExportRequest req;
     req.format = format;

@@ -12,36 +12,22 @@
 #include <stdlib.h>
 
 #include "pendulum.h"
+#include "rk4_period.h"
 
 #define GAIN 0.2   /* the model's input_gain */
 #define W1 0.01    /* disturbance bound on the angular rate */
 #define SUBSTEPS 20
 
-static double disturbance(void) { return W1 * (2.0 * rand() / (double)RAND_MAX - 1.0); }
-
-static void field(const double *x, double u, double w, double *dx)
+static void draw(double *w)
 {
-  dx[0] = x[1];
-  dx[1] = GAIN * u - sin(x[0]) + w;
+  w[0] = 0.0;
+  w[1] = W1 * (2.0 * rand() / (double)RAND_MAX - 1.0);
 }
 
-/* One sampling period under the constant input u (zero-order hold), RK4. */
-static void period(double *x, double u)
+static void field(const double *x, const double *u, const double *w, double *dx)
 {
-  const double h = PENDULUM_TAU / SUBSTEPS;
-  int s, i;
-  for (s = 0; s < SUBSTEPS; ++s) {
-    double k1[2], k2[2], k3[2], k4[2], y[2];
-    const double w = disturbance();
-    field(x, u, w, k1);
-    for (i = 0; i < 2; ++i) y[i] = x[i] + 0.5 * h * k1[i];
-    field(y, u, w, k2);
-    for (i = 0; i < 2; ++i) y[i] = x[i] + 0.5 * h * k2[i];
-    field(y, u, w, k3);
-    for (i = 0; i < 2; ++i) y[i] = x[i] + h * k3[i];
-    field(y, u, w, k4);
-    for (i = 0; i < 2; ++i) x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-  }
+  dx[0] = x[1];
+  dx[1] = GAIN * u[0] - sin(x[0]) + w[1];
 }
 
 int main(int argc, char **argv)
@@ -54,7 +40,7 @@ int main(int argc, char **argv)
     status = pendulum_input(x, k, u);
     if (status != PENDULUM_OK) break;
     printf("%d,%.2f,%.6f,%.6f,%.3f\n", k, k * PENDULUM_TAU, x[0], x[1], u[0]);
-    period(x, u[0]);
+    rk4_period(x, u, PENDULUM_STATE_DIM, PENDULUM_TAU, SUBSTEPS, field, draw);
   }
   printf("%d,%.2f,%.6f,%.6f,\n", k, k * PENDULUM_TAU, x[0], x[1]);
   in_goal = fabs(x[0] - 3.141592653589793) <= 0.3 && fabs(x[1]) <= 0.3;

@@ -26,16 +26,7 @@ done
 # Bad input: exit code 2, one line.
 head -c 200 "$dir/pendulum.ctrl" > "$dir/corrupt.ctrl"
 printf 'MARSYNCT-not-really' > "$dir/garbage.ctrl"
-bad() {
-  name=$1; shift
-  set +e
-  "$marsyn" "$@" > /dev/null 2> "$dir/err.txt"
-  rc=$?
-  set -e
-  [ $rc -eq 2 ] || fail "$name: exit code $rc, expected 2"
-  [ "$(wc -l < "$dir/err.txt")" -eq 1 ] || fail "$name: not one line: $(cat "$dir/err.txt")"
-  grep -q "^error: " "$dir/err.txt" || fail "$name: $(cat "$dir/err.txt")"
-}
+. "$src/tests/deploy/bad_input.sh"
 bad "missing file" export "$dir/nope.ctrl" --format c --out "$dir/x"
 bad "truncated controller" export "$dir/corrupt.ctrl" --format c --out "$dir/x"
 bad "not a controller" export "$dir/garbage.ctrl" --format scs --out "$dir/x"

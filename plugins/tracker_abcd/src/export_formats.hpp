@@ -4,15 +4,15 @@
 #include <string>
 
 #include "controller_file.hpp"
+#include "marsyn/c_source.hpp"
 #include "marsyn/controller_export.hpp"
 
 namespace marsyn::abcd {
 
-// [A-Za-z_][A-Za-z0-9_]*: what a C symbol prefix must be.
-bool is_c_identifier(const std::string& s);
-// The agent's name made into a C identifier (other characters become '_', a leading digit gets
-// "c_" in front), the default prefix of both formats.
-std::string default_prefix(const std::string& agent);
+// What a C symbol prefix must be, and the agent's name made into one: the default prefix of both
+// formats (shared with every tracker's C export).
+using c_source::default_prefix;
+using c_source::is_c_identifier;
 
 ExportResult export_c(const GridController& c, const ExportRequest& request);
 ExportResult export_scs(const GridController& c, const ExportRequest& request);

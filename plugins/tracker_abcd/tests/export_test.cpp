@@ -1,6 +1,7 @@
 // Controller export (docs/deploy.md): the generated C compiles under gcc -std=c99 -Wall -Wextra
 // -Werror -pedantic and, linked into a C program, answers >= 1e5 sampled (x, k) exactly as the
-// C++ Controller::input (status and input bits), in both table encodings, for the pendulum, a
+// C++ Controller::input (status and input bits) and the monitor <prefix>_inside exactly as
+// GridController::winning, in both table encodings, for the pendulum, a
 // drone of the multi-drone case and a whole-domain (time-invariant) controller; the SCOTS file
 // read back lists exactly the controller's (cell, k) -> input pairs.
 #include <gtest/gtest.h>
@@ -18,6 +19,7 @@
 #include <sstream>
 
 #include "agents.hpp"
+#include "deploy/c_answers.hpp"
 #include "dynamics_double_integrator/src/double_integrator.hpp"
 #include "export_formats.hpp"
 
@@ -57,10 +59,7 @@ const TrackResult& whole_domain() {
   return r;
 }
 
-struct Query {
-  std::int32_t k;
-  std::vector<double> x;
-};
+using Query = deploy_test::CQuery;
 
 // States near the tube (inside and outside), exactly on cell boundaries and one ulp either side,
 // non-finite and huge coordinates, and steps before, inside and after the horizon.
@@ -103,17 +102,6 @@ std::vector<Query> queries(const GridController& c, const std::vector<Eigen::Vec
   return out;
 }
 
-std::string run(const std::string& cmd) {
-  const std::string full = cmd + " 2>&1";
-  FILE* p = popen(full.c_str(), "r");
-  if (!p) return "popen failed";
-  std::string out;
-  char buf[4096];
-  while (size_t k = fread(buf, 1, sizeof buf, p)) out.append(buf, k);
-  const int rc = pclose(p);
-  return rc == 0 ? std::string() : "exit " + std::to_string(rc) + ": " + out;
-}
-
 // Exports `c` as C with `encoding`, compiles it with the driver, answers `qs` in C, and compares
 // every status and input bit for bit with GridController::input. Returns the status counts.
 std::map<ControlStatus, int> check_c_against_cpp(const GridController& c, const std::vector<Query>& qs, const std::string& name,
@@ -131,44 +119,26 @@ std::map<ControlStatus, int> check_c_against_cpp(const GridController& c, const 
   EXPECT_EQ(r.encoding, encoding == "auto" ? (r.rle_bytes < r.dense_bytes ? "rle" : "dense") : encoding);
   if (result_out) *result_out = r;
   const ControllerData& d = c.data();
-  const fs::path exe = dir / "driver";
-  const std::string cc = std::string(MARSYN_C_COMPILER) + " -std=c99 -Wall -Wextra -Werror -pedantic -Wconversion -Wsign-conversion -Wshadow -O2 -I" + dir.string() +
-                         " -DCTRL_INPUT=" + name + "_input \"-DCTRL_HEADER=\\\"" + name + ".h\\\"\" -DN=" + std::to_string(d.n) +
-                         " -DM=" + std::to_string(d.m) + " " + (dir / (name + ".c")).string() + " " + MARSYN_EXPORT_DRIVER +
-                         " -lm -o " + exe.string();
-  const std::string err = run(cc);
-  EXPECT_EQ(err, "") << cc;
+  std::vector<deploy_test::CAnswer> answers;
+  const std::string err = deploy_test::answer_in_c(dir, name, d.n, d.m, qs, answers);
+  EXPECT_EQ(err, "");
   if (!err.empty()) return counts;
-  {
-    std::ofstream q(dir / "queries.bin", std::ios::binary);
-    for (const auto& Q : qs) {
-      q.write(reinterpret_cast<const char*>(&Q.k), sizeof Q.k);
-      q.write(reinterpret_cast<const char*>(Q.x.data()), static_cast<std::streamsize>(sizeof(double) * Q.x.size()));
-    }
-  }
-  const std::string err2 = run(exe.string() + " " + (dir / "queries.bin").string() + " " + (dir / "answers.bin").string());
-  EXPECT_EQ(err2, "");
-  std::ifstream a(dir / "answers.bin", std::ios::binary);
-  std::vector<double> u(static_cast<size_t>(d.m)), uc(static_cast<size_t>(d.m));
+  std::vector<double> u(static_cast<size_t>(d.m));
   int mismatches = 0;
-  for (const auto& Q : qs) {
-    std::int32_t s;
-    a.read(reinterpret_cast<char*>(&s), sizeof s);
-    a.read(reinterpret_cast<char*>(uc.data()), static_cast<std::streamsize>(sizeof(double) * uc.size()));
-    if (!a) {
-      ADD_FAILURE() << "answers file too short";
-      return counts;
-    }
+  for (size_t q = 0; q < qs.size(); ++q) {
+    const Query& Q = qs[q];
+    const deploy_test::CAnswer& A = answers[q];
     const ControlStatus expected = c.input(Q.x.data(), Q.k, u.data());
     ++counts[expected];
-    bool same = s == static_cast<std::int32_t>(expected);
-    if (same && expected == ControlStatus::Ok) same = std::memcmp(u.data(), uc.data(), sizeof(double) * u.size()) == 0;
+    const bool inside = c.winning(Q.x.data(), Q.k);
+    bool same = A.status == static_cast<std::int32_t>(expected) && A.inside == (inside ? 1 : 0);
+    if (same && expected == ControlStatus::Ok) same = std::memcmp(u.data(), A.u.data(), sizeof(double) * u.size()) == 0;
     if (!same && ++mismatches <= 5) {
       std::ostringstream x;
       x.precision(17);
       for (double v : Q.x) x << v << " ";
-      ADD_FAILURE() << name << "/" << encoding << ": k = " << Q.k << ", x = " << x.str() << ": C status " << s << ", C++ "
-                    << static_cast<int>(expected);
+      ADD_FAILURE() << name << "/" << encoding << ": k = " << Q.k << ", x = " << x.str() << ": C status " << A.status
+                    << ", inside " << A.inside << "; C++ " << static_cast<int>(expected) << ", winning " << inside;
     }
   }
   EXPECT_EQ(mismatches, 0);

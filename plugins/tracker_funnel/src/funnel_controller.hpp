@@ -62,6 +62,9 @@ class FunnelController : public marsyn::Controller {
   ControlStatus input(const double* x, int k, double* u) const override;
   void write(const std::string& path) const override;
   const std::vector<PeriodEnclosure>& period_enclosures() const override { return data_.enclosures; }
+  // C99 with the monitor in_set as <prefix>_inside (export_c.cpp, docs/deploy.md); SCOTS' format
+  // is refused with the reason.
+  ExportResult export_to(const ExportRequest& request) const override;
 
   // x in V_k (k = 0..T).
   bool in_set(const double* x, int k) const;

@@ -1,7 +1,9 @@
 /* Links an exported controller (marsyn export --format c) and answers queries from a file:
- * records of (int32 k, double x[N]) in, records of (int32 status, double u[M]) out, native byte
- * order. Built by export_test.cpp with -DCTRL_INPUT=<prefix>_input -DCTRL_HEADER="<prefix>.h"
- * -DN=<state dim> -DM=<input dim>, under gcc -std=c99 -Wall -Wextra -Werror -pedantic. */
+ * records of (int32 k, double x[N]) in, records of (int32 status, double u[M], int32 inside) out,
+ * native byte order; `inside` is the monitor <prefix>_inside(x, k). Built by the export tests
+ * (tests/deploy/c_answers.hpp) with -DCTRL_INPUT=<prefix>_input -DCTRL_INSIDE=<prefix>_inside
+ * -DCTRL_HEADER="<prefix>.h" -DN=<state dim> -DM=<input dim>, under gcc -std=c99 -Wall -Wextra
+ * -Werror -pedantic -Wconversion. */
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
@@ -11,7 +13,7 @@
 int main(int argc, char **argv)
 {
   FILE *in, *out;
-  int32_t k, status;
+  int32_t k, status, inside;
   double x[N], u[M];
   long count = 0;
   if (argc != 3) {
@@ -27,7 +29,10 @@ int main(int argc, char **argv)
   while (fread(&k, sizeof k, 1, in) == 1 && fread(x, sizeof x, 1, in) == 1) {
     memset(u, 0, sizeof u);
     status = CTRL_INPUT(x, (int)k, u);
-    if (fwrite(&status, sizeof status, 1, out) != 1 || fwrite(u, sizeof u, 1, out) != 1) return 3;
+    inside = CTRL_INSIDE(x, (int)k);
+    if (fwrite(&status, sizeof status, 1, out) != 1 || fwrite(u, sizeof u, 1, out) != 1 ||
+        fwrite(&inside, sizeof inside, 1, out) != 1)
+      return 3;
     ++count;
   }
   fclose(in);
