@@ -80,6 +80,12 @@ void expect_same_folds(const Team& t, const std::vector<std::vector<Vector2d>>& 
     ASSERT_TRUE(same_bits(fast.formation, slow.formation)) << "state " << k;
     ASSERT_EQ(fell, slow.min() < before) << "state " << k;
     if (fell) ASSERT_EQ(q.name(t.pb), name) << "state " << k;
+    // From nothing, a fold is the state's own margins (the kept runs' plots).
+    marsyn::StepMargins own;
+    broad.accumulate(own, nullptr);
+    ASSERT_TRUE(same_bits(own.obstacle, m.obstacle) && same_bits(own.collision, m.collision) &&
+                same_bits(own.formation, m.formation))
+        << "state " << k;
   }
 }
 
@@ -174,6 +180,7 @@ TEST(BroadPhase, AdversaryTargetsTheSameAsTheFullSearch) {
     }
     const marsyn::SpecMonitor monitor(t.pb);
     marsyn::SimulationSetup fast{&t.pb, nominal, {}, 20, &monitor};
+    fast.keep_dense = true;
     marsyn::SimulationSetup slow = fast;
     slow.all_pairs = true;
     for (auto mode : {marsyn::DisturbanceMode::Adversarial, marsyn::DisturbanceMode::UniformRandom}) {
@@ -183,6 +190,9 @@ TEST(BroadPhase, AdversaryTargetsTheSameAsTheFullSearch) {
       ASSERT_EQ(f.states.size(), s.states.size());
       for (std::size_t k = 0; k < f.states.size(); ++k) ASSERT_TRUE(f.states[k] == s.states[k]) << "step " << k;
       EXPECT_TRUE(same_bits(f.between.min(), s.between.min()));
+      ASSERT_EQ(f.dense_margins.size(), s.dense_margins.size());
+      for (std::size_t q = 0; q < f.dense_margins.size(); ++q)
+        ASSERT_TRUE(same_bits(f.dense_margins[q].min(), s.dense_margins[q].min())) << "dense state " << q;
       EXPECT_EQ(f.between_worst, s.between_worst);
       EXPECT_TRUE(same_bits(f.between_worst_t, s.between_worst_t));
       EXPECT_TRUE(same_bits(f.sampled.min_margin, s.sampled.min_margin));

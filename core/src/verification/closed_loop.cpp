@@ -138,7 +138,7 @@ ClosedLoopRun simulate(const SimulationSetup& s, const Scenario& scenario) {
   };
   std::vector<Eigen::Vector2d> pts(N);
   BroadPhase broad(pb);
-  const bool track_points = s.between || adversary;
+  const bool track_points = s.between || adversary || s.keep_dense;
   auto points = [&] {
     if (!track_points) return;
     for (int i = 0; i < N; ++i) workspace_point<double>(*pb.agents[i].dynamics, pb.agents[i].workspace, x[i].data(), pts[i].data());
@@ -162,6 +162,15 @@ ClosedLoopRun simulate(const SimulationSetup& s, const Scenario& scenario) {
     name = q.name(pb);
     return true;
   };
+  // The current state's own margins (a fresh fold: step()'s values) for the plots.
+  auto keep_dense = [&](double t) {
+    run.dense_t.push_back(t);
+    run.dense_states.push_back(prod);
+    StepMargins m;
+    if (s.all_pairs && s.between) m = s.between->step(prod);
+    else broad.accumulate(m, nullptr);
+    run.dense_margins.push_back(m);
+  };
   StepMargins at_samples;
   auto record = [&](int k) {
     stack();
@@ -172,10 +181,7 @@ ClosedLoopRun simulate(const SimulationSetup& s, const Scenario& scenario) {
         run.max_tube_excess = std::max(run.max_tube_excess, std::abs(x[i][c] - nom[c]) / eps[c]);
     }
     if (s.keep_states) run.states.push_back(prod);
-    if (s.keep_dense) {
-      run.dense_t.push_back(k * pb.tau);
-      run.dense_states.push_back(prod);
-    }
+    if (s.keep_dense) keep_dense(k * pb.tau);
     std::string name;
     if (s.between && fold(at_samples, name)) {
       run.sampled.min_margin = at_samples.min();
@@ -217,10 +223,7 @@ ClosedLoopRun simulate(const SimulationSetup& s, const Scenario& scenario) {
       points();
       if (sub + 1 < S) {
         if (s.keep_dense || s.all_pairs) stack();
-        if (s.keep_dense) {
-          run.dense_t.push_back((k + static_cast<double>(sub + 1) / S) * pb.tau);
-          run.dense_states.push_back(prod);
-        }
+        if (s.keep_dense) keep_dense((k + static_cast<double>(sub + 1) / S) * pb.tau);
         if (s.between && fold(run.between, run.between_worst))
           run.between_worst_t = (k + static_cast<double>(sub + 1) / S) * pb.tau;
       }

@@ -53,6 +53,7 @@ struct ClosedLoopRun {
   // setup.keep_dense: the product state at every substep (samples included) and its time.
   std::vector<double> dense_t;
   std::vector<Eigen::VectorXd> dense_states;
+  std::vector<StepMargins> dense_margins;  // setup.keep_dense: the spec at each of dense_states (step()'s values)
 };
 
 struct SimulationSetup {
