@@ -27,7 +27,8 @@ bool failure_is_shared();
 int run_simulate(const std::string& config, const std::string& controllers_dir, const std::string& mode,
                  unsigned long seed, const std::string& out_file);
 // The closed-loop verification alone, on the controllers and plan.json of a `solve` folder.
-int run_verify(const std::string& config, const std::string& controllers_dir, int runs, int threads, bool all_pairs);
+int run_verify(const std::string& config, const std::string& controllers_dir, const std::string& plan_file, int runs,
+               int threads, bool all_pairs);
 int run_bench(const std::string& examples, const std::string& planners, const std::string& stage, bool track,
               int runs, int threads, const std::string& out_dir);
 // Exports controller files (or the *.ctrl of folders) as C99 or SCOTS v0.2 (docs/deploy.md).

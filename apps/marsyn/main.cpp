@@ -83,6 +83,7 @@ int main(int argc, char** argv) {
   auto* verify = app.add_subcommand("verify", "the closed-loop verification runs alone, on the controllers of a solve folder");
   verify->add_option("CONFIG", config, "problem file (YAML)")->required();
   verify->add_option("--controllers", controllers, "a folder written by `marsyn solve`")->required();
+  verify->add_option("--plan", plan_file, "the nominal plan: a plan.json or 'straight-line' (default <controllers>/plan.json)");
   verify->add_option("--runs", runs, "closed-loop runs (default 1000)")->check(CLI::Range(5, 10000000));
   verify->add_option("--threads", threads, "threads (default 2)")->check(CLI::Range(1, 256));
   verify->add_flag("--all-pairs", all_pairs, "check every requirement at every substep (the broad phase's reference)");
@@ -142,7 +143,7 @@ int main(int argc, char** argv) {
       return marsyn::cli::run_solve(config.empty() ? marsyn::cli::default_example() : config, out, runs, threads, global_budget,
                                     cluster);
     if (*simulate) return marsyn::cli::run_simulate(config, controllers, mode, seed, sim_out);
-    if (*verify) return marsyn::cli::run_verify(config, controllers, runs, threads, all_pairs);
+    if (*verify) return marsyn::cli::run_verify(config, controllers, plan_file, runs, threads, all_pairs);
     if (*bench)
       return marsyn::cli::run_bench(bench_examples, bench_planners, bench_stage, !no_track, runs, threads, bench_out);
 #endif

@@ -307,6 +307,7 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
     else  // no obstacle, collision or formation: nothing to check between the samples but the bounds
       std::printf("verification  %d closed-loop runs, %d violations, smallest margin %.4g\n", v.runs, v.violations,
                   v.sampled_min_margin);
+    std::printf("              %.2f s, %.0f runs/s\n", v.time_s, v.runs_per_s());
     std::printf("open loop     %d runs, %d violations, smallest margin %.4g (%s)\n", v.open_loop_runs,
                 v.open_loop_violations, v.open_loop_min_margin, v.open_loop_worst.c_str());
     // Each run's parts, so that a collision shows even where a missed goal is the worst.
@@ -388,10 +389,11 @@ int run_simulate(const std::string& config, const std::string& controllers_dir, 
   return ev.satisfied && (between_ok || !continuous) && run.outside_domain_agent < 0 ? 0 : 1;
 }
 
-int run_verify(const std::string& config, const std::string& controllers_dir, int runs, int threads, bool all_pairs) {
+int run_verify(const std::string& config, const std::string& controllers_dir, const std::string& plan_file, int runs,
+               int threads, bool all_pairs) {
   const LoadedProblem lp = load_problem(config);
   const Problem& pb = lp.problem;
-  const auto nominal = planning::read_plan_json((fs::path(controllers_dir) / "plan.json").string(), pb);
+  const auto nominal = nominal_for(lp, plan_file.empty() ? (fs::path(controllers_dir) / "plan.json").string() : plan_file);
   TrackerInstances trackers(lp.registry);
   const std::vector<std::shared_ptr<const Controller>> ctrls = read_agent_controllers(pb, trackers, controllers_dir);
   VerificationOptions vo;

@@ -108,7 +108,9 @@ nlohmann::json result_json(const SolveOutcome& o) {
                        {"outside_domain", v.outside_domain},
                        {"min_margin", o.verification_ran ? json(v.min_margin) : json(nullptr)},
                        {"worst", v.worst},
-                       {"time_s", v.time_s}};
+                       {"time_s", v.time_s},
+                       {"runs_time_s", v.runs_time_s},
+                       {"runs_per_s", v.runs_per_s()}};
   j["open_loop"] = {{"runs", v.open_loop_runs},
                     {"violations", v.open_loop_violations},
                     {"min_margin", o.verification_ran ? json(v.open_loop_min_margin) : json(nullptr)},
