@@ -31,6 +31,9 @@ void mark_failure_shared();
 bool failure_is_shared();
 int run_simulate(const std::string& config, const std::string& controllers_dir, const std::string& mode,
                  unsigned long seed, const std::string& out_file, const LoadOptions& load);
+// The closed-loop verification alone, on the controllers and plan.json of a `solve` folder.
+int run_verify(const std::string& config, const std::string& controllers_dir, const std::string& plan_file, int runs,
+               int threads, bool all_pairs, const LoadOptions& load);
 int run_bench(const std::string& examples, const std::string& planners, const std::string& stage, bool track,
               int runs, int threads, const std::string& out_dir, const LoadOptions& load);
 // Exports controller files (or the *.ctrl of folders) as C99 or SCOTS v0.2 (docs/deploy.md).

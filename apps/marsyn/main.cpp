@@ -85,6 +85,15 @@ int main(int argc, char** argv) {
   simulate->add_option("--seed", seed, "random seed (default 1)");
   simulate->add_option("--out", sim_out, "trajectory CSV (default <controllers>/simulation-<mode>.csv)");
 
+  bool all_pairs = false;
+  auto* verify = app.add_subcommand("verify", "the closed-loop verification runs alone, on the controllers of a solve folder");
+  verify->add_option("CONFIG", config, "problem file (YAML)")->required();
+  verify->add_option("--controllers", controllers, "a folder written by `marsyn solve`")->required();
+  verify->add_option("--plan", plan_file, "the nominal plan: a plan.json or 'straight-line' (default <controllers>/plan.json)");
+  verify->add_option("--runs", runs, "closed-loop runs (default 1000)")->check(CLI::Range(5, 10000000));
+  verify->add_option("--threads", threads, "threads (default 2)")->check(CLI::Range(1, 256));
+  verify->add_flag("--all-pairs", all_pairs, "check every requirement at every substep (the broad phase's reference)");
+
   std::string bench_examples, bench_planners, bench_stage = "plan", bench_out = "marsyn-out/bench";
   bool no_track = false;
   auto* bench = app.add_subcommand("bench", "measure planners (or the whole method) on examples; prints a table, writes CSV and markdown");
@@ -147,6 +156,7 @@ int main(int argc, char** argv) {
                                     time_limit_option->count() ? std::optional<double>(time_limit) : std::nullopt, load,
                                     cluster);
     if (*simulate) return marsyn::cli::run_simulate(config, controllers, mode, seed, sim_out, load);
+    if (*verify) return marsyn::cli::run_verify(config, controllers, plan_file, runs, threads, all_pairs, load);
     if (*bench)
       return marsyn::cli::run_bench(bench_examples, bench_planners, bench_stage, !no_track, runs, threads, bench_out, load);
 #endif

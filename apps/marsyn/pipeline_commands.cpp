@@ -16,6 +16,8 @@
 #include "marsyn/core/tracking/sweep_progress.hpp"
 #include "marsyn/core/tracking/mpi_plan_broadcast.hpp"
 #include "marsyn/core/verification/closed_loop.hpp"
+#include "marsyn/core/verification/run_progress.hpp"
+#include "marsyn/core/verification/verification.hpp"
 #include "marsyn/core/problem/config_error.hpp"
 #include "marsyn/core/report/result_json.hpp"
 #include "marsyn/core/report/solve_outputs.hpp"
@@ -327,6 +329,7 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
     else  // no obstacle, collision or formation: nothing to check between the samples but the bounds
       std::printf("verification  %d closed-loop runs, %d violations, smallest margin %.4g\n", v.runs, v.violations,
                   v.sampled_min_margin);
+    std::printf("              %.2f s, %.0f runs/s\n", v.time_s, v.runs_per_s());
     std::printf("open loop     %d runs, %d violations, smallest margin %.4g (%s)\n", v.open_loop_runs,
                 v.open_loop_violations, v.open_loop_min_margin, v.open_loop_worst.c_str());
     // Each run's parts, so that a collision shows even where a missed goal is the worst.
@@ -406,6 +409,35 @@ int run_simulate(const std::string& config, const std::string& controllers_dir, 
                 run.outside_domain_step);
   std::printf("trajectory    %s\n", path.c_str());
   return ev.satisfied && (between_ok || !continuous) && run.outside_domain_agent < 0 ? 0 : 1;
+}
+
+int run_verify(const std::string& config, const std::string& controllers_dir, const std::string& plan_file, int runs,
+               int threads, bool all_pairs, const LoadOptions& load) {
+  const LoadedProblem lp = load_problem(config, load);
+  const Problem& pb = lp.problem;
+  const auto nominal = nominal_for(lp, plan_file.empty() ? (fs::path(controllers_dir) / "plan.json").string() : plan_file);
+  TrackerInstances trackers(lp.registry);
+  const std::vector<std::shared_ptr<const Controller>> ctrls = read_agent_controllers(pb, trackers, controllers_dir);
+  VerificationOptions vo;
+  vo.runs = runs;
+  vo.threads = threads;
+  vo.all_pairs = all_pairs;
+  vo.progress = [p = std::make_shared<RunProgress>(log_line, stderr_is_terminal() ? live_line : RunProgress::Sink{})](
+                    int done, int total) { (*p)(done, total); };
+  const VerificationReport v = verify(pb, nominal, ctrls, vo);
+  // Margins to the last bit: the broad phase and --all-pairs must print the same digits.
+  std::printf("check         %s\n", all_pairs ? "all pairs (reference)" : "broad phase");
+  std::printf("verification  %d closed-loop runs, %d violations, %d left the tube, %d outside the domain\n", v.runs,
+              v.violations, v.tube_violations, v.outside_domain);
+  std::printf("at samples    %.17g\n", v.sampled_min_margin);
+  std::printf("between       obstacle %.17g, collision %.17g, formation %.17g (every %.3g s)\n", v.between.obstacle,
+              v.between.collision, v.between.formation, v.dense_resolution_s);
+  std::printf("worst         %.17g: %s\n", v.min_margin, v.worst.c_str());
+  std::printf("open loop     %d runs, %d violations, smallest margin %.17g\n", v.open_loop_runs, v.open_loop_violations,
+              v.open_loop_min_margin);
+  std::printf("time          %.3f s, closed-loop runs %.3f s (%.1f runs/s, %d threads)\n", v.time_s, v.runs_time_s,
+              v.runs_per_s(), threads);
+  return v.violations == 0 && v.tube_violations == 0 ? 0 : 1;
 }
 
 }  // namespace marsyn::cli

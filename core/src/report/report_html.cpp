@@ -88,8 +88,8 @@ table($('cert'), ['', 'value'], [
   ['certificate on the period enclosures', ce.ran ? (ce.certified ? 'certified' : '<b style="color:#e3342f">not certified</b>') + ' (' + fmt(ce.period_enclosures, 0) + ' enclosures)' : (R.guarantee === 'sampled' ? 'not required' : 'did not run')],
   ['  state bounds', cpart(ce.state_bounds)], ['  obstacles', cpart(ce.obstacle)], ['  collisions', cpart(ce.collision)], ['  formation', cpart(ce.formation)]]);
 const bs = v.between_samples || {};
-table($('ver'), ['', 'runs', 'violations', 'margin at samples', 'margin between (dense)'],
-  [['feedback', fmt(v.runs, 0), fmt(v.violations, 0), fmt(v.sampled_min_margin), mark(bs.min_margin, fmt(bs.min_margin))], ['open loop', fmt(ol.runs, 0), fmt(ol.violations, 0), fmt(ol.min_margin), '-']]);
+table($('ver'), ['', 'runs', 'violations', 'margin at samples', 'margin between (dense)', 'runs/s'],
+  [['feedback', fmt(v.runs, 0), fmt(v.violations, 0), fmt(v.sampled_min_margin), mark(bs.min_margin, fmt(bs.min_margin)), v.runs_time_s > 0 ? fmt(v.runs / v.runs_time_s, 0) : '-'], ['open loop', fmt(ol.runs, 0), fmt(ol.violations, 0), fmt(ol.min_margin), '-', '-']]);
 const part = p => p ? fmt(p.margin) + ' (k=' + p.step + ')' : '-';
 table($('olr'), ['disturbance', 'obstacle', 'collision', 'formation', 'goal'],
   (ol.by_run || []).map(r => [r.disturbance, ...['obstacle', 'collision', 'formation'].map(k =>

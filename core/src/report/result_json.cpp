@@ -149,7 +149,8 @@ nlohmann::json result_json(const SolveOutcome& o) {
                        {"outside_domain", v.outside_domain},
                        {"min_margin", o.verification_ran ? json(v.min_margin) : json(nullptr)},
                        {"worst", v.worst},
-                       {"time_s", v.time_s}};
+                       {"time_s", v.time_s},
+                       {"runs_time_s", v.runs_time_s}};  // runs / runs_time_s: the runs per second
   j["open_loop"] = {{"runs", v.open_loop_runs},
                     {"violations", v.open_loop_violations},
                     {"min_margin", o.verification_ran ? json(v.open_loop_min_margin) : json(nullptr)},

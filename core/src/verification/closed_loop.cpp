@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "marsyn/core/verification/broad_phase.hpp"
 #include "marsyn/sampled_map.hpp"
 
 namespace marsyn {
@@ -45,60 +46,35 @@ class DisturbanceSource {
                                             : -1.0;
       fixed_ = sign * w_;
     } else if (mode_ == DisturbanceMode::ConstantVertex) {
-      fixed_ = vertex();
+      vertex(fixed_);
     }
   }
-  Eigen::VectorXd next() {
+  // Writes the next disturbance into d (sized once by the caller: no allocation per step).
+  void next(Eigen::VectorXd& d) {
     switch (mode_) {
-      case DisturbanceMode::None: return Eigen::VectorXd::Zero(w_.size());
+      case DisturbanceMode::None: d.setZero(); return;
       case DisturbanceMode::ConstantVertex:
-      case DisturbanceMode::PaperConstant: return fixed_;
-      case DisturbanceMode::UniformRandom: {
-        Eigen::VectorXd d(w_.size());
+      case DisturbanceMode::PaperConstant: d = fixed_; return;
+      case DisturbanceMode::UniformRandom:
         for (Eigen::Index i = 0; i < d.size(); ++i) d[i] = std::uniform_real_distribution<double>(-w_[i], w_[i])(rng_);
-        return d;
-      }
+        return;
       case DisturbanceMode::VertexSwitching:
-      case DisturbanceMode::Adversarial: return vertex();
+      case DisturbanceMode::Adversarial: vertex(d); return;
     }
-    return fixed_;
   }
-  bool per_substep() const { return mode_ == DisturbanceMode::Adversarial; }
 
  private:
-  Eigen::VectorXd vertex() {
-    Eigen::VectorXd d(w_.size());
+  void vertex(Eigen::VectorXd& d) {
     for (Eigen::Index i = 0; i < d.size(); ++i) d[i] = (rng_() & 1u) ? w_[i] : -w_[i];
-    return d;
   }
   Eigen::VectorXd w_, fixed_;
   DisturbanceMode mode_;
   std::mt19937_64 rng_;
 };
 
-// Nearest point of a convex polygon's boundary to p.
-Eigen::Vector2d nearest_on_polygon(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& p) {
-  Eigen::Vector2d best = poly.front();
-  double bd = 1e300;
-  for (std::size_t i = 0; i < poly.size(); ++i) {
-    const Eigen::Vector2d a = poly[i], b = poly[(i + 1) % poly.size()], ab = b - a;
-    const double len2 = ab.squaredNorm();
-    const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-    const Eigen::Vector2d q = a + t * ab;
-    if ((q - p).squaredNorm() < bd) {
-      bd = (q - p).squaredNorm();
-      best = q;
-    }
-  }
-  return best;
-}
-
-// The adversary's vertex for agent i: on the coordinates its workspace point reads linearly,
-// the sign that moves the point toward the nearest obstacle or other agent.
-void adversarial_push(const Problem& pb, int i, const std::vector<Eigen::Vector2d>& pts, Eigen::VectorXd& w) {
-  const AgentSpec& a = pb.agents[i];
-  if (!a.workspace.linear()) return;
-  Eigen::Vector2d target = pts[i];
+// The adversary's target for agent i by a search over every obstacle and agent (the reference of
+// BroadPhase::nearest_target, which must find the same one).
+bool nearest_by_search(const Problem& pb, int i, const std::vector<Eigen::Vector2d>& pts, Eigen::Vector2d& target) {
   double bd = 1e300;
   for (const auto& o : pb.obstacles) {
     const Eigen::Vector2d q = nearest_on_polygon(o.vertices, pts[i]);
@@ -113,11 +89,16 @@ void adversarial_push(const Problem& pb, int i, const std::vector<Eigen::Vector2
         bd = (pts[j] - pts[i]).norm();
         target = pts[j];
       }
-  if (bd >= 1e300) return;
+  return bd < 1e300;
+}
+
+// The adversary's vertex for an agent at p: on the coordinates its workspace point reads
+// linearly, the sign that moves the point toward the target.
+void push_toward(const AgentSpec& a, const Eigen::Vector2d& p, const Eigen::Vector2d& target, Eigen::VectorXd& w) {
   for (int c = 0; c < 2; ++c) {
     const int s = a.workspace.index[c];
     if (s < 0) continue;
-    const double d = target[c] - pts[i][c];
+    const double d = target[c] - p[c];
     if (d != 0) w[s] = d > 0 ? a.tube.w[s] : -a.tube.w[s];
   }
 }
@@ -132,13 +113,20 @@ ClosedLoopRun simulate(const SimulationSetup& s, const Scenario& scenario) {
   const bool closed = !s.controllers.empty();
   const int T = static_cast<int>(s.nominal.front().u.size());
   const int S = s.fine_substeps;
+  const bool adversary = scenario.mode == DisturbanceMode::Adversarial;
 
   ClosedLoopRun run;
-  std::vector<Eigen::VectorXd> x(N), u(N), w(N);
+  // Every buffer once per run: the loop below allocates nothing per step.
+  std::vector<Eigen::VectorXd> x(N), u(N), uc(N), w(N), next(N);
   std::vector<DisturbanceSource> dist;
+  dist.reserve(static_cast<size_t>(N));
   for (int i = 0; i < N; ++i) {
-    x[i] = pb.agents[i].x0;
-    dist.emplace_back(pb.agents[i].tube.w, i, scenario);
+    const AgentSpec& a = pb.agents[i];
+    x[i] = a.x0;
+    uc[i].resize(a.m());
+    next[i].resize(a.n());
+    w[i].resize(a.tube.w.size());
+    dist.emplace_back(a.tube.w, i, scenario);
   }
   Eigen::VectorXd prod(pb.product_state_dim());
   auto stack = [&] {
@@ -148,79 +136,103 @@ ClosedLoopRun simulate(const SimulationSetup& s, const Scenario& scenario) {
       off += static_cast<int>(x[i].size());
     }
   };
+  std::vector<Eigen::Vector2d> pts(N);
+  BroadPhase broad(pb);
+  const bool track_points = s.between || adversary || s.keep_dense;
+  auto points = [&] {
+    if (!track_points) return;
+    for (int i = 0; i < N; ++i) workspace_point<double>(*pb.agents[i].dynamics, pb.agents[i].workspace, x[i].data(), pts[i].data());
+    broad.update(pts);
+  };
+  // running = min(running, the spec at the current state) part by part; true, with the
+  // requirement named, when the smallest part fell.
+  auto fold = [&](StepMargins& running, std::string& name) {
+    if (s.all_pairs) {
+      std::string what;
+      const StepMargins m = s.between->step(prod, &what);
+      const double before = running.min();
+      running = {std::min(running.obstacle, m.obstacle), std::min(running.collision, m.collision),
+                 std::min(running.formation, m.formation)};
+      if (!(running.min() < before)) return false;
+      name = std::move(what);
+      return true;
+    }
+    planning::Requirement q{planning::Requirement::Obstacle, -1, -1};
+    if (!broad.accumulate(running, &q)) return false;
+    name = q.name(pb);
+    return true;
+  };
+  // The current state's own margins (a fresh fold: step()'s values) for the plots.
+  auto keep_dense = [&](double t) {
+    run.dense_t.push_back(t);
+    run.dense_states.push_back(prod);
+    StepMargins m;
+    if (s.all_pairs && s.between) m = s.between->step(prod);
+    else broad.accumulate(m, nullptr);
+    run.dense_margins.push_back(m);
+  };
+  StepMargins at_samples;
   auto record = [&](int k) {
     stack();
     for (int i = 0; i < N; ++i) {
-      const Eigen::VectorXd dev = (x[i] - s.nominal[i].x[k]).cwiseAbs().cwiseQuotient(pb.agents[i].tube.eps);
-      run.max_tube_excess = std::max(run.max_tube_excess, dev.maxCoeff());
+      const Eigen::VectorXd& nom = s.nominal[i].x[k];
+      const Eigen::VectorXd& eps = pb.agents[i].tube.eps;
+      for (Eigen::Index c = 0; c < x[i].size(); ++c)
+        run.max_tube_excess = std::max(run.max_tube_excess, std::abs(x[i][c] - nom[c]) / eps[c]);
     }
-    run.states.push_back(prod);
-    if (s.keep_dense) {
-      run.dense_t.push_back(k * pb.tau);
-      run.dense_states.push_back(prod);
-    }
-  };
-  std::vector<Eigen::Vector2d> pts(N);
-  auto points = [&] {
-    for (int i = 0; i < N; ++i) {
-      double p[2];
-      workspace_point<double>(*pb.agents[i].dynamics, pb.agents[i].workspace, x[i].data(), p);
-      pts[i] = {p[0], p[1]};
+    if (s.keep_states) run.states.push_back(prod);
+    if (s.keep_dense) keep_dense(k * pb.tau);
+    std::string name;
+    if (s.between && fold(at_samples, name)) {
+      run.sampled.min_margin = at_samples.min();
+      run.sampled.worst = name + " at step " + std::to_string(k);
     }
   };
+  points();
   record(0);
-  Eigen::VectorXd next;
   for (int k = 0; k < T; ++k) {
     // Zero-order hold: every agent's input is fixed at the sample from its own state.
     for (int i = 0; i < N; ++i) {
-      const AgentSpec& a = pb.agents[i];
       u[i] = s.nominal[i].u[k];
       if (closed) {
-        Eigen::VectorXd uc(a.m());
-        const ControlStatus st = s.controllers[i]->input(x[i].data(), k, uc.data());
+        const ControlStatus st = s.controllers[i]->input(x[i].data(), k, uc[i].data());
         if (st == ControlStatus::Ok) {
-          u[i] = uc;
+          u[i] = uc[i];
         } else if (run.outside_domain_agent < 0) {
           run.outside_domain_agent = i;
           run.outside_domain_step = k;
         }
       }
-      w[i] = dist[i].next();
+      dist[i].next(w[i]);
     }
     for (int sub = 0; sub < S; ++sub) {
-      if (sub > 0 && (dist.front().per_substep())) {
-        points();
+      if (adversary)
         for (int i = 0; i < N; ++i) {
-          w[i] = dist[i].next();
-          adversarial_push(pb, i, pts, w[i]);
+          const AgentSpec& a = pb.agents[i];
+          if (sub > 0) dist[i].next(w[i]);
+          if (!a.workspace.linear()) continue;
+          Eigen::Vector2d target;
+          if (s.all_pairs ? nearest_by_search(pb, i, pts, target) : broad.nearest_target(i, target))
+            push_toward(a, pts[i], target, w[i]);
         }
-      } else if (sub == 0 && dist.front().per_substep()) {
-        points();
-        for (int i = 0; i < N; ++i) adversarial_push(pb, i, pts, w[i]);
-      }
       for (int i = 0; i < N; ++i) {
-        const AgentSpec& a = pb.agents[i];
-        next.resize(a.n());
         // One substep of h = tau / S: the same arithmetic as rk4_step over tau with S substeps.
-        rk4_step<double>(*a.dynamics, x[i].data(), u[i].data(), w[i].data(), pb.tau, S, next.data(), 1);
-        x[i] = next;
+        rk4_step<double>(*pb.agents[i].dynamics, x[i].data(), u[i].data(), w[i].data(), pb.tau, S, next[i].data(), 1);
+        x[i].swap(next[i]);
       }
+      points();
       if (sub + 1 < S) {
-        if (s.between || s.keep_dense) stack();
-        if (s.keep_dense) {
-          run.dense_t.push_back((k + static_cast<double>(sub + 1) / S) * pb.tau);
-          run.dense_states.push_back(prod);
-        }
-        if (s.between) {
-          const double before = run.between.min();
-          if (s.between->accumulate(prod, run.between) && run.between.min() < before) {
-            run.between_worst_t = (k + static_cast<double>(sub + 1) / S) * pb.tau;
-            s.between->step(prod, &run.between_worst);  // named only for a new minimum
-          }
-        }
+        if (s.keep_dense || s.all_pairs) stack();
+        if (s.keep_dense) keep_dense((k + static_cast<double>(sub + 1) / S) * pb.tau);
+        if (s.between && fold(run.between, run.between_worst))
+          run.between_worst_t = (k + static_cast<double>(sub + 1) / S) * pb.tau;
       }
     }
     record(k + 1);
+  }
+  if (s.between) {
+    s.between->add_goal(prod, run.sampled);
+    run.sampled.satisfied = run.sampled.min_margin >= 0;
   }
   return run;
 }

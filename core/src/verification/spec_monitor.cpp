@@ -10,16 +10,6 @@ namespace marsyn {
 SpecMonitor::SpecMonitor(const Problem& problem) : problem_(problem) {
   const ProductLayout layout(problem);
   offset_.assign(layout.state.begin(), layout.state.end() - 1);
-  for (const auto& o : problem.obstacles) {
-    Eigen::Vector4d b(1e300, 1e300, -1e300, -1e300);
-    for (const auto& v : o.vertices) {
-      b[0] = std::min(b[0], v.x());
-      b[1] = std::min(b[1], v.y());
-      b[2] = std::max(b[2], v.x());
-      b[3] = std::max(b[3], v.y());
-    }
-    bbox_.push_back(b);
-  }
 }
 
 namespace {
@@ -41,30 +31,6 @@ void SpecMonitor::points(const Eigen::VectorXd& x, std::vector<Eigen::Vector2d>&
     const AgentSpec& a = problem_.agents[i];
     workspace_point<double>(*a.dynamics, a.workspace, x.data() + offset_[i], p[i].data());
   }
-}
-
-bool SpecMonitor::accumulate(const Eigen::VectorXd& x, StepMargins& running) const {
-  const StepMargins before = running;
-  const bool inf = problem_.delta_norm == Norm::Inf;
-  thread_local std::vector<Eigen::Vector2d> pts;
-  points(x, pts);
-  planning::for_each_requirement(problem_, [&](const planning::Requirement& q) {
-    double& slot = part(running, q.kind);
-    if (q.kind == planning::Requirement::Obstacle) {
-      // Outside its bounding box, a point is at least as far from the obstacle as from the box.
-      const Eigen::Vector4d& b = bbox_[static_cast<size_t>(q.b)];
-      const Eigen::Vector2d& p = pts[static_cast<size_t>(q.a)];
-      const double gx = std::max(b[0] - p.x(), p.x() - b[2]), gy = std::max(b[1] - p.y(), p.y() - b[3]);
-      if (gx > 0 || gy > 0) {
-        const double px = std::max(gx, 0.0), py = std::max(gy, 0.0);
-        const double lb = (inf ? std::max(px, py) : std::sqrt(px * px + py * py)) - problem_.delta;
-        if (lb >= slot) return;
-      }
-    }
-    slot = std::min(slot, planning::requirement_margin(problem_, q, pts));
-  });
-  return running.obstacle < before.obstacle || running.collision < before.collision ||
-         running.formation < before.formation;
 }
 
 StepMargins SpecMonitor::step(const Eigen::VectorXd& x, std::string* worst) const {
@@ -99,22 +65,23 @@ SpecEvaluation SpecMonitor::evaluate(const std::vector<Eigen::VectorXd>& states,
       ev.worst = what + " at step " + std::to_string(k);
     }
   }
-  if (!states.empty()) {
-    const Eigen::VectorXd& x = states.back();
-    for (std::size_t i = 0; i < problem_.agents.size(); ++i) {
-      const AgentSpec& a = problem_.agents[i];
-      for (int c = 0; c < a.n(); ++c) {
-        const double v = planning::inside_margin(a.goal, c, x[offset_[i] + c]);
-        if (v < ev.goal_margin) ev.goal_margin = v;
-        if (v < ev.min_margin) {
-          ev.min_margin = v;
-          ev.worst = "goal of " + a.name + " (" + a.dynamics->state_names()[c] + ") at the final step";
-        }
+  if (!states.empty()) add_goal(states.back(), ev);
+  ev.satisfied = ev.min_margin >= 0;
+  return ev;
+}
+
+void SpecMonitor::add_goal(const Eigen::VectorXd& x, SpecEvaluation& ev) const {
+  for (std::size_t i = 0; i < problem_.agents.size(); ++i) {
+    const AgentSpec& a = problem_.agents[i];
+    for (int c = 0; c < a.n(); ++c) {
+      const double v = planning::inside_margin(a.goal, c, x[offset_[i] + c]);
+      if (v < ev.goal_margin) ev.goal_margin = v;
+      if (v < ev.min_margin) {
+        ev.min_margin = v;
+        ev.worst = "goal of " + a.name + " (" + a.dynamics->state_names()[c] + ") at the final step";
       }
     }
   }
-  ev.satisfied = ev.min_margin >= 0;
-  return ev;
 }
 
 }  // namespace marsyn

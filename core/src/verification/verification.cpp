@@ -33,10 +33,7 @@ std::string paper_label(int variant) {
 }
 // A kept run with its dense margins (every substep, samples included).
 KeptRun keep(const SpecMonitor& monitor, std::string label, const ClosedLoopRun& run) {
-  KeptRun k{std::move(label), run.states, monitor.evaluate(run.states, true), run.dense_t, {}};
-  k.dense.reserve(run.dense_states.size());
-  for (const auto& x : run.dense_states) k.dense.push_back(monitor.step(x));
-  return k;
+  return KeptRun{std::move(label), run.states, monitor.evaluate(run.states, true), run.dense_t, run.dense_margins};
 }
 
 }  // namespace
@@ -49,23 +46,42 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
   const SpecMonitor monitor(problem);
   rep.continuous = problem.guarantee == Guarantee::Continuous;
   rep.dense_resolution_s = problem.tau / std::max(1, opt.fine_substeps);
-  SimulationSetup closed{&problem, nominal, controllers, opt.fine_substeps, &monitor, false};
-  SimulationSetup open{&problem, nominal, {}, opt.fine_substeps, &monitor, false};
+  SimulationSetup closed{&problem, nominal, controllers, opt.fine_substeps, &monitor, false, false, opt.all_pairs};
+  SimulationSetup open{&problem, nominal, {}, opt.fine_substeps, &monitor, false, true, opt.all_pairs};
   SimulationSetup closed_dense = closed, open_dense = open;
-  closed_dense.keep_dense = open_dense.keep_dense = true;
+  closed_dense.keep_dense = open_dense.keep_dense = closed_dense.keep_states = true;
 
-  // The nominal (undisturbed open loop) run, for the report's reference curves.
-  rep.kept.push_back(keep(monitor, "nominal (no disturbance, open loop)", simulate(open_dense, {DisturbanceMode::None, opt.seed, 0})));
+  // The runs kept for the report, known before the others (every rank runs them: each writes the
+  // same report): the nominal (undisturbed open loop), for the reference curves, then the
+  // paper's constant disturbances closed loop and open loop. They share the threads with the
+  // verification runs, first, since each is longer (dense states and margins kept).
+  struct Kept {
+    const SimulationSetup* setup;
+    int variant;  // -1: the nominal
+    ClosedLoopRun run;
+  };
+  std::vector<Kept> kept{{&open_dense, -1, {}}};
+  for (const SimulationSetup* setup : {&closed_dense, &open_dense})
+    for (int v = 0; v < 4; ++v) kept.push_back({setup, v, {}});
+  const int n_kept = static_cast<int>(kept.size());
 
   const std::vector<Scenario> scenarios = verification_scenarios(std::max(opt.runs, 5), opt.seed);
   std::vector<RunSummary> results(scenarios.size());
+  const Stopwatch runs_clock;
   std::atomic<int> next{0}, done{0};
   std::mutex progress_mutex;
   auto worker = [&] {
-    for (int r = next++; r < static_cast<int>(scenarios.size()); r = next++) {
+    for (int task = next++; task < n_kept + static_cast<int>(scenarios.size()); task = next++) {
+      if (task < n_kept) {
+        Kept& k = kept[static_cast<size_t>(task)];
+        k.run = simulate(*k.setup, {k.variant < 0 ? DisturbanceMode::None : DisturbanceMode::PaperConstant, opt.seed,
+                                    std::max(k.variant, 0)});
+        continue;
+      }
+      const int r = task - n_kept;
       if (!mpi::owns_run(opt.collective, r)) continue;
       ClosedLoopRun run = simulate(closed, scenarios[r]);
-      const SpecEvaluation ev = monitor.evaluate(run.states);
+      const SpecEvaluation& ev = run.sampled;
       RunSummary& s = results[r];
       s.scenario = scenarios[r];
       s.between = run.between;
@@ -95,6 +111,7 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
   worker();
   for (auto& t : pool) t.join();
   if (opt.collective) mpi::exchange_runs(*opt.collective, results);
+  rep.runs_time_s = runs_clock.seconds();
 
   rep.runs = static_cast<int>(results.size());
   int worst_run = 0;
@@ -118,14 +135,14 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
       worst_run = static_cast<int>(r);
     }
   }
+  rep.kept.push_back(keep(monitor, "nominal (no disturbance, open loop)", kept[0].run));
   for (int v = 0; v < 4; ++v)
-    rep.kept.push_back(keep(monitor, "feedback, constant disturbance " + paper_label(v),
-                            simulate(closed_dense, {DisturbanceMode::PaperConstant, opt.seed, v})));
+    rep.kept.push_back(keep(monitor, "feedback, constant disturbance " + paper_label(v), kept[static_cast<size_t>(1 + v)].run));
   rep.kept.push_back(keep(monitor, std::string("feedback, worst run (") + to_string(scenarios[worst_run].mode) + ")",
                           simulate(closed_dense, scenarios[worst_run])));
   // Open loop under the paper's constant disturbances: what fails without feedback.
   for (int v = 0; v < 4; ++v) {
-    ClosedLoopRun o = simulate(open_dense, {DisturbanceMode::PaperConstant, opt.seed, v});
+    const ClosedLoopRun& o = kept[static_cast<size_t>(5 + v)].run;
     SpecEvaluation ev = monitor.evaluate(o.states, true);
     ++rep.open_loop_runs;
     if (!ev.satisfied) ++rep.open_loop_violations;

@@ -47,9 +47,13 @@ struct ClosedLoopRun {
   StepMargins between;
   double between_worst_t = -1.0;
   std::string between_worst;
+  // setup.between set: the real spec at the samples, goal included, as between->evaluate(states)
+  // gives it (no per_step), checked while running so that the states need not be kept.
+  SpecEvaluation sampled;
   // setup.keep_dense: the product state at every substep (samples included) and its time.
   std::vector<double> dense_t;
   std::vector<Eigen::VectorXd> dense_states;
+  std::vector<StepMargins> dense_margins;  // setup.keep_dense: the spec at each of dense_states (step()'s values)
 };
 
 struct SimulationSetup {
@@ -59,6 +63,10 @@ struct SimulationSetup {
   int fine_substeps = 20;                                // RK4 steps per sampling period
   const SpecMonitor* between = nullptr;  // evaluate the spec between the samples (dense) when set
   bool keep_dense = false;
+  bool keep_states = true;  // ClosedLoopRun::states (a verification run needs only its margins)
+  // The reference the broad phase is tested and timed against: every requirement at every
+  // substep (SpecMonitor::step) and the adversary's search over every obstacle and agent.
+  bool all_pairs = false;
 };
 
 ClosedLoopRun simulate(const SimulationSetup& setup, const Scenario& scenario);

@@ -38,17 +38,14 @@ class SpecMonitor {
   // states[k] is the product state at step k (agents stacked in problem order).
   SpecEvaluation evaluate(const std::vector<Eigen::VectorXd>& states, bool keep_per_step = false) const;
   StepMargins step(const Eigen::VectorXd& x, std::string* worst = nullptr) const;
-  // running = min(running, step(x)) part by part, the same values, but skipping every obstacle
-  // whose bounding box already keeps the point farther than running's obstacle margin (the
-  // dense check between the samples needs only a run's minimum). Returns true when some part
-  // got a new minimum.
-  bool accumulate(const Eigen::VectorXd& x, StepMargins& running) const;
+  // evaluate()'s goal part: the final state x's goal margins folded into ev (min_margin, worst,
+  // goal_margin), for a caller that checked the samples as they came.
+  void add_goal(const Eigen::VectorXd& x, SpecEvaluation& ev) const;
 
  private:
   void points(const Eigen::VectorXd& x, std::vector<Eigen::Vector2d>& p) const;  // the agents' workspace points
   const Problem& problem_;
   std::vector<int> offset_;
-  std::vector<Eigen::Vector4d> bbox_;  // per obstacle: x_lo, y_lo, x_hi, y_hi
 };
 
 }  // namespace marsyn

@@ -23,6 +23,7 @@ struct VerificationOptions {
   // The ranks of an MPI run: run r on rank r mod size, summaries exchanged (mpi_runs.hpp), the
   // same report on every rank. nullptr: this process alone.
   const Collective* collective = nullptr;
+  bool all_pairs = false;  // SimulationSetup::all_pairs: the reference check (tests, benchmark)
 };
 
 struct RunSummary {
@@ -80,6 +81,8 @@ struct VerificationReport {
   std::vector<OpenLoopRun> open_loop;  // one per open-loop run
   std::vector<KeptRun> kept;   // nominal, worst feedback run, paper scenarios closed and open loop
   double time_s = 0;
+  double runs_time_s = 0;  // the closed-loop runs alone (wall clock, every thread)
+  double runs_per_s() const { return runs_time_s > 0 ? runs / runs_time_s : 0.0; }
 };
 
 VerificationReport verify(const Problem& problem, const std::vector<NominalTrajectory>& nominal,

@@ -1,0 +1,51 @@
+#pragma once
+// The dense check's broad phase (issue 24): at every integration substep of a closed-loop run,
+// the agents' workspace points sorted along x (insertion sort from the previous substep's order,
+// about linear since the points move little), so that the pairs that could still lower a running
+// minimum and each agent's nearest neighbour are found without visiting all N^2 pairs.
+//
+// Soundness of the skipping (docs/soundness.md does not rest on it: the verifier only refutes):
+// a requirement is skipped only when a lower bound of its margin, minus a slack far above the
+// rounding of the margin's formula, is strictly above the running minimum of its part. A skipped
+// requirement can therefore neither lower nor tie the minimum, and the minima, the step where
+// they fall and the requirement named there are bit for bit those of the all-pairs check
+// (SpecMonitor::step), which tests/core/broad_phase_test.cpp compares.
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "marsyn/core/planning/spec_margins.hpp"
+#include "marsyn/core/verification/spec_monitor.hpp"
+#include "marsyn/problem.hpp"
+
+namespace marsyn {
+
+// Nearest point of a convex polygon's boundary to p (the adversary's target on an obstacle).
+Eigen::Vector2d nearest_on_polygon(const planning::Polygon& poly, const Eigen::Vector2d& p);
+
+class BroadPhase {
+ public:
+  explicit BroadPhase(const Problem& problem);
+  // The agents' points at the current substep (problem order); kept by reference until the next call.
+  void update(const std::vector<Eigen::Vector2d>& points);
+  // running = min(running, SpecMonitor::step at the points) part by part. Returns true when the
+  // smallest of the parts fell; *worst is then the requirement step() would name.
+  bool accumulate(StepMargins& running, planning::Requirement* worst) const;
+  // The adversary's target for agent i: the nearest obstacle boundary point, or the nearest other
+  // agent when strictly nearer (pairwise collision on); ties as a scan in index order breaks
+  // them. False when there is neither.
+  bool nearest_target(int i, Eigen::Vector2d& target) const;
+
+ private:
+  // Where a requirement stands in planning::for_each_requirement's order (step()'s tie-break).
+  long rank(const planning::Requirement& q) const;
+  const Problem& pb_;
+  const std::vector<Eigen::Vector2d>* pts_ = nullptr;
+  std::vector<Eigen::Vector4d> bbox_;  // per obstacle: x_lo, y_lo, x_hi, y_hi
+  double scale_ = 0;                   // largest obstacle coordinate: the slack's scale
+  std::vector<int> order_;             // agents by increasing x
+  std::vector<int> place_;             // place_[i]: agent i's position in order_
+  bool finite_ = true;                 // else every pair is visited (NaN cannot be sorted)
+};
+
+}  // namespace marsyn

@@ -1,0 +1,170 @@
+#include "marsyn/core/verification/broad_phase.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace marsyn {
+
+using planning::Requirement;
+
+Eigen::Vector2d nearest_on_polygon(const planning::Polygon& poly, const Eigen::Vector2d& p) {
+  Eigen::Vector2d best = poly.front();
+  double bd = 1e300;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Eigen::Vector2d a = poly[i], b = poly[(i + 1) % poly.size()], ab = b - a;
+    const double len2 = ab.squaredNorm();
+    const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+    const Eigen::Vector2d q = a + t * ab;
+    if ((q - p).squaredNorm() < bd) {
+      bd = (q - p).squaredNorm();
+      best = q;
+    }
+  }
+  return best;
+}
+
+namespace {
+
+// Far above the rounding of any margin formula at this scale (a few ulps), far below any
+// distance that matters: a lower bound must clear the running minimum by this much to skip.
+double slack(double a, double b) { return 1e-9 * (1.0 + std::abs(a) + std::abs(b)); }
+
+// How far p is outside an axis-aligned box along x and y (0 inside along that axis).
+Eigen::Vector2d outside(const Eigen::Vector4d& box, const Eigen::Vector2d& p) {
+  return {std::max({box[0] - p.x(), p.x() - box[2], 0.0}), std::max({box[1] - p.y(), p.y() - box[3], 0.0})};
+}
+
+}  // namespace
+
+BroadPhase::BroadPhase(const Problem& problem) : pb_(problem) {
+  for (const auto& o : problem.obstacles) {
+    Eigen::Vector4d b(1e300, 1e300, -1e300, -1e300);
+    for (const auto& v : o.vertices) {
+      b = {std::min(b[0], v.x()), std::min(b[1], v.y()), std::max(b[2], v.x()), std::max(b[3], v.y())};
+      scale_ = std::max(scale_, v.cwiseAbs().maxCoeff());
+    }
+    bbox_.push_back(b);
+  }
+}
+
+void BroadPhase::update(const std::vector<Eigen::Vector2d>& p) {
+  pts_ = &p;
+  const int n = static_cast<int>(p.size());
+  if (static_cast<int>(order_.size()) != n) {
+    order_.resize(static_cast<size_t>(n));
+    std::iota(order_.begin(), order_.end(), 0);
+    place_.assign(static_cast<size_t>(n), 0);
+  }
+  finite_ = std::all_of(p.begin(), p.end(), [](const Eigen::Vector2d& q) { return q.allFinite(); });
+  if (!finite_) return;
+  for (int a = 1; a < n; ++a) {
+    const int v = order_[static_cast<size_t>(a)];
+    int b = a;
+    for (; b > 0 && p[static_cast<size_t>(order_[static_cast<size_t>(b - 1)])].x() > p[static_cast<size_t>(v)].x(); --b)
+      order_[static_cast<size_t>(b)] = order_[static_cast<size_t>(b - 1)];
+    order_[static_cast<size_t>(b)] = v;
+  }
+  for (int a = 0; a < n; ++a) place_[static_cast<size_t>(order_[static_cast<size_t>(a)])] = a;
+}
+
+long BroadPhase::rank(const Requirement& q) const {
+  const long n = static_cast<long>(pb_.agents.size()), obstacles = static_cast<long>(pb_.obstacles.size());
+  const long pairs = pb_.pairwise_collision ? n * (n - 1) / 2 : 0;
+  switch (q.kind) {
+    case Requirement::Obstacle: return q.a * obstacles + q.b;
+    case Requirement::Collision: return n * obstacles + q.a * (2 * n - q.a - 1) / 2 + (q.b - q.a - 1);
+    case Requirement::Formation: break;
+  }
+  return n * obstacles + pairs + q.index;
+}
+
+bool BroadPhase::accumulate(StepMargins& run, Requirement* worst) const {
+  const std::vector<Eigen::Vector2d>& p = *pts_;
+  const int n = static_cast<int>(p.size());
+  // The lexicographically smallest (margin, rank) evaluated below the minimum before this state:
+  // step()'s strict-less scan in requirement order names exactly that one.
+  double best = run.min();
+  long best_rank = -1;
+  auto fold = [&](const Requirement& q, double& slot) {
+    const double v = planning::requirement_margin(pb_, q, p);
+    slot = std::min(slot, v);
+    if (v < best || (v == best && best_rank >= 0 && rank(q) < best_rank)) {
+      best = v;
+      best_rank = rank(q);
+      if (worst) *worst = q;
+    }
+  };
+  const bool inf = pb_.delta_norm == Norm::Inf;
+  const double delta = pb_.delta;
+  for (int i = 0; i < n; ++i)
+    for (int o = 0; o < static_cast<int>(bbox_.size()); ++o) {
+      // Outside its bounding box, a point is at least as far from the obstacle as from the box.
+      const Eigen::Vector2d g = outside(bbox_[static_cast<size_t>(o)], p[static_cast<size_t>(i)]);
+      const double lb = (inf ? g.maxCoeff() : g.norm()) - delta;  // no bound inside the box
+      if ((g.x() > 0 || g.y() > 0) && lb > run.obstacle + slack(run.obstacle, scale_ + p[static_cast<size_t>(i)].cwiseAbs().maxCoeff())) continue;
+      fold({Requirement::Obstacle, i, o}, run.obstacle);
+    }
+  if (pb_.pairwise_collision) {
+    // A pair is at least as far apart as along either axis, in both norms.
+    auto reach = [&] { return run.collision + delta + slack(run.collision, delta); };
+    for (int a = 0; a < n; ++a) {
+      const int i = finite_ ? order_[static_cast<size_t>(a)] : a;
+      double r = reach();
+      for (int b = a + 1; b < n; ++b) {
+        const int j = finite_ ? order_[static_cast<size_t>(b)] : b;
+        const Eigen::Vector2d d = p[static_cast<size_t>(j)] - p[static_cast<size_t>(i)];
+        if (finite_ && d.x() > r) break;  // sorted: every later one is farther along x
+        if (finite_ && std::abs(d.y()) > r) continue;
+        fold({Requirement::Collision, std::min(i, j), std::max(i, j)}, run.collision);
+        r = reach();
+      }
+    }
+  }
+  for (int q = 0; q < static_cast<int>(pb_.formation.size()); ++q)
+    fold({Requirement::Formation, pb_.formation[static_cast<size_t>(q)].i, pb_.formation[static_cast<size_t>(q)].j, q},
+         run.formation);
+  return best_rank >= 0;
+}
+
+bool BroadPhase::nearest_target(int i, Eigen::Vector2d& target) const {
+  const std::vector<Eigen::Vector2d>& p = *pts_;
+  const Eigen::Vector2d& at = p[static_cast<size_t>(i)];
+  double bd = 1e300;
+  bool found = false;
+  for (std::size_t o = 0; o < bbox_.size(); ++o) {
+    if (outside(bbox_[o], at).norm() > bd + slack(bd, scale_ + at.cwiseAbs().maxCoeff())) continue;
+    const Eigen::Vector2d q = nearest_on_polygon(pb_.obstacles[o].vertices, at);
+    if ((q - at).norm() < bd) {
+      bd = (q - at).norm();
+      target = q;
+      found = true;
+    }
+  }
+  if (!pb_.pairwise_collision) return found;
+  // An agent wins only strictly nearer than the obstacle; among agents, the smallest index.
+  int bj = -1;
+  auto consider = [&](int j) {
+    const double d = (p[static_cast<size_t>(j)] - at).norm();
+    if (d < bd || (d == bd && bj >= 0 && j < bj)) {
+      bd = d;
+      bj = j;
+    }
+  };
+  const int n = static_cast<int>(p.size());
+  if (!finite_) {
+    for (int j = 0; j < n; ++j)
+      if (j != i) consider(j);
+  } else {
+    const int mine = place_[static_cast<size_t>(i)];
+    for (int b = mine + 1; b < n && p[static_cast<size_t>(order_[static_cast<size_t>(b)])].x() - at.x() <= bd + slack(bd, 0); ++b)
+      consider(order_[static_cast<size_t>(b)]);
+    for (int b = mine - 1; b >= 0 && at.x() - p[static_cast<size_t>(order_[static_cast<size_t>(b)])].x() <= bd + slack(bd, 0); --b)
+      consider(order_[static_cast<size_t>(b)]);
+  }
+  if (bj < 0) return found;
+  target = p[static_cast<size_t>(bj)];
+  return true;
+}
+
+}  // namespace marsyn

@@ -1,0 +1,208 @@
+// The dense check's broad phase against the all-pairs check (issue 24): the running minima, the
+// state where they fall and the requirement named there must be bit for bit SpecMonitor::step's,
+// and the adversary's target the full search's, on random teams and on near misses built to sit
+// just inside what the broad phase may skip.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+
+#include "marsyn/core/plugins/plugin_registry.hpp"
+#include "marsyn/core/verification/broad_phase.hpp"
+#include "marsyn/core/verification/closed_loop.hpp"
+#include "marsyn/core/verification/spec_monitor.hpp"
+
+namespace {
+
+using Eigen::Vector2d;
+using Eigen::VectorXd;
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// Unicycles: the workspace point is the state's (x, y), so a team is a list of points.
+struct Team {
+  marsyn::PluginRegistry registry;
+  marsyn::Problem pb;
+
+  Team(int n, std::mt19937_64& rng, int obstacles, bool inf, int formation) {
+    std::uniform_real_distribution<double> c(-10, 10), r(0.3, 2.0);
+    for (int i = 0; i < n; ++i) {
+      marsyn::AgentSpec a;
+      a.name = "a" + std::to_string(i);
+      a.dynamics_type = "unicycle";
+      a.dynamics = registry.create<marsyn::Dynamics>("unicycle");
+      a.x0 = VectorXd::Zero(3);
+      a.goal = {VectorXd::Constant(3, -100), VectorXd::Constant(3, 100)};
+      a.state_bounds = a.goal;
+      a.input_bounds = {VectorXd::Constant(2, -2), VectorXd::Constant(2, 2)};
+      a.tube.w = VectorXd::Constant(3, 0.2);
+      a.tube.eps = VectorXd::Constant(3, 1.0);
+      a.workspace.index = {0, 1};
+      a.workspace.offset = {0.0, 0.0};
+      pb.agents.push_back(a);
+    }
+    for (int o = 0; o < obstacles; ++o) {
+      const Vector2d m(c(rng), c(rng));
+      const double hx = r(rng), hy = r(rng);
+      marsyn::Obstacle ob;
+      ob.name = "o" + std::to_string(o);
+      ob.vertices = {m + Vector2d(-hx, -hy), m + Vector2d(hx, -hy), m + Vector2d(hx, hy), m + Vector2d(-hx, hy)};
+      pb.obstacles.push_back(ob);
+    }
+    for (int q = 0; q < formation && n > 1; ++q) pb.formation.push_back({q % n, (q + 1) % n, 2.0, 0.5});
+    pb.delta = 0.25;
+    pb.delta_norm = inf ? marsyn::Norm::Inf : marsyn::Norm::Two;
+    pb.tau = 0.1;
+  }
+  VectorXd state(const std::vector<Vector2d>& p) const {
+    VectorXd x = VectorXd::Zero(3 * static_cast<Eigen::Index>(p.size()));
+    for (std::size_t i = 0; i < p.size(); ++i) x.segment<2>(3 * static_cast<Eigen::Index>(i)) = p[i];
+    return x;
+  }
+};
+
+// Folds a sequence of point sets both ways and checks every state: the minima bit for bit,
+// whether the smallest part fell, and its name.
+void expect_same_folds(const Team& t, const std::vector<std::vector<Vector2d>>& states) {
+  const marsyn::SpecMonitor monitor(t.pb);
+  marsyn::BroadPhase broad(t.pb);
+  marsyn::StepMargins fast, slow;
+  for (std::size_t k = 0; k < states.size(); ++k) {
+    std::string name;
+    const marsyn::StepMargins m = monitor.step(t.state(states[k]), &name);
+    const double before = slow.min();
+    slow = {std::min(slow.obstacle, m.obstacle), std::min(slow.collision, m.collision), std::min(slow.formation, m.formation)};
+    broad.update(states[k]);
+    marsyn::planning::Requirement q{marsyn::planning::Requirement::Obstacle, -1, -1};
+    const bool fell = broad.accumulate(fast, &q);
+    ASSERT_TRUE(same_bits(fast.obstacle, slow.obstacle)) << "state " << k;
+    ASSERT_TRUE(same_bits(fast.collision, slow.collision)) << "state " << k;
+    ASSERT_TRUE(same_bits(fast.formation, slow.formation)) << "state " << k;
+    ASSERT_EQ(fell, slow.min() < before) << "state " << k;
+    if (fell) ASSERT_EQ(q.name(t.pb), name) << "state " << k;
+    // From nothing, a fold is the state's own margins (the kept runs' plots).
+    marsyn::StepMargins own;
+    broad.accumulate(own, nullptr);
+    ASSERT_TRUE(same_bits(own.obstacle, m.obstacle) && same_bits(own.collision, m.collision) &&
+                same_bits(own.formation, m.formation))
+        << "state " << k;
+  }
+}
+
+TEST(BroadPhase, RandomTeamsGiveTheAllPairsMinimaBitForBit) {
+  std::mt19937_64 rng(24);
+  for (int team = 0; team < 100; ++team) {
+    const int n = 2 + static_cast<int>(rng() % 40);
+    const Team t(n, rng, static_cast<int>(rng() % 4), team % 2 == 0, static_cast<int>(rng() % 3));
+    // Random walks from scattered starts: the running minima fall now and then, as in a run.
+    std::normal_distribution<double> step(0.0, 0.15);
+    std::uniform_real_distribution<double> start(-12, 12);
+    std::vector<Vector2d> p(static_cast<size_t>(n));
+    for (auto& q : p) q = {start(rng), start(rng)};
+    std::vector<std::vector<Vector2d>> states;
+    for (int k = 0; k < 60; ++k) {
+      for (auto& q : p) q += Vector2d(step(rng), step(rng));
+      states.push_back(p);
+    }
+    SCOPED_TRACE("team " + std::to_string(team) + " of " + std::to_string(n) + " agents");
+    expect_same_folds(t, states);
+  }
+}
+
+// Folds the states with the broad phase alone; the requirement named at each state where the
+// smallest part fell ("" where it did not).
+std::vector<std::string> falls(const Team& t, const std::vector<std::vector<Vector2d>>& states) {
+  marsyn::BroadPhase broad(t.pb);
+  marsyn::StepMargins m;
+  std::vector<std::string> out;
+  for (const auto& p : states) {
+    marsyn::planning::Requirement q{};
+    broad.update(p);
+    out.push_back(broad.accumulate(m, &q) ? q.name(t.pb) : "");
+  }
+  return out;
+}
+
+TEST(BroadPhase, NearMissesBetweenAgentsAreNotSkipped) {
+  std::mt19937_64 rng(1);
+  for (bool inf : {true, false}) {
+    const Team t(6, rng, 0, inf, 0);
+    // The first state sets the collision minimum at 3 - delta (agents 0 and 1, apart along y);
+    // in the second, agents 2 and 5 come a hair inside that along x, with agents 3 and 4 between
+    // them in the x order, so the sweep must run past both to find the pair.
+    const std::vector<Vector2d> a = {{20, 0}, {20, 3}, {-20, 10}, {-15, -10}, {-13, 10}, {-30, -10}};
+    std::vector<Vector2d> b = a;
+    b[3] = {-19.5, -10};
+    b[4] = {-18, 5};
+    b[5] = {-17 - 1e-12, 10};
+    expect_same_folds(t, {a, b});
+    EXPECT_EQ(falls(t, {a, b}), (std::vector<std::string>{"collision a0 vs a1", "collision a2 vs a5"}));
+  }
+}
+
+TEST(BroadPhase, NearMissesOfObstaclesAreNotSkipped) {
+  std::mt19937_64 rng(2);
+  for (bool inf : {true, false}) {
+    Team t(3, rng, 0, inf, 0);
+    t.pb.pairwise_collision = false;
+    t.pb.obstacles.push_back({"block", {{0, 0}, {4, 0}, {4, 4}, {0, 4}}});
+    // Agent 0 one metre right of the block, then a hair nearer, off the row it was on; then
+    // agents 1 and 2 inside the block, the second deeper: no box bound holds inside the box.
+    const std::vector<Vector2d> s1 = {{5, 2}, {30, 30}, {-30, 30}};
+    std::vector<Vector2d> s2 = s1, s3, s4;
+    s2[0] = {5 - 1e-12, 2.5};
+    s3 = s2;
+    s3[1] = {1, 1};
+    s4 = s3;
+    s4[2] = {2, 2};
+    expect_same_folds(t, {s1, s2, s3, s4});
+    EXPECT_EQ(falls(t, {s1, s2, s3, s4}), (std::vector<std::string>{"obstacle block vs a0", "obstacle block vs a0",
+                                                                     "obstacle block vs a1", "obstacle block vs a2"}));
+  }
+}
+
+TEST(BroadPhase, AdversaryTargetsTheSameAsTheFullSearch) {
+  // End to end: open loop under the adversary (re-chosen at every substep), all pairs vs the
+  // broad phase: the same trajectories (so the same targets) and the same margins.
+  std::mt19937_64 rng(7);
+  for (int team = 0; team < 6; ++team) {
+    Team t(8 + 4 * team, rng, team % 3, team % 2 == 1, team % 2);
+    std::uniform_real_distribution<double> start(-6, 6), in(-1.5, 1.5);
+    std::vector<marsyn::NominalTrajectory> nominal;
+    for (auto& a : t.pb.agents) {
+      a.x0 = VectorXd(3);
+      a.x0 << start(rng), start(rng), start(rng);
+      marsyn::NominalTrajectory nt;
+      nt.agent = a.name;
+      for (int k = 0; k <= 15; ++k) nt.x.push_back(a.x0);
+      for (int k = 0; k < 15; ++k) nt.u.push_back((VectorXd(2) << in(rng), in(rng)).finished());
+      nominal.push_back(nt);
+    }
+    const marsyn::SpecMonitor monitor(t.pb);
+    marsyn::SimulationSetup fast{&t.pb, nominal, {}, 20, &monitor};
+    fast.keep_dense = true;
+    marsyn::SimulationSetup slow = fast;
+    slow.all_pairs = true;
+    for (auto mode : {marsyn::DisturbanceMode::Adversarial, marsyn::DisturbanceMode::UniformRandom}) {
+      const marsyn::Scenario sc{mode, static_cast<std::uint64_t>(team), 0};
+      const marsyn::ClosedLoopRun f = marsyn::simulate(fast, sc), s = marsyn::simulate(slow, sc);
+      SCOPED_TRACE("team " + std::to_string(team) + ", " + marsyn::to_string(mode));
+      ASSERT_EQ(f.states.size(), s.states.size());
+      for (std::size_t k = 0; k < f.states.size(); ++k) ASSERT_TRUE(f.states[k] == s.states[k]) << "step " << k;
+      EXPECT_TRUE(same_bits(f.between.min(), s.between.min()));
+      ASSERT_EQ(f.dense_margins.size(), s.dense_margins.size());
+      for (std::size_t q = 0; q < f.dense_margins.size(); ++q)
+        ASSERT_TRUE(same_bits(f.dense_margins[q].min(), s.dense_margins[q].min())) << "dense state " << q;
+      EXPECT_EQ(f.between_worst, s.between_worst);
+      EXPECT_TRUE(same_bits(f.between_worst_t, s.between_worst_t));
+      EXPECT_TRUE(same_bits(f.sampled.min_margin, s.sampled.min_margin));
+      EXPECT_EQ(f.sampled.worst, s.sampled.worst);
+      // And the samples as SpecMonitor::evaluate judges the kept states.
+      const marsyn::SpecEvaluation ev = monitor.evaluate(s.states);
+      EXPECT_TRUE(same_bits(f.sampled.min_margin, ev.min_margin));
+      EXPECT_EQ(f.sampled.worst, ev.worst);
+    }
+  }
+}
+
+}  // namespace
