@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "marsyn/core/stopwatch.hpp"
+#include "marsyn/core/verification/run_progress.hpp"
 #include "marsyn/core/tracking/global_abcd.hpp"
 #include "marsyn/core/tracking/mpi_plan_broadcast.hpp"
 #include "marsyn/core/tracking/track_agents.hpp"
@@ -295,14 +296,8 @@ SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
     vo.runs = opt.verification_runs;
     vo.threads = opt.threads;
     vo.collective = opt.cluster;
-    int last_pct = -1;
-    vo.progress = [&](int done, int total) {
-      const int pct = 100 * done / total;
-      if (pct / 25 != last_pct / 25) {
-        last_pct = pct;
-        log("[verify] " + std::to_string(done) + "/" + std::to_string(total) + " closed-loop runs");
-      }
-    };
+    // A live bar on a terminal (runs, runs/s, time left), else a line every quarter.
+    vo.progress = [p = std::make_shared<RunProgress>(opt.log, opt.live)](int done, int total) { (*p)(done, total); };
     out.verification = verify(pb, out.plan.nominal, ctrls, vo);
     out.verification_ran = true;
     out.attempts.push_back({"verify", std::to_string(out.verification.runs) + " runs",

@@ -1,6 +1,7 @@
 #pragma once
 // The solver's internal state and steps (not part of the plugin's interface). One Solver lives
 // for one solve() call, so Planner::solve stays const and thread-safe.
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -64,6 +65,8 @@ class Solver {
   // Z: the interior points of the period from x under u, point-major (points_ x n_).
   void interior_points(const Vec& x, const Vec& u, Vec& Z) const;
   double between_cost(int k, const Vec& x, const Vec& u) const;
+  void for_each_between_row(const std::vector<Vec>& X, const std::vector<Vec>& U,
+                            const std::function<void(int k, int j, const ConstraintRef& r, const double* g)>& f) const;
   double between_violation(const std::vector<Vec>& X, const std::vector<Vec>& U, std::string* worst, double v) const;
   void update_between_multipliers();
   void expand_between(int k);

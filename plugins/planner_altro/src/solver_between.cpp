@@ -5,6 +5,7 @@
 // and Qux.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "marsyn/sampled_map.hpp"
 #include "rk4.hpp"
@@ -41,43 +42,38 @@ double Solver::between_cost(int k, const Vec& x, const Vec& u) const {
   return J;
 }
 
-double Solver::between_violation(const std::vector<Vec>& X, const std::vector<Vec>& U, std::string* worst,
-                                 double v) const {
+void Solver::for_each_between_row(const std::vector<Vec>& X, const std::vector<Vec>& U,
+                                  const std::function<void(int k, int j, const ConstraintRef& r, const double* g)>& f) const {
   std::vector<double> g(64);
   Vec Z;
   for (int k = 0; k < T_; ++k) {
     interior_points(X[k], U[k], Z);
-    for (int j = 1; j <= points_; ++j) {
-      const double* z = Z.data() + static_cast<long>(j - 1) * n_;
+    for (int j = 1; j <= points_; ++j)
       for (const auto& r : between_) {
         g.resize(std::max<size_t>(g.size(), r.rows));
-        r.c->evaluate(z, g.data(), nullptr);
-        for (int i = 0; i < r.rows; ++i)
-          if (g[i] > v) {
-            v = g[i];
-            if (worst) *worst = r.c->name() + " between steps";
-          }
+        r.c->evaluate(Z.data() + static_cast<long>(j - 1) * n_, g.data(), nullptr);
+        f(k, j, r, g.data());
       }
-    }
   }
+}
+
+double Solver::between_violation(const std::vector<Vec>& X, const std::vector<Vec>& U, std::string* worst,
+                                 double v) const {
+  for_each_between_row(X, U, [&](int, int, const ConstraintRef& r, const double* g) {
+    for (int i = 0; i < r.rows; ++i)
+      if (g[i] > v) {
+        v = g[i];
+        if (worst) *worst = r.c->name() + " between steps";
+      }
+  });
   return v;
 }
 
 void Solver::update_between_multipliers() {
-  std::vector<double> g(64);
-  Vec Z;
-  for (int k = 0; k < T_; ++k) {
-    interior_points(X_[k], U_[k], Z);
-    for (int j = 1; j <= points_; ++j) {
-      const double* z = Z.data() + static_cast<long>(j - 1) * n_;
-      double* lam = lam_b_[k].data() + static_cast<long>(j - 1) * between_rows_;
-      for (const auto& r : between_) {
-        g.resize(std::max<size_t>(g.size(), r.rows));
-        r.c->evaluate(z, g.data(), nullptr);
-        for (int i = 0; i < r.rows; ++i) lam[r.lam_offset + i] = std::max(0.0, lam[r.lam_offset + i] + rho_ * g[i]);
-      }
-    }
-  }
+  for_each_between_row(X_, U_, [&](int k, int j, const ConstraintRef& r, const double* g) {
+    double* lam = lam_b_[k].data() + static_cast<long>(j - 1) * between_rows_ + r.lam_offset;
+    for (int i = 0; i < r.rows; ++i) lam[i] = std::max(0.0, lam[i] + rho_ * g[i]);
+  });
 }
 
 void Solver::between_gradients(int k, int j, const ConstraintRef& r, const double* jac, int row,
