@@ -337,6 +337,20 @@ PYBIND11_MODULE(marsyn, m) {
                                for (const auto& a : p.lp->problem.agents) l.append(agent_dict(a));
                                return l;
                              })
+      .def_property_readonly("obstacles",
+                             [](const PyProblem& p) {
+                               py::list l;
+                               for (const auto& o : p.lp->problem.obstacles) {
+                                 std::vector<Eigen::VectorXd> v(o.vertices.begin(), o.vertices.end());
+                                 py::dict d;
+                                 d["name"] = o.name;
+                                 d["vertices"] = matrix(v, 2);
+                                 l.append(d);
+                               }
+                               return l;
+                             },
+                             "Each obstacle: name and vertices (k, 2), a convex polygon in workspace coordinates, "
+                             "counter-clockwise.")
       .def("summary", [](const PyProblem& p) { return summarize(p.lp->problem, p.lp->trackers); },
            "The summary `marsyn check` prints.")
       .def("__repr__", [](const PyProblem& p) {
