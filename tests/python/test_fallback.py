@@ -15,24 +15,16 @@ finds a controller). Checks that
 import json
 import os
 import re
-import shutil
 import subprocess
 import sys
 
 import numpy as np
 
 import marsyn
+from checks import check, finish, fresh
 
 exe, source, scratch, never_dir = sys.argv[1:5]
-shutil.rmtree(scratch, ignore_errors=True)
-os.makedirs(scratch)
-failures = []
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
-        print("FAIL:", what, flush=True)
+fresh(scratch)
 
 
 def variant(name, tracker_line):
@@ -126,7 +118,4 @@ for m in runs:
     # The pendulum has no obstacle, pair or formation: every such margin is unconstrained.
     check(bool(np.all(np.isposinf(m["samples"]["min"]))), "no requirement between states: inf margins (%s)" % m["label"])
 
-if failures:
-    print("%d failure(s)" % len(failures))
-    sys.exit(1)
-print("ok: auto fell back from never to %s in track() and solve(), as the CLI" % cli_used)
+finish("ok: auto fell back from never to %s in track() and solve(), as the CLI" % cli_used)
