@@ -547,8 +547,16 @@ PYBIND11_MODULE(marsyn, m) {
 
   m.def(
       "solve",
-      [](const PyProblem& p, int runs, int threads, double global_budget, py::object out, py::object log) {
+      [](const PyProblem& p, int runs, int threads, double global_budget, py::object out, py::object log,
+         std::optional<double> time_limit) {
         SolveOptions so;
+        // The search's budget as `marsyn solve` takes it: the argument over the file's search.time_limit.
+        if (p.lp->search_time_limit_s) so.time_limit_s = *p.lp->search_time_limit_s;
+        if (time_limit) {
+          if (!(*time_limit > 0) || !std::isfinite(*time_limit))
+            throw py::value_error("time_limit: expected a positive number of seconds, got " + std::to_string(*time_limit));
+          so.time_limit_s = *time_limit;
+        }
         so.verification_runs = runs;
         so.threads = threads;
         so.global_memory_budget_bytes = global_budget;
@@ -578,8 +586,9 @@ PYBIND11_MODULE(marsyn, m) {
         return d;
       },
       py::arg("problem"), py::arg("runs") = 1000, py::arg("threads") = 2, py::arg("global_budget") = 2e9,
-      py::arg("out") = py::none(), py::arg("log") = py::none(),
-      "Everything, as `marsyn solve`: the result.json fields as a dict, plus verified, nominal {name: {x, u}} (numpy), "
+      py::arg("out") = py::none(), py::arg("log") = py::none(), py::arg("time_limit") = py::none(),
+      "Everything, as `marsyn solve` (time_limit: the search's budget in seconds, as --time-limit; default the file's "
+      "search.time_limit): the result.json fields as a dict, plus verified, nominal {name: {x, u}} (numpy), "
       "controllers {name: Controller}, tubes {name: {t, nominal, lo, hi, eps, enclosures}}, margins (one dict per kept "
       "closed-loop run: t, samples, dense_t, dense), changes (what the search changed against the file: {agent, what, "
       "given, used}) and, with out=DIR, the files written there.");

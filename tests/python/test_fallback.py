@@ -9,8 +9,9 @@ finds a controller). Checks that
 - track() falls back from never to the same tracker as `marsyn track`, with the same progress
   lines, and its controller file is byte for byte the CLI's;
 - a tracker named in the file (`tracker: never`) is not replaced, by either;
-- solve() records the same tracker and writes the same controller bytes as `marsyn solve`, and
-  returns the search's change (never -> the fallback), the tubes and the margins as numpy arrays.
+- solve() takes the file's search.time_limit (and time_limit=, as --time-limit), records the same
+  tracker and search rounds and writes the same controller bytes as
+  `marsyn solve`, and returns the search's change (never -> the fallback), the tubes and the margins as numpy arrays.
 """
 import json
 import os
@@ -33,7 +34,7 @@ def variant(name, tracker_line):
     assert "tracker: abcd\n" in text
     path = os.path.join(scratch, name + ".yaml")
     with open(path, "w") as f:
-        f.write(text.replace("tracker: abcd\n", "%s\nplugin_paths: [%s]\n" % (tracker_line, never_dir)))
+        f.write(text.replace("tracker: abcd\n", "%s\nplugin_paths: [%s]\nsearch: {time_limit: 77}\n" % (tracker_line, never_dir)))
     return path
 
 
@@ -97,6 +98,24 @@ check(res["agents"][0]["tracker"]["name"] == cli_result["agents"][0]["tracker"][
                                                        cli_result["agents"][0]["tracker"]["name"]))
 check(read(os.path.join(py_dir, "pendulum.ctrl")) == read(os.path.join(cli_dir, "pendulum.ctrl")),
       "solve()'s controller file is byte for byte marsyn solve's")
+
+
+def rounds(result):
+    """The search's rounds as result.json records them, without the times."""
+    return [{k: v for k, v in r.items() if not k.endswith("time_s")} for r in result["search"]["rounds"]]
+
+
+check(rounds(res) == rounds(cli_result) and len(rounds(res)) == 2,
+      "the same search rounds as marsyn solve (first attempt, then the fallback):\n%s\nvs\n%s" % (rounds(res), rounds(cli_result)))
+check(res["search"]["time_limit_s"] == cli_result["search"]["time_limit_s"] == 77,
+      "the file's search.time_limit is the budget of both: %s, %s" % (res["search"]["time_limit_s"], cli_result["search"]["time_limit_s"]))
+short = marsyn.solve(problem, runs=5, global_budget=0, time_limit=55, log=lambda s: None)
+check(short["search"]["time_limit_s"] == 55, "time_limit= wins over the file, as --time-limit: %s" % short["search"]["time_limit_s"])
+try:
+    marsyn.solve(problem, time_limit=0)
+    check(False, "solve(time_limit=0) raises")
+except ValueError as e:
+    check("time_limit: expected a positive number of seconds" in str(e), "a bad time_limit says what was expected: %s" % e)
 check(res["changes"] == [{"agent": "pendulum", "what": "tracker", "given": "never", "used": cli_used}],
       "the search's change is the fallback: %s" % res["changes"])
 
