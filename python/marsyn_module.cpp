@@ -26,6 +26,8 @@
 #include "marsyn/core/verification/spec_monitor.hpp"
 #include "marsyn/error.hpp"
 #include "marsyn/tracker.hpp"
+#include "numpy_arrays.hpp"
+#include "result_arrays.hpp"
 #ifdef MARSYN_HAVE_PLANNING
 #include "marsyn/core/report/result_json.hpp"
 #include "marsyn/core/report/solve_outputs.hpp"
@@ -59,18 +61,9 @@ struct PyController {
   PyController& operator=(const PyController&) = default;
 };
 
-py::array_t<double> matrix(const std::vector<Eigen::VectorXd>& rows, int cols) {
-  py::array_t<double> a({static_cast<py::ssize_t>(rows.size()), static_cast<py::ssize_t>(cols)});
-  auto v = a.mutable_unchecked<2>();
-  for (size_t r = 0; r < rows.size(); ++r)
-    for (int c = 0; c < cols; ++c) v(static_cast<py::ssize_t>(r), c) = c < rows[r].size() ? rows[r][c] : NAN;
-  return a;
-}
-py::array_t<double> vector(const Eigen::VectorXd& x) {
-  py::array_t<double> a(x.size());
-  for (Eigen::Index i = 0; i < x.size(); ++i) a.mutable_at(i) = x[i];
-  return a;
-}
+using python::matrix;
+using python::vector;
+
 Eigen::VectorXd to_eigen(const py::handle& h) {
   const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(h);
   if (!a || a.ndim() != 1) throw py::value_error("expected a 1-d array of numbers");
@@ -344,6 +337,20 @@ PYBIND11_MODULE(marsyn, m) {
                                for (const auto& a : p.lp->problem.agents) l.append(agent_dict(a));
                                return l;
                              })
+      .def_property_readonly("obstacles",
+                             [](const PyProblem& p) {
+                               py::list l;
+                               for (const auto& o : p.lp->problem.obstacles) {
+                                 std::vector<Eigen::VectorXd> v(o.vertices.begin(), o.vertices.end());
+                                 py::dict d;
+                                 d["name"] = o.name;
+                                 d["vertices"] = matrix(v, 2);
+                                 l.append(d);
+                               }
+                               return l;
+                             },
+                             "Each obstacle: name and vertices (k, 2), a convex polygon in workspace coordinates, "
+                             "counter-clockwise.")
       .def("summary", [](const PyProblem& p) { return summarize(p.lp->problem, p.lp->trackers); },
            "The summary `marsyn check` prints.")
       .def("__repr__", [](const PyProblem& p) {
@@ -380,30 +387,7 @@ PYBIND11_MODULE(marsyn, m) {
       .def_property_readonly("agent", [](const PyController& c) { return c.agent; })
       .def_property_readonly(
           "period_enclosures",
-          [](const PyController& c) {
-            const auto& es = c.c->period_enclosures();
-            std::vector<Eigen::VectorXd> slo, shi, wlo, whi;
-            py::array_t<int> step(static_cast<py::ssize_t>(es.size()));
-            py::array_t<double> t0(static_cast<py::ssize_t>(es.size())), t1(static_cast<py::ssize_t>(es.size()));
-            for (size_t i = 0; i < es.size(); ++i) {
-              step.mutable_at(static_cast<py::ssize_t>(i)) = es[i].step;
-              t0.mutable_at(static_cast<py::ssize_t>(i)) = es[i].t0;
-              t1.mutable_at(static_cast<py::ssize_t>(i)) = es[i].t1;
-              slo.push_back(es[i].state.lo);
-              shi.push_back(es[i].state.hi);
-              wlo.push_back(es[i].workspace.lo);
-              whi.push_back(es[i].workspace.hi);
-            }
-            py::dict d;
-            d["step"] = step;
-            d["t0"] = t0;
-            d["t1"] = t1;
-            d["state_lo"] = matrix(slo, c.c->state_dim());
-            d["state_hi"] = matrix(shi, c.c->state_dim());
-            d["workspace_lo"] = matrix(wlo, 2);
-            d["workspace_hi"] = matrix(whi, 2);
-            return d;
-          },
+          [](const PyController& c) { return python::period_enclosures(*c.c); },
           "Sound enclosures of the closed loop between the samples (continuous-time guarantee; empty arrays when the "
           "tracker gives none): step, t0, t1 (E,), state_lo/state_hi (E, n), workspace_lo/workspace_hi (E, 2).")
       .def("input", &evaluate, py::arg("x"), py::arg("k"),
@@ -528,35 +512,51 @@ PYBIND11_MODULE(marsyn, m) {
           nominal = nominal_from(pb, plan);
         }
         TrackerInstances trackers(lp.registry);
-        const auto tracker = trackers.get(pb.agents[static_cast<size_t>(index)].tracker);
-        const TrackingProblem tp = tracking_problem(pb, index, nominal[static_cast<size_t>(index)]);
+        const size_t i = static_cast<size_t>(index);
+        const TrackingProblem tp = tracking_problem(pb, index, nominal[i]);
         TrackOptions to;
         to.threads = threads;
         to.memory_budget_bytes = lp.memory_budget.bytes;
-        TrackResult r;
+        FallbackTrack tracked;
         {
+          const auto log_line = progress(log);
           py::gil_scoped_release release;
-          r = tracker->track(tp, to);
+          tracked = track_with_fallback(trackers, pb.agents[i], i < lp.trackers.size() ? &lp.trackers[i] : nullptr, tp,
+                                        to, log_line);
         }
+        const TrackResult& r = tracked.result;
         py::dict d;
         d["agent"] = agent;
+        d["tracker"] = tracked.tracker;
+        d["automatic"] = tracked.automatic;
+        d["tried"] = tracked.tried;
         d["status"] = to_string(r.status);
         d["message"] = r.message;
         d["stats"] = stats_dict(r.stats);
-        if (r.controller) d["controller"] = PyController{r.controller, tracker, agent};
+        if (r.controller) d["controller"] = PyController{r.controller, tracked.instance, agent};
         else d["controller"] = py::none();
         d["nominal"] = nominal_dict(pb, nominal)[py::str(agent)];
         return d;
       },
       py::arg("problem"), py::arg("agent"), py::arg("plan") = py::none(), py::arg("threads") = 2,
       py::arg("log") = py::none(),
-      "One agent's controller, as `marsyn track`: plan is a dict from plan()/solve(), a plan.json path, or None (plan "
-      "now). Returns {agent, status, message, stats, controller, nominal}.");
+      "One agent's controller, as `marsyn track`: the agent's tracker and, under `tracker: auto`, on 'no controller' "
+      "the next tracker that accepted the agent. plan is a dict from plan()/solve(), a plan.json path, or None (plan "
+      "now). Returns {agent, tracker (the one whose result this is), automatic, tried, status, message, stats, "
+      "controller, nominal}.");
 
   m.def(
       "solve",
-      [](const PyProblem& p, int runs, int threads, double global_budget, py::object out, py::object log) {
+      [](const PyProblem& p, int runs, int threads, double global_budget, py::object out, py::object log,
+         std::optional<double> time_limit) {
         SolveOptions so;
+        // The search's budget as `marsyn solve` takes it: the argument over the file's search.time_limit.
+        if (p.lp->search_time_limit_s) so.time_limit_s = *p.lp->search_time_limit_s;
+        if (time_limit) {
+          if (!(*time_limit > 0) || !std::isfinite(*time_limit))
+            throw py::value_error("time_limit: expected a positive number of seconds, got " + std::to_string(*time_limit));
+          so.time_limit_s = *time_limit;
+        }
         so.verification_runs = runs;
         so.threads = threads;
         so.global_memory_budget_bytes = global_budget;
@@ -580,12 +580,18 @@ PYBIND11_MODULE(marsyn, m) {
         for (const auto& a : outcome.agents)
           if (a.track.controller) ctrls[py::str(a.name)] = PyController{a.track.controller, p.lp, a.name};
         d["controllers"] = ctrls;
+        d["tubes"] = python::tubes(outcome);
+        d["margins"] = python::margins(outcome);
+        d["changes"] = python::search_changes(p.lp->problem, outcome);
         return d;
       },
       py::arg("problem"), py::arg("runs") = 1000, py::arg("threads") = 2, py::arg("global_budget") = 2e9,
-      py::arg("out") = py::none(), py::arg("log") = py::none(),
-      "Everything, as `marsyn solve`: the result.json fields as a dict, plus verified, nominal {name: {x, u}} (numpy), "
-      "controllers {name: Controller} and, with out=DIR, the files written there.");
+      py::arg("out") = py::none(), py::arg("log") = py::none(), py::arg("time_limit") = py::none(),
+      "Everything, as `marsyn solve` (time_limit: the search's budget in seconds, as --time-limit; default the file's "
+      "search.time_limit): the result.json fields as a dict, plus verified, nominal {name: {x, u}} (numpy), "
+      "controllers {name: Controller}, tubes {name: {t, nominal, lo, hi, eps, enclosures}}, margins (one dict per kept "
+      "closed-loop run: t, samples, dense_t, dense), changes (what the search changed against the file: {agent, what, "
+      "given, used}) and, with out=DIR, the files written there.");
 #endif
 
   m.def(

@@ -203,23 +203,14 @@ int run_track(const std::string& config, const std::string& agent, const std::st
   if (root)
     to.progress = [p = std::make_shared<SweepProgress>(a.name, log_line, stderr_is_terminal() ? live_line : SweepProgress::Sink{})](
                       int done, int total) { (*p)(done, total); };
-  // The agent's tracker; under `tracker: auto`, on "no controller" the next one that accepted it
-  // (as `solve` does before its eps search).
-  const bool automatic = static_cast<std::size_t>(index) < lp.trackers.size() && lp.trackers[index].automatic;
-  std::vector<PluginChoice> order{a.tracker};
-  if (automatic) order.insert(order.end(), lp.trackers[index].fallbacks.begin(), lp.trackers[index].fallbacks.end());
-  TrackResult r;
-  std::string used;
-  for (std::size_t c = 0; c < order.size(); ++c) {
-    used = order[c].name;
-    if (root)
-      log_line("[track] " + a.name + " with " + used + (automatic ? " (tracker: auto)" : "") +
-               (cluster ? " over " + std::to_string(cluster->size()) + " ranks" : ""));
-    r = trackers.get(order[c])->track(tp, to);
-    if (r.status != TrackerStatus::NoController || c + 1 == order.size()) break;
-    if (root)
-      log_line("[track] " + used + " found no controller for " + a.name + "; tracker: auto falls back to " + order[c + 1].name);
-  }
+  // The agent's tracker; under `tracker: auto`, on "no controller" the next one that accepted it.
+  if (root && cluster) log_line("[track] " + a.name + " over " + std::to_string(cluster->size()) + " ranks");
+  const auto index_ok = static_cast<std::size_t>(index) < lp.trackers.size();
+  const FallbackTrack tracked = track_with_fallback(trackers, a, index_ok ? &lp.trackers[index] : nullptr, tp, to,
+                                                    root ? log_line : std::function<void(const std::string&)>{});
+  const TrackResult& r = tracked.result;
+  const std::string& used = tracked.tracker;
+  const bool automatic = tracked.automatic;
   if (!root) return r.status == TrackerStatus::ControllerFound ? 0 : 1;  // rank 0 reports and writes
   const auto& s = r.stats;
   std::printf("agent               %s (%s)\n", a.name.c_str(), a.dynamics_type.c_str());

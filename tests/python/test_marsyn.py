@@ -13,25 +13,17 @@ Solves the pendulum example with `marsyn solve` and from Python, then checks tha
 """
 import json
 import os
-import shutil
 import subprocess
 import sys
 
 import numpy as np
 
 import marsyn
+from checks import check, finish, fresh
 
 exe, source, scratch = sys.argv[1:4]
 example = os.path.join(source, "examples", "pendulum.yaml")
-shutil.rmtree(scratch, ignore_errors=True)
-os.makedirs(scratch)
-failures = []
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
-        print("FAIL:", what, flush=True)
+fresh(scratch)
 
 
 # --- errors: the same located message as the CLI ------------------------------------------------
@@ -182,7 +174,4 @@ except ValueError:
 ex = ctrl.export("c", out=os.path.join(scratch, "c"), prefix="pend")
 check(ex["const_data_bytes"] > 0 and all(os.path.exists(f) for f in ex["files"]), "Controller.export('c')")
 
-if failures:
-    print("%d failure(s)" % len(failures))
-    sys.exit(1)
-print("ok: %d progress lines, statuses %s" % (len(lines), counts))
+finish("ok: %d progress lines, statuses %s" % (len(lines), counts))

@@ -100,4 +100,25 @@ std::vector<std::shared_ptr<const Controller>> read_agent_controllers(const Prob
   return out;
 }
 
+FallbackTrack track_with_fallback(TrackerInstances& trackers, const AgentSpec& agent, const AgentTrackers* choice,
+                                  const TrackingProblem& problem, const TrackOptions& options,
+                                  const std::function<void(const std::string&)>& log) {
+  FallbackTrack out;
+  out.automatic = choice && choice->automatic;
+  std::vector<PluginChoice> order{agent.tracker};
+  if (out.automatic) order.insert(order.end(), choice->fallbacks.begin(), choice->fallbacks.end());
+  for (std::size_t c = 0; c < order.size(); ++c) {
+    out.tracker = order[c].name;
+    out.tried.push_back(out.tracker);
+    if (log) log("[track] " + agent.name + " with " + out.tracker + (out.automatic ? " (tracker: auto)" : ""));
+    out.instance = trackers.get(order[c]);
+    out.result = out.instance->track(problem, options);
+    if (out.result.status != TrackerStatus::NoController || c + 1 == order.size()) break;
+    if (log)
+      log("[track] " + out.tracker + " found no controller for " + agent.name + "; tracker: auto falls back to " +
+          order[c + 1].name);
+  }
+  return out;
+}
+
 }  // namespace marsyn

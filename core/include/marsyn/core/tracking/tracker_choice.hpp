@@ -5,6 +5,7 @@
 // with the smallest estimated work; the others that were ok stay available, cheapest first, for
 // the orchestrator's fallback when the chosen one finds no controller. The resolved choice is
 // AgentSpec::tracker; what was asked and answered is kept here.
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -58,5 +59,22 @@ std::map<std::string, std::string> recorded_trackers(const std::string& dir);
 // file that cannot be read throws ConfigError(file, ...) with the tracker's reason.
 std::vector<std::shared_ptr<const Controller>> read_agent_controllers(const Problem& problem, TrackerInstances& trackers,
                                                                       const std::string& dir);
+
+// One agent's tracking as `marsyn track` and Python's track() do it: the agent's tracker and,
+// when `tracker: auto` chose it (choice->automatic) and it answers "no controller", the other
+// trackers that accepted the agent, in the loader's order (cheapest first), on the same tube and
+// nominal: the agent is unchanged, so the loader's assessments still hold and nothing is
+// re-planned. `solve` does the same inside its search (solve.cpp), where eps may have changed.
+struct FallbackTrack {
+  // Declared before the result: its library holds the controller's code, so it is released last.
+  std::shared_ptr<const Tracker> instance;  // the tracker whose result this is
+  TrackResult result;
+  std::string tracker;                      // its name
+  std::vector<std::string> tried;           // every tracker run, in order
+  bool automatic = false;
+};
+FallbackTrack track_with_fallback(TrackerInstances& trackers, const AgentSpec& agent, const AgentTrackers* choice,
+                                  const TrackingProblem& problem, const TrackOptions& options,
+                                  const std::function<void(const std::string&)>& log);
 
 }  // namespace marsyn

@@ -1,0 +1,67 @@
+"""solve()'s numpy arrays on a problem with an obstacle and pairs (ctest python.arrays; docs/python.md).
+
+usage: test_arrays.py SOURCE_DIR
+
+Solves the four bicycles (funnel controllers under `tracker: auto`) and checks the arrays
+against the figures result.json computes on its own from the same runs:
+- margins: each open-loop run's smallest obstacle and collision margin and its step equal
+  `open_loop.by_run`; the worst closed-loop run's dense minimum is the verification's min_margin;
+- tubes: nominal -+ eps around solve()'s nominal, and simulated closed loops lie in each agent's
+  period enclosures at the samples;
+- changes: none, the file's parameters verify as given.
+"""
+import os
+import sys
+
+import numpy as np
+
+import marsyn
+from checks import check, finish
+
+source = sys.argv[1]
+problem = marsyn.load(os.path.join(source, "examples", "bicycles.yaml"))
+res = marsyn.solve(problem, runs=5, global_budget=0, log=lambda s: None)
+check(res["verified"], "the bicycles verify: %s" % res.get("failure"))
+T = res["plan"]["horizon"]
+
+runs = {m["label"]: m for m in res["margins"]}
+compared = 0
+for b in res["open_loop"]["by_run"]:
+    m = runs.get("open loop, constant disturbance " + b["disturbance"])
+    check(m is not None, "a kept open-loop run for %s: %s" % (b["disturbance"], list(runs)))
+    if m is None:
+        continue
+    for part in ("obstacle", "collision"):
+        got = m["samples"][part]
+        check(got.shape == (T + 1,), "%s margins over T+1 samples" % part)
+        check(float(got.min()) == b[part]["margin"] and int(got.argmin()) == b[part]["step"],
+              "open loop %s: %s %.6g at %d vs result.json %.6g at %d" %
+              (b["disturbance"], part, got.min(), got.argmin(), b[part]["margin"], b[part]["step"]))
+        compared += 1
+    check(bool(np.all(np.isposinf(m["samples"]["formation"]))), "no formation: inf margins")
+check(compared == 8, "four open-loop runs, two parts each: %d" % compared)
+worst = [m for label, m in runs.items() if label.startswith("feedback, worst run")]
+check(len(worst) == 1 and float(worst[0]["dense"]["min"].min()) == res["verification"]["min_margin"],
+      "the worst run's dense minimum is the verification's min_margin")
+for m in res["margins"]:
+    check(m["dense_t"].shape == m["dense"]["min"].shape and np.all(np.diff(m["dense_t"]) > 0), "dense times increase")
+    check(np.array_equal(m["samples"]["min"], np.minimum(m["samples"]["obstacle"], m["samples"]["collision"])),
+          "min is the smallest part (%s)" % m["label"])
+
+sims = [marsyn.simulate(problem, res["controllers"], res, disturbance=d, seed=s) for d in ("switching", "uniform") for s in (1, 2)]
+for a in problem.agents:
+    name = a["name"]
+    tube = res["tubes"][name]
+    x = res["nominal"][name]["x"]
+    check(np.array_equal(tube["nominal"], x) and np.array_equal(tube["lo"], x - a["eps"]) and np.array_equal(tube["hi"], x + a["eps"]),
+          "%s: the tube is nominal -+ eps" % name)
+    enc = tube["enclosures"]
+    starts = np.isclose(enc["t0"], enc["step"] * problem.tau, rtol=0, atol=1e-12)
+    check(int(starts.sum()) == T, "%s: one enclosure starting at each sample below T: %d" % (name, starts.sum()))
+    for sim in sims:
+        xs = sim["agents"][name][enc["step"][starts]]
+        check(bool(np.all((xs >= enc["state_lo"][starts]) & (xs <= enc["state_hi"][starts]))),
+              "%s: closed loop (%s) in the period enclosures at the samples" % (name, sim["disturbance"]))
+check(res["changes"] == [], "the search changed nothing: %s" % res["changes"])
+
+finish("ok: %d margin figures equal result.json's, %d agents' tubes" % (compared, len(problem.agents)))
