@@ -9,7 +9,7 @@ using marsyn::test::run_marsyn;
 TEST(ClosedGap, CheckNamesBothObstaclesAndTheWidth) {
   const auto r = run_marsyn(std::string("check ") + MARSYN_SOURCE_DIR + "/tests/continuous/closed_gap.yaml");
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.out.find("warning: obstacle left shelf and obstacle right shelf leave a gap 0.5 wide"),
+  EXPECT_NE(r.out.find("warning: obstacle left_shelf and obstacle right_shelf leave a gap 0.5 wide"),
             std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find("needs 0.88"), std::string::npos) << r.out;

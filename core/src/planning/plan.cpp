@@ -56,6 +56,7 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
   // only grows, so rounds do not undo each other), before a longer horizon is tried.
   AssemblyOptions assembly = options.assembly;
   int horizons = 0, retries_here = 0;
+  bool clearance_dropped = false;
   constexpr int kRetriesPerHorizon = 2;
   while (horizons < std::max(1, options.max_attempts)) {
     const double left = options.time_limit_s - clock.seconds();
@@ -123,6 +124,18 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
            << " with more clearance for them";
         options.log(os.str());
       }
+      continue;
+    }
+    // The clearance between the samples is sized for moving agents; a plan that must end (or
+    // wait) pressed against a requirement cannot keep it. Before a longer horizon, the same one
+    // once without it: the exact check and the targeted re-plans above then decide.
+    if (!clearance_dropped && assembly.between_clearance > 0 && a.check.sampled_margin < 0 &&
+        problem.guarantee == Guarantee::Continuous) {
+      clearance_dropped = true;
+      assembly.between_clearance = 0.0;
+      if (options.log)
+        options.log("not robust at the samples with the clearance between them: re-planning T = " +
+                    std::to_string(horizon) + " without it");
       continue;
     }
     ++horizons;
