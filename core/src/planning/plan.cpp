@@ -5,6 +5,7 @@
 #include <optional>
 #include <sstream>
 
+#include "marsyn/core/planning/margins.hpp"
 #include "marsyn/core/planning/projector.hpp"
 #include "marsyn/core/planning/workspace_gaps.hpp"
 #include "marsyn/core/stopwatch.hpp"
@@ -39,6 +40,16 @@ GlobalPlan extend(const Problem& problem, const GlobalPlan& p, int horizon) {
   while (static_cast<int>(w.u.size()) < horizon) w.u.push_back(Eigen::VectorXd::Zero(m));
   w.x = rollout(problem, w.u);
   return w;
+}
+
+// The largest clearance the assembly keeps between the samples (AssemblyOptions).
+double largest_clearance(const Problem& problem, int horizon, const AssemblyOptions& o) {
+  if (o.between_points <= 0) return 0.0;
+  double c = 0.0;
+  for (const auto& a : problem.agents)
+    c = std::max(c, o.between_clearance * problem.tau / (o.between_points + 1) *
+                        workspace_speed_bound(a, problem.tau * horizon));
+  return c;
 }
 
 // The horizon search of one planner: T, then longer horizons, each warm-started from the last.
@@ -128,8 +139,10 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
     }
     // The clearance between the samples is sized for moving agents; a plan that must end (or
     // wait) pressed against a requirement cannot keep it. Before a longer horizon, the same one
-    // once without it: the exact check and the targeted re-plans above then decide.
+    // once without it (the exact check and the targeted re-plans above then decide), when the
+    // shortfall at the samples is one the clearance could explain.
     if (!clearance_dropped && assembly.between_clearance > 0 && a.check.sampled_margin < 0 &&
+        -a.check.sampled_margin <= largest_clearance(problem, horizon, assembly) &&
         problem.guarantee == Guarantee::Continuous) {
       clearance_dropped = true;
       assembly.between_clearance = 0.0;
