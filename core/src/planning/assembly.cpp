@@ -13,6 +13,11 @@ std::vector<int> state_offsets(const Problem& problem) { return ProductLayout(pr
 std::vector<int> input_offsets(const Problem& problem) { return ProductLayout(problem).input; }
 
 
+double between_clearance(const Problem& problem, const AgentSpec& a, int horizon, const AssemblyOptions& opt) {
+  if (opt.between_points <= 0) return 0.0;
+  return opt.between_clearance * problem.tau / (opt.between_points + 1) * workspace_speed_bound(a, problem.tau * horizon);
+}
+
 PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOptions& opt) {
   const int N = static_cast<int>(problem.agents.size());
   if (N == 0) throw std::invalid_argument("marsyn::planning::assemble: the problem has no agents");
@@ -88,11 +93,10 @@ PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOpti
   requirements(std::vector<double>(N, 0.0), pp.constraints);
   if (problem.guarantee == Guarantee::Continuous && opt.between_points > 0) {
     pp.between_points = opt.between_points;
-    const double spacing = problem.tau / (opt.between_points + 1);
     std::vector<double> clear(N);
     for (int i = 0; i < N; ++i) {
       const auto& a = problem.agents[i];
-      clear[i] = opt.between_clearance * spacing * workspace_speed_bound(a, problem.tau * horizon);
+      clear[i] = between_clearance(problem, a, horizon, opt);
       pp.between.push_back(std::make_shared<StateBoxConstraint>(
           "state bounds of " + a.name, xo[i], Box{pp.state_bounds.lo.segment(xo[i], a.n()), pp.state_bounds.hi.segment(xo[i], a.n())}));
     }

@@ -150,9 +150,10 @@ double workspace_speed_bound(const AgentSpec& a, double horizon_s) {
   const int n = a.n(), m = a.m();
   std::vector<Interval> x(n), u(m), f(n);
   Eigen::VectorXd centre(n);
+  const Eigen::VectorXd goal = a.goal.center();
   for (int i = 0; i < n; ++i) {
     double lo = a.state_bounds.lo[i], hi = a.state_bounds.hi[i];
-    const double gc = a.goal.center()[i], g = std::isfinite(gc) ? gc : a.x0[i], span = std::abs(g - a.x0[i]) + 1.0;
+    const double g = std::isfinite(goal[i]) ? goal[i] : a.x0[i], span = std::abs(g - a.x0[i]) + 1.0;
     if (!std::isfinite(lo)) lo = std::min(a.x0[i], g) - span;
     if (!std::isfinite(hi)) hi = std::max(a.x0[i], g) + span;
     x[i] = Interval(lo, hi);
@@ -182,10 +183,9 @@ double workspace_speed_bound(const AgentSpec& a, double horizon_s) {
   // rates): at most twice the average speed from the start to the goal over the horizon.
   if (horizon_s > 0) {
     double p0[2], p1[2];
-    const Eigen::VectorXd g = a.goal.center();
-    if (g.allFinite()) {
+    if (goal.allFinite()) {
       workspace_point_jacobian(a, a.x0.data(), p0, nullptr);
-      workspace_point_jacobian(a, g.data(), p1, nullptr);
+      workspace_point_jacobian(a, goal.data(), p1, nullptr);
       const double mean = std::max(std::abs(p1[0] - p0[0]), std::abs(p1[1] - p0[1])) / horizon_s;
       out = std::min(out, 2.0 * mean);
     }

@@ -5,7 +5,6 @@
 #include <optional>
 #include <sstream>
 
-#include "marsyn/core/planning/margins.hpp"
 #include "marsyn/core/planning/projector.hpp"
 #include "marsyn/core/planning/workspace_gaps.hpp"
 #include "marsyn/core/stopwatch.hpp"
@@ -42,13 +41,10 @@ GlobalPlan extend(const Problem& problem, const GlobalPlan& p, int horizon) {
   return w;
 }
 
-// The largest clearance the assembly keeps between the samples (AssemblyOptions).
+// The largest clearance the assembly keeps between the samples.
 double largest_clearance(const Problem& problem, int horizon, const AssemblyOptions& o) {
-  if (o.between_points <= 0) return 0.0;
   double c = 0.0;
-  for (const auto& a : problem.agents)
-    c = std::max(c, o.between_clearance * problem.tau / (o.between_points + 1) *
-                        workspace_speed_bound(a, problem.tau * horizon));
+  for (const auto& a : problem.agents) c = std::max(c, between_clearance(problem, a, horizon, o));
   return c;
 }
 

@@ -81,9 +81,9 @@ class NamedTally : public Tally {
 // The eps-box around the exact flow between samples k and k+1 (every agent, `parts` parts),
 // against bounds, obstacles, the other agents in the same part of the period, and formation.
 // Returns false when a part has no enclosure (recorded as -inf).
-bool check_period(const Problem& problem, const std::vector<Eigen::VectorXd>& x,
+bool check_period(const Problem& problem, const ProductLayout& at, const std::vector<Eigen::VectorXd>& x,
                   const std::vector<Eigen::VectorXd>& u, int k, int parts, NamedTally& t) {
-  const auto xo = state_offsets(problem), uo = input_offsets(problem);
+  const auto &xo = at.state, &uo = at.input;
   const int N = static_cast<int>(problem.agents.size());
   const int P = parts;
   // ws[s][i]: agent i's workspace box over part s of the period.
@@ -165,14 +165,15 @@ bool check_period(const Problem& problem, const std::vector<Eigen::VectorXd>& x,
 void check_between_samples(const Problem& problem, const std::vector<Eigen::VectorXd>& x,
                            const std::vector<Eigen::VectorXd>& u, NamedTally& t) {
   const int T = static_cast<int>(u.size());
+  const ProductLayout at(problem);
   for (int k = 0; k < T; ++k) {
     NamedTally period;
     int parts = kFlowParts;
-    bool enclosed = check_period(problem, x, u, k, parts, period);
+    bool enclosed = check_period(problem, at, x, u, k, parts, period);
     while (enclosed && !(period.min_ >= 0) && parts * kFlowRefinement <= kFlowMaxParts) {
       parts *= kFlowRefinement;
       period = NamedTally();
-      enclosed = check_period(problem, x, u, k, parts, period);
+      enclosed = check_period(problem, at, x, u, k, parts, period);
     }
     t.merge(period);
     if (!enclosed) return;

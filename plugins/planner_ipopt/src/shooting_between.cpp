@@ -38,13 +38,16 @@ std::vector<int> ShootingNlp::between_vars(const Between& b, int k) const {
   return vars;
 }
 
+int ShootingNlp::between_row(int k, int j, const Between& b) const {
+  return T_ * n_ + T_ * path_rows_ + terminal_rows_ + (k * points_ + j - 1) * between_rows_ + b.offset;
+}
+
 void ShootingNlp::between_patterns() {
-  const int base = T_ * n_ + T_ * path_rows_ + terminal_rows_;
   for (int k = 0; k < T_; ++k)
     for (int j = 1; j <= points_; ++j)
       for (const auto& b : between_) {
         const auto vars = between_vars(b, k);
-        const int row0 = base + (k * points_ + j - 1) * between_rows_ + b.offset;
+        const int row0 = between_row(k, j, b);
         for (int r = 0; r < b.c->size(); ++r)
           for (int v : vars) {
             jrow_.push_back(row0 + r);
@@ -100,12 +103,11 @@ Eigen::MatrixXd ShootingNlp::between_jz(const Between& b, int k) const {
 }
 
 void ShootingNlp::between_g(const Number* z, Number* g) {
-  const int base = T_ * n_ + T_ * path_rows_ + terminal_rows_;
   for (int k = 0; k < T_; ++k)
     for (int j = 1; j <= points_; ++j) {
       interior_at(z, k, j, false);
       for (const auto& b : between_)
-        b.c->evaluate(point_.data(), g + base + (k * points_ + j - 1) * between_rows_ + b.offset, nullptr);
+        b.c->evaluate(point_.data(), g + between_row(k, j, b), nullptr);
     }
 }
 
@@ -132,7 +134,6 @@ size_t ShootingNlp::between_jacobian(const Number* z, Number* v) {
 }
 
 size_t ShootingNlp::between_hessian(const Number* z, const Number* lambda, bool exact, Number* v) {
-  const int base = T_ * n_ + T_ * path_rows_ + terminal_rows_;
   size_t e = 0;
   std::vector<double> gz, jz;
   for (int k = 0; k < T_; ++k)
@@ -140,7 +141,7 @@ size_t ShootingNlp::between_hessian(const Number* z, const Number* lambda, bool 
       interior_at(z, k, j, true);
       for (const auto& b : between_) {
         const int w = static_cast<int>(b.c->support().size());
-        const double* lam = lambda + base + (k * points_ + j - 1) * between_rows_ + b.offset;
+        const double* lam = lambda + between_row(k, j, b);
         Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> H =
             Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>::Zero(w, w);
         if (!(exact && constraint_hessian(*b.c, point_.data(), lam, H.data())))

@@ -68,6 +68,7 @@ class ShootingNlp : public Ipopt::TNLP {
   };
   void setup_between();
   std::vector<int> between_vars(const Between& b, int k) const;
+  int between_row(int k, int j, const Between& b) const;  // the row of b's first row at (k, j)
   void between_patterns();
   void interior_at(const Number* z, int k, int j, bool jacobians);
   Eigen::MatrixXd between_jz(const Between& b, int k) const;

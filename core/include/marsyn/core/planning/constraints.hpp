@@ -38,6 +38,10 @@ struct AssemblyOptions {
   std::map<std::string, double> extra;
 };
 
+// The clearance agent `a`'s requirements keep at the interior points beyond the buffer
+// (AssemblyOptions::between_clearance x spacing x estimated speed); 0 without interior points.
+double between_clearance(const Problem& problem, const AgentSpec& a, int horizon, const AssemblyOptions& options);
+
 // First product-state (input) coordinate of each agent; one more entry holds the total.
 std::vector<int> state_offsets(const Problem& problem);
 std::vector<int> input_offsets(const Problem& problem);
