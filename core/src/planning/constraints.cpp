@@ -190,7 +190,27 @@ PairConstraint::PairConstraint(std::string name, const AgentSpec& a, int offset_
                                int offset_b, Norm norm, double delta, std::shared_ptr<const MarginTable> ma,
                                std::shared_ptr<const MarginTable> mb, double corner, double buffer)
     : name_(std::move(name)), a_(&a), b_(&b), support_(range_support(offset_a, a.n(), offset_b, b.n())),
-      norm_(norm), delta_(delta), ma_(std::move(ma)), mb_(std::move(mb)), corner_(corner), buffer_(buffer) {}
+      norm_(norm), delta_(delta), ma_(std::move(ma)), mb_(std::move(mb)), corner_(corner), buffer_(buffer),
+      reach_(std::numeric_limits<double>::infinity()) {
+  // The distance in the max norm beyond which g <= 0 for every state (see pair_reach); only with
+  // constant margins (a table of footprint margins would have to be evaluated cell by cell).
+  if (!ma_->constant() || !mb_->constant()) return;
+  const WorkspaceMargin m1 = ma_->max(), m2 = mb_->max();
+  const double slack = std::max(0.0, buffer_);
+  double reach;
+  if (norm_ == Norm::Two) {
+    reach = delta_ + m1.two() + m2.two() + slack;  // |d|_2 >= |d|_inf
+  } else {
+    // value(): g = s (1 - M) + buffer with s = min(rx, ry) and M >= max(|dx|/rx, |dy|/ry) - 4c/27
+    // (the smoothed |z| never falls more than 4c/27 below |z|), so g <= 0 once
+    // |d|_inf >= max(rx, ry) (1 + 4c/27 + buffer / s).
+    const double rx = delta_ + m1.x + m2.x, ry = delta_ + m1.y + m2.y, s = std::min(rx, ry);
+    if (!(s > 0)) return;
+    reach = std::max(rx, ry) * (1.0 + 4.0 * corner_ / 27.0 + slack / s);
+  }
+  // Outward against the rounding of the sums above and of |p_a - p_b| in the planner.
+  reach_ = reach * (1.0 + 1e-9) + 1e-12;
+}
 
 double PairConstraint::value(const double* d, const double* xa, const double* xb, double* gd) const {
   // The margins are piecewise constant in the state: their variation is not differentiated.

@@ -1,6 +1,7 @@
 #pragma once
 // Stage constraints g(x_k) <= 0 on the product state (obstacles, collisions, formation, bounds,
 // goal), each reading only a few product coordinates so that planners can exploit sparsity.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,11 @@ class Constraint {
     (void)x, (void)w, (void)H;
     return false;
   }
+  // A broad-phase hint for planners that skip far-apart pairs (planner_support's
+  // ProximityScreen): every row is satisfied (g <= 0) whenever the workspace points of the two
+  // agents owning the first and the last support coordinate are farther apart than this, in the
+  // max norm, whatever the rest of their states. Infinity (the default): no such bound.
+  virtual double pair_reach() const { return std::numeric_limits<double>::infinity(); }
 };
 
 // A collision-geometry provider (the FCL plugin, or core's exact primitives): signed distance

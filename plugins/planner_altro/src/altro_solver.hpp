@@ -43,6 +43,9 @@ struct Options {
   double polish_max_work = 3e9;        // ... and when the dense least squares is this small
   std::string coupling = "auto";    // exact | block | auto
   int exact_max_states = 60;        // auto: exact coupling up to this many product states
+  // Skip the pair rows whose agents are farther apart than the rows' reach (Constraint::pair_reach)
+  // and that carry no multiplier: they add exactly nothing, so the plan is the same bit for bit.
+  bool broad_phase = true;
 
   // The parameters, declared once in options.cpp (defaults: the initializers above).
   static std::vector<ParamSpec> specs();

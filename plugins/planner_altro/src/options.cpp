@@ -79,6 +79,8 @@ ParamSet<Options> declare() {
            "backward pass: one group (exact Gauss-Newton) or one group per agent (majorizer)");
   s.add("exact_max_states", &O::exact_max_states, "[1, inf)", "auto: exact up to this many states")
       .require(integer_at_least(1));
+  s.add("broad_phase", &O::broad_phase, "true or false",
+        "skip pair rows whose agents are beyond their reach (same plan, less work)");
   return s;
 }
 

@@ -3,6 +3,7 @@
 // for one solve() call, so Planner::solve stays const and thread-safe.
 #include <functional>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,7 @@
 
 #include "altro_solver.hpp"
 #include "marsyn/planner_support/clock.hpp"
+#include "marsyn/planner_support/proximity_screen.hpp"
 
 namespace marsyn::altro::detail {
 
@@ -36,6 +38,16 @@ struct ConstraintRef {
   std::vector<int> group_of, local;  // per support entry: group and index inside the group
   int groups_touched;
 };
+
+// Whether constraint i of a list can add anything where `near` was marked (ProximityScreen):
+// it is near, or one of its multipliers (lam: the step's block) is set. A satisfied row with a
+// zero multiplier adds nothing to the cost, the expansion, the violation or the update.
+inline bool needed(const std::vector<char>& near, int i, const ConstraintRef& r, const double* lam) {
+  if (near[i]) return true;
+  for (int j = 0; j < r.rows; ++j)
+    if (lam[r.lam_offset + j] != 0.0) return true;
+  return false;
+}
 
 // PHR augmented-Lagrangian term for c <= 0: (max(0, lam + rho c)^2 - lam^2) / (2 rho).
 inline double phr(double c, double lam, double rho) {
@@ -98,6 +110,9 @@ class Solver {
   std::vector<int> xgroup_, xlocal_;  // product state index -> group, index in group
   std::vector<ConstraintRef> stage_, terminal_, between_;
   int stage_rows_ = 0, terminal_rows_ = 0, between_rows_ = 0;
+  // Broad phase over the pair rows of stage_ and between_: which may be near at a point.
+  std::unique_ptr<planner_support::ProximityScreen> screen_, screen_b_;
+  mutable std::vector<char> near_;
   int points_ = 0;                     // interior points per period (0: samples only)
   std::vector<int> agent_of_;          // product state index -> agent
   std::vector<Vec> lam_b_;             // [k]: multipliers of the between rows, point-major

@@ -33,7 +33,10 @@ double Solver::between_cost(int k, const Vec& x, const Vec& u) const {
   for (int j = 1; j <= points_; ++j) {
     const double* z = z_.data() + static_cast<long>(j - 1) * n_;
     const double* lam = lam_b_[k].data() + static_cast<long>(j - 1) * between_rows_;
-    for (const auto& r : between_) {
+    screen_b_->mark(z, near_);
+    for (int c = 0; c < static_cast<int>(between_.size()); ++c) {
+      const auto& r = between_[c];
+      if (!needed(near_, c, r, lam)) continue;
       if (static_cast<int>(g.size()) < r.rows) g.resize(r.rows);
       r.c->evaluate(z, g.data(), nullptr);
       for (int i = 0; i < r.rows; ++i) J += phr(g[i], lam[r.lam_offset + i], rho_);
@@ -44,16 +47,23 @@ double Solver::between_cost(int k, const Vec& x, const Vec& u) const {
 
 void Solver::for_each_between_row(const std::vector<Vec>& X, const std::vector<Vec>& U,
                                   const std::function<void(int k, int j, const ConstraintRef& r, const double* g)>& f) const {
+  // Rows the screen leaves out are satisfied and carry no multiplier: f would change nothing.
   std::vector<double> g(64);
   Vec Z;
   for (int k = 0; k < T_; ++k) {
     interior_points(X[k], U[k], Z);
-    for (int j = 1; j <= points_; ++j)
-      for (const auto& r : between_) {
+    for (int j = 1; j <= points_; ++j) {
+      const double* z = Z.data() + static_cast<long>(j - 1) * n_;
+      screen_b_->mark(z, near_);
+      const double* lam = lam_b_[k].data() + static_cast<long>(j - 1) * between_rows_;
+      for (int c = 0; c < static_cast<int>(between_.size()); ++c) {
+        const auto& r = between_[c];
+        if (!needed(near_, c, r, lam)) continue;
         g.resize(std::max<size_t>(g.size(), r.rows));
-        r.c->evaluate(Z.data() + static_cast<long>(j - 1) * n_, g.data(), nullptr);
+        r.c->evaluate(z, g.data(), nullptr);
         f(k, j, r, g.data());
       }
+    }
   }
 }
 
@@ -119,7 +129,10 @@ void Solver::expand_between(int k) {
     const double* z = Z.data() + static_cast<long>(j - 1) * n_;
     std::fill(have_jac_.begin(), have_jac_.end(), 0);
     const double* lam = lam_b_[k].data() + static_cast<long>(j - 1) * between_rows_;
-    for (const auto& r : between_) {
+    screen_b_->mark(z, near_);
+    for (int c = 0; c < static_cast<int>(between_.size()); ++c) {
+      const auto& r = between_[c];
+      if (!needed(near_, c, r, lam)) continue;
       g.resize(std::max<size_t>(g.size(), r.rows));
       r.c->evaluate(z, g.data(), nullptr);
       bool any = false;

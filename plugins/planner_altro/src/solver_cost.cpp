@@ -27,7 +27,10 @@ double Solver::stage_cost(int k, const Vec& x, const Vec* u) const {
     if (std::isfinite(pp_.state_bounds.hi[i])) J += phr(x[i] - pp_.state_bounds.hi[i], lam_xhi_[k][i], rho_);
   }
   std::vector<double>& g = scratch_;
-  for (const auto& r : stage_) {
+  screen_->mark(x.data(), near_);
+  for (int i = 0; i < static_cast<int>(stage_.size()); ++i) {
+    const auto& r = stage_[i];
+    if (!needed(near_, i, r, lam_c_[k].data())) continue;
     if (static_cast<int>(g.size()) < r.rows) g.resize(r.rows);
     r.c->evaluate(x.data(), g.data(), nullptr);
     for (int j = 0; j < r.rows; ++j) J += phr(g[j], lam_c_[k][r.lam_offset + j], rho_);
@@ -71,7 +74,10 @@ double Solver::max_violation(const std::vector<Vec>& X, const std::vector<Vec>& 
       note(pp_.state_bounds.lo[i] - X[k][i], "state bound");
       note(X[k][i] - pp_.state_bounds.hi[i], "state bound");
     }
-    for (const auto& r : stage_) {
+    screen_->mark(X[k].data(), near_);
+    for (int c = 0; c < static_cast<int>(stage_.size()); ++c) {
+      const auto& r = stage_[c];
+      if (!near_[c]) continue;  // every row satisfied
       g.resize(std::max<size_t>(g.size(), r.rows));
       r.c->evaluate(X[k].data(), g.data(), nullptr);
       for (int j = 0; j < r.rows; ++j)
@@ -105,7 +111,10 @@ void Solver::update_multipliers() {
       if (std::isfinite(pp_.state_bounds.lo[i])) upd(lam_xlo_[k][i], pp_.state_bounds.lo[i] - X_[k][i]);
       if (std::isfinite(pp_.state_bounds.hi[i])) upd(lam_xhi_[k][i], X_[k][i] - pp_.state_bounds.hi[i]);
     }
-    for (const auto& r : stage_) {
+    screen_->mark(X_[k].data(), near_);
+    for (int c = 0; c < static_cast<int>(stage_.size()); ++c) {
+      const auto& r = stage_[c];
+      if (!needed(near_, c, r, lam_c_[k].data())) continue;
       g.resize(std::max<size_t>(g.size(), r.rows));
       r.c->evaluate(X_[k].data(), g.data(), nullptr);
       for (int j = 0; j < r.rows; ++j) upd(lam_c_[k][r.lam_offset + j], g[j]);

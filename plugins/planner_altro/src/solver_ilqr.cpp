@@ -102,7 +102,9 @@ void Solver::expand_costs() {
         }
       }
     };
-    for (const auto& r : stage_) add(r, lam_c_[k].data());
+    screen_->mark(x.data(), near_);
+    for (int c = 0; c < static_cast<int>(stage_.size()); ++c)
+      if (needed(near_, c, stage_[c], lam_c_[k].data())) add(stage_[c], lam_c_[k].data());
     if (term)
       for (const auto& r : terminal_) add(r, lam_t_.data());
   }

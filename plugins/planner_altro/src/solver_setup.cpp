@@ -66,6 +66,13 @@ void Solver::layout() {
     rows += r.rows;
     list.push_back(std::move(r));
   }
+  auto screen = [&](const std::vector<ConstraintRef>& refs) {
+    std::vector<const Constraint*> cs;
+    for (const auto& r : refs) cs.push_back(r.c);
+    return std::make_unique<planner_support::ProximityScreen>(prob_, cs, opt_.broad_phase);
+  };
+  screen_ = screen(stage_);
+  screen_b_ = screen(between_);
 }
 
 void Solver::step_agent(const AgentBlock& a, const Vec& x, const Vec& u, Vec& out) const {

@@ -111,6 +111,7 @@ class PairConstraint final : public Constraint {
   const std::vector<int>& support() const override { return support_; }
   void evaluate(const double* x, double* g, double* jac) const override;
   bool hessian(const double* x, const double* w, double* H) const override;
+  double pair_reach() const override { return reach_; }
 
  private:
   std::string name_;
@@ -120,6 +121,7 @@ class PairConstraint final : public Constraint {
   double delta_;
   std::shared_ptr<const MarginTable> ma_, mb_;
   double corner_, buffer_;
+  double reach_;
   // g at d = p_a - p_b, and dg/dd in gd[2].
   double value(const double* d, const double* xa, const double* xb, double* gd) const;
 };

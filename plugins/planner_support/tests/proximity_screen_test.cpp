@@ -1,0 +1,161 @@
+// The broad phase over pair rows: a row it leaves out must be satisfied at the state it was asked
+// about (for both norms, with buffers and the clearance between the samples), and it must leave
+// rows out where agents are far apart. A reach shrunk by 10% leaves violated rows out: the check
+// below catches it, so it can fail.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "marsyn/core/planning/constraints.hpp"
+#include "marsyn/planner_support/proximity_screen.hpp"
+#include "test_problems.hpp"
+
+using namespace marsyn;
+using planner_support::ProximityScreen;
+
+namespace {
+
+// N unicycles scattered in a square of side `side` (a random team).
+Problem team(int N, double side, Norm norm, std::mt19937& rng) {
+  Problem p = testproblems::unicycle_crossing(40);
+  const AgentSpec proto = p.agents[0];
+  p.agents.clear();
+  std::uniform_real_distribution<double> pos(0.0, side);
+  for (int i = 0; i < N; ++i) {
+    AgentSpec a = proto;
+    a.name = "u" + std::to_string(i);
+    a.x0 = Eigen::Vector3d(pos(rng), pos(rng), 0.0);
+    a.state_bounds = {Eigen::Vector3d(-1, -1, -7), Eigen::Vector3d(side + 1, side + 1, 7)};
+    const Eigen::Vector3d g(pos(rng), pos(rng), 0.0), r(0.4, 0.4, 10.0);
+    a.goal = {g - r, g + r};
+    a.tube.eps = Eigen::Vector3d(0.05 + 0.1 * i / N, 0.2 - 0.1 * i / N, 0.1);
+    p.agents.push_back(a);
+  }
+  p.delta_norm = norm;
+  p.guarantee = Guarantee::Continuous;
+  return p;
+}
+
+// The same constraint with its reach scaled: what a too-small reach would let through.
+class ScaledReach final : public Constraint {
+ public:
+  ScaledReach(const Constraint& c, double s) : c_(c), s_(s) {}
+  std::string name() const override { return c_.name(); }
+  int size() const override { return c_.size(); }
+  ConstraintStage stage() const override { return c_.stage(); }
+  const std::vector<int>& support() const override { return c_.support(); }
+  void evaluate(const double* x, double* g, double* jac) const override { c_.evaluate(x, g, jac); }
+  double pair_reach() const override { return s_ * c_.pair_reach(); }
+
+ private:
+  const Constraint& c_;
+  double s_;
+};
+
+struct Tally {
+  long skipped = 0, near = 0, violated_skipped = 0;
+};
+
+// Random product states around the agents' start points (so that many pairs sit near their
+// reach); for every row the screen leaves out, g must be <= 0.
+Tally probe(const Problem& p, const std::vector<const Constraint*>& cs, const ProximityScreen& screen, double spread,
+            std::mt19937& rng) {
+  const ProductLayout L(p);
+  std::normal_distribution<double> jitter(0.0, spread);
+  std::vector<char> near;
+  std::vector<double> g(4);
+  Tally t;
+  for (int trial = 0; trial < 400; ++trial) {
+    Eigen::VectorXd x(L.state_dim());
+    for (size_t i = 0; i < p.agents.size(); ++i)
+      for (int c = 0; c < 3; ++c) x[L.state[i] + c] = (c < 2 ? p.agents[i].x0[c] : 0.0) + jitter(rng) * (c < 2 ? 1 : 3);
+    screen.mark(x.data(), near);
+    for (size_t i = 0; i < cs.size(); ++i) {
+      if (near[i]) {
+        ++t.near;
+        continue;
+      }
+      ++t.skipped;
+      cs[i]->evaluate(x.data(), g.data(), nullptr);
+      for (int r = 0; r < cs[i]->size(); ++r)
+        if (g[r] > 0) ++t.violated_skipped;
+    }
+  }
+  return t;
+}
+
+std::vector<const Constraint*> pair_rows(const std::vector<std::shared_ptr<const Constraint>>& list) {
+  std::vector<const Constraint*> cs;
+  for (const auto& c : list)
+    if (c->stage() == ConstraintStage::AllSteps) cs.push_back(c.get());
+  return cs;
+}
+
+}  // namespace
+
+TEST(ProximityScreen, LeavesOutOnlySatisfiedRows) {
+  std::mt19937 rng(7);
+  for (Norm norm : {Norm::Inf, Norm::Two})
+    for (int rep = 0; rep < 3; ++rep) {
+      const Problem p = team(14, 4.0, norm, rng);
+      const auto pp = planning::assemble(p, p.horizon);
+      for (const auto* list : {&pp.constraints, &pp.between}) {
+        const auto cs = pair_rows(*list);
+        const ProximityScreen screen(p, cs);
+        ASSERT_TRUE(screen.active());
+        const Tally t = probe(p, cs, screen, 0.4, rng);
+        EXPECT_EQ(t.violated_skipped, 0) << "norm " << (norm == Norm::Inf ? "inf" : "2");
+        EXPECT_GT(t.skipped, t.near / 4) << "the screen leaves out too little to matter";
+      }
+    }
+}
+
+TEST(ProximityScreen, AShrunkReachLetsViolatedRowsThrough) {
+  std::mt19937 rng(11);
+  for (Norm norm : {Norm::Inf, Norm::Two}) {
+    const Problem p = team(14, 4.0, norm, rng);
+    const auto pp = planning::assemble(p, p.horizon);
+    const auto cs = pair_rows(pp.constraints);
+    std::vector<std::unique_ptr<ScaledReach>> scaled;
+    std::vector<const Constraint*> shrunk;
+    for (const auto* c : cs) {
+      scaled.push_back(std::make_unique<ScaledReach>(*c, 0.9));
+      shrunk.push_back(scaled.back().get());
+    }
+    const ProximityScreen screen(p, shrunk);
+    EXPECT_GT(probe(p, shrunk, screen, 0.4, rng).violated_skipped, 0) << "norm " << (norm == Norm::Inf ? "inf" : "2");
+  }
+}
+
+TEST(ProximityScreen, ObstaclesFormationsAndFootprintsAreNeverLeftOut) {
+  std::mt19937 rng(3);
+  Problem p = team(6, 3.0, Norm::Inf, rng);
+  Obstacle o;
+  o.name = "box";
+  o.vertices = {{1, 1}, {2, 1}, {2, 2}, {1, 2}};
+  o.is_box = true;
+  p.obstacles.push_back(o);
+  p.formation.push_back({0, 1, 1.0, 0.5});
+  const auto pp = planning::assemble(p, p.horizon);
+  const auto cs = pair_rows(pp.constraints);
+  const ProximityScreen screen(p, cs);
+  std::vector<char> near;
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(p.product_state_dim());
+  for (int i = 0; i < 6; ++i) x[3 * i] = 100.0 * i;  // every pair far apart
+  screen.mark(x.data(), near);
+  int pairs_left_out = 0;
+  for (size_t i = 0; i < cs.size(); ++i) {
+    const bool pair = cs[i]->name().rfind("collision", 0) == 0;
+    if (!pair) EXPECT_TRUE(near[i]) << cs[i]->name();
+    pairs_left_out += pair && !near[i];
+  }
+  EXPECT_EQ(pairs_left_out, 6 * 5 / 2 - 0);  // the formation pair is a collision pair too
+  // A disabled screen marks everything near.
+  const ProximityScreen off(p, cs, false);
+  off.mark(x.data(), near);
+  for (char c : near) EXPECT_TRUE(c);
+}
