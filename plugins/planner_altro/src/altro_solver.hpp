@@ -37,6 +37,9 @@ struct Options {
   // where a constraint forces them away.
   std::vector<double> q_state;
   double bend = 0.1;                // lateral bend of the reference, x path length (breaks symmetry)
+  // Teams of 3 or more: when the references cut into pair requirements, try 1.5, 2, 3, 4 x bend
+  // and keep the first without a cut (else the shallowest).
+  bool bend_search = true;
   int polish_iterations = 10;         // final projection steps onto the active constraints
   double polish_start = 1e-2;          // tried before more penalty rounds below this violation
   double polish_max_violation = 1e-2;  // after the last round, attempted only below this violation

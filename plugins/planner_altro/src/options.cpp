@@ -64,6 +64,8 @@ ParamSet<Options> declare() {
                 },
                 "expected finite numbers >= 0"});
   s.add("bend", &O::bend, "[0, inf)", "sideways bend of the reference per unit path length").require(number_at_least(0));
+  s.add("bend_search", &O::bend_search, "true or false",
+        "teams: bend the references up to 4 x further where they cut into pair requirements");
   s.add("polish_iterations", &O::polish_iterations, "[0, inf)",
         "final projection steps onto the active constraints (0: none)")
       .require(integer_at_least(0));

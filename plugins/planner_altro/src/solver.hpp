@@ -66,6 +66,10 @@ class Solver {
   // Setup
   void layout();
   void initial_guess();
+  // ref_: straight lines from x0 to the goal centre, bent sideways by `bend` x path length.
+  void reference(double bend);
+  // How deep ref_ cuts into the pair requirements: the sum of their squared positive rows.
+  double reference_conflict() const;
   // Evaluation
   void rollout_nominal();
   double stage_cost(int k, const Vec& x, const Vec* u) const;
@@ -124,6 +128,7 @@ class Solver {
 
   std::vector<Vec> X_, U_, ref_;
   Vec goal_centre_;
+  double bend_ = 0.0;  // the reference's bend (Options::bend, or larger from the bend search)
   Vec q_stage_;  // stage tracking weight per product coordinate: q_track x q_state
   // Multipliers: state bounds (lo, hi), input bounds, generic constraints, goal (terminal).
   std::vector<Vec> lam_xlo_, lam_xhi_, lam_ulo_, lam_uhi_, lam_c_;

@@ -315,6 +315,7 @@ PlanResult Solver::run() {
         << (res.status == PlannerStatus::Infeasible ? " (penalty at its maximum: likely infeasible at this horizon)"
                                                     : "");
   }
+  if (bend_ != opt_.bend) msg << "; references bent " << bend_ / opt_.bend << "x further (they met at bend " << opt_.bend << ")";
   res.message = msg.str();
   return res;
 }
