@@ -1,0 +1,30 @@
+#pragma once
+// Routes around the obstacles (issue 22, "routes, not only local descent"): when the local
+// planner keeps pushing agents into a gap they cannot pass, a shortest path per agent in the
+// workspace, around the obstacles grown by what the eps-robust plan keeps from them, gives the
+// planner another homotopy class to start from. The route enters the planning problem as
+// waypoints (PlanningProblem::waypoints: a hint for the initial guess, never a requirement).
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "marsyn/core/planning/geometry.hpp"
+#include "marsyn/planner.hpp"
+#include "marsyn/problem.hpp"
+
+namespace marsyn::planning {
+
+// The shortest polyline from `from` to `to` that keeps out of the interior of every polygon
+// (convex, counter-clockwise): a visibility graph over the polygons' vertices, searched with
+// Dijkstra. The corners between the two ends, in order; empty when the straight segment is
+// free, and when no route exists or an end lies inside a polygon (`found` false then).
+std::vector<Eigen::Vector2d> shortest_route(const std::vector<Polygon>& polygons, const Eigen::Vector2d& from,
+                                            const Eigen::Vector2d& to, bool* found = nullptr);
+
+// Waypoints for every agent with a linear workspace whose straight line from its start to its
+// goal centre crosses an obstacle grown by delta + its workspace margin (+ 10%, so the route
+// does not graze what the plan must clear): the route's corners at knots in proportion to the
+// distance along it. Empty when no agent's straight line is blocked.
+std::vector<Waypoint> route_waypoints(const Problem& problem, int horizon);
+
+}  // namespace marsyn::planning
