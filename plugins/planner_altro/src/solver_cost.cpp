@@ -28,6 +28,7 @@ double Solver::stage_cost(int k, const Vec& x, const Vec* u) const {
   }
   std::vector<double>& g = scratch_;
   for (const auto& r : stage_) {
+    if (!applies_at(*r.c, k, T_)) continue;  // a mission stage's rows: at its visit knots only
     if (static_cast<int>(g.size()) < r.rows) g.resize(r.rows);
     r.c->evaluate(x.data(), g.data(), nullptr);
     for (int j = 0; j < r.rows; ++j) J += phr(g[j], lam_c_[k][r.lam_offset + j], rho_);
@@ -72,6 +73,7 @@ double Solver::max_violation(const std::vector<Vec>& X, const std::vector<Vec>& 
       note(X[k][i] - pp_.state_bounds.hi[i], "state bound");
     }
     for (const auto& r : stage_) {
+      if (!applies_at(*r.c, k, T_)) continue;
       g.resize(std::max<size_t>(g.size(), r.rows));
       r.c->evaluate(X[k].data(), g.data(), nullptr);
       for (int j = 0; j < r.rows; ++j)
@@ -106,6 +108,7 @@ void Solver::update_multipliers() {
       if (std::isfinite(pp_.state_bounds.hi[i])) upd(lam_xhi_[k][i], X_[k][i] - pp_.state_bounds.hi[i]);
     }
     for (const auto& r : stage_) {
+      if (!applies_at(*r.c, k, T_)) continue;
       g.resize(std::max<size_t>(g.size(), r.rows));
       r.c->evaluate(X_[k].data(), g.data(), nullptr);
       for (int j = 0; j < r.rows; ++j) upd(lam_c_[k][r.lam_offset + j], g[j]);

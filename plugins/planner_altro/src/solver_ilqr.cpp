@@ -102,7 +102,8 @@ void Solver::expand_costs() {
         }
       }
     };
-    for (const auto& r : stage_) add(r, lam_c_[k].data());
+    for (const auto& r : stage_)
+      if (applies_at(*r.c, k, T_)) add(r, lam_c_[k].data());
     if (term)
       for (const auto& r : terminal_) add(r, lam_t_.data());
   }
