@@ -364,7 +364,8 @@ int run_simulate(const std::string& config, const std::string& controllers_dir, 
   // Each agent's controller, read back by the agent's own tracker.
   TrackerInstances trackers(lp.registry);
   const std::vector<std::shared_ptr<const Controller>> ctrls = read_agent_controllers(pb, trackers, controllers_dir);
-  const SpecMonitor monitor(pb);
+  // The horizon schedules the mission stages (docs/tasks.md) that the closed loop checks.
+  const SpecMonitor monitor(pb, nominal.empty() ? -1 : static_cast<int>(nominal.front().u.size()));
   SimulationSetup setup{&pb, nominal, ctrls, 20, &monitor, true};
   const ClosedLoopRun run = simulate(setup, {mode, seed, 0});
   const SpecEvaluation ev = monitor.evaluate(run.states);

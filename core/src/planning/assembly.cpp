@@ -1,6 +1,7 @@
 // assemble(): the eps-robust specification over a horizon as named constraints on the product
 // state, and the product layout the constraints are written in.
 #include "marsyn/core/planning/constraints.hpp"
+#include "marsyn/core/planning/mission.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -91,6 +92,23 @@ PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOpti
     }
   };
   requirements(std::vector<double>(N, 0.0), pp.constraints);
+  // Missions (docs/tasks.md): each stage's region, shrunk by eps, at its scheduled visit knots.
+  // Between the dwell's knots the exact check holds the continuous nominal to the region, and a
+  // shortfall there comes back as clearance for the stage by name (AssemblyOptions::extra).
+  if (std::any_of(problem.agents.begin(), problem.agents.end(), [](const AgentSpec& a) { return !a.stages.empty(); })) {
+    const MissionSchedule sched = schedule_missions(problem, horizon);
+    for (int i = 0; i < N; ++i) {
+      const auto& a = problem.agents[i];
+      for (int s = 0; s < static_cast<int>(a.stages.size()); ++s) {
+        std::vector<int> steps;
+        for (int k = sched.visit[i][s]; k <= std::min(horizon, sched.visit[i][s] + a.stages[s].dwell); ++k) steps.push_back(k);
+        const std::string name = stage_name(a, s);
+        pp.constraints.push_back(std::make_shared<StageConstraint>(name, a, xo[i], s, steps, opt.buffer + more(name)));
+        for (int k : steps) pp.waypoints.push_back({k, stage_waypoint(a, s, xo[i], n)});
+      }
+    }
+    std::stable_sort(pp.waypoints.begin(), pp.waypoints.end(), [](const Waypoint& p, const Waypoint& q) { return p.step < q.step; });
+  }
   if (problem.guarantee == Guarantee::Continuous && opt.between_points > 0) {
     pp.between_points = opt.between_points;
     std::vector<double> clear(N);

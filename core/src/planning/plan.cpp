@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "marsyn/core/planning/projector.hpp"
+#include "marsyn/core/planning/routes.hpp"
 #include "marsyn/core/planning/workspace_gaps.hpp"
 #include "marsyn/core/stopwatch.hpp"
 
@@ -63,7 +64,7 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
   // only grows, so rounds do not undo each other), before a longer horizon is tried.
   AssemblyOptions assembly = options.assembly;
   int horizons = 0, retries_here = 0;
-  bool clearance_dropped = false;
+  bool clearance_dropped = false, routes = false;
   constexpr int kRetriesPerHorizon = 2;
   while (horizons < std::max(1, options.max_attempts)) {
     const double left = options.time_limit_s - clock.seconds();
@@ -73,6 +74,7 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
     }
     PlanningProblem pp = assemble(problem, horizon, assembly);
     if (warm) pp.warm_start = extend(problem, *warm, horizon);
+    if (routes) pp.waypoints = route_waypoints(problem, horizon);
     PlanOptions po;
     po.time_limit_s = std::max(left, 1e-3);
     po.progress = options.progress;
@@ -132,6 +134,23 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
         options.log(os.str());
       }
       continue;
+    }
+    // Short at the samples with agents whose straight way is blocked by obstacles: the local
+    // solver may be pressing them into a gap they cannot pass (one too narrow for eps + delta
+    // on both sides). The same horizon once more, cold, from routes around the obstacles (the
+    // shortest path per agent around the grown obstacles, as waypoints of the reference); later
+    // horizons keep the routes.
+    if (!routes && options.routes && a.check.sampled_margin < 0 && pp.waypoints.empty()) {
+      const auto ways = route_waypoints(problem, horizon);
+      if (!ways.empty()) {
+        routes = true;
+        warm.reset();
+        if (options.log)
+          options.log("not robust at the samples, and straight lines cross obstacles: re-planning T = " +
+                      std::to_string(horizon) + " from routes around them (" + std::to_string(ways.size()) +
+                      " waypoints)");
+        continue;
+      }
     }
     // The clearance between the samples is sized for moving agents; a plan that must end (or
     // wait) pressed against a requirement cannot keep it. Before a longer horizon, the same one

@@ -1,5 +1,6 @@
 #include "marsyn/core/planning/robust_check.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -10,6 +11,7 @@
 #include "marsyn/core/planning/flow_enclosure.hpp"
 #include "marsyn/core/planning/geometry.hpp"
 #include "marsyn/core/planning/margins.hpp"
+#include "marsyn/core/planning/mission.hpp"
 #include "marsyn/core/planning/spec_margins.hpp"
 #include "marsyn/fast_interval.hpp"
 #include "marsyn/interval.hpp"
@@ -180,6 +182,73 @@ void check_between_samples(const Problem& problem, const std::vector<Eigen::Vect
   }
 }
 
+// The eps-box of state x of agent a (outward rounding) and its workspace box (linear maps; a
+// footprint's workspace box is not needed: polygon stages need a linear map).
+Box eps_box(const AgentSpec& a, const Eigen::VectorXd& x) {
+  Box b{Eigen::VectorXd(a.n()), Eigen::VectorXd(a.n())};
+  for (int c = 0; c < a.n(); ++c) {
+    const Interval v = Interval(x[c]) + Interval(-a.tube.eps[c], a.tube.eps[c]);
+    b.lo[c] = v.lower();
+    b.hi[c] = v.upper();
+  }
+  return b;
+}
+
+Box workspace_of(const AgentSpec& a, const Box& state) {
+  return a.workspace.linear() ? linear_workspace_box(a.workspace, state)
+                              : Box{Eigen::VectorXd::Constant(2, -INFINITY), Eigen::VectorXd::Constant(2, INFINITY)};
+}
+
+// Each stage at its scheduled knots, and between them while it dwells (continuous guarantee):
+// the sampled margins into t, the between-samples ones into b (by the stage's name, so that a
+// shortfall there becomes clearance for the stage in the next assembly).
+std::vector<StageVisit> check_stages(const Problem& problem, const std::vector<Eigen::VectorXd>& x,
+                                     const std::vector<Eigen::VectorXd>& u, Tally& t, NamedTally* b) {
+  const int T = static_cast<int>(u.size());
+  const ProductLayout at(problem);
+  const MissionSchedule sched = schedule_missions(problem, T);
+  if (!sched.feasible)
+    t.record(-std::numeric_limits<double>::infinity(), T, [&] { return "mission schedule: " + sched.why; });
+  std::vector<StageVisit> visits = stage_visits(problem, T);
+  std::vector<Box> flow;
+  for (auto& v : visits) {
+    const auto& a = problem.agents[v.agent];
+    const auto& st = a.stages[v.stage];
+    const int xo = at.state[v.agent], uo = at.input[v.agent];
+    v.sampled_margin = std::numeric_limits<double>::infinity();
+    for (int k = v.step; k <= std::min(T, v.step + v.dwell); ++k) {
+      const Box sb = eps_box(a, x[k].segment(xo, a.n()));
+      v.sampled_margin = std::min(v.sampled_margin, stage_margin(st, sb, workspace_of(a, sb)));
+    }
+    t.record(v.sampled_margin, v.step, [&] { return v.name; });
+    v.margin = v.sampled_margin;
+    if (!b) continue;
+    for (int k = v.step; k < std::min(T, v.step + v.dwell); ++k) {
+      const Eigen::VectorXd xi = x[k].segment(xo, a.n()), ui = u[k].segment(uo, a.m());
+      double m = -std::numeric_limits<double>::infinity();
+      for (int parts = kFlowParts; parts <= kFlowMaxParts && !(m >= 0); parts *= kFlowRefinement) {
+        if (!flow_boxes(*a.dynamics, Box{xi, xi}, ui, Eigen::VectorXd::Zero(a.n()), problem.tau, parts, flow)) break;
+        m = std::numeric_limits<double>::infinity();
+        for (const Box& f : flow) {
+          Box g{f.lo - a.tube.eps, f.hi + a.tube.eps};
+          for (int c = 0; c < a.n(); ++c) {
+            g.lo[c] = (Interval(f.lo[c]) - Interval(a.tube.eps[c])).lower();
+            g.hi[c] = (Interval(f.hi[c]) + Interval(a.tube.eps[c])).upper();
+          }
+          m = std::min(m, stage_margin(st, g, workspace_of(a, g)));
+        }
+      }
+      Eigen::Vector2d p0, p1;
+      workspace_point<double>(*a.dynamics, a.workspace, x[k].data() + xo, p0.data());
+      workspace_point<double>(*a.dynamics, a.workspace, x[k + 1].data() + xo, p1.data());
+      b->record(m, k, [&] { return v.name; }, (p1 - p0).norm());
+      v.between_margin = std::min(v.between_margin, m);
+    }
+    v.margin = std::min(v.sampled_margin, v.between_margin);
+  }
+  return visits;
+}
+
 }  // namespace
 
 RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan) {
@@ -226,6 +295,9 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan) {
       t.record(requirement_margin(problem, q, p, &m), k, [&] { return q.name(problem); });
     });
   }
+  const bool mission = std::any_of(problem.agents.begin(), problem.agents.end(), [](const AgentSpec& a) { return !a.stages.empty(); });
+  NamedTally b;
+  if (mission) r.stages = check_stages(problem, x, plan.u, t, problem.guarantee == Guarantee::Continuous ? &b : nullptr);
   r.sampled_margin = t.min_;
   r.min_margin = t.min_;
   r.worst = t.name_;
@@ -234,7 +306,6 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan) {
   r.worst_input = tu.name_;
   if (problem.guarantee == Guarantee::Continuous) {
     r.continuous = true;
-    NamedTally b;
     check_between_samples(problem, x, plan.u, b);
     r.between_shortfalls = b.negative;
     r.between_margin = b.min_;

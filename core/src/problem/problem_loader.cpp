@@ -16,6 +16,7 @@
 #include "field_text.hpp"
 #include "plugin_fields.hpp"
 #include "scene_fields.hpp"
+#include "stage_fields.hpp"
 #include "yaml_reader.hpp"
 
 namespace fs = std::filesystem;
@@ -31,7 +32,8 @@ const std::vector<std::string> kTopKeys = {
     "formation", "search"};
 const std::vector<std::string> kAgentKeys = {"name",         "dynamics",    "x0",    "goal",
                                              "state_bounds", "input_bounds", "disturbance", "eps",
-                                             "eta_x",        "eta_u",        "workspace",   "tracker"};
+                                             "eta_x",        "eta_u",        "workspace",   "tracker",
+                                             "stages"};
 
 }  // namespace
 
@@ -109,7 +111,7 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
   const bool spatial = has_obstacles || top.child("formation").present() ||
                        (pb.pairwise_collision && agent_fields.size() > 1);
   std::map<std::string, std::size_t> seen;
-  std::vector<Field> x0_fields;
+  std::vector<Field> x0_fields, stage_fields;
   // The top-level tracker (default of every agent without its own): a name, a block, or auto.
   const TrackerRequest top_tracker = read_tracker_request(top.child("tracker"), *out.registry);
   pb.tracker = top_tracker.automatic ? PluginChoice{kAutoTracker, {}} : top_tracker.choice;
@@ -161,6 +163,8 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
       a.workspace.index = {0, n > 1 ? 1 : -1};
     }
     validate_agent(a, x0f, goalf);
+    stage_fields.push_back(agent_field(af, defaults, "stages"));
+    if (stage_fields.back().present()) a.stages = read_stages(stage_fields.back(), a, pb.tau, pb.horizon);
     // The agent's own tracker, else the default's, else the top level's (Fields are never
     // assigned: a YAML::Node assignment would write into the document).
     const Field tf = agent_field(af, defaults, "tracker");
@@ -175,6 +179,7 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
     for (std::size_t i = 0; i < obs.size(); ++i) pb.obstacles.push_back(read_obstacle(obs[i], i));
   }
   if (Field f = top.child("formation"); f.present()) read_formation(f, pb);
+  check_teams(pb, stage_fields);
   check_start_geometry(pb, x0_fields);
   {
     const double budget = out.memory_budget.bytes;

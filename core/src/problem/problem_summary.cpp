@@ -5,6 +5,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "marsyn/core/planning/mission.hpp"
 #include "marsyn/core/planning/workspace_gaps.hpp"
 
 namespace marsyn {
@@ -74,6 +75,26 @@ std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& track
   s << "constraints over the horizon: " << static_cast<long long>(c.per_step()) * (pb.horizon + 1)
     << " inequalities + " << pb.product_input_dim() * pb.horizon * 2 << " input bounds + "
     << pb.product_state_dim() * 2 << " goal bounds\n";
+  // Missions (docs/tasks.md): each agent's stages in order, with the schedule's knots at T.
+  if (std::any_of(pb.agents.begin(), pb.agents.end(), [](const AgentSpec& a) { return !a.stages.empty(); })) {
+    const planning::MissionSchedule sched = planning::schedule_missions(pb, pb.horizon);
+    s << "mission   stages in order (visit step at T = " << pb.horizon << ")\n";
+    for (std::size_t i = 0; i < pb.agents.size(); ++i) {
+      const AgentSpec& a = pb.agents[i];
+      if (a.stages.empty()) continue;
+      s << "  " << a.name << ":";
+      for (std::size_t k = 0; k < a.stages.size(); ++k) {
+        const MissionStage& st = a.stages[k];
+        s << (k ? " ->" : "") << " " << st.name << " @" << sched.visit[i][k];
+        if (st.dwell > 0) s << "+" << st.dwell;
+        if (st.not_before > 1 || st.by >= 0)
+          s << " [" << st.not_before << ", " << (st.by >= 0 ? std::to_string(st.by) : std::string("T")) << "]";
+        if (!st.team.empty()) s << " (team " << st.team << ")";
+      }
+      s << " -> goal @" << pb.horizon << "\n";
+    }
+    if (!sched.feasible) s << "warning: " << sched.why << "\n";
+  }
   for (const auto& gap : planning::narrow_gaps(pb)) s << "warning: " << planning::describe(gap) << "\n";
   return s.str();
 }

@@ -50,6 +50,32 @@ void check_start_geometry(const Problem& pb, const std::vector<Field>& x0_fields
     }
 }
 
+std::vector<Eigen::Vector2d> read_convex_polygon(const Field& p) {
+  std::vector<Eigen::Vector2d> vertices;
+  const auto items = p.items();
+  if (items.size() < 3) p.fail("expected at least 3 vertices [[x, y], ...]");
+  for (const auto& v : items) {
+    const Eigen::VectorXd xy = v.vector(2, "a point in the plane");
+    vertices.emplace_back(xy[0], xy[1]);
+  }
+  double area = 0;
+  const std::size_t k = vertices.size();
+  for (std::size_t i = 0; i < k; ++i) {
+    const auto& a = vertices[i];
+    const auto& b = vertices[(i + 1) % k];
+    area += a.x() * b.y() - b.x() * a.y();
+  }
+  if (std::abs(area) < 1e-12) p.fail("the polygon has no area");
+  if (area < 0) std::reverse(vertices.begin(), vertices.end());  // store counter-clockwise
+  for (std::size_t i = 0; i < k; ++i) {
+    const Eigen::Vector2d e1 = vertices[(i + 1) % k] - vertices[i];
+    const Eigen::Vector2d e2 = vertices[(i + 2) % k] - vertices[(i + 1) % k];
+    if (e1.x() * e2.y() - e1.y() * e2.x() < -1e-12)
+      p.fail("the polygon is not convex; split it into convex pieces");
+  }
+  return vertices;
+}
+
 Obstacle read_obstacle(const Field& f, std::size_t index) {
   f.expect_map();
   f.allow_only({"name", "box", "polygon"});
@@ -65,28 +91,7 @@ Obstacle read_obstacle(const Field& f, std::size_t index) {
     o.vertices = {{b.lo[0], b.lo[1]}, {b.hi[0], b.lo[1]}, {b.hi[0], b.hi[1]}, {b.lo[0], b.hi[1]}};
     return o;
   }
-  Field p = f.child("polygon");
-  const auto items = p.items();
-  if (items.size() < 3) p.fail("expected at least 3 vertices [[x, y], ...]");
-  for (const auto& v : items) {
-    const Eigen::VectorXd xy = v.vector(2, "a point in the plane");
-    o.vertices.emplace_back(xy[0], xy[1]);
-  }
-  double area = 0;
-  const std::size_t k = o.vertices.size();
-  for (std::size_t i = 0; i < k; ++i) {
-    const auto& a = o.vertices[i];
-    const auto& b = o.vertices[(i + 1) % k];
-    area += a.x() * b.y() - b.x() * a.y();
-  }
-  if (std::abs(area) < 1e-12) p.fail("the polygon has no area");
-  if (area < 0) std::reverse(o.vertices.begin(), o.vertices.end());  // store counter-clockwise
-  for (std::size_t i = 0; i < k; ++i) {
-    const Eigen::Vector2d e1 = o.vertices[(i + 1) % k] - o.vertices[i];
-    const Eigen::Vector2d e2 = o.vertices[(i + 2) % k] - o.vertices[(i + 1) % k];
-    if (e1.x() * e2.y() - e1.y() * e2.x() < -1e-12)
-      p.fail("the polygon is not convex; split it into convex pieces");
-  }
+  o.vertices = read_convex_polygon(f.child("polygon"));
   return o;
 }
 

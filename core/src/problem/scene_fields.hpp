@@ -15,6 +15,8 @@ using yaml::Field;
 // Each agent's workspace point at x0 keeps delta from every obstacle and every other agent.
 void check_start_geometry(const Problem& pb, const std::vector<Field>& x0_fields);
 Obstacle read_obstacle(const Field& f, std::size_t index);
+// At least 3 vertices [[x, y], ...] of a convex polygon with area, returned counter-clockwise.
+std::vector<Eigen::Vector2d> read_convex_polygon(const Field& p);
 void read_formation(const Field& f, Problem& pb);
 void read_collision(const Field& f, LoadedProblem& out);
 

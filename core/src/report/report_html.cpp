@@ -38,12 +38,13 @@ canvas{width:100%;border:1px solid #dae1e7;border-radius:4px;background:#fff}
 <div class="controls"><button id="play">pause</button><input id="k" type="range" min="0" value="0">
 <span id="kt"></span></div>
 <div class="controls"><label>run <select id="run"></select></label></div>
-<div class="muted">Filled boxes: each agent's eps-tube at the current sample (workspace projection, sound); outlined boxes: the certified enclosures of the closed loop between this sample and the next (continuous time); dots: the selected simulated run; thin lines: nominal plan; green dashed: goals; grey: obstacles.</div>
+<div class="muted">Filled boxes: each agent's eps-tube at the current sample (workspace projection, sound); outlined boxes: the certified enclosures of the closed loop between this sample and the next (continuous time); dots: the selected simulated run; thin lines: nominal plan; green dashed: goals; grey: obstacles; dashed in an agent's colour: its mission stages, "order: name @visit step", filled while it is due inside.</div>
 </section>
 <section><h2>Per-stage figures (paper Table 2 row)</h2><table id="t2"></table>
 <h2 style="margin-top:16px">Agents</h2><table id="ag"></table>
 <h2 style="margin-top:16px">Guarantee and certificate</h2><table id="cert"></table>
 <h2 style="margin-top:16px">Verification (closed-loop runs: evidence, not proof)</h2><table id="ver"></table>
+<div id="missionbox" style="display:none"><h2 style="margin-top:16px">Mission: stages in order (docs/tasks.md)</h2><table id="mission"></table></div>
 <h2 style="margin-top:16px">Open loop, per run (smallest margin and its step; below 0 = violation)</h2><table id="olr"></table></section>
 <section class="wide"><h2>Distance to threshold over continuous time (smallest margin over obstacles, collisions and formation at every integration substep; below 0 = violation)</h2>
 <div id="plot"></div><div class="legend" id="legend"></div></section>
@@ -94,6 +95,14 @@ const part = p => p ? fmt(p.margin) + ' (k=' + p.step + ')' : '-';
 table($('olr'), ['disturbance', 'obstacle', 'collision', 'formation', 'goal'],
   (ol.by_run || []).map(r => [r.disturbance, ...['obstacle', 'collision', 'formation'].map(k =>
     mark(r[k] && r[k].margin, part(r[k]))), mark(r.goal_margin, fmt(r.goal_margin))]));
+if (R.mission) {
+  $('missionbox').style.display = '';
+  const ms = R.mission.stages || [];
+  table($('mission'), ['agent', '#', 'stage', 'visit k (t [s])', 'dwell', 'window', 'plan margin', 'certified margin'],
+    ms.map(m => [esc(m.agent), m.order, esc(m.stage) + (m.team ? ' <span class="muted">team ' + esc(m.team) + '</span>' : ''),
+      m.visit_step + ' (' + fmt(m.visit_time_s, 2) + ')', m.dwell, '[' + m.not_before + ', ' + (m.by === null ? 'T' : m.by) + ']',
+      mark(m.plan_margin, fmt(m.plan_margin)), m.certified ? mark(m.certified.margin, fmt(m.certified.margin)) : '-']));
+}
 table($('att'), ['#', 'stage', 'parameters', 'T', 'outcome', 'time [s]'],
   (R.attempts || []).map((a, i) => [i + 1, esc(a.stage || ''), esc(a.parameters || ''), fmt(a.horizon, 0), esc(a.outcome || ''), fmt(a.time_s, 3)]));
 const se = R.search || {};
@@ -128,6 +137,16 @@ function draw(k) {
   S.obstacles.forEach(o => { ctx.beginPath(); o.vertices.forEach((p, i) => i ? ctx.lineTo(X(p[0]), Y(p[1])) : ctx.moveTo(X(p[0]), Y(p[1]))); ctx.closePath(); ctx.fill(); });
   ctx.setLineDash([5, 4]); ctx.strokeStyle = '#1f9d55'; ctx.lineWidth = 1.5;
   S.agents.forEach(a => ctx.strokeRect(X(a.goal[0]), Y(a.goal[3]), (a.goal[2] - a.goal[0]) * scale, (a.goal[3] - a.goal[1]) * scale));
+  // Mission stages: each region dashed in its agent's colour, numbered in visiting order, filled
+  // while the agent is due inside it.
+  S.agents.forEach((a, i) => (a.stages || []).forEach(st => {
+    const c = colors[i % colors.length];
+    ctx.setLineDash([3, 3]); ctx.strokeStyle = c; ctx.lineWidth = 1.5; ctx.beginPath();
+    st.vertices.forEach((p, j) => j ? ctx.lineTo(X(p[0]), Y(p[1])) : ctx.moveTo(X(p[0]), Y(p[1]))); ctx.closePath(); ctx.stroke();
+    if (k >= st.visit && k <= st.visit + st.dwell) { ctx.globalAlpha = 0.2; ctx.fillStyle = c; ctx.fill(); ctx.globalAlpha = 1; }
+    const cx = st.vertices.reduce((s, p) => s + p[0], 0) / st.vertices.length, cy = st.vertices.reduce((s, p) => s + p[1], 0) / st.vertices.length;
+    ctx.fillStyle = c; ctx.font = '11px system-ui'; ctx.fillText(st.order + ': ' + st.name + ' @' + st.visit, X(cx) - 12, Y(cy) + 4);
+  }));
   ctx.setLineDash([]);
   S.agents.forEach((a, i) => {
     const c = colors[i % colors.length];

@@ -1,5 +1,6 @@
 #include <cmath>
 
+#include "marsyn/core/planning/mission.hpp"
 #include "marsyn/core/report/report_html.hpp"
 #include "marsyn/scalar.hpp"
 
@@ -59,6 +60,23 @@ nlohmann::json report_scene(const Problem& pb, const std::vector<NominalTrajecto
                                                          round4(e.workspace.hi[0]), round4(e.workspace.hi[1])});
       }
     ag["enclosures"] = periods;
+    if (!a.stages.empty()) {
+      const int T = i < nominal.size() ? static_cast<int>(nominal[i].u.size()) : pb.horizon;
+      const planning::MissionSchedule sched = planning::schedule_missions(pb, T);
+      json stages = json::array();
+      for (std::size_t s = 0; s < a.stages.size(); ++s) {
+        const MissionStage& st = a.stages[s];
+        json v = json::array();
+        if (st.is_polygon()) {
+          for (const auto& p : st.polygon) v.push_back({p.x(), p.y()});
+        } else {
+          const auto b = workspace_box(a, st.box.lo, st.box.hi);
+          v = {{b[0], b[1]}, {b[2], b[1]}, {b[2], b[3]}, {b[0], b[3]}};
+        }
+        stages.push_back({{"name", st.name}, {"order", s + 1}, {"vertices", v}, {"visit", sched.visit[i][s]}, {"dwell", st.dwell}});
+      }
+      ag["stages"] = stages;
+    }
     agents.push_back(ag);
   }
   scene["agents"] = agents;

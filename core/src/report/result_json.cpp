@@ -1,5 +1,6 @@
 #include "marsyn/core/report/result_json.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace marsyn {
@@ -151,6 +152,36 @@ nlohmann::json result_json(const SolveOutcome& o) {
                        {"worst", v.worst},
                        {"time_s", v.time_s},
                        {"runs_time_s", v.runs_time_s}};  // runs / runs_time_s: the runs per second
+  // Missions (docs/tasks.md): each stage's visit knot, its window and dwell, and its margin on
+  // the plan (eps-robust) and on the certified enclosures.
+  if (std::any_of(o.problem.agents.begin(), o.problem.agents.end(), [](const AgentSpec& a) { return !a.stages.empty(); })) {
+    json stages = json::array();
+    for (const auto& p : o.plan.check.stages) {
+      const AgentSpec& a = o.problem.agents[static_cast<std::size_t>(p.agent)];
+      const MissionStage& st = a.stages[static_cast<std::size_t>(p.stage)];
+      json cert = nullptr;
+      for (const auto& q : c.stages)
+        if (q.agent == p.agent && q.stage == p.stage && o.certification_ran)
+          cert = {{"margin", q.margin}, {"at_samples", q.sampled_margin}, {"between_samples", margin(q.between_margin)}};
+      stages.push_back({{"agent", a.name},
+                        {"stage", st.name},
+                        {"order", p.stage + 1},
+                        {"region", st.is_polygon() ? "polygon" : "box"},
+                        {"team", st.team.empty() ? json(nullptr) : json(st.team)},
+                        {"visit_step", p.step},
+                        {"visit_time_s", p.step * o.problem.tau},
+                        {"dwell", p.dwell},
+                        {"not_before", st.not_before},
+                        {"by", st.by >= 0 ? json(st.by) : json(nullptr)},
+                        {"plan_margin", p.margin},
+                        {"plan_margin_at_samples", p.sampled_margin},
+                        {"plan_margin_between_samples", margin(p.between_margin)},
+                        {"certified", cert}});
+    }
+    j["mission"] = {{"stages", stages},
+                    {"certification", o.certification_ran && std::isfinite(c.stage.margin) ? part(c.stage) : json(nullptr)},
+                    {"verification_between_samples", margin(v.between.stage)}};
+  }
   j["open_loop"] = {{"runs", v.open_loop_runs},
                     {"violations", v.open_loop_violations},
                     {"min_margin", o.verification_ran ? json(v.open_loop_min_margin) : json(nullptr)},

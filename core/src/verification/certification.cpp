@@ -138,8 +138,40 @@ CertificationReport certify(const Problem& pb, const std::vector<std::shared_ptr
         note(m, {f.i, f.j});
       });
 
+  // Mission stages: the state at knot k lies in the part starting at k tau and in the part
+  // ending there; their intersection encloses it.
+  if (std::any_of(pb.agents.begin(), pb.agents.end(), [](const AgentSpec& a) { return !a.stages.empty(); })) {
+    const planning::MissionSchedule sched = planning::schedule_missions(pb, T);
+    if (!sched.feasible)
+      record(r.stage, -std::numeric_limits<double>::infinity(), T, [&] { return "mission schedule: " + sched.why; },
+             r.shortfalls);
+    r.stages = planning::stage_visits(pb, T);
+    for (auto& v : r.stages) {
+      const auto& a = pb.agents[v.agent];
+      const auto& st = a.stages[v.stage];
+      const auto& steps = by_step[v.agent];
+      v.sampled_margin = std::numeric_limits<double>::infinity();
+      for (int k = v.step; k <= std::min(T, v.step + v.dwell); ++k) {
+        const PeriodEnclosure* after = k < T ? steps[static_cast<size_t>(k)].front() : nullptr;
+        const PeriodEnclosure* before = k > 0 ? steps[static_cast<size_t>(k - 1)].back() : nullptr;
+        Box state = (after ? after : before)->state, ws = (after ? after : before)->workspace;
+        if (after && before) {
+          state = {state.lo.cwiseMax(before->state.lo), state.hi.cwiseMin(before->state.hi)};
+          ws = {ws.lo.cwiseMax(before->workspace.lo), ws.hi.cwiseMin(before->workspace.hi)};
+        }
+        v.sampled_margin = std::min(v.sampled_margin, planning::stage_margin(st, state, ws));
+      }
+      for (int k = v.step; k < std::min(T, v.step + v.dwell); ++k)
+        for (const PeriodEnclosure* e : steps[static_cast<size_t>(k)])
+          v.between_margin = std::min(v.between_margin, planning::stage_margin(st, e->state, e->workspace));
+      v.margin = std::min(v.sampled_margin, v.between_margin);
+      record(r.stage, v.margin, v.step, [&] { return v.name; }, r.shortfalls);
+      note(v.margin, {v.agent});
+    }
+  }
+
   const CertifiedPart* worst = nullptr;
-  for (const CertifiedPart* p : {&r.state_bounds, &r.obstacle, &r.collision, &r.formation})
+  for (const CertifiedPart* p : {&r.state_bounds, &r.obstacle, &r.collision, &r.formation, &r.stage})
     if (!worst || p->margin < worst->margin) worst = p;
   r.min_margin = worst->margin;
   r.failing_agents.assign(failing.begin(), failing.end());

@@ -152,7 +152,7 @@ ClosedLoopRun simulate(const SimulationSetup& s, const Scenario& scenario) {
       const StepMargins m = s.between->step(prod, &what);
       const double before = running.min();
       running = {std::min(running.obstacle, m.obstacle), std::min(running.collision, m.collision),
-                 std::min(running.formation, m.formation)};
+                 std::min(running.formation, m.formation), running.stage};
       if (!(running.min() < before)) return false;
       name = std::move(what);
       return true;
@@ -183,10 +183,12 @@ ClosedLoopRun simulate(const SimulationSetup& s, const Scenario& scenario) {
     if (s.keep_states) run.states.push_back(prod);
     if (s.keep_dense) keep_dense(k * pb.tau);
     std::string name;
-    if (s.between && fold(at_samples, name)) {
+    // (A stage's margin may already be lower: the smaller one stays.)
+    if (s.between && fold(at_samples, name) && at_samples.min() < run.sampled.min_margin) {
       run.sampled.min_margin = at_samples.min();
       run.sampled.worst = name + " at step " + std::to_string(k);
     }
+    if (s.between) s.between->add_stages(k, prod, run.sampled);
   };
   points();
   record(0);
@@ -226,6 +228,20 @@ ClosedLoopRun simulate(const SimulationSetup& s, const Scenario& scenario) {
         if (s.keep_dense) keep_dense((k + static_cast<double>(sub + 1) / S) * pb.tau);
         if (s.between && fold(run.between, run.between_worst))
           run.between_worst_t = (k + static_cast<double>(sub + 1) / S) * pb.tau;
+        // Mission stages dwelling over this period: the state stays in the region between the samples too.
+        if (s.between && s.between->has_stages()) {
+          if (!(s.keep_dense || s.all_pairs)) stack();
+          std::string what;
+          const double m = s.between->stage_between(k, prod, &what);
+          if (m < run.between.stage) {
+            const bool lowest = m < run.between.min();
+            run.between.stage = m;
+            if (lowest) {
+              run.between_worst = what;
+              run.between_worst_t = (k + static_cast<double>(sub + 1) / S) * pb.tau;
+            }
+          }
+        }
       }
     }
     record(k + 1);

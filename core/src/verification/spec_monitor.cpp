@@ -7,9 +7,42 @@
 
 namespace marsyn {
 
-SpecMonitor::SpecMonitor(const Problem& problem) : problem_(problem) {
+SpecMonitor::SpecMonitor(const Problem& problem, int horizon) : problem_(problem) {
   const ProductLayout layout(problem);
   offset_.assign(layout.state.begin(), layout.state.end() - 1);
+  if (horizon > 0) visits_ = planning::stage_visits(problem, horizon);
+}
+
+double SpecMonitor::stage_depth(const planning::StageVisit& v, const Eigen::VectorXd& x) const {
+  const AgentSpec& a = problem_.agents[v.agent];
+  const Eigen::VectorXd xi = x.segment(offset_[v.agent], a.n());
+  Eigen::Vector2d p;
+  workspace_point<double>(*a.dynamics, a.workspace, xi.data(), p.data());
+  return planning::stage_margin(a.stages[v.stage], Box{xi, xi}, Box{p, p});
+}
+
+void SpecMonitor::add_stages(int k, const Eigen::VectorXd& x, SpecEvaluation& ev) const {
+  for (const auto& v : visits_) {
+    if (k < v.step || k > v.step + v.dwell) continue;
+    const double m = stage_depth(v, x);
+    if (m < ev.min_margin) {
+      ev.min_margin = m;
+      ev.worst = v.name + " at step " + std::to_string(k);
+    }
+  }
+}
+
+double SpecMonitor::stage_between(int k, const Eigen::VectorXd& x, std::string* name) const {
+  double out = 1e300;
+  for (const auto& v : visits_) {
+    if (k < v.step || k >= v.step + v.dwell) continue;
+    const double m = stage_depth(v, x);
+    if (m < out) {
+      out = m;
+      if (name) *name = v.name;
+    }
+  }
+  return out;
 }
 
 namespace {
@@ -66,6 +99,10 @@ SpecEvaluation SpecMonitor::evaluate(const std::vector<Eigen::VectorXd>& states,
     }
   }
   if (!states.empty()) add_goal(states.back(), ev);
+  if (states.size() > 1 && std::any_of(problem_.agents.begin(), problem_.agents.end(), [](const AgentSpec& a) { return !a.stages.empty(); })) {
+    const SpecMonitor at(problem_, static_cast<int>(states.size()) - 1);
+    for (std::size_t k = 0; k < states.size(); ++k) at.add_stages(static_cast<int>(k), states[k], ev);
+  }
   ev.satisfied = ev.min_margin >= 0;
   return ev;
 }

@@ -43,7 +43,8 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
                           const VerificationOptions& opt) {
   const Stopwatch clock;
   VerificationReport rep;
-  const SpecMonitor monitor(problem);
+  // The mission stages' visit knots at the plan's horizon (the controllers' own).
+  const SpecMonitor monitor(problem, nominal.empty() ? -1 : static_cast<int>(nominal.front().u.size()));
   rep.continuous = problem.guarantee == Guarantee::Continuous;
   rep.dense_resolution_s = problem.tau / std::max(1, opt.fine_substeps);
   SimulationSetup closed{&problem, nominal, controllers, opt.fine_substeps, &monitor, false, false, opt.all_pairs};
@@ -124,7 +125,8 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
     rep.sampled_min_margin = std::min(rep.sampled_min_margin, s.sampled_margin);
     for (auto [v, part] : {std::pair{s.between.obstacle, &rep.between.obstacle},
                            std::pair{s.between.collision, &rep.between.collision},
-                           std::pair{s.between.formation, &rep.between.formation}})
+                           std::pair{s.between.formation, &rep.between.formation},
+                           std::pair{s.between.stage, &rep.between.stage}})
       if (v < *part) {
         *part = v;
         if (v <= rep.between.min()) rep.between_worst = "run " + std::to_string(r) + " (" + to_string(s.scenario.mode) + ")";

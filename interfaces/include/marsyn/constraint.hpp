@@ -1,13 +1,16 @@
 #pragma once
 // Stage constraints g(x_k) <= 0 on the product state (obstacles, collisions, formation, bounds,
 // goal), each reading only a few product coordinates so that planners can exploit sparsity.
+#include <algorithm>
 #include <limits>
 #include <string>
 #include <vector>
 
 namespace marsyn {
 
-enum class ConstraintStage { AllSteps, Terminal };
+// AllSteps: at every knot k = 1..T; Terminal: at k = T; AtSteps: only at the knots steps() lists
+// (a mission stage's visit; PlanningProblem::constraints only, never `between`).
+enum class ConstraintStage { AllSteps, Terminal, AtSteps };
 
 class Constraint {
  public:
@@ -17,6 +20,11 @@ class Constraint {
   virtual ConstraintStage stage() const = 0;
   // Product-state coordinates read by evaluate(), in the order of the Jacobian's columns.
   virtual const std::vector<int>& support() const = 0;
+  // ConstraintStage::AtSteps: the knots where it applies, ascending. Empty for the other stages.
+  virtual const std::vector<int>& steps() const {
+    static const std::vector<int> none;
+    return none;
+  }
   // g (size()) at the product state x; jac (size() x support().size(), row-major) when non-null.
   virtual void evaluate(const double* x, double* g, double* jac) const = 0;
   // Adds sum_r w[r] d^2 g_r / dx^2 (support x support, row-major) to H, for second-order
@@ -33,6 +41,19 @@ class Constraint {
   // max norm, whatever the rest of their states. Infinity (the default): no such bound.
   virtual double pair_reach() const { return std::numeric_limits<double>::infinity(); }
 };
+
+// Whether c applies at knot k of a horizon T.
+inline bool applies_at(const Constraint& c, int k, int T) {
+  switch (c.stage()) {
+    case ConstraintStage::AllSteps: return true;
+    case ConstraintStage::Terminal: return k == T;
+    case ConstraintStage::AtSteps: {
+      const auto& s = c.steps();
+      return std::binary_search(s.begin(), s.end(), k);
+    }
+  }
+  return true;
+}
 
 // A collision-geometry provider (the FCL plugin, or core's exact primitives): signed distance
 // between a workspace point and an obstacle, with its gradient in the point.

@@ -34,6 +34,14 @@ inline const char* to_string(PlannerStatus s) {
   return "?";
 }
 
+// A point a plan is asked to pass at knot `step` (a mission stage's region centre at its visit):
+// product coordinates, NaN where the stage leaves a coordinate free. A hint for initial guesses
+// only; the constraints (ConstraintStage::AtSteps) are what a plan must meet.
+struct Waypoint {
+  int step = 0;
+  Eigen::VectorXd x;
+};
+
 // The eps-robust planning problem on the product system, assembled by core from a Problem.
 struct PlanningProblem {
   const Problem* problem = nullptr;  // agents and their dynamics (product = stacked agents)
@@ -52,6 +60,7 @@ struct PlanningProblem {
   int between_points = 0;
   int horizon = 0;
   std::optional<GlobalPlan> warm_start;
+  std::vector<Waypoint> waypoints;  // mission stages' visits, ordered by step (empty without stages)
 };
 
 struct PlanProgress {

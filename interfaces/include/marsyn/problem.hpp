@@ -52,6 +52,22 @@ struct TubeParams {
   Eigen::VectorXd eta_u;  // input grid spacing (empty when not given)
 };
 
+// One stage of an agent's mission (docs/tasks.md): a region the agent visits, in the order
+// listed, before its goal (the goal stays the last stage). The visit knot is chosen by the
+// schedule (core planning/mission) inside the window [not_before, by]; the agent stays inside
+// at the knots visit..visit+dwell (and between them under the continuous guarantee).
+struct MissionStage {
+  std::string name;
+  Box box;                                // a box in the agent's state coordinates, or
+  std::vector<Eigen::Vector2d> polygon;   // a convex polygon (counter-clockwise) in the workspace plane
+  int not_before = 1;                     // earliest visit knot
+  int by = -1;                            // latest visit knot; -1: none
+  int dwell = 0;                          // further knots spent inside after the visit
+  std::string team;                       // stages sharing a team label are visited at one knot (rendezvous)
+
+  bool is_polygon() const { return !polygon.empty(); }
+};
+
 struct AgentSpec {
   std::string name;
   std::string dynamics_type;
@@ -65,6 +81,7 @@ struct AgentSpec {
   // The agent's tracker (name and parameters); the name is never "auto" once the problem is
   // loaded: the loader resolves `tracker: auto` per agent from each tracker's assessment.
   PluginChoice tracker;
+  std::vector<MissionStage> stages;  // visited in order before the goal; empty: the goal alone
 
   int n() const { return static_cast<int>(x0.size()); }
   int m() const { return static_cast<int>(input_bounds.lo.size()); }

@@ -91,7 +91,8 @@ bool Solver::polish(double& viol, std::string& worst, double deadline) {
           take(k, g[j], std::move(gr), false);
         }
       };
-      for (const auto& r : stage_) add(r);
+      for (const auto& r : stage_)
+        if (applies_at(*r.c, k, T_)) add(r);
       if (k == T_)
         for (const auto& r : terminal_) add(r);
     }

@@ -30,6 +30,7 @@ double Solver::stage_cost(int k, const Vec& x, const Vec* u) const {
   screen_->mark(x.data(), near_);
   for (int i = 0; i < static_cast<int>(stage_.size()); ++i) {
     const auto& r = stage_[i];
+    if (!applies_at(*r.c, k, T_)) continue;  // a mission stage's rows: at its visit knots only
     if (!needed(near_, i, r, lam_c_[k].data())) continue;
     if (static_cast<int>(g.size()) < r.rows) g.resize(r.rows);
     r.c->evaluate(x.data(), g.data(), nullptr);
@@ -77,6 +78,7 @@ double Solver::max_violation(const std::vector<Vec>& X, const std::vector<Vec>& 
     screen_->mark(X[k].data(), near_);
     for (int c = 0; c < static_cast<int>(stage_.size()); ++c) {
       const auto& r = stage_[c];
+      if (!applies_at(*r.c, k, T_)) continue;  // a mission stage's rows: at its visit knots only
       if (!near_[c]) continue;  // every row satisfied
       g.resize(std::max<size_t>(g.size(), r.rows));
       r.c->evaluate(X[k].data(), g.data(), nullptr);
@@ -114,6 +116,7 @@ void Solver::update_multipliers() {
     screen_->mark(X_[k].data(), near_);
     for (int c = 0; c < static_cast<int>(stage_.size()); ++c) {
       const auto& r = stage_[c];
+      if (!applies_at(*r.c, k, T_)) continue;  // a mission stage's rows: at its visit knots only
       if (!needed(near_, c, r, lam_c_[k].data())) continue;
       g.resize(std::max<size_t>(g.size(), r.rows));
       r.c->evaluate(X_[k].data(), g.data(), nullptr);

@@ -104,7 +104,8 @@ void Solver::expand_costs() {
     };
     screen_->mark(x.data(), near_);
     for (int c = 0; c < static_cast<int>(stage_.size()); ++c)
-      if (needed(near_, c, stage_[c], lam_c_[k].data())) add(stage_[c], lam_c_[k].data());
+      if (applies_at(*stage_[c].c, k, T_) && needed(near_, c, stage_[c], lam_c_[k].data()))
+        add(stage_[c], lam_c_[k].data());
     if (term)
       for (const auto& r : terminal_) add(r, lam_t_.data());
   }

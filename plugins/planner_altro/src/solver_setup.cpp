@@ -128,23 +128,52 @@ void Solver::reference(double bend) {
     const double s = static_cast<double>(k) / T_;
     ref_[k] = pp_.x0 + s * (goal_centre_ - pp_.x0);
   }
+  // Mission stages: the reference runs through each stage's region centre at its visit knots
+  // (PlanningProblem::waypoints), straight between them, in the coordinates the stages fix.
+  // knots[c]: the knots where coordinate c is pinned (0 and T included); empty: a straight line.
+  std::vector<std::vector<int>> knots(n_);
+  for (int c = 0; c < n_; ++c) {
+    std::vector<std::pair<int, double>> at{{0, pp_.x0[c]}};
+    for (const auto& w : pp_.waypoints)
+      if (w.x.size() == n_ && std::isfinite(w.x[c]) && w.step > at.back().first && w.step < T_) at.push_back({w.step, w.x[c]});
+    if (at.size() == 1) continue;
+    at.push_back({T_, goal_centre_[c]});
+    for (std::size_t s = 0; s + 1 < at.size(); ++s) {
+      knots[c].push_back(at[s].first);
+      const auto [k0, v0] = at[s];
+      const auto [k1, v1] = at[s + 1];
+      for (int k = k0; k <= k1; ++k) ref_[k][c] = v0 + (v1 - v0) * (k - k0) / static_cast<double>(k1 - k0);
+    }
+    knots[c].push_back(T_);
+  }
   // Straight lines of several agents may cross at one point at one time, a guess with no
   // feasible symmetric neighbour: bend each agent's reference sideways, by a slightly different
-  // amount per agent.
+  // amount per agent (through waypoints: each leg between them).
   const int N = static_cast<int>(agents_.size());
   for (int i = 0; i < N; ++i) {
     const auto& ws = prob_.agents[i].workspace;
     if (!ws.linear() || ws.index[0] < 0 || ws.index[1] < 0) continue;
     const int ix = agents_[i].xo + ws.index[0], iy = agents_[i].xo + ws.index[1];
-    const Eigen::Vector2d dir(goal_centre_[ix] - pp_.x0[ix], goal_centre_[iy] - pp_.x0[iy]);
-    const double len = dir.norm();
-    if (len < 1e-9) continue;
-    const Eigen::Vector2d perp(-dir.y() / len, dir.x() / len);
-    const double amp = bend * len * (1.0 + 0.2 * i / std::max(1, N - 1));
-    for (int k = 0; k <= T_; ++k) {
-      const double b = amp * std::sin(M_PI * k / T_);
-      ref_[k][ix] += b * perp.x();
-      ref_[k][iy] += b * perp.y();
+    std::vector<int> legs = knots[ix];
+    legs.insert(legs.end(), knots[iy].begin(), knots[iy].end());
+    std::sort(legs.begin(), legs.end());
+    legs.erase(std::unique(legs.begin(), legs.end()), legs.end());
+    if (legs.empty()) legs = {0, T_};
+    const std::vector<Vec> line = ref_;
+    for (std::size_t s = 0; s + 1 < legs.size(); ++s) {
+      const int k0 = legs[s], k1 = legs[s + 1];
+      // One leg (no waypoints): the goal centre itself, the arithmetic of the plain straight line.
+      const Eigen::Vector2d dir = legs.size() == 2 ? Eigen::Vector2d(goal_centre_[ix] - pp_.x0[ix], goal_centre_[iy] - pp_.x0[iy])
+                                                   : Eigen::Vector2d(line[k1][ix] - line[k0][ix], line[k1][iy] - line[k0][iy]);
+      const double len = dir.norm();
+      if (len < 1e-9) continue;
+      const Eigen::Vector2d perp(-dir.y() / len, dir.x() / len);
+      const double amp = bend * len * (1.0 + 0.2 * i / std::max(1, N - 1));
+      for (int k = k0; k <= k1; ++k) {
+        const double b = amp * std::sin(M_PI * (k - k0) / (k1 - k0));
+        ref_[k][ix] += b * perp.x();
+        ref_[k][iy] += b * perp.y();
+      }
     }
   }
 }

@@ -8,6 +8,7 @@
 #include "dynamics_unicycle/src/unicycle.hpp"
 #include "marsyn/core/planning/plan.hpp"
 #include "marsyn/sampled_map.hpp"
+#include "test_problems.hpp"
 
 using namespace marsyn;
 
@@ -325,4 +326,18 @@ TEST(PlannerChain, AGivenWarmStartIsUsedAtItsOwnHorizon) {
   EXPECT_EQ(echo.horizons[0], 80);
   EXPECT_TRUE(out.feasible) << planning::summary(p, out);
   EXPECT_EQ(out.horizon, 80);
+}
+
+// Mission stages (ConstraintStage::AtSteps) reach the planner, and its reference runs through
+// the regions (PlanningProblem::waypoints): both visited at their knots, in order, robustly, at
+// the first horizon.
+TEST(AugmentedLagrangian, VisitsTheMissionStagesAtTheirKnots) {
+  const Problem p = testproblems::unicycle_mission();
+  planning::PlanSearchOptions so;
+  so.max_attempts = 1;
+  const auto out = planning::plan(p, AltroPlanner({}), so);
+  EXPECT_TRUE(out.feasible) << planning::summary(p, out);
+  ASSERT_EQ(out.check.stages.size(), 2u);
+  for (const auto& v : out.check.stages) EXPECT_GE(v.margin, 0.0) << v.name << " at step " << v.step;
+  EXPECT_LT(out.check.stages[0].step, out.check.stages[1].step);
 }

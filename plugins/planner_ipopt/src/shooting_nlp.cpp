@@ -133,6 +133,16 @@ bool ShootingNlp::get_bounds_info(Index, Number* x_l, Number* x_u, Index, Number
     g_l[r] = -kIpoptInf;
     g_u[r] = 0.0;
   }
+  // A constraint that applies at some knots only (a mission stage's visit): its rows elsewhere
+  // are free (Ipopt drops bounds beyond nlp_upper_bound_inf).
+  for (int k = 1; k <= T_; ++k) {
+    int r = defects + (k - 1) * path_rows_;
+    for (const auto* c : path_) {
+      if (!applies_at(*c, k, T_))
+        for (int i = 0; i < c->size(); ++i) g_u[r + i] = kIpoptInf;
+      r += c->size();
+    }
+  }
   return true;
 }
 

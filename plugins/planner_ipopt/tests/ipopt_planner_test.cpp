@@ -84,3 +84,14 @@ TEST(IpoptPlanner, RejectsBadParameters) {
   p.set("hessian", std::string("newton"));
   EXPECT_THROW(ipopt_planner::Options::from(p), ParamError);
 }
+
+// Mission stages (ConstraintStage::AtSteps) reach the planner: both regions visited at their
+// knots, in order, robustly.
+TEST(IpoptPlanner, VisitsTheMissionStagesAtTheirKnots) {
+  const auto p = testproblems::unicycle_mission();
+  const auto out = run(p, {});
+  EXPECT_TRUE(out.feasible) << out.check.message << " / " << out.result.message;
+  ASSERT_EQ(out.check.stages.size(), 2u);
+  for (const auto& v : out.check.stages) EXPECT_GE(v.margin, 0.0) << v.name << " at step " << v.step;
+  EXPECT_LT(out.check.stages[0].step, out.check.stages[1].step);
+}

@@ -79,7 +79,7 @@ class Shooting {
         S.middleCols(used, m_) = B_[k - 1];
       }
       const int r0 = (k - 1) * pr;
-      M_.path.evaluate(X_[k].data(), c + r0, grad ? jac.data() : nullptr);
+      M_.path.evaluate(X_[k].data(), c + r0, grad ? jac.data() : nullptr, k);
       if (grad && pr > 0) {
         M_.path.dense(jac.data(), Jp);
         Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> G(grad + static_cast<size_t>(r0) * N_, pr, N_);

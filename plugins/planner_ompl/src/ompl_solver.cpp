@@ -45,7 +45,10 @@ void finite_box(const planner_support::ProductModel& M, Vec& lo, Vec& hi) {
   }
 }
 
-bool rows_ok(const planner_support::RowSet& rows, const double* x) { return rows.rows() == 0 || rows.worst(x, nullptr) <= 0.0; }
+// knot >= 0: only the rows that apply there (a mission stage's rows at its visit knots).
+bool rows_ok(const planner_support::RowSet& rows, const double* x, int knot = -1) {
+  return rows.rows() == 0 || rows.worst(x, nullptr, knot) <= 0.0;
+}
 
 // The requirements between the samples, at the interior points of the period from x under u.
 bool between_ok(const planner_support::ProductModel& M, const double* x, const double* u) {
@@ -120,7 +123,8 @@ bool hold_in_goal(const planner_support::ProductModel& M, const Options& o, std:
     for (auto& u : cand) {
       for (int j = 0; j < M.m; ++j) u[j] = std::clamp(u[j], pp.input_bounds.lo[j], pp.input_bounds.hi[j]);
       M.step(X.back().data(), u.data(), next.data());
-      if (!rows_ok(M.path, next.data()) || !between_ok(M, X.back().data(), u.data())) continue;
+      if (!rows_ok(M.path, next.data(), static_cast<int>(U.size()) + 1) || !between_ok(M, X.back().data(), u.data()))
+        continue;
       const double out = M.terminal.rows() ? std::max(0.0, M.terminal.worst(next.data(), nullptr)) : 0.0;
       const std::pair<double, double> s{out, (next - M.goal_centre).cwiseProduct(scale).squaredNorm()};
       if (s < best) best = s, best_u = u, best_x = next;
@@ -197,13 +201,14 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
     // makes the landing state invalid, so OMPL discards the motion (the checker sees states only).
     y[n] = between ? x[n] + tw * tau * steps : std::numeric_limits<double>::infinity();
   });
-  si->setStateValidityChecker([&M, n, si_raw = si.get()](const ob::State* s) {
+  si->setStateValidityChecker([&M, n, tau, tw, si_raw = si.get()](const ob::State* s) {
     const double* x = s->as<ob::RealVectorStateSpace::StateType>()->values;
     // Elapsed time 0 is the start alone (propagation adds time). x0 is fixed, so, as for the
     // other planners, nothing is required of it; OMPL would otherwise refuse the problem.
     if (x[n] == 0.0) return true;
     if (!si_raw->satisfiesBounds(s)) return false;
-    return rows_ok(M.path, x);
+    // The knot of this state from its elapsed time (propagation adds whole steps).
+    return rows_ok(M.path, x, static_cast<int>(std::lround(x[n] / (tw * tau))));
   });
   // Explicit: OMPL's defaults derive the step from the state space's extent (distance units).
   si->setPropagationStepSize(tau);

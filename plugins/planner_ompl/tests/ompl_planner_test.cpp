@@ -82,3 +82,14 @@ TEST(OmplPlanner, RejectsBadParameters) {
   q.set("time_weight", 0.0);
   EXPECT_THROW(ompl_planner::Options::from(q), ParamError);
 }
+
+// A mission stage (ConstraintStage::AtSteps) reaches OMPL's validity checker at the knot given by
+// a state's elapsed time: SST finds a path through the region at its knot.
+TEST(OmplPlanner, SstVisitsAMissionStageAtItsKnot) {
+  Problem p = testproblems::unicycle_mission();
+  p.agents[0].stages.resize(1);
+  const auto out = run(p, options("sst", 15));
+  EXPECT_TRUE(out.feasible) << out.check.message;
+  ASSERT_EQ(out.check.stages.size(), 1u);
+  EXPECT_GE(out.check.stages[0].margin, 0.0) << out.check.stages[0].name;
+}

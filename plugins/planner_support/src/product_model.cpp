@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "marsyn/sampled_map.hpp"
 
@@ -42,9 +43,17 @@ void RowSet::pattern(std::vector<int>& row, std::vector<int>& col) const {
   }
 }
 
-void RowSet::evaluate(const double* x, double* g, double* jac) const {
+void RowSet::evaluate(const double* x, double* g, double* jac, int knot) const {
   int r = 0, e = 0;
   for (const auto& it : items_) {
+    if (it.c && knot >= 0 && !applies_at(*it.c, knot, std::numeric_limits<int>::max())) {
+      const int rows = it.c->size(), w = static_cast<int>(it.c->support().size());
+      std::fill(g + r, g + r + rows, -1.0);
+      if (jac) std::fill(jac + e, jac + e + rows * w, 0.0);
+      r += rows;
+      e += rows * w;
+      continue;
+    }
     if (!it.c) {
       // lo - x (sign -1) or x - hi (sign +1)
       g[r++] = it.sign * (x[it.coord] - it.bound);
@@ -73,9 +82,9 @@ void RowSet::dense(const double* jac, Eigen::MatrixXd& J) const {
   }
 }
 
-double RowSet::worst(const double* x, std::string* name) const {
+double RowSet::worst(const double* x, std::string* name, int knot) const {
   scratch_g_.resize(std::max(rows_, 1));
-  evaluate(x, scratch_g_.data(), nullptr);
+  evaluate(x, scratch_g_.data(), nullptr, knot);
   double v = -INFINITY;
   int r = 0;
   for (const auto& it : items_) {
@@ -176,7 +185,7 @@ double ProductModel::violation(const std::vector<Eigen::VectorXd>& X, const std:
     }
   for (size_t k = 1; k < X.size(); ++k) {
     std::string name;
-    const double e = path.worst(X[k].data(), &name);
+    const double e = path.worst(X[k].data(), &name, static_cast<int>(k));
     if (e > v) v = e, w = name + " at k = " + std::to_string(k);
   }
   if (terminal.rows() > 0) {

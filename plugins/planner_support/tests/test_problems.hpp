@@ -79,4 +79,21 @@ inline Problem unicycle_obstacle(int horizon = 60) {
   return p;
 }
 
+// A mission (docs/tasks.md): one unicycle from (0, 0) to (6, 0) that must first visit a square
+// above its straight line, around (3, 1.5), then one below it, around (4.5, -1.5). A planner that
+// ignores the stages' knots (ConstraintStage::AtSteps) drives straight and fails the check; one
+// that imposes them at every knot finds no plan.
+inline Problem unicycle_mission(int horizon = 60) {
+  Problem p = unicycle_crossing(horizon);
+  p.name = "unicycle-mission";
+  p.agents.resize(1);
+  MissionStage up, down;
+  up.name = "up";
+  up.polygon = {{2.6, 1.1}, {3.4, 1.1}, {3.4, 1.9}, {2.6, 1.9}};
+  down.name = "down";
+  down.polygon = {{4.1, -1.9}, {4.9, -1.9}, {4.9, -1.1}, {4.1, -1.1}};
+  p.agents[0].stages = {up, down};
+  return p;
+}
+
 }  // namespace marsyn::testproblems

@@ -28,6 +28,9 @@ struct PlanSearchOptions {
   // point method finding the shape, the default planner refining it under its own cost. When the
   // main planner finds no robust plan, a robust plan of the first one is returned instead.
   const Planner* warm_start_planner = nullptr;
+  // A plan short at the samples whose agents' straight lines cross obstacles is tried again at
+  // the same horizon from routes around them (routes.hpp), once; later horizons keep the routes.
+  bool routes = true;
 };
 
 struct PlanAttempt {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "marsyn/core/planning/mission.hpp"
 #include "marsyn/problem.hpp"
 
 namespace marsyn::planning {
@@ -43,6 +44,10 @@ struct RobustCheck {
   // Every requirement with a negative margin between the samples, by constraint name (as in
   // AssemblyOptions::extra), with its most negative margin.
   std::map<std::string, BetweenShortfall> between_shortfalls;
+  // Mission stages (docs/tasks.md): each at its scheduled knots, the eps-box of the nominal in
+  // the region (and, dwelling under the continuous guarantee, the continuous nominal's
+  // eps-boxes between those knots). Their margins are part of min_margin above.
+  std::vector<StageVisit> stages;
 };
 
 inline constexpr int kFlowParts = 8;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "marsyn/core/planning/mission.hpp"
 #include "marsyn/problem.hpp"
 #include "marsyn/tracker.hpp"
 
@@ -23,6 +24,10 @@ struct CertificationReport {
   bool certified = false;
   std::string message;  // one line
   CertifiedPart state_bounds, obstacle, collision, formation;
+  // Mission stages (docs/tasks.md): each region at its scheduled visit knots on the enclosures
+  // of the sampling instants, and between those knots on every part while the stage dwells.
+  CertifiedPart stage;
+  std::vector<planning::StageVisit> stages;
   double min_margin = std::numeric_limits<double>::infinity();
   std::vector<int> failing_agents;  // indices of agents in a part with a negative margin
   // Every requirement with a negative margin on the enclosures, by the planning constraint's

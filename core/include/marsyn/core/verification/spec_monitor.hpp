@@ -3,12 +3,14 @@
 // states: goals reached at the final step, obstacles and other agents at least delta away,
 // formation distances within lambda +- mu. Margins are signed: >= 0 satisfied, < 0 violated.
 // The requirements and their formulas are spec_margins.hpp's, the robust check's with no margin.
+#include <algorithm>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "marsyn/core/planning/geometry.hpp"
+#include "marsyn/core/planning/mission.hpp"
 #include "marsyn/problem.hpp"
 
 namespace marsyn {
@@ -21,7 +23,8 @@ struct StepMargins {
   double obstacle = 1e300;   // min over agents and obstacles of d - delta
   double collision = 1e300;  // min over pairs of d - delta
   double formation = 1e300;  // min over formation pairs of mu - |d - lambda|
-  double min() const { return std::min(obstacle, std::min(collision, formation)); }
+  double stage = 1e300;      // mission stages (docs/tasks.md) dwelling at this time: depth inside the region
+  double min() const { return std::min({obstacle, collision, formation, stage}); }
 };
 
 struct SpecEvaluation {
@@ -34,18 +37,29 @@ struct SpecEvaluation {
 
 class SpecMonitor {
  public:
-  explicit SpecMonitor(const Problem& problem);
+  // horizon >= 0: the mission stages' visit knots at that horizon (planning::schedule_missions),
+  // for the closed loop's per-sample calls below; evaluate() schedules at its states' horizon.
+  explicit SpecMonitor(const Problem& problem, int horizon = -1);
   // states[k] is the product state at step k (agents stacked in problem order).
   SpecEvaluation evaluate(const std::vector<Eigen::VectorXd>& states, bool keep_per_step = false) const;
   StepMargins step(const Eigen::VectorXd& x, std::string* worst = nullptr) const;
   // evaluate()'s goal part: the final state x's goal margins folded into ev (min_margin, worst,
   // goal_margin), for a caller that checked the samples as they came.
   void add_goal(const Eigen::VectorXd& x, SpecEvaluation& ev) const;
+  // Mission stages at sample k (the stages whose visit knots include k): each agent's state in
+  // the region, folded into ev (min_margin, worst) like the goal.
+  void add_stages(int k, const Eigen::VectorXd& x, SpecEvaluation& ev) const;
+  // Between samples k and k + 1 (continuous guarantee): the stages dwelling over that period.
+  // Returns the smallest depth (1e300: none dwells) and names the stage.
+  double stage_between(int k, const Eigen::VectorXd& x, std::string* name) const;
+  bool has_stages() const { return !visits_.empty(); }
 
  private:
   void points(const Eigen::VectorXd& x, std::vector<Eigen::Vector2d>& p) const;  // the agents' workspace points
+  double stage_depth(const planning::StageVisit& v, const Eigen::VectorXd& x) const;
   const Problem& problem_;
   std::vector<int> offset_;
+  std::vector<planning::StageVisit> visits_;
 };
 
 }  // namespace marsyn

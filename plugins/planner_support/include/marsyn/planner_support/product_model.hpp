@@ -23,12 +23,14 @@ class RowSet {
   int nonzeros() const { return nnz_; }
   // Row and product-state column of each Jacobian entry, in the order evaluate() writes them.
   void pattern(std::vector<int>& row, std::vector<int>& col) const;
-  // g (rows()) and, when non-null, the Jacobian entries (nonzeros()) at product state x.
-  void evaluate(const double* x, double* g, double* jac) const;
+  // g (rows()) and, when non-null, the Jacobian entries (nonzeros()) at product state x. With
+  // knot >= 0, the rows of constraints that do not apply there (ConstraintStage::AtSteps, a
+  // mission stage's visit) read -1 with a zero Jacobian, so every knot keeps the same rows.
+  void evaluate(const double* x, double* g, double* jac, int knot = -1) const;
   // Dense Jacobian (rows() x n) from the entries.
   void dense(const double* jac, Eigen::MatrixXd& J) const;
   // The largest g, and the name of the row attaining it.
-  double worst(const double* x, std::string* name) const;
+  double worst(const double* x, std::string* name, int knot = -1) const;
 
  private:
   struct Item {
@@ -54,7 +56,7 @@ class ProductModel {
   double tau = 0.1;
   int substeps = 4;
   std::vector<Agent> agents;
-  RowSet path, terminal;        // path at k = 1..T, terminal at k = T (in addition)
+  RowSet path, terminal;        // path at k = 1..T (AtSteps rows only at their knots), terminal at k = T (in addition)
   // Between the samples (PlanningProblem::between): these rows at the interior points
   // j = 1..points of every period k = 0..T-1, functions of (x_k, u_k).
   RowSet between;

@@ -1,0 +1,86 @@
+#pragma once
+// Missions (docs/tasks.md): each agent's stages, visited in order before its goal. One schedule
+// of visit knots per horizon, read by the assembly (constraints at those knots), the exact
+// robust check, the certifier and the spec monitor, so that all four judge the same visits.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "marsyn/constraint.hpp"
+#include "marsyn/problem.hpp"
+
+namespace marsyn::planning {
+
+// "stage pickup of r1": the name of the stage's constraint, its requirement in the checks and
+// its key in AssemblyOptions::extra.
+std::string stage_name(const AgentSpec& agent, int stage);
+
+// The visit knot of every stage ([agent][stage]) at horizon T: cumulative straight-line length
+// through the regions' centres (workspace points from x0 to the goal), the horizon less the
+// dwells shared in proportion, then moved into each stage's window, after the previous stage's
+// dwell, before the next stage, and ending by T - 1; team stages (same `team`) take the latest
+// of their members' knots. `feasible` is false (with `why`) when no knots meet every window and
+// the order at this horizon; the knots are then the nearest ones found.
+struct MissionSchedule {
+  std::vector<std::vector<int>> visit;
+  bool feasible = true;
+  std::string why;
+};
+MissionSchedule schedule_missions(const Problem& problem, int horizon);
+
+// A sound lower bound (rounding included) of how deep every state of the box `state` (whose
+// workspace points lie in `workspace`, 2 coordinates) lies inside the stage's region: >= 0
+// implies all of them are inside. Box regions read the state box, polygons the workspace box.
+double stage_margin(const MissionStage& stage, const Box& state, const Box& workspace);
+
+// The workspace box of a state box for a linear workspace map (outward rounding).
+Box linear_workspace_box(const Workspace& ws, const Box& state);
+
+// A stage's region at its visit knots, shrunk by the agent's eps box (+ `clearance`), on the
+// product state: box regions one row per bound tighter than the state bounds, polygons (linear
+// workspace) one row per edge, n_e . p + |n_e| . (eps of p) + clearance - b_e <= 0.
+class StageConstraint final : public Constraint {
+ public:
+  StageConstraint(std::string name, const AgentSpec& agent, int offset, int stage, std::vector<int> steps,
+                  double clearance);
+  std::string name() const override { return name_; }
+  int size() const override { return static_cast<int>(rows_.size()); }
+  ConstraintStage stage() const override { return ConstraintStage::AtSteps; }
+  const std::vector<int>& support() const override { return support_; }
+  const std::vector<int>& steps() const override { return steps_; }
+  void evaluate(const double* x, double* g, double* jac) const override;
+  bool hessian(const double*, const double*, double*) const override { return true; }  // linear
+
+ private:
+  struct Row {  // sum_t a[t] x[support_[col[t]]] - bound <= 0, over the t with col[t] >= 0
+    int col[2];
+    double a[2];
+    double bound;
+  };
+  std::string name_;
+  std::vector<int> support_, steps_;
+  std::vector<Row> rows_;
+};
+
+// Stage s of agent a as a waypoint hint (PlanningProblem::waypoints) in a product state of
+// dimension n, agent a at `offset`: the region's centre in the coordinates it constrains, NaN
+// elsewhere.
+Eigen::VectorXd stage_waypoint(const AgentSpec& a, int s, int offset, int n);
+
+// One stage's verdict on a trajectory or on enclosures: its visit knot and the smallest margin
+// over its dwell, at the knots and (continuous time) between them.
+struct StageVisit {
+  int agent = 0, stage = 0;
+  std::string name;  // stage_name()
+  int step = -1;     // the visit knot
+  int dwell = 0;
+  double margin = 0.0;          // min of the two below
+  double sampled_margin = 0.0;  // at the knots step..step + dwell
+  double between_margin = 1e300;  // between them (continuous guarantee, dwell > 0); 1e300: not checked
+};
+
+// Every stage of every agent with its scheduled knot (schedule_missions at horizon T), margins
+// not yet set.
+std::vector<StageVisit> stage_visits(const Problem& problem, int horizon);
+
+}  // namespace marsyn::planning

@@ -1,0 +1,245 @@
+#include "marsyn/core/planning/mission.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "marsyn/interval.hpp"
+
+namespace marsyn::planning {
+
+namespace {
+
+constexpr int kNoLimit = std::numeric_limits<int>::max() / 4;
+
+Eigen::Vector2d region_centre(const AgentSpec& a, const MissionStage& s) {
+  if (s.is_polygon()) {
+    Eigen::Vector2d c = Eigen::Vector2d::Zero();
+    for (const auto& v : s.polygon) c += v;
+    return c / static_cast<double>(s.polygon.size());
+  }
+  const Eigen::VectorXd x = s.box.center();
+  Eigen::Vector2d p;
+  workspace_point<double>(*a.dynamics, a.workspace, x.data(), p.data());
+  return p;
+}
+
+// Places agent a's visits at horizon T: the distance-proportional knots, moved into the windows
+// (fixed[s] >= 0 pins stage s there: a team's knot). Returns false (with why) when some window
+// or the order cannot be met; k then holds the nearest knots found.
+bool place(const AgentSpec& a, int T, const std::vector<int>& fixed, std::vector<int>& k, std::string& why) {
+  const int S = static_cast<int>(a.stages.size());
+  k.assign(S, 0);
+  if (S == 0) return true;
+  std::vector<Eigen::Vector2d> pts;
+  Eigen::Vector2d p0, pg;
+  workspace_point<double>(*a.dynamics, a.workspace, a.x0.data(), p0.data());
+  const Eigen::VectorXd gc = a.goal.center();
+  workspace_point<double>(*a.dynamics, a.workspace, gc.data(), pg.data());
+  std::vector<double> L(S + 1, 0.0);
+  Eigen::Vector2d prev = p0;
+  for (int s = 0; s <= S; ++s) {
+    const Eigen::Vector2d c = s < S ? region_centre(a, a.stages[s]) : pg;
+    L[s] = (s > 0 ? L[s - 1] : 0.0) + (c - prev).norm();
+    prev = c;
+  }
+  int dwell = 0;
+  for (const auto& st : a.stages) dwell += st.dwell;
+  const double travel = std::max(0, T - dwell);
+  // Latest knot of each stage that leaves room for the later ones (their dwells and `by`
+  // windows) before the goal's knot T.
+  std::vector<int> latest(S);
+  int room = T - 1;
+  for (int s = S - 1; s >= 0; --s) {
+    latest[s] = room - a.stages[s].dwell;
+    if (a.stages[s].by >= 0) latest[s] = std::min(latest[s], a.stages[s].by);
+    if (s < static_cast<int>(fixed.size()) && fixed[s] >= 0) latest[s] = std::min(latest[s], fixed[s]);
+    room = latest[s] - 1;
+  }
+  bool ok = true;
+  int before = 0, end_prev = 0;
+  for (int s = 0; s < S; ++s) {
+    const auto& st = a.stages[s];
+    const double f = L[S] > 1e-12 ? L[s] / L[S] : (s + 1.0) / (S + 1.0);
+    int ks = before + static_cast<int>(std::lround(travel * f));
+    int lo = std::max({1, st.not_before, end_prev + 1});
+    int hi = std::min(latest[s], st.by >= 0 ? st.by : kNoLimit);
+    if (s < static_cast<int>(fixed.size()) && fixed[s] >= 0) lo = std::max(lo, fixed[s]), hi = std::min(hi, fixed[s]);
+    ks = std::clamp(ks, std::min(lo, hi), hi);
+    if (lo > hi) {
+      ks = lo;
+      if (ok) {
+        why = "stage '" + st.name + "' of " + a.name + " cannot be visited at a knot in [" + std::to_string(lo) + ", " +
+              std::to_string(hi) + "] (its window, the order of the stages and the goal at T = " + std::to_string(T) +
+              ")";
+        ok = false;
+      }
+    }
+    k[s] = ks;
+    end_prev = ks + st.dwell;
+    before += st.dwell;
+  }
+  return ok;
+}
+
+}  // namespace
+
+std::string stage_name(const AgentSpec& agent, int stage) {
+  return "stage " + agent.stages[static_cast<std::size_t>(stage)].name + " of " + agent.name;
+}
+
+MissionSchedule schedule_missions(const Problem& problem, int horizon) {
+  MissionSchedule out;
+  const int N = static_cast<int>(problem.agents.size());
+  out.visit.resize(N);
+  std::vector<std::string> why(N);
+  std::vector<bool> ok(N, true);
+  for (int i = 0; i < N; ++i) ok[i] = place(problem.agents[i], horizon, {}, out.visit[i], why[i]);
+  // Rendezvous: every member of a team at the latest of the knots its members chose alone.
+  std::map<std::string, int> team;
+  for (int i = 0; i < N; ++i)
+    for (std::size_t s = 0; s < problem.agents[i].stages.size(); ++s)
+      if (const auto& t = problem.agents[i].stages[s].team; !t.empty()) team[t] = std::max(team[t], out.visit[i][s]);
+  if (!team.empty())
+    for (int i = 0; i < N; ++i) {
+      const auto& a = problem.agents[i];
+      std::vector<int> fixed(a.stages.size(), -1);
+      bool any = false;
+      for (std::size_t s = 0; s < a.stages.size(); ++s)
+        if (!a.stages[s].team.empty()) fixed[s] = team[a.stages[s].team], any = true;
+      if (!any) continue;
+      why[i].clear();
+      ok[i] = place(a, horizon, fixed, out.visit[i], why[i]);
+    }
+  for (int i = 0; i < N; ++i)
+    if (!ok[i] && out.feasible) out.feasible = false, out.why = why[i];
+  return out;
+}
+
+Box linear_workspace_box(const Workspace& ws, const Box& state) {
+  Box out{Eigen::VectorXd(2), Eigen::VectorXd(2)};
+  for (int c = 0; c < 2; ++c) {
+    const int at = ws.index[c];
+    const Interval v = at >= 0 ? Interval(state.lo[at], state.hi[at]) + Interval(ws.offset[c]) : Interval(ws.offset[c]);
+    out.lo[c] = v.lower();
+    out.hi[c] = v.upper();
+  }
+  return out;
+}
+
+double stage_margin(const MissionStage& stage, const Box& state, const Box& workspace) {
+  double m = std::numeric_limits<double>::infinity();
+  if (!stage.is_polygon()) {
+    for (int c = 0; c < stage.box.dim(); ++c) {
+      if (!std::isfinite(state.lo[c]) || !std::isfinite(state.hi[c])) return -std::numeric_limits<double>::infinity();
+      m = std::min({m, (Interval(state.lo[c]) - Interval(stage.box.lo[c])).lower(),
+                    (Interval(stage.box.hi[c]) - Interval(state.hi[c])).lower()});
+    }
+    return m;
+  }
+  // Distance of the box's worst corner to each edge line, inward positive: cross(e, p - v) / |e|
+  // for the counter-clockwise polygon, in interval arithmetic over the whole box.
+  const Interval px(workspace.lo[0], workspace.hi[0]), py(workspace.lo[1], workspace.hi[1]);
+  if (!std::isfinite(workspace.lo[0]) || !std::isfinite(workspace.hi[0]) || !std::isfinite(workspace.lo[1]) ||
+      !std::isfinite(workspace.hi[1]))
+    return -std::numeric_limits<double>::infinity();
+  const std::size_t V = stage.polygon.size();
+  for (std::size_t i = 0; i < V; ++i) {
+    const auto& v = stage.polygon[i];
+    const auto& w = stage.polygon[(i + 1) % V];
+    const Interval ex = Interval(w.x()) - Interval(v.x()), ey = Interval(w.y()) - Interval(v.y());
+    const Interval len = sqrt(ex * ex + ey * ey);
+    const Interval d = (ex * (py - Interval(v.y())) - ey * (px - Interval(v.x()))) / len;
+    m = std::min(m, d.lower());
+  }
+  return m;
+}
+
+StageConstraint::StageConstraint(std::string name, const AgentSpec& a, int offset, int stage, std::vector<int> steps,
+                                 double clearance)
+    : name_(std::move(name)), steps_(std::move(steps)) {
+  std::sort(steps_.begin(), steps_.end());
+  const MissionStage& st = a.stages[static_cast<std::size_t>(stage)];
+  if (!st.is_polygon()) {
+    for (int c = 0; c < a.n(); ++c) {
+      const bool lo = st.box.lo[c] > a.state_bounds.lo[c], hi = st.box.hi[c] < a.state_bounds.hi[c];
+      if (!lo && !hi) continue;  // the state bounds already say as much
+      const int col = static_cast<int>(support_.size());
+      support_.push_back(offset + c);
+      const double r = a.tube.eps[c] + clearance;
+      if (lo) rows_.push_back({{col, -1}, {-1.0, 0.0}, -(st.box.lo[c] + r)});
+      if (hi) rows_.push_back({{col, -1}, {1.0, 0.0}, st.box.hi[c] - r});
+    }
+    return;
+  }
+  // Polygon (linear workspace, checked by the loader): p_c = x[index c] + offset c.
+  const Workspace& ws = a.workspace;
+  int col[2] = {-1, -1};
+  for (int c = 0; c < 2; ++c)
+    if (ws.index[c] >= 0) col[c] = static_cast<int>(support_.size()), support_.push_back(offset + ws.index[c]);
+  const std::size_t V = st.polygon.size();
+  for (std::size_t i = 0; i < V; ++i) {
+    const auto& v = st.polygon[i];
+    const auto& w = st.polygon[(i + 1) % V];
+    const Eigen::Vector2d e = w - v;
+    const Eigen::Vector2d nrm = Eigen::Vector2d(e.y(), -e.x()) / e.norm();  // outward
+    Row row{{col[0], col[1]}, {nrm[0], nrm[1]}, nrm.dot(v) - clearance};
+    for (int c = 0; c < 2; ++c) {
+      if (col[c] >= 0) row.bound -= std::abs(nrm[c]) * a.tube.eps[ws.index[c]];
+      row.bound -= nrm[c] * ws.offset[c];
+    }
+    rows_.push_back(row);
+  }
+}
+
+void StageConstraint::evaluate(const double* x, double* g, double* jac) const {
+  const int w = static_cast<int>(support_.size());
+  for (std::size_t r = 0; r < rows_.size(); ++r) {
+    const Row& row = rows_[r];
+    double v = -row.bound;
+    if (jac)
+      for (int j = 0; j < w; ++j) jac[r * w + j] = 0.0;
+    for (int t = 0; t < 2; ++t)
+      if (row.col[t] >= 0) {
+        v += row.a[t] * x[support_[row.col[t]]];
+        if (jac) jac[r * w + row.col[t]] = row.a[t];
+      }
+    g[r] = v;
+  }
+}
+
+Eigen::VectorXd stage_waypoint(const AgentSpec& a, int s, int offset, int n) {
+  Eigen::VectorXd x = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::quiet_NaN());
+  const MissionStage& st = a.stages[static_cast<std::size_t>(s)];
+  if (st.is_polygon()) {
+    const Eigen::Vector2d c = region_centre(a, st);
+    for (int j = 0; j < 2; ++j)
+      if (a.workspace.index[j] >= 0) x[offset + a.workspace.index[j]] = c[j] - a.workspace.offset[j];
+    return x;
+  }
+  for (int c = 0; c < a.n(); ++c)
+    if (st.box.lo[c] > a.state_bounds.lo[c] || st.box.hi[c] < a.state_bounds.hi[c])
+      x[offset + c] = 0.5 * (std::max(st.box.lo[c], a.state_bounds.lo[c]) + std::min(st.box.hi[c], a.state_bounds.hi[c]));
+  return x;
+}
+
+std::vector<StageVisit> stage_visits(const Problem& problem, int horizon) {
+  std::vector<StageVisit> out;
+  const MissionSchedule sched = schedule_missions(problem, horizon);
+  for (int i = 0; i < static_cast<int>(problem.agents.size()); ++i) {
+    const auto& a = problem.agents[i];
+    for (int s = 0; s < static_cast<int>(a.stages.size()); ++s) {
+      StageVisit v;
+      v.agent = i;
+      v.stage = s;
+      v.name = stage_name(a, s);
+      v.step = sched.visit[i][s];
+      v.dwell = a.stages[s].dwell;
+      out.push_back(v);
+    }
+  }
+  return out;
+}
+
+}  // namespace marsyn::planning

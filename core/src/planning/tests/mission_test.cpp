@@ -1,0 +1,207 @@
+// Missions on the plan (docs/tasks.md): the schedule of visit knots, the stage constraints in the
+// assembly, and the exact check of the stages in order, in their windows, dwelling, and between
+// the samples.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "dynamics_unicycle/src/unicycle.hpp"
+#include "marsyn/core/planning/constraints.hpp"
+#include "marsyn/core/planning/mission.hpp"
+#include "marsyn/core/planning/robust_check.hpp"
+
+using namespace marsyn;
+using namespace marsyn::planning;
+
+namespace {
+
+AgentSpec car(Eigen::Vector3d x0, Eigen::Vector3d goal) {
+  AgentSpec a;
+  a.name = "car";
+  a.dynamics_type = "unicycle";
+  a.dynamics = std::make_shared<models::Unicycle>();
+  a.x0 = x0;
+  a.state_bounds = {Eigen::Vector3d(-10, -10, -4), Eigen::Vector3d(10, 10, 4)};
+  a.input_bounds = {Eigen::Vector2d(-20, -100), Eigen::Vector2d(20, 100)};
+  a.goal = {goal - Eigen::Vector3d(0.3, 0.3, 3.9), goal + Eigen::Vector3d(0.3, 0.3, 3.9)};
+  a.tube.eps = Eigen::Vector3d(0.1, 0.1, 0.1);
+  a.tube.w = Eigen::Vector3d::Zero();
+  return a;
+}
+
+// A square region of half-width h around (x, y) in the workspace.
+MissionStage square(const std::string& name, double x, double y, double h) {
+  MissionStage s;
+  s.name = name;
+  s.polygon = {{x - h, y - h}, {x + h, y - h}, {x + h, y + h}, {x - h, y + h}};
+  return s;
+}
+
+// One car from (0, 0) driving +x at 1 m/s for T = 40 steps of 0.1 s, the goal at (4, 0).
+Problem drive(std::vector<MissionStage> stages, Guarantee g = Guarantee::Sampled) {
+  Problem p;
+  p.agents.push_back(car({0, 0, 0}, {4, 0, 0}));
+  p.agents[0].stages = std::move(stages);
+  p.tau = 0.1;
+  p.horizon = 40;
+  p.guarantee = g;
+  return p;
+}
+
+GlobalPlan at_speed(const std::vector<double>& v) {
+  GlobalPlan g;
+  for (double s : v) g.u.push_back(Eigen::Vector2d(s, 0));
+  return g;
+}
+
+const StageVisit& visit(const RobustCheck& r, const std::string& stage) {
+  for (const auto& v : r.stages)
+    if (v.name == "stage " + stage + " of car") return v;
+  throw std::runtime_error("no stage " + stage);
+}
+
+}  // namespace
+
+// Knots in proportion to the distance through the regions' centres, each stage after the last.
+TEST(Mission, ScheduleFollowsTheDistanceAndTheWindows) {
+  Problem p = drive({square("a", 1, 0, 0.3), square("b", 3, 0, 0.3)});
+  auto s = schedule_missions(p, 40);
+  ASSERT_TRUE(s.feasible) << s.why;
+  EXPECT_EQ(s.visit[0], (std::vector<int>{10, 30}));
+  // A window moves the knot; a dwell delays the later stages' share of the travel.
+  p.agents[0].stages[0].by = 6;
+  p.agents[0].stages[1].not_before = 35;
+  s = schedule_missions(p, 40);
+  ASSERT_TRUE(s.feasible) << s.why;
+  EXPECT_EQ(s.visit[0], (std::vector<int>{6, 35}));
+  p.agents[0].stages[1].not_before = 1;
+  p.agents[0].stages[0].by = -1;
+  p.agents[0].stages[0].dwell = 10;
+  s = schedule_missions(p, 40);
+  EXPECT_EQ(s.visit[0], (std::vector<int>{8, 33}));  // (40 - 10) / 4 = 7.5 -> 8; 10 + 8 + 15 = 33
+  // A later stage's window pulls the earlier ones forward: b by 12 puts a (dwelling 10) at 1.
+  p.agents[0].stages[1].by = 12;
+  s = schedule_missions(p, 40);
+  ASSERT_TRUE(s.feasible) << s.why;
+  EXPECT_EQ(s.visit[0], (std::vector<int>{1, 12}));
+  // A window that the order cannot meet.
+  p.agents[0].stages[1].by = 11;
+  s = schedule_missions(p, 40);
+  EXPECT_FALSE(s.feasible);
+  EXPECT_NE(s.why.find("stage 'a' of car cannot be visited"), std::string::npos) << s.why;
+}
+
+// The stage's constraint: rows only at its knots, the region shrunk by eps.
+TEST(Mission, AssemblyAddsTheStageAtItsKnotsOnly) {
+  Problem p = drive({square("a", 1, 0, 0.3)});
+  p.agents[0].stages[0].dwell = 2;
+  const PlanningProblem pp = assemble(p, 40, {});
+  const Constraint* c = nullptr;
+  for (const auto& q : pp.constraints)
+    if (q->name() == "stage a of car") c = q.get();
+  ASSERT_NE(c, nullptr);
+  EXPECT_EQ(c->stage(), ConstraintStage::AtSteps);
+  EXPECT_EQ(c->steps(), (std::vector<int>{10, 11, 12}));  // a quarter of the 38 steps of travel: 9.5 -> 10
+  EXPECT_TRUE(applies_at(*c, 11, 40));
+  EXPECT_FALSE(applies_at(*c, 9, 40));
+  EXPECT_FALSE(applies_at(*c, 13, 40));
+  // At x = (1, 0) every row holds with margin 0.3 - eps - buffer; at (1.25, 0) the +x edge fails.
+  std::vector<double> g(c->size()), x{1.0, 0.0, 0.0};
+  c->evaluate(x.data(), g.data(), nullptr);
+  for (double v : g) EXPECT_LE(v, -(0.3 - 0.1 - 1e-3) + 1e-12);
+  x[0] = 1.25;
+  c->evaluate(x.data(), g.data(), nullptr);
+  EXPECT_GT(*std::max_element(g.begin(), g.end()), 0.0);
+  ASSERT_FALSE(pp.waypoints.empty());
+  EXPECT_DOUBLE_EQ(pp.waypoints.front().x[0], 1.0);
+  EXPECT_TRUE(std::isnan(pp.waypoints.front().x[2]));
+}
+
+// The order of the stages: a straight drive meets a (x = 1) before b (x = 3); the mission b
+// then a asks for b at the earlier knot and fails.
+TEST(Mission, TheCheckHoldsThePlanToTheOrder) {
+  const GlobalPlan plan = at_speed(std::vector<double>(40, 1.0));
+  const auto ok = check_robust(drive({square("a", 1, 0, 0.3), square("b", 3, 0, 0.3)}), plan);
+  EXPECT_TRUE(ok.passed) << ok.message;
+  ASSERT_EQ(ok.stages.size(), 2u);
+  EXPECT_EQ(visit(ok, "a").step, 10);
+  EXPECT_NEAR(visit(ok, "a").margin, 0.2, 1e-9);
+  const auto bad = check_robust(drive({square("b", 3, 0, 0.3), square("a", 1, 0, 0.3)}), plan);
+  EXPECT_FALSE(bad.passed);
+  EXPECT_LT(visit(bad, "b").margin, 0);
+  EXPECT_NE(bad.message.find("stage"), std::string::npos) << bad.message;
+}
+
+// A window: `by: 6` asks for region a (x = 1) at knot 6, where the car is at 0.6.
+TEST(Mission, WindowsAreEnforced) {
+  const GlobalPlan plan = at_speed(std::vector<double>(40, 1.0));
+  Problem p = drive({square("a", 1, 0, 0.3)});
+  p.agents[0].stages[0].by = 6;
+  const auto bad = check_robust(p, plan);
+  EXPECT_FALSE(bad.passed);
+  EXPECT_EQ(visit(bad, "a").step, 6);
+  EXPECT_NEAR(visit(bad, "a").margin, -0.2, 1e-9);  // 0.6 - 0.1 vs the edge at 0.7
+  // Driving faster first reaches it in time.
+  std::vector<double> v(40, 3.0 / 3.4);
+  for (int k = 0; k < 6; ++k) v[k] = 10.0 / 6.0;
+  const auto ok = check_robust(p, at_speed(v));
+  EXPECT_TRUE(ok.passed) << ok.message;
+}
+
+// A dwell: the car must stay in a for 5 knots; passing through at 1 m/s leaves it after 2.
+TEST(Mission, ADwellKeepsTheAgentInside) {
+  Problem p = drive({square("a", 1, 0, 0.3)});
+  p.agents[0].stages[0].dwell = 5;
+  const auto s = schedule_missions(p, 40);
+  const int k0 = s.visit[0][0];
+  const auto bad = check_robust(p, at_speed(std::vector<double>(40, 1.0)));
+  EXPECT_FALSE(bad.passed);
+  std::vector<double> v(40, 0.0);
+  for (int k = 0; k < k0; ++k) v[k] = 1.0 / (k0 * 0.1);  // reach x = 1 at the visit knot
+  for (int k = k0 + 5; k < 40; ++k) v[k] = 3.0 / ((40 - k0 - 5) * 0.1);
+  const auto ok = check_robust(p, at_speed(v));
+  EXPECT_TRUE(ok.passed) << ok.message;
+  EXPECT_EQ(visit(ok, "a").dwell, 5);
+}
+
+// Between the samples: a loop within one period returns to the same point, so every knot of the
+// dwell is deep inside, but the continuous nominal leaves the region in between. The sampled
+// guarantee passes it; the continuous one names the stage between the samples.
+TEST(Mission, ContinuousTimeSeesTheFlowLeaveADwellRegion) {
+  Problem p = drive({square("a", 1, 0, 0.25)});
+  p.agents[0].stages[0].dwell = 1;
+  // The loop turns the heading by 2 pi: bounds and goal that allow it.
+  p.agents[0].state_bounds.lo[2] = -11;
+  p.agents[0].state_bounds.hi[2] = 11;
+  p.agents[0].goal.lo[2] = -10;
+  p.agents[0].goal.hi[2] = 10;
+  const int k0 = schedule_missions(p, 40).visit[0][0];
+  std::vector<Eigen::VectorXd> u(40, Eigen::Vector2d(0, 0));
+  for (int k = 0; k < k0; ++k) u[k] = Eigen::Vector2d(1.0 / (k0 * 0.1), 0);
+  // One full turn in tau = 0.1 s at 10 m/s: a circle of radius 10 / (2 pi / 0.1) = 0.16 m.
+  u[k0] = Eigen::Vector2d(10.0, 2 * M_PI / 0.1);
+  for (int k = k0 + 1; k < 40; ++k) u[k] = Eigen::Vector2d(3.0 / ((40 - k0 - 1) * 0.1), 0);
+  GlobalPlan plan;
+  plan.u = u;
+  const auto sampled = check_robust(p, plan);
+  EXPECT_TRUE(sampled.passed) << sampled.message;
+  p.guarantee = Guarantee::Continuous;
+  const auto cont = check_robust(p, plan);
+  EXPECT_FALSE(cont.passed);
+  EXPECT_GE(visit(cont, "a").sampled_margin, 0.0);
+  EXPECT_LT(visit(cont, "a").between_margin, 0.0);
+  EXPECT_TRUE(cont.between_shortfalls.count("stage a of car")) << cont.message;
+}
+
+// Sound margins on boxes: a box region measures the state box, a polygon the workspace box.
+TEST(Mission, StageMarginOnBoxes) {
+  MissionStage s = square("a", 0, 0, 1);
+  const Box ws{Eigen::Vector2d(0.5, -0.2), Eigen::Vector2d(0.7, 0.9)};
+  EXPECT_NEAR(stage_margin(s, ws, ws), 0.1, 1e-12);
+  const Box out{Eigen::Vector2d(0.5, -0.2), Eigen::Vector2d(1.2, 0.3)};
+  EXPECT_NEAR(stage_margin(s, out, out), -0.2, 1e-12);
+  MissionStage b;
+  b.box = {Eigen::Vector3d(0, 0, -1), Eigen::Vector3d(1, 1, 1)};
+  const Box st{Eigen::Vector3d(0.2, 0.3, -0.5), Eigen::Vector3d(0.4, 0.95, 0.5)};
+  EXPECT_NEAR(stage_margin(b, st, ws), 0.05, 1e-12);
+}

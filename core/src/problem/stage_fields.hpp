@@ -1,0 +1,21 @@
+#pragma once
+// An agent's mission (docs/tasks.md): `stages`, the regions it visits in order before its goal,
+// with their windows, dwells and team labels.
+#include <vector>
+
+#include "marsyn/problem.hpp"
+#include "yaml_reader.hpp"
+
+namespace marsyn::loader {
+
+using yaml::Field;
+
+// Reads and checks agent a's `stages` (a's dynamics, bounds, eps and workspace already read):
+// each region non-empty when shrunk by eps and inside the state bounds, windows consistent,
+// polygons only on a linear workspace map, and the whole sequence within `horizon`.
+std::vector<MissionStage> read_stages(const Field& f, const AgentSpec& a, double tau, int horizon);
+
+// Team labels (rendezvous): each names stages of at least two agents, at most one per agent.
+void check_teams(const Problem& pb, const std::vector<Field>& stage_fields);
+
+}  // namespace marsyn::loader
