@@ -47,6 +47,10 @@ struct SolveOutcome {
   std::vector<AgentTrackers> trackers;
   std::vector<Attempt> attempts;
   SearchReport search;  // the rounds, why it stopped, and the time per round
+  // Per agent: which of eps, eta_x, eta_u were auto (docs/parameters.md), and how the search
+  // narrowed an auto eps (empty when it did not).
+  std::vector<AutoTube> auto_tube;
+  std::vector<std::string> auto_notes;
   double total_time_s = 0;
 };
 
