@@ -26,9 +26,11 @@ Eigen::VectorXd kept_tube(const Controller& c, const NominalTrajectory& nom, dou
   return kept;
 }
 
-Eigen::VectorXd narrower_auto_eps(const AgentSpec& a, const Eigen::VectorXd& kept, double tau) {
-  if (kept.size() != a.tube.eps.size() || !kept.allFinite()) return {};
-  Eigen::VectorXd next = ((1 + kAutoEpsMargin) * kept).cwiseMax(a.tube.w * tau).cwiseMin(a.tube.eps);
+Eigen::VectorXd narrower_auto_eps(const AgentSpec& a, const Eigen::VectorXd& kept, double tau,
+                                  const Eigen::VectorXd& first) {
+  if (kept.size() != a.tube.eps.size() || !kept.allFinite() || first.size() != kept.size()) return {};
+  Eigen::VectorXd next =
+      ((1 + kAutoEpsMargin) * kept).cwiseMax(a.tube.w * tau).cwiseMax(kAutoEpsFloor * first).cwiseMin(a.tube.eps);
   for (Eigen::Index i = 0; i < next.size(); ++i)
     if (!(next[i] > 0)) next[i] = a.tube.eps[i];
   return (next.array() <= 0.9 * a.tube.eps.array()).any() ? next : Eigen::VectorXd();

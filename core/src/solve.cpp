@@ -298,7 +298,7 @@ bool Search::narrow_auto_eps(double elapsed, SearchRound& next) {
     const AutoTube& at = loaded_.auto_tube[i];
     if (!at.eps || i >= out_.agents.size() || !out_.agents[i].track.controller || i >= out_.plan.nominal.size()) continue;
     const Eigen::VectorXd kept = search::kept_tube(*out_.agents[i].track.controller, out_.plan.nominal[i], pb_.tau);
-    const Eigen::VectorXd eps = search::narrower_auto_eps(agents[i], kept, pb_.tau);
+    const Eigen::VectorXd eps = search::narrower_auto_eps(agents[i], kept, pb_.tau, loaded_.problem.agents[i].tube.eps);
     if (!eps.size()) continue;
     AgentSpec b = agents[i];
     b.tube.eps = eps;

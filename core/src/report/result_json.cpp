@@ -39,7 +39,8 @@ nlohmann::json auto_json(const SolveOutcome& o, std::size_t i) {
   auto_grid(first, {false, at.eta_x, at.eta_u}, &grid_rule);
   nlohmann::json j{{"fields", fields}};
   if (at.eps) j["eps_rule"] = eps_rule + "; then the tube the controller kept at the samples + " +
-                              std::to_string(static_cast<int>(100 * kAutoEpsMargin)) + " %, at most " +
+                              std::to_string(static_cast<int>(100 * kAutoEpsMargin)) + " %, never below " +
+                              std::to_string(static_cast<int>(100 * kAutoEpsFloor)) + " % of the first value, at most " +
                               std::to_string(kAutoEpsIterations) + " times";
   if (at.eta_x || at.eta_u) j["grid_rule"] = grid_rule;
   j["search"] = i < o.auto_notes.size() && !o.auto_notes[i].empty() ? o.auto_notes[i] : "the first value stood";

@@ -18,7 +18,11 @@ namespace marsyn::search {
 Eigen::VectorXd kept_tube(const Controller& controller, const NominalTrajectory& nominal, double tau);
 
 // An auto agent's next eps: (1 + kAutoEpsMargin) x kept, no wider than its eps, no narrower than
-// its disturbance's one-period push w tau; empty when no coordinate would narrow by 10 % or more.
-Eigen::VectorXd narrower_auto_eps(const AgentSpec& agent, const Eigen::VectorXd& kept, double tau);
+// its disturbance's one-period push w tau nor kAutoEpsFloor x `first` (the loader's first value:
+// a tracker whose tube scales with eps itself, as the funnel's initial box and weights do, would
+// otherwise only measure its own parametrization, round after round); empty when no coordinate
+// would narrow by 10 % or more.
+Eigen::VectorXd narrower_auto_eps(const AgentSpec& agent, const Eigen::VectorXd& kept, double tau,
+                                  const Eigen::VectorXd& first);
 
 }  // namespace marsyn::search

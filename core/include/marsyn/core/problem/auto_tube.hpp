@@ -18,6 +18,8 @@ struct AutoTube {
 
 // The margin an auto eps keeps over the tube the controller was seen to keep (25 %).
 inline constexpr double kAutoEpsMargin = 0.25;
+// An auto eps is never narrowed below this share of its first value.
+inline constexpr double kAutoEpsFloor = 0.5;
 // The re-plans an auto eps may ask for after a verified round.
 inline constexpr int kAutoEpsIterations = 3;
 
