@@ -5,6 +5,7 @@
 
 #include "marsyn/core/plugins/plugin_registry.hpp"
 #include "marsyn/core/problem/problem_loader.hpp"
+#include "marsyn/core/problem/problem_advice.hpp"
 #include "marsyn/core/problem/problem_summary.hpp"
 
 namespace marsyn::cli {
@@ -47,7 +48,8 @@ std::string default_example() {
 
 int run_check(const std::string& config, const LoadOptions& load) {
   const LoadedProblem loaded = load_problem(config, load);
-  std::cout << summarize(loaded.problem, loaded.trackers) << "\nok: " << config << " is a valid marsyn problem\n";
+  std::cout << summarize(loaded.problem, loaded.trackers) << "\n" << to_text(advise(loaded)) << "\nok: " << config
+            << " is a valid marsyn problem\n";
   return 0;
 }
 

@@ -312,6 +312,26 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
     for (const auto& c : r.changes)
       std::printf("  %-12s %s %s -> %s (round %d: %s)\n", c.agent.empty() ? "(team)" : c.agent.c_str(), c.what.c_str(),
                   c.from.c_str(), c.to.c_str(), r.index, r.reason.c_str());
+  // What the file left to marsyn (eps / eta: auto), the values chosen and why.
+  for (std::size_t i = 0; i < out.auto_tube.size() && i < out.problem.agents.size(); ++i) {
+    const AutoTube& at = out.auto_tube[i];
+    if (!at.any()) continue;
+    const AgentSpec& a = out.problem.agents[i];
+    auto text = [](const Eigen::VectorXd& v) {
+      std::string s = "(";
+      for (Eigen::Index k = 0; k < v.size(); ++k) {
+        char b[32];
+        std::snprintf(b, sizeof b, "%s%.4g", k ? "," : "", v[k]);
+        s += b;
+      }
+      return s + ")";
+    };
+    std::string vals = at.eps ? "eps " + text(a.tube.eps) : "";
+    if (at.eta_x) vals += (vals.empty() ? "" : ", ") + std::string("eta_x ") + text(a.tube.eta_x);
+    if (at.eta_u) vals += (vals.empty() ? "" : ", ") + std::string("eta_u ") + text(a.tube.eta_u);
+    const std::string note = i < out.auto_notes.size() && !out.auto_notes[i].empty() ? out.auto_notes[i] : "the first value stood";
+    std::printf("auto          %-12s %s: %s\n", a.name.c_str(), vals.c_str(), at.eps ? note.c_str() : "from eps and U");
+  }
   if (out.verification_ran) {
     if (v.between.min() < 1e299)
       std::printf("verification  %d closed-loop runs, %d violations, smallest margin %.4g at the samples, %.4g between "

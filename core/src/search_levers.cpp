@@ -1,5 +1,8 @@
 #include "marsyn/core/search_levers.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <variant>
 
@@ -12,8 +15,6 @@ std::string vector_text(const Eigen::VectorXd& v) {
   for (Eigen::Index i = 0; i < v.size(); ++i) s << (i ? "," : "") << v[i];
   return s.str() + ")";
 }
-
-namespace {
 
 std::string params_text(const Params& p) {
   std::ostringstream s;
@@ -39,6 +40,8 @@ std::string params_text(const Params& p) {
   return s.str() + "}";
 }
 
+namespace {
+
 // The changes between an agent before and after a lever, field by field.
 void describe(const AgentSpec& before, const AgentSpec& after, std::vector<SearchChange>& out) {
   auto differ = [](const Eigen::VectorXd& a, const Eigen::VectorXd& b) { return a.size() != b.size() || a != b; };
@@ -54,11 +57,14 @@ void describe(const AgentSpec& before, const AgentSpec& after, std::vector<Searc
 
 }  // namespace
 
-const char* lever_name(Lever lever) {
-  switch (lever) {
+std::string lever_name(const LeverChoice& l) {
+  switch (l.lever) {
+    case Lever::LongerHorizon: return "plan from a longer horizon";
     case Lever::ShrinkEps: return "shrink eps by 0.8 and re-plan";
+    case Lever::TightenInput: return "re-plan with U tightened for the nominal";
+    case Lever::TrackerLever: return "the tracker's " + l.tracker_lever;
+    case Lever::EpsInCoordinate: return "enlarge eps by 1.25 in the missed coordinate and re-plan";
     case Lever::FallBack: return "fall back to the next tracker (tracker: auto)";
-    case Lever::Refine: return "refine the tracker";
     case Lever::EnlargeEps: return "enlarge eps by 1.25 and re-plan";
     case Lever::MoreClearance: return "re-plan with more clearance where certification fell short";
   }
@@ -67,33 +73,90 @@ const char* lever_name(Lever lever) {
 
 int lever_cap(Lever lever) {
   switch (lever) {
+    case Lever::LongerHorizon: return 1;
     case Lever::ShrinkEps: return 4;
+    case Lever::TightenInput: return 2;
+    case Lever::TrackerLever: return 4;
+    case Lever::EpsInCoordinate: return 3;
     case Lever::FallBack: return 1000;  // bounded by the installed trackers
-    case Lever::Refine: return 4;
     case Lever::EnlargeEps: return 3;
     case Lever::MoreClearance: return 4;
   }
   return 0;
 }
 
-std::vector<Lever> levers_for(const Failure& f) {
-  switch (f.kind) {
-    case Failure::Plan: return {Lever::ShrinkEps};
-    // The same eps first (another tracker, then the tracker's own knobs: the plan stays valid),
-    // a wider tube last.
-    case Failure::NoController: return {Lever::FallBack, Lever::Refine, Lever::EnlargeEps};
-    case Failure::Certification: return {Lever::MoreClearance};
-    default: return {};
+double input_share_after(int uses) { return 1.0 - 0.2 * uses; }
+
+double saturation_share(const std::vector<Eigen::VectorXd>& u, const Box& b) {
+  if (u.empty() || b.dim() == 0) return 0.0;
+  int at = 0;
+  for (const auto& uk : u) {
+    bool sat = false;
+    for (Eigen::Index j = 0; j < uk.size() && j < b.dim(); ++j) {
+      const double tol = 1e-6 * (b.hi[j] - b.lo[j]);
+      sat = sat || uk[j] <= b.lo[j] + tol || uk[j] >= b.hi[j] - tol;
+    }
+    at += sat ? 1 : 0;
   }
+  return static_cast<double>(at) / static_cast<double>(u.size());
 }
 
-Proposal propose(Lever lever, const Failure& failure, const Team& team, TrackerInstances& instances,
-                 const AssessRequest& request) {
+std::vector<LeverChoice> levers_for(const Failure& f, const std::vector<TrackerLever>& declared) {
+  switch (f.kind) {
+    // The planning stage lengthened the horizon already: longer still, then a narrower tube.
+    case Failure::Plan: return {{Lever::LongerHorizon, ""}, {Lever::ShrinkEps, ""}};
+    case Failure::Certification: return {{Lever::MoreClearance, ""}};
+    case Failure::NoController: break;
+    default: return {};
+  }
+  std::vector<LeverChoice> out;
+  // A nominal pinned at a bound of U leaves the feedback no authority there (the torque-limited
+  // swing-up): no knob of the tracker gives it back, a plan inside a smaller U does.
+  bool pinned = false;
+  for (std::size_t i = 0; i < f.agents.size(); ++i)
+    pinned = pinned || (i < f.nominal_saturation.size() && f.nominal_saturation[i] > 0) ||
+             (i < f.why.size() && f.why[i].input_saturation > 0);
+  if (pinned) out.push_back({Lever::TightenInput, ""});
+  // The first failed agent's reason decides the order (the others' levers follow it).
+  const TrackFailureKind kind = f.why.empty() ? TrackFailureKind::Unknown : f.why.front().kind;
+  auto own = [&] {
+    for (const auto& l : declared)
+      for (TrackFailureKind k : l.addresses)
+        if (k == kind) {
+          out.push_back({Lever::TrackerLever, l.name});
+          break;
+        }
+  };
+  switch (kind) {
+    case TrackFailureKind::TubeMiss:
+      own();
+      out.push_back({Lever::EpsInCoordinate, ""});
+      out.push_back({Lever::FallBack, ""});
+      break;
+    case TrackFailureKind::EmptyWinningSet:
+      own();
+      out.push_back({Lever::FallBack, ""});
+      break;
+    case TrackFailureKind::Unknown:
+      // The same eps first (another tracker, then the tracker's own knobs: the plan stays valid).
+      out.push_back({Lever::FallBack, ""});
+      own();
+      break;
+  }
+  out.push_back({Lever::EnlargeEps, ""});
+  return out;
+}
+
+Proposal propose(const LeverChoice& lever, const Failure& failure, const Team& team, TrackerInstances& instances,
+                 const AssessRequest& request, int uses) {
   Proposal p;
   p.lever = lever;
   p.agents = team.problem->agents;
   p.trackers = *team.trackers;
   p.extra = *team.extra;
+  p.input_share = *team.input_share;
+  p.input_share.resize(p.agents.size(), 1.0);
+  p.min_horizon = *team.min_horizon;
   auto acceptable = [&](const AgentSpec& a) {
     return agent_consistent(a) && assess_tracker(instances, a.tracker, a, request).ok;
   };
@@ -103,11 +166,16 @@ Proposal propose(Lever lever, const Failure& failure, const Team& team, TrackerI
     p.agents[i] = b;
     p.changed.push_back(i);
   };
-  // eps times `factor` for the agents `who`; a smaller tube keeps a grid no coarser than itself.
-  auto scale_eps = [&](const std::vector<int>& who, double factor) {
-    for (int i : who) {
+  // eps times `factor` for the agents `who` (in coordinate `only`, or all when -1); a smaller
+  // tube keeps a grid no coarser than itself.
+  auto scale_eps = [&](const std::vector<int>& who, double factor, const std::vector<int>& only) {
+    for (std::size_t w = 0; w < who.size(); ++w) {
+      const int i = who[w];
       AgentSpec b = p.agents[i];
-      b.tube.eps *= factor;
+      const int c = w < only.size() ? only[w] : -1;
+      if (c >= 0 && c < b.n()) b.tube.eps[c] *= factor;
+      else if (c < 0) b.tube.eps *= factor;
+      else continue;
       if (factor < 1 && b.tube.eta_x.size() == b.tube.eps.size()) b.tube.eta_x = b.tube.eta_x.cwiseMin(b.tube.eps);
       consider(i, b);
     }
@@ -115,21 +183,74 @@ Proposal propose(Lever lever, const Failure& failure, const Team& team, TrackerI
   };
   std::vector<int> everyone(p.agents.size());
   for (std::size_t i = 0; i < everyone.size(); ++i) everyone[i] = static_cast<int>(i);
-  switch (lever) {
+  switch (lever.lever) {
+    case Lever::LongerHorizon: {
+      const int from = std::max(failure.longest_horizon, team.problem->horizon);
+      const int to = std::max(from + 1, static_cast<int>(std::ceil(from * 1.25)));
+      if (from <= 0 || to > 100000) {
+        p.why_not = "no horizon to start from";
+        break;
+      }
+      p.min_horizon = to;
+      p.changes.push_back({"", "horizon", std::to_string(from), std::to_string(to)});
+      p.replan = true;
+      break;
+    }
     case Lever::ShrinkEps:
-      scale_eps(everyone, 0.8);
+      scale_eps(everyone, 0.8, {});
       if (p.changed.empty()) p.why_not = "no agent's tracker accepts a smaller eps";
       break;
     case Lever::EnlargeEps:
-      scale_eps(failure.agents, 1.25);
+      scale_eps(failure.agents, 1.25, {});
       if (p.changed.empty()) p.why_not = "a wider tube is refused by the goal, the state bounds or the tracker";
       break;
-    case Lever::Refine:
-      for (int i : failure.agents) {
-        AgentSpec b = p.agents[i];
-        if (instances.get(b.tracker)->refine(b)) consider(i, b);
+    case Lever::EpsInCoordinate: {
+      std::vector<int> who, coord;
+      for (std::size_t w = 0; w < failure.agents.size() && w < failure.why.size(); ++w)
+        if (failure.why[w].kind == TrackFailureKind::TubeMiss && failure.why[w].coordinate >= 0) {
+          who.push_back(failure.agents[w]);
+          coord.push_back(failure.why[w].coordinate);
+        }
+      if (who.empty()) {
+        p.why_not = "no tracker named the coordinate it missed";
+        break;
       }
-      if (p.changed.empty()) p.why_not = "the trackers have nothing left to refine";
+      scale_eps(who, 1.25, coord);
+      if (p.changed.empty()) p.why_not = "a wider tube in that coordinate is refused by the goal, the state bounds or the tracker";
+      break;
+    }
+    case Lever::TightenInput: {
+      const double share = input_share_after(uses + 1);
+      for (std::size_t w = 0; w < failure.agents.size(); ++w) {
+        const int i = failure.agents[w];
+        const bool pinned = (w < failure.nominal_saturation.size() && failure.nominal_saturation[w] > 0) ||
+                            (w < failure.why.size() && failure.why[w].input_saturation > 0);
+        if (!pinned || !(share < p.input_share[i])) continue;
+        char from[32], to[32];
+        std::snprintf(from, sizeof from, "%.0f %%", 100 * p.input_share[i]);
+        std::snprintf(to, sizeof to, "%.0f %%", 100 * share);
+        p.changes.push_back({p.agents[i].name, "share of U for the nominal", from, to});
+        p.input_share[i] = share;
+        p.changed.push_back(i);
+      }
+      if (p.changes.empty()) p.why_not = "no failed agent's nominal sits at a bound of U that can still be tightened";
+      p.replan = true;
+      break;
+    }
+    case Lever::TrackerLever:
+      for (std::size_t w = 0; w < failure.agents.size(); ++w) {
+        const int i = failure.agents[w];
+        AgentSpec b = p.agents[i];
+        const TrackFailure why = w < failure.why.size() ? failure.why[w] : TrackFailure{};
+        std::shared_ptr<const Tracker> t;
+        try {
+          t = instances.get(b.tracker);
+        } catch (const std::exception&) {
+          continue;
+        }
+        if (t->apply_lever(lever.tracker_lever, why, b)) consider(i, b);
+      }
+      if (p.changed.empty()) p.why_not = "no failed agent's tracker can turn it further";
       break;
     case Lever::FallBack:
       for (int i : failure.agents) {
@@ -173,9 +294,12 @@ void apply(const Proposal& p, const Team& team) {
   team.problem->agents = p.agents;
   *team.trackers = p.trackers;
   *team.extra = p.extra;
+  *team.input_share = p.input_share;
+  *team.min_horizon = p.min_horizon;
 }
 
-std::string fingerprint(const std::vector<AgentSpec>& agents, const std::map<std::string, double>& extra) {
+std::string fingerprint(const std::vector<AgentSpec>& agents, const std::map<std::string, double>& extra,
+                        const std::vector<double>& input_share, int min_horizon) {
   std::ostringstream s;
   s.precision(12);  // eps x 0.8 x 1.25 is the same tube, whatever the last bits say
   auto put = [&](const Eigen::VectorXd& v) {
@@ -189,6 +313,9 @@ std::string fingerprint(const std::vector<AgentSpec>& agents, const std::map<std
     put(a.tube.eta_u);
   }
   for (const auto& [name, v] : extra) s << name << "=" << v << ";";
+  for (std::size_t i = 0; i < input_share.size(); ++i)
+    if (input_share[i] != 1.0) s << "U" << i << "=" << input_share[i] << ";";  // the file's U (share 1) prints nothing: fingerprints stay comparable
+  s << "T>=" << min_horizon;
   return s.str();
 }
 

@@ -12,17 +12,21 @@
 #include "marsyn/core/tracking/global_abcd.hpp"
 #include "marsyn/core/tracking/mpi_plan_broadcast.hpp"
 #include "marsyn/core/tracking/track_agents.hpp"
+#include "marsyn/core/search_auto.hpp"
 #include "marsyn/core/search_levers.hpp"
+#include "marsyn/core/problem/agent_checks.hpp"
 
 namespace marsyn {
 namespace {
 
 using search::Failure;
 using search::Lever;
+using search::LeverChoice;
 
 // An attempt's parameters for one agent: its tracker, eps, and the grids when it has them.
 std::string agent_parameters(const AgentSpec& a) {
-  std::string p = "tracker=" + a.tracker.name + " eps=" + search::vector_text(a.tube.eps);
+  std::string p = "tracker=" + a.tracker.name + (a.tracker.params.values().empty() ? "" : search::params_text(a.tracker.params)) +
+                  " eps=" + search::vector_text(a.tube.eps);
   if (a.tube.eta_x.size()) p += " eta_x=" + search::vector_text(a.tube.eta_x);
   if (a.tube.eta_u.size()) p += " eta_u=" + search::vector_text(a.tube.eta_u);
   return p;
@@ -50,6 +54,8 @@ class Search {
     if (!pb_.warm_start_planner.name.empty())
       warm_planner_ = loaded.registry->create<Planner>(pb_.warm_start_planner.name, pb_.warm_start_planner.params);
     out_.search.time_limit_s = opt.time_limit_s;
+    input_share_.assign(pb_.agents.size(), 1.0);
+    out_.auto_tube = loaded.auto_tube;
   }
 
   // Runs rounds until every agent has a certified controller or the search stops; returns
@@ -76,8 +82,15 @@ class Search {
   // The next round's lever, applied (replan: whether it invalidated the plan), or false (with
   // stop_reason and not_tried set).
   bool next_round(const Failure& failure, double elapsed, SearchRound& next, bool& replan);
+  // After a round in which every agent got a controller: narrows the auto agents' eps to the
+  // tubes their controllers kept (search_auto.hpp), saving this round to fall back on; false when
+  // no auto eps would narrow, the iterations are used up or time does not allow.
+  bool narrow_auto_eps(double elapsed, SearchRound& next);
+  // The saved round, back (the narrower one failed).
+  void restore();
   // Seconds the round a proposal asks for would take, from the last rounds' times.
-  double estimate(const search::Proposal& p);
+  // cost: the tracker's declared cost factor of a tracker lever (1 otherwise).
+  double estimate(const search::Proposal& p, double cost = 1);
 
   const LoadedProblem& loaded_;
   const SolveOptions& opt_;
@@ -87,7 +100,25 @@ class Search {
   std::shared_ptr<Planner> planner_, warm_planner_;
   std::map<std::string, double> extra_;  // per constraint: grows where certification fell short
   std::set<std::string> seen_;           // fingerprints of the attempts made
-  int uses_[search::kLeverCount] = {};
+  std::map<std::string, int> uses_;      // per lever (by name): the rounds it ran
+  std::vector<double> input_share_;      // per agent: the share of U the nominal may use (1: all)
+  int min_horizon_ = 0;                  // the horizon the planning starts from at least (0: the file's)
+  // eps: auto (search_auto.hpp): the rounds that narrowed it, and the last verified round's state.
+  int auto_rounds_ = 0;
+  bool trial_ = false;  // the running round narrowed an auto eps
+  struct Saved {
+    planning::PlanOutcome plan;
+    std::vector<AgentOutcome> agents;
+    CertificationReport certification;
+    bool certification_ran = false;
+    std::vector<AgentSpec> specs;
+    std::vector<AgentTrackers> trackers;
+    std::map<std::string, double> extra;
+    std::vector<double> input_share;
+    int min_horizon = 0, horizon = 0, round = 0;
+  } saved_;
+  search::Team team() { return {&pb_, &out_.trackers, &extra_, &input_share_, &min_horizon_}; }
+  std::string fingerprint() const { return search::fingerprint(pb_.agents, extra_, input_share_, min_horizon_); }
   double last_plan_s_ = 0, last_track_s_ = 0, last_certify_s_ = 0;
 };
 
@@ -100,8 +131,23 @@ Failure Search::plan(SearchRound& round, double time_left) {
   log("[plan] " + pb_.planner.name + " on the product system (" + std::to_string(pb_.product_state_dim()) + " state" +
       (pb_.product_state_dim() == 1 ? "" : "s") + ", " + std::to_string(pb_.product_input_dim()) + " input" +
       (pb_.product_input_dim() == 1 ? "" : "s") + ")");
+  if (min_horizon_ > pb_.horizon) pb_.horizon = min_horizon_;
+  // U tightened for the nominal (docs/search.md): the planner sees the smaller box, the trackers
+  // the file's, so the feedback keeps the rest of U around the nominal's input.
+  const Problem* planned = &pb_;
+  Problem tightened;
+  if (std::any_of(input_share_.begin(), input_share_.end(), [](double s) { return s < 1; })) {
+    tightened = pb_;
+    for (std::size_t i = 0; i < tightened.agents.size(); ++i) {
+      Box& u = tightened.agents[i].input_bounds;
+      const Eigen::VectorXd c = 0.5 * (u.lo + u.hi), h = 0.5 * input_share_[i] * (u.hi - u.lo);
+      u.lo = c - h;
+      u.hi = c + h;
+    }
+    planned = &tightened;
+  }
   const Stopwatch t;
-  if (root()) out_.plan = planning::plan(pb_, *planner_, po);
+  if (root()) out_.plan = planning::plan(*planned, *planner_, po);
   if (opt_.cluster) mpi::broadcast_plan(*opt_.cluster, out_.plan);  // what the other ranks need of it
   round.planned = true;
   round.plan_time_s = last_plan_s_ = t.seconds();
@@ -110,7 +156,10 @@ Failure Search::plan(SearchRound& round, double time_left) {
     std::ostringstream params;
     params << "planner=" << pa.planner << " T=" << pa.horizon;
     if (!extra_.empty()) params << " extra clearance for " << extra_.size() << " constraint(s)";
-    for (const auto& a : pb_.agents) params << " eps[" << a.name << "]=" << search::vector_text(a.tube.eps);
+    for (std::size_t i = 0; i < pb_.agents.size(); ++i) {
+      params << " eps[" << pb_.agents[i].name << "]=" << search::vector_text(pb_.agents[i].tube.eps);
+      if (input_share_[i] < 1) params << " U share[" << pb_.agents[i].name << "]=" << input_share_[i];
+    }
     const bool robust = pa.check.passed;
     out_.attempts.push_back({"plan", params.str(),
                              robust ? "feasible, smallest robust margin " + std::to_string(pa.check.min_margin)
@@ -118,7 +167,11 @@ Failure Search::plan(SearchRound& round, double time_left) {
                              pa.solve_time_s, pa.horizon});
   }
   round.horizon = out_.plan.horizon;
-  if (!out_.plan.feasible) return {Failure::Plan, "planning failed: " + out_.plan.check.message, {}, {}};
+  if (!out_.plan.feasible) {
+    Failure f{Failure::Plan, "planning failed: " + out_.plan.check.message, {}, {}};
+    for (const auto& pa : out_.plan.attempts) f.longest_horizon = std::max(f.longest_horizon, pa.horizon);
+    return f;
+  }
   if (!out_.plan.nominal.empty()) pb_.horizon = out_.plan.horizon;
   extra_ = out_.plan.extra;  // a later re-plan keeps the clearance this one needed
   return {};
@@ -144,6 +197,9 @@ Failure Search::track(SearchRound& round) {
               {}, {}};
     f.agents.push_back(static_cast<int>(i));
     f.reason += " " + pb_.agents[i].name;
+    f.why.push_back(r.failure);
+    f.nominal_saturation.push_back(
+        i < out_.plan.nominal.size() ? search::saturation_share(out_.plan.nominal[i].u, pb_.agents[i].input_bounds) : 0.0);
   }
   return f.agents.empty() ? Failure{} : f;
 }
@@ -166,9 +222,10 @@ Failure Search::certify(SearchRound& round) {
   return f;
 }
 
-double Search::estimate(const search::Proposal& p) {
-  // Tracking scales with the trackers' own work estimates (a finer grid costs more).
-  double ratio = 1;
+double Search::estimate(const search::Proposal& p, double cost) {
+  // Tracking scales with the trackers' own work estimates (a finer grid costs more) and with
+  // what a tracker declared its lever costs.
+  double ratio = std::max(1.0, cost);
   for (int i : p.changed) {
     const double before = assess_tracker(instances_, pb_.agents[i].tracker, pb_.agents[i], ask()).work_s;
     const double after = assess_tracker(instances_, p.agents[i].tracker, p.agents[i], ask()).work_s;
@@ -180,30 +237,44 @@ double Search::estimate(const search::Proposal& p) {
 bool Search::next_round(const Failure& failure, double elapsed, SearchRound& next, bool& replan) {
   SearchReport& rep = out_.search;
   rep.not_tried.clear();
-  const search::Team team{&pb_, &out_.trackers, &extra_};
-  for (const Lever lever : search::levers_for(failure)) {
+  // The failed agents' trackers' own knobs, as each declares them (no names in core).
+  std::vector<TrackerLever> declared;
+  for (int i : failure.agents) {
+    std::vector<TrackerLever> mine;
+    try {
+      mine = instances_.get(pb_.agents[i].tracker)->levers(pb_.agents[i]);
+    } catch (const std::exception&) {
+    }
+    for (const auto& l : mine)
+      if (std::none_of(declared.begin(), declared.end(), [&](const TrackerLever& d) { return d.name == l.name; }))
+        declared.push_back(l);
+  }
+  for (const LeverChoice& lever : search::levers_for(failure, declared)) {
     const std::string name = search::lever_name(lever);
-    const int k = static_cast<int>(lever);
-    if (uses_[k] >= search::lever_cap(lever)) {
-      rep.not_tried.push_back({name, "used " + std::to_string(uses_[k]) + " times, its limit"});
+    int& used = uses_[name];
+    if (used >= search::lever_cap(lever.lever)) {
+      rep.not_tried.push_back({name, "used " + std::to_string(used) + " times, its limit"});
       continue;
     }
-    const search::Proposal p = search::propose(lever, failure, team, instances_, ask());
+    const search::Proposal p = search::propose(lever, failure, team(), instances_, ask(), used);
     if (!p.why_not.empty()) {
       rep.not_tried.push_back({name, p.why_not});
       continue;
     }
-    if (seen_.count(search::fingerprint(p.agents, p.extra))) {
+    if (seen_.count(search::fingerprint(p.agents, p.extra, p.input_share, p.min_horizon))) {
       rep.not_tried.push_back({name, "it would repeat an attempt already made"});
       continue;
     }
-    const double need = estimate(p), left = opt_.time_limit_s - elapsed;
+    double cost = 1;
+    for (const auto& d : declared)
+      if (lever.lever == Lever::TrackerLever && d.name == lever.tracker_lever) cost = d.cost_factor;
+    const double need = estimate(p, cost), left = opt_.time_limit_s - elapsed;
     if (!rank0_says(need <= left)) {
       rep.not_tried.push_back({name, "would take about " + seconds(need) + ", " + seconds(std::max(0.0, left)) + " left"});
       continue;
     }
-    search::apply(p, team);
-    ++uses_[k];
+    search::apply(p, team());
+    ++used;
     next.action = name;
     next.reason = failure.reason;
     next.changes = p.changes;
@@ -219,6 +290,60 @@ bool Search::next_round(const Failure& failure, double elapsed, SearchRound& nex
   return false;
 }
 
+bool Search::narrow_auto_eps(double elapsed, SearchRound& next) {
+  if (auto_rounds_ >= kAutoEpsIterations || loaded_.auto_tube.size() != pb_.agents.size()) return false;
+  std::vector<AgentSpec> agents = pb_.agents;
+  std::vector<SearchChange> changes;
+  for (std::size_t i = 0; i < agents.size(); ++i) {
+    const AutoTube& at = loaded_.auto_tube[i];
+    if (!at.eps || i >= out_.agents.size() || !out_.agents[i].track.controller || i >= out_.plan.nominal.size()) continue;
+    const Eigen::VectorXd kept = search::kept_tube(*out_.agents[i].track.controller, out_.plan.nominal[i], pb_.tau);
+    const Eigen::VectorXd eps = search::narrower_auto_eps(agents[i], kept, pb_.tau, loaded_.problem.agents[i].tube.eps);
+    if (!eps.size()) continue;
+    AgentSpec b = agents[i];
+    b.tube.eps = eps;
+    auto_grid(b, {false, at.eta_x, at.eta_u});
+    if (!agent_consistent(b) || !assess_tracker(instances_, b.tracker, b, ask()).ok) continue;
+    changes.push_back({b.name, "eps", search::vector_text(agents[i].tube.eps), search::vector_text(eps)});
+    if (at.eta_x) changes.push_back({b.name, "eta_x", search::vector_text(agents[i].tube.eta_x), search::vector_text(b.tube.eta_x)});
+    if (at.eta_u && b.tube.eta_u != agents[i].tube.eta_u)
+      changes.push_back({b.name, "eta_u", search::vector_text(agents[i].tube.eta_u), search::vector_text(b.tube.eta_u)});
+    out_.auto_notes.resize(pb_.agents.size());
+    out_.auto_notes[i] += (out_.auto_notes[i].empty() ? "" : "; ") + std::string("round ") + std::to_string(next.index - 1) +
+                          "'s controller kept " + search::vector_text(kept) + " at the samples: eps " +
+                          search::vector_text(eps) + " (+" + std::to_string(static_cast<int>(100 * kAutoEpsMargin)) + " %)";
+    agents[i] = b;
+  }
+  if (changes.empty() || seen_.count(search::fingerprint(agents, extra_, input_share_, min_horizon_))) return false;
+  const double need = last_plan_s_ + last_track_s_ + last_certify_s_, left = opt_.time_limit_s - elapsed;
+  if (!rank0_says(need <= left)) return false;
+  saved_ = {out_.plan, out_.agents, out_.certification, out_.certification_ran, pb_.agents, out_.trackers, extra_,
+            input_share_, min_horizon_, pb_.horizon, next.index - 1};
+  pb_.agents = agents;
+  ++auto_rounds_;
+  trial_ = true;
+  next.action = "narrow the auto eps to the tube kept + " + std::to_string(static_cast<int>(100 * kAutoEpsMargin)) + " %";
+  next.reason = "every agent has a controller; eps: auto";
+  next.changes = changes;
+  log("[search] round " + std::to_string(next.index) + ": " + next.reason + "; " + next.action + " (" +
+      changes_text(changes) + "); re-planning");
+  return true;
+}
+
+void Search::restore() {
+  out_.plan = saved_.plan;
+  out_.agents = saved_.agents;
+  out_.certification = saved_.certification;
+  out_.certification_ran = saved_.certification_ran;
+  pb_.agents = saved_.specs;
+  out_.trackers = saved_.trackers;
+  extra_ = saved_.extra;
+  input_share_ = saved_.input_share;
+  min_horizon_ = saved_.min_horizon;
+  pb_.horizon = saved_.horizon;
+  out_.failure.clear();
+}
+
 bool Search::run(const Stopwatch& t_start) {
   SearchReport& rep = out_.search;
   SearchRound round;
@@ -226,7 +351,7 @@ bool Search::run(const Stopwatch& t_start) {
   Stopwatch t_round;
   bool replan = true, done = false;
   for (;;) {
-    seen_.insert(search::fingerprint(pb_.agents, extra_));
+    seen_.insert(fingerprint());
     Failure f;
     if (replan) f = plan(round, opt_.time_limit_s - t_start.seconds());
     round.horizon = out_.plan.horizon;
@@ -240,9 +365,27 @@ bool Search::run(const Stopwatch& t_start) {
     const std::size_t index = rep.rounds.size() + 1;
     rep.rounds.push_back(round);
     out_.failure = f.kind == Failure::None ? "" : f.reason;
+    const std::string success = pb_.guarantee == Guarantee::Continuous ? "every agent has a controller, certified"
+                                                                         : "every agent has a controller";
     if (f.kind == Failure::None) {
-      rep.stop_reason = pb_.guarantee == Guarantee::Continuous ? "every agent has a controller, certified"
-                                                                 : "every agent has a controller";
+      trial_ = false;
+      SearchRound next;
+      next.index = static_cast<int>(index) + 1;
+      t_round = Stopwatch();
+      if (index < static_cast<std::size_t>(opt_.max_rounds) && narrow_auto_eps(t_start.seconds(), next)) {
+        round = next;
+        replan = true;
+        continue;
+      }
+      rep.stop_reason = success;
+      done = true;
+      break;
+    }
+    if (trial_) {
+      // The narrower auto eps did not verify: the last verified round stands.
+      restore();
+      rep.stop_reason = success + " (round " + std::to_string(saved_.round) + "'s; the narrower auto eps of round " +
+                        std::to_string(index) + " failed: " + f.reason + ")";
       done = true;
       break;
     }

@@ -12,6 +12,8 @@
 #include "marsyn/core/problem/input_limits.hpp"
 #include "marsyn/core/tracking/tracker_choice.hpp"
 #include "agent_fields.hpp"
+#include "marsyn/core/problem/auto_tube.hpp"
+#include "tube_fields.hpp"
 #include "equations/equation_yaml.hpp"
 #include "field_text.hpp"
 #include "plugin_fields.hpp"
@@ -149,11 +151,10 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
     a.state_bounds = read_box(agent_required(af, defaults, "state_bounds"), n, sn);
     a.input_bounds = read_box(agent_required(af, defaults, "input_bounds"), m, sm);
     a.tube.w = agent_required(af, defaults, "disturbance").non_negative_vector(n, sn);
-    a.tube.eps = agent_required(af, defaults, "eps").positive_vector(n, sn);
-    // The grids are optional: only a grid tracker (abcd) reads them, and its assessment asks for
-    // them when they are missing.
-    if (Field etaf = agent_field(af, defaults, "eta_x"); etaf.present()) a.tube.eta_x = etaf.positive_vector(n, sn);
-    if (Field etauf = agent_field(af, defaults, "eta_u"); etauf.present()) a.tube.eta_u = etauf.positive_vector(m, sm);
+    // eps and the grids: numbers, or `auto` (auto_tube.hpp; an absent eps is auto, and so are
+    // then absent grids).
+    const AutoTube at = read_tube(af, defaults, pb.tau, a, sn, sm);
+    out.auto_tube.push_back(at);
     if (Field ws = agent_field(af, defaults, "workspace"); ws.present()) {
       a.workspace = read_workspace(ws, *a.dynamics);
     } else if (spatial) {

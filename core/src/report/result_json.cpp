@@ -26,6 +26,28 @@ nlohmann::json open_loop_runs_json(const std::vector<OpenLoopRun>& runs) {
 
 // The search (docs/search.md): why it stopped, and per round the action, its reason, what it
 // changed and where the round's time went. Times are totals; the rounds give the split.
+// What the file left to marsyn for agent i (docs/parameters.md): the fields, the rules that gave
+// their first values, and how the search narrowed an auto eps.
+nlohmann::json auto_json(const SolveOutcome& o, std::size_t i) {
+  const AutoTube& at = o.auto_tube[i];
+  nlohmann::json fields = nlohmann::json::array();
+  if (at.eps) fields.push_back("eps");
+  if (at.eta_x) fields.push_back("eta_x");
+  if (at.eta_u) fields.push_back("eta_u");
+  AgentSpec first = o.problem.agents[i];
+  std::string eps_rule, grid_rule;
+  first_auto_eps(first, o.problem.tau, &eps_rule);
+  auto_grid(first, {false, at.eta_x, at.eta_u}, &grid_rule);
+  nlohmann::json j{{"fields", fields}};
+  if (at.eps) j["eps_rule"] = eps_rule + "; then the tube the controller kept at the samples + " +
+                              std::to_string(static_cast<int>(100 * kAutoEpsMargin)) + " %, never below " +
+                              std::to_string(static_cast<int>(100 * kAutoEpsFloor)) + " % of the first value, at most " +
+                              std::to_string(kAutoEpsIterations) + " times";
+  if (at.eta_x || at.eta_u) j["grid_rule"] = grid_rule;
+  j["search"] = i < o.auto_notes.size() && !o.auto_notes[i].empty() ? o.auto_notes[i] : "the first value stood";
+  return j;
+}
+
 nlohmann::json search_json(const SearchReport& s) {
   using nlohmann::json;
   json rounds = json::array();
@@ -114,6 +136,7 @@ nlohmann::json result_json(const SolveOutcome& o) {
                       {"eta_u", std::vector<double>(spec.tube.eta_u.data(), spec.tube.eta_u.data() + spec.tube.eta_u.size())},
                       {"tracker", t},
                       {"controller", a.controller_file.empty() ? json(nullptr) : json(a.controller_file)}});
+    if (i < o.auto_tube.size() && o.auto_tube[i].any()) agents.back()["auto"] = auto_json(o, i);
   }
   j["agents"] = agents;
   const auto& c = o.certification;

@@ -136,11 +136,48 @@ struct TrackOptions {
   std::function<void(int done, int total)> progress;
 };
 
+// Why a tracker found no controller, as the outer search reads it to choose its next lever
+// (docs/search.md): which coordinate left the tube at which step and by how much, or from which
+// step the winning set is empty, and whether the nominal's inputs sat at a bound of U.
+enum class TrackFailureKind {
+  Unknown,          // no structured reason (the message says what happened)
+  TubeMiss,         // the verified enclosure leaves the eps-tube in `coordinate` at `step` by `amount`
+  EmptyWinningSet,  // a grid tracker's winning set is empty from `step` backwards
+};
+
+inline const char* to_string(TrackFailureKind k) {
+  switch (k) {
+    case TrackFailureKind::Unknown: return "unknown";
+    case TrackFailureKind::TubeMiss: return "tube miss";
+    case TrackFailureKind::EmptyWinningSet: return "empty winning set";
+  }
+  return "?";
+}
+
+struct TrackFailure {
+  TrackFailureKind kind = TrackFailureKind::Unknown;
+  int coordinate = -1;  // TubeMiss: the state coordinate; -1: not one coordinate
+  int step = -1;        // the step of the failure; -1: unknown
+  double amount = 0.0;  // TubeMiss: by how much the enclosure leaves the tube (state units)
+  // The share of the steps (0..1) on which the tracker found some input saturated at a bound of
+  // U; core also measures the nominal's own share (docs/search.md, "tighten U for the nominal").
+  double input_saturation = 0.0;
+};
+
 struct TrackResult {
   TrackerStatus status = TrackerStatus::InvalidInput;
   std::shared_ptr<const Controller> controller;  // set iff status == Controller (or partial)
   TrackerStats stats;
   std::string message;
+  TrackFailure failure;  // status == NoController: why, as far as the tracker can say
+};
+
+// One of a tracker's own knobs (Remark 2) as the outer search sees it: its name, the failures it
+// addresses and its estimated cost, the tracking work after over before (a finer grid costs more).
+struct TrackerLever {
+  std::string name;                          // e.g. "finer state grid"; unique within the tracker
+  std::vector<TrackFailureKind> addresses;   // the failure kinds it is worth trying for
+  double cost_factor = 1.0;
 };
 
 // What a tracker says about one agent before any plan exists (`marsyn check`, `tracker: auto`,
@@ -194,6 +231,19 @@ class Tracker {
   virtual bool refine(AgentSpec& agent) const {
     (void)agent;
     return false;
+  }
+  // The knobs this tracker can still turn on `agent` (those whose change is possible from its
+  // current parameters), best first. The default offers refine() as one lever for every kind.
+  virtual std::vector<TrackerLever> levers(const AgentSpec& agent) const {
+    AgentSpec copy = agent;
+    if (!refine(copy)) return {};
+    return {{"refine", {TrackFailureKind::Unknown, TrackFailureKind::TubeMiss, TrackFailureKind::EmptyWinningSet}, 1.0}};
+  }
+  // Turns the lever `name` (one of levers(agent)) for the failure; false, agent unchanged, when it
+  // cannot. The default turns "refine" through refine().
+  virtual bool apply_lever(const std::string& name, const TrackFailure& failure, AgentSpec& agent) const {
+    (void)failure;
+    return name == "refine" && refine(agent);
   }
   // Reads a controller file written by this tracker; throws std::runtime_error on a corrupt or
   // mismatched file.

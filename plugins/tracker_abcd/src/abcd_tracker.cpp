@@ -1,6 +1,7 @@
 #include "abcd_tracker.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <thread>
@@ -211,6 +212,44 @@ bool AbcdTracker::refine(AgentSpec& agent) const {
   AgentSpec b = agent;
   b.tube.eta_x *= 0.75;
   b.tube.eta_u *= 0.75;
+  if (x0_cell_defect(b) >= 0) return false;
+  agent = b;
+  return true;
+}
+
+namespace {
+constexpr long kMaxLeverSubsteps = 64;
+}  // namespace
+
+std::vector<TrackerLever> AbcdTracker::levers(const AgentSpec& agent) const {
+  std::vector<TrackerLever> out;
+  const TrackFailure none;
+  const std::vector<TrackFailureKind> grid{TrackFailureKind::EmptyWinningSet, TrackFailureKind::Unknown};
+  // The sweep's work grows with the tube cells (eta_x^-n) and the grid inputs (eta_u^-m).
+  const char* names[] = {"finer state grid", "finer input grid", "more substeps"};
+  const double costs[] = {std::pow(1 / 0.75, agent.n()), std::pow(1 / 0.75, agent.m()), 2.0};
+  for (int i = 0; i < 3; ++i) {
+    AgentSpec b = agent;
+    if (apply_lever(names[i], none, b)) out.push_back({names[i], grid, costs[i]});
+  }
+  return out;
+}
+
+bool AbcdTracker::apply_lever(const std::string& name, const TrackFailure& failure, AgentSpec& agent) const {
+  (void)failure;
+  if (!has_grid(agent)) return false;
+  AgentSpec b = agent;
+  if (name == "finer state grid") b.tube.eta_x *= 0.75;
+  else if (name == "finer input grid") b.tube.eta_u *= 0.75;
+  else if (name == "more substeps") {
+    const long sub = b.tracker.params.integer("substeps", base_.successor.substeps);
+    if (sub * 2 > kMaxLeverSubsteps) return false;
+    b.tracker.params.set("substeps", sub * 2);
+  } else if (name == "refine") {
+    return refine(agent);
+  } else {
+    return false;
+  }
   if (x0_cell_defect(b) >= 0) return false;
   agent = b;
   return true;

@@ -59,6 +59,11 @@ class AbcdTracker : public marsyn::Tracker {
   // Remark 2: eta_x and eta_u times 0.75, refused (false, agent unchanged) when x0's cell would
   // no longer fit the tube or the agent has no grid.
   bool refine(AgentSpec& agent) const override;
+  // The outer search's knobs (docs/search.md): "finer state grid" (eta_x x 0.75), "finer input
+  // grid" (eta_u x 0.75), "more substeps" (the enclosure's substeps x 2, up to 64), each
+  // offered only while it can change the agent.
+  std::vector<TrackerLever> levers(const AgentSpec& agent) const override;
+  bool apply_lever(const std::string& name, const TrackFailure& failure, AgentSpec& agent) const override;
 
   // Tests and benchmarks set these directly.
   SynthesisOptions options_for(const TrackOptions& o) const;

@@ -366,6 +366,10 @@ TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o
     r.status = TrackerStatus::NoController;
     r.message = "agent " + p.agent + ": x_0's cell is not winning" +
                 (k >= 0 ? " (the winning set is empty from step " + std::to_string(k) + " backwards)" : "");
+    if (k >= 0) {
+      r.failure.kind = TrackFailureKind::EmptyWinningSet;
+      r.failure.step = k;
+    }
   }
   return r;
 }

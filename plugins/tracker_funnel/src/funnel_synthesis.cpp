@@ -416,6 +416,8 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
                   " can leave the eps-tube by " + num(over) + " (enclosure half-width " + num(zend.radius(i)) +
                   " vs eps " + num(p.tube.eps[i]) + (out.saturated_steps ? "; some inputs saturated" : "") + ")";
         out.reached_step = k;
+        out.miss_coordinate = i;
+        out.miss_amount = over;
         return out;
       }
     }

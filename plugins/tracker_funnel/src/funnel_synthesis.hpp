@@ -25,6 +25,8 @@ struct VerifyOutcome {
   FunnelData data;
   std::string why;        // when !ok: the step, coordinate and amount that failed
   int reached_step = 0;   // steps verified before the failure
+  int miss_coordinate = -1;  // when the enclosure left the tube: the coordinate and by how much
+  double miss_amount = 0.0;
   int saturated_steps = 0;  // steps where some input row hit U and was enclosed as a box
   double max_fill = 0.0;  // max over k, i of (hull half-width of V_k along i) / eps_i
   double mean_fill = 0.0;

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 #include "lqr.hpp"
 #include "marsyn/dual.hpp"
@@ -139,6 +140,34 @@ bool FunnelTracker::refine(AgentSpec& a) const {
   return false;
 }
 
+std::vector<TrackerLever> FunnelTracker::levers(const AgentSpec& a) const {
+  std::vector<TrackerLever> out;
+  const std::vector<TrackFailureKind> kinds{TrackFailureKind::TubeMiss, TrackFailureKind::Unknown};
+  for (const auto& [name, cost] : {std::pair{"more enclosure substeps", 2.0}, std::pair{"stiffer feedback", 1.0}}) {
+    AgentSpec b = a;
+    if (apply_lever(name, {}, b)) out.push_back({name, kinds, cost});
+  }
+  return out;
+}
+
+bool FunnelTracker::apply_lever(const std::string& name, const TrackFailure& failure, AgentSpec& a) const {
+  (void)failure;
+  Params& p = a.tracker.params;
+  if (name == "more enclosure substeps") {
+    const long sub = p.integer("substeps", s_.substeps);
+    if (sub * 2 > 256) return false;
+    p.set("substeps", sub * 2);
+    return true;
+  }
+  if (name == "stiffer feedback") {
+    const double q = p.real("state_weight", s_.state_weight);
+    if (q * 4 > 1e4) return false;
+    p.set("state_weight", q * 4);
+    return true;
+  }
+  return name == "refine" && refine(a);
+}
+
 TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) const {
   TrackResult res;
   const auto t0 = Clock::now();
@@ -204,6 +233,13 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
     res.status = TrackerStatus::NoController;
     res.message = best.reached_step < 0 ? "the LQR recursion broke down (non-finite gains)"
                                         : "no verified funnel (" + std::to_string(attempts) + " weight choice(s)): " + best.why;
+    if (best.miss_coordinate >= 0) {
+      res.failure.kind = TrackFailureKind::TubeMiss;
+      res.failure.coordinate = best.miss_coordinate;
+      res.failure.step = best.reached_step + 1;
+      res.failure.amount = best.miss_amount;
+    }
+    if (best.reached_step > 0) res.failure.input_saturation = static_cast<double>(best.saturated_steps) / best.reached_step;
     return res;
   }
   res.stats.initial_state_winning = true;

@@ -35,6 +35,11 @@ class FunnelTracker : public marsyn::Tracker {
   TrackResult track(const TrackingProblem& problem, const TrackOptions& options) const override;
   TrackerAssessment assess(const AgentSpec& agent, int horizon, double tau) const override;
   bool refine(AgentSpec& agent) const override;
+  // The outer search's knobs (docs/search.md), for a tube miss: "more enclosure substeps"
+  // (substeps x 2, up to 256: the verification's own error) and "stiffer feedback"
+  // (state_weight x 4, up to 1e4).
+  std::vector<TrackerLever> levers(const AgentSpec& agent) const override;
+  bool apply_lever(const std::string& name, const TrackFailure& failure, AgentSpec& agent) const override;
   std::shared_ptr<const Controller> read_controller(const std::string& path) const override;
 
   const FunnelSettings& settings() const { return s_; }

@@ -1,7 +1,10 @@
 #pragma once
 // The outer search's levers (docs/search.md): what each failure of a round may change before the
-// next one, in the order tried, each with a cap on its uses so that the search ends even when no
-// lever helps. A lever proposes a change on a copy; the orchestrator decides whether it runs.
+// next one, chosen from the failure's reason (a tube miss in one coordinate, an empty winning
+// set, a nominal pinned at a bound of U, a plan that fails), in the order tried, each with a cap
+// on its uses so that the search ends even when no lever helps. The trackers' own knobs are
+// whatever each tracker declares (Tracker::levers); core keeps no names of them. A lever
+// proposes a change on a copy; the orchestrator decides whether it runs.
 #include <map>
 #include <string>
 #include <vector>
@@ -12,16 +15,38 @@
 
 namespace marsyn::search {
 
-enum class Lever { ShrinkEps, FallBack, Refine, EnlargeEps, MoreClearance };
-inline constexpr int kLeverCount = 5;
+enum class Lever {
+  LongerHorizon,  // plan: start the planning stage's horizons past the longest it tried
+  ShrinkEps,      // plan: every agent's eps x 0.8
+  TightenInput,   // a failed agent's nominal sits at a bound of U: re-plan inside a smaller U
+  TrackerLever,   // one of the failed agents' trackers' own knobs, by its declared name
+  EpsInCoordinate,  // a tube miss: eps x 1.25 in the missed coordinate only
+  FallBack,       // tracker: auto: the next tracker that accepted the agent
+  EnlargeEps,     // the failed agents' eps x 1.25 in every coordinate
+  MoreClearance,  // certification short between the samples: clearance where it fell short
+};
+
+// A lever as tried: its kind and, for TrackerLever, the tracker's own name for it.
+struct LeverChoice {
+  Lever lever = Lever::ShrinkEps;
+  std::string tracker_lever;
+  bool operator==(const LeverChoice&) const = default;
+};
 
 // "(0.2,0.25)": how attempts and changes print a vector.
 std::string vector_text(const Eigen::VectorXd& v);
+// "{substeps: 4}": a tracker's parameters as attempts and changes print them.
+std::string params_text(const Params& p);
 
-const char* lever_name(Lever lever);
+// "shrink eps by 0.8 and re-plan", "the tracker's finer state grid", ...
+std::string lever_name(const LeverChoice& lever);
 // How often a lever may run in one search (eps x 0.8 four times is 0.41 eps; x 1.25 three times
-// is 1.95 eps; four refinements of abcd's grids are 0.32 of them).
+// is 1.95 eps; each tracker lever four times).
 int lever_cap(Lever lever);
+
+// The share of the input range the nominal may use after k uses of TightenInput: 0.8, 0.6 (the
+// feedback keeps 20 %, then 40 % of U's half-range around the nominal's own bound).
+double input_share_after(int uses);
 
 // What a round failed on, as far as the levers care.
 struct Failure {
@@ -29,37 +54,54 @@ struct Failure {
   std::string reason;                        // for the log, the report and the stop message
   std::vector<int> agents;                   // NoController: the agents without a controller
   std::map<std::string, double> shortfalls;  // Certification: per requirement, the (negative) margin
+  // NoController: per agent of `agents`, the tracker's own reason and the share of the nominal's
+  // steps on which some input sits at a bound of U (measured by core).
+  std::vector<TrackFailure> why;
+  std::vector<double> nominal_saturation;
+  int longest_horizon = 0;                   // Plan: the longest horizon the planning stage tried
 };
 
-// The levers that address `failure`, in the order they are tried (none for None and Unsearchable).
-std::vector<Lever> levers_for(const Failure& failure);
+// The share (0..1) of the steps on which some input of `u` lies within 1e-6 of U's range of a bound.
+double saturation_share(const std::vector<Eigen::VectorXd>& u, const Box& bounds);
 
-// What the levers read: the current team, its tracker choices and the plan's extra clearance.
+// The levers that address `failure`, in the order they are tried (none for None and
+// Unsearchable). `declared`: the failed agents' trackers' own levers (Tracker::levers), in order.
+std::vector<LeverChoice> levers_for(const Failure& failure, const std::vector<TrackerLever>& declared);
+
+// What the levers read and change: the current team, its tracker choices, the plan's extra
+// clearance, each agent's share of U for the nominal, and the horizon the planning starts from.
 struct Team {
   Problem* problem;
   std::vector<AgentTrackers>* trackers;
   std::map<std::string, double>* extra;
+  std::vector<double>* input_share;
+  int* min_horizon;
 };
 
 struct Proposal {
-  Lever lever = Lever::ShrinkEps;
+  LeverChoice lever;
   std::vector<AgentSpec> agents;          // the whole team after the change
   std::vector<AgentTrackers> trackers;    // with the fallbacks it used up removed
   std::map<std::string, double> extra;    // the plan's clearance after the change
+  std::vector<double> input_share;
+  int min_horizon = 0;
   std::vector<SearchChange> changes;
   std::vector<int> changed;               // agents whose tube or tracker changed
-  bool replan = false;                    // eps or clearance changed: the robust plan is no longer valid
+  bool replan = false;                    // the robust plan is no longer valid
   std::string why_not;                    // set when the lever has nothing to change
 };
 
 // The lever's change for the team, checked with core's agent checks and the trackers' own
-// assessments (request: the horizon, tau and memory budget to assess with).
-Proposal propose(Lever lever, const Failure& failure, const Team& team, TrackerInstances& instances,
-                 const AssessRequest& request);
+// assessments (request: the horizon, tau and memory budget to assess with). `uses`: how often
+// the lever ran before.
+Proposal propose(const LeverChoice& lever, const Failure& failure, const Team& team, TrackerInstances& instances,
+                 const AssessRequest& request, int uses = 0);
 void apply(const Proposal& proposal, const Team& team);
 
-// Identifies an attempt: every agent's tracker, its parameters, eps and grids, and the plan's
-// clearance. Two rounds with the same fingerprint would compute the same thing.
-std::string fingerprint(const std::vector<AgentSpec>& agents, const std::map<std::string, double>& extra);
+// Identifies an attempt: every agent's tracker, its parameters, eps and grids, its share of U,
+// the plan's clearance and the horizon the planning starts from. Two rounds with the same
+// fingerprint would compute the same thing.
+std::string fingerprint(const std::vector<AgentSpec>& agents, const std::map<std::string, double>& extra,
+                        const std::vector<double>& input_share = {}, int min_horizon = 0);
 
 }  // namespace marsyn::search

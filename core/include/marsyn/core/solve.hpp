@@ -1,11 +1,12 @@
 #pragma once
 // The user's main job (`marsyn solve`): plan -> project -> track every agent (in parallel) ->
 // certify -> verify -> report, inside the outer search of the paper's Remark 2 (docs/search.md):
-// round after round, while a lever is left and the time limit allows, when planning fails the
-// horizon grows (inside the planning stage) and then eps shrinks; when an agent's tracking fails,
-// an agent of `tracker: auto` first moves to the next tracker that accepted it, then its tracker
-// refines its own knobs (Tracker::refine; abcd: finer grids), then its eps is enlarged and the
-// problem re-planned; when certification falls short, the plan gets more clearance. Every
+// round after round, while a lever is left and the time limit allows, each round's lever chosen
+// from the failure's reason (search_levers.hpp): a failed plan starts from a longer horizon, then
+// eps shrinks; a nominal pinned at a bound of U is re-planned inside a smaller U; a tube miss or
+// an empty winning set turns the tracker's own declared levers, then eps (in the missed
+// coordinate), then `tracker: auto`'s fallback; certification short between the samples gets the
+// plan more clearance. An auto eps is narrowed after a verified round (search_auto.hpp). Every
 // attempt and every round is recorded with its parameters, outcome and time.
 #include <functional>
 #include <memory>
@@ -47,6 +48,10 @@ struct SolveOutcome {
   std::vector<AgentTrackers> trackers;
   std::vector<Attempt> attempts;
   SearchReport search;  // the rounds, why it stopped, and the time per round
+  // Per agent: which of eps, eta_x, eta_u were auto (docs/parameters.md), and how the search
+  // narrowed an auto eps (empty when it did not).
+  std::vector<AutoTube> auto_tube;
+  std::vector<std::string> auto_notes;
   double total_time_s = 0;
 };
 

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "marsyn/core/plugins/plugin_registry.hpp"
+#include "marsyn/core/problem/auto_tube.hpp"
 #include "marsyn/core/tracking/tracker_choice.hpp"
 #include "marsyn/memory_budget.hpp"
 #include "marsyn/problem.hpp"
@@ -23,6 +24,8 @@ struct LoadedProblem {
   // The budget the loader judged every estimate against (LoadOptions::memory_budget); the
   // stages after it (solve, track) judge theirs against the same value.
   MemoryBudget memory_budget;
+  // Per agent: which of eps, eta_x, eta_u the file leaves to marsyn (`auto`, docs/parameters.md).
+  std::vector<AutoTube> auto_tube;
   // The file's `search:` block (docs/search.md); unset fields keep SolveOptions' values.
   std::optional<double> search_time_limit_s;
 };

@@ -1,0 +1,36 @@
+#pragma once
+// `eps: auto`, `eta_x: auto`, `eta_u: auto` (docs/parameters.md): the tube and the grids derived
+// instead of guessed. The loader gives an auto eps a first value from the agent's own numbers
+// (the goal's size, the room around x0, the disturbance); the search then plans with it, asks the
+// tracker's controller how wide a tube it actually keeps, and plans again with that tube plus a
+// stated margin (solve.cpp, search_auto.cpp). An auto grid follows eps.
+#include <string>
+#include <vector>
+
+#include "marsyn/problem.hpp"
+
+namespace marsyn {
+
+struct AutoTube {
+  bool eps = false, eta_x = false, eta_u = false;
+  bool any() const { return eps || eta_x || eta_u; }
+};
+
+// The margin an auto eps keeps over the tube the controller was seen to keep (25 %).
+inline constexpr double kAutoEpsMargin = 0.25;
+// An auto eps is never narrowed below this share of its first value.
+inline constexpr double kAutoEpsFloor = 0.5;
+// The re-plans an auto eps may ask for after a verified round.
+inline constexpr int kAutoEpsIterations = 3;
+
+// A first eps for an agent whose eps is auto: per coordinate half the goal's half-width, at most
+// 0.9 of the room between x0 and the state bounds, and at least the disturbance's one-period
+// push (w tau, times 2). `why` (may be null) receives the rule as text.
+Eigen::VectorXd first_auto_eps(const AgentSpec& agent, double tau, std::string* why = nullptr);
+
+// Fills the agent's auto grids from its eps (and U): eta_x = 2 eps / c with c cells per
+// coordinate (16, fewer above 4 states so the tube stays near 2e5 cells per step), eta_u = the
+// input range / k with k points per input (20, fewer above 2 inputs). `why` receives the rule.
+void auto_grid(AgentSpec& agent, const AutoTube& which, std::string* why = nullptr);
+
+}  // namespace marsyn

@@ -1,0 +1,40 @@
+#include "marsyn/core/problem/auto_tube.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace marsyn {
+
+Eigen::VectorXd first_auto_eps(const AgentSpec& a, double tau, std::string* why) {
+  const int n = a.n();
+  Eigen::VectorXd eps(n);
+  for (int i = 0; i < n; ++i) {
+    const double goal_half = 0.5 * (a.goal.hi[i] - a.goal.lo[i]);
+    const double room = std::min(a.x0[i] - a.state_bounds.lo[i], a.state_bounds.hi[i] - a.x0[i]);
+    const double range = a.state_bounds.hi[i] - a.state_bounds.lo[i];
+    // A goal as wide as the state bounds says nothing about the tube: 5 % of the range instead.
+    double e = std::isfinite(goal_half) && goal_half < 0.5 * range ? 0.5 * goal_half : 0.05 * range;
+    e = std::max(e, 2 * a.tube.w[i] * tau);
+    e = std::min({e, 0.9 * room, 0.9 * goal_half});
+    eps[i] = e;
+  }
+  if (why)
+    *why = "first value: half the goal's half-width per coordinate, at least 2 w tau, at most 0.9 of the room around x0";
+  return eps;
+}
+
+void auto_grid(AgentSpec& a, const AutoTube& which, std::string* why) {
+  const int n = a.n(), m = a.m();
+  const double cells = std::clamp(std::floor(std::pow(2e5, 1.0 / std::max(1, n))), 4.0, 16.0);
+  const double points = std::clamp(std::floor(std::pow(400.0, 1.0 / std::max(1, m))), 4.0, 20.0);
+  if (which.eta_x) a.tube.eta_x = 2 * a.tube.eps / cells;
+  if (which.eta_u) a.tube.eta_u = (a.input_bounds.hi - a.input_bounds.lo) / points;
+  if (why) {
+    std::string w;
+    if (which.eta_x) w = "eta_x = 2 eps / " + std::to_string(static_cast<int>(cells)) + " (cells per coordinate)";
+    if (which.eta_u) w += (w.empty() ? "" : "; ") + std::string("eta_u = U's range / ") + std::to_string(static_cast<int>(points));
+    *why = w;
+  }
+}
+
+}  // namespace marsyn

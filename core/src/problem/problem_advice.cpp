@@ -1,0 +1,139 @@
+#include "marsyn/core/problem/problem_advice.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "marsyn/memory_budget.hpp"
+
+namespace marsyn {
+
+namespace {
+
+std::string num(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.4g", v);
+  return b;
+}
+
+std::string seconds(double s) {
+  if (s >= 60) return num(s / 60) + " min";
+  return num(s) + " s";
+}
+
+std::string coordinate(const AgentSpec& a, int i) {
+  const auto names = a.dynamics ? a.dynamics->state_names() : std::vector<std::string>{};
+  return i < static_cast<int>(names.size()) ? "'" + names[i] + "'" : "coordinate " + std::to_string(i);
+}
+
+// The largest eps of the agent's two workspace coordinates (linear map only), or -1.
+double position_eps(const AgentSpec& a) {
+  if (!a.workspace.linear()) return -1;
+  double e = 0;
+  for (int i : a.workspace.index)
+    if (i >= 0 && i < a.tube.eps.size()) e = std::max(e, a.tube.eps[i]);
+  return e;
+}
+
+}  // namespace
+
+Advice advise(const LoadedProblem& lp) {
+  Advice out;
+  const Problem& pb = lp.problem;
+  TrackerInstances instances(lp.registry);
+  const AssessRequest ask{pb.horizon, pb.tau, lp.memory_budget};
+  const std::vector<std::string> installed = lp.registry->names("tracker");
+  for (std::size_t i = 0; i < pb.agents.size(); ++i) {
+    const AgentSpec& a = pb.agents[i];
+    AgentAdvice ad;
+    ad.agent = a.name;
+    ad.chosen = a.tracker.name;
+    if (i < lp.trackers.size()) {
+      ad.automatic = lp.trackers[i].automatic;
+      for (const auto& f : lp.trackers[i].fallbacks) ad.fallbacks.push_back(f.name);
+    }
+    for (const auto& name : installed) {
+      // The agent's own tracker with its parameters, the others as installed.
+      const PluginChoice choice = name == a.tracker.name ? a.tracker : PluginChoice{name, {}};
+      AgentSpec b = a;
+      b.tracker = choice;
+      ad.trackers.push_back({name, assess_tracker(instances, choice, b, ask)});
+    }
+    if (i < lp.auto_tube.size() && lp.auto_tube[i].any()) {
+      const AutoTube& at = lp.auto_tube[i];
+      AgentSpec first = a;
+      std::string eps_rule, grid_rule;
+      first_auto_eps(first, pb.tau, &eps_rule);
+      auto_grid(first, {false, at.eta_x, at.eta_u}, &grid_rule);
+      std::string v;
+      for (Eigen::Index k = 0; k < a.tube.eps.size(); ++k) v += (k ? ", " : "") + num(a.tube.eps[k]);
+      if (at.eps) ad.auto_note = "eps: auto, (" + v + ") to start (" + eps_rule + "); solve narrows it to the tube the controller keeps";
+      if (at.eta_x || at.eta_u) ad.auto_note += (ad.auto_note.empty() ? "" : "; ") + grid_rule;
+    }
+    // Warnings with their numbers.
+    const std::string who = a.name + ": ";
+    for (int k = 0; k < a.n(); ++k) {
+      const double push = a.tube.w.size() > k ? a.tube.w[k] * pb.tau : 0.0;
+      if (push > 0 && a.tube.eps[k] <= push)
+        out.warnings.push_back(who + "eps " + num(a.tube.eps[k]) + " in " + coordinate(a, k) +
+                               " is at most what the disturbance alone moves the state in one period (w tau = " +
+                               num(a.tube.w[k]) + " x " + num(pb.tau) + " = " + num(push) +
+                               "): no tracker can keep that tube; enlarge eps or shorten tau");
+      if (a.tube.eta_x.size() == a.n() && a.tube.eta_x[k] > a.tube.eps[k])
+        out.warnings.push_back(who + "eta_x " + num(a.tube.eta_x[k]) + " in " + coordinate(a, k) + " exceeds eps " +
+                               num(a.tube.eps[k]) + ": no grid cell fits the tube; a grid tracker (abcd) cannot work " +
+                               "(eps / 8 = " + num(a.tube.eps[k] / 8) + " would)");
+    }
+    // The chosen tracker, then the fallbacks: each whose estimate is a minute or more.
+    std::vector<std::string> order{ad.chosen};
+    order.insert(order.end(), ad.fallbacks.begin(), ad.fallbacks.end());
+    for (std::size_t o = 0; o < order.size(); ++o)
+      for (const auto& t : ad.trackers)
+        if (t.tracker == order[o] && t.assessment.ok && t.assessment.work_s >= kSlowTrackerSeconds)
+          out.warnings.push_back(who + (o == 0 ? "its tracker " : "the fallback ") + t.tracker + " is estimated at " +
+                                 seconds(t.assessment.work_s) + " of one core and " + format_bytes(t.assessment.memory_bytes) +
+                                 (o == 0 ? "" : " (it runs when " + order[o - 1] + " finds no controller)") +
+                                 "; coarser grids or another tracker would be faster");
+    out.agents.push_back(std::move(ad));
+  }
+  // Two agents' tubes can change their distance by up to sqrt(2) (eps_i + eps_j) in position
+  // (a box's diagonal each): a formation tolerance mu below that leaves no robust plan.
+  for (const auto& f : pb.formation) {
+    const double ei = position_eps(pb.agents[f.i]), ej = position_eps(pb.agents[f.j]);
+    if (ei < 0 || ej < 0) continue;
+    const double change = std::sqrt(2.0) * (ei + ej);
+    if (!(change < f.mu))
+      out.warnings.push_back("formation " + pb.agents[f.i].name + "-" + pb.agents[f.j].name + ": mu " + num(f.mu) +
+                             " is not above sqrt(2) (eps_i + eps_j) = " + num(change) +
+                             " (2 eps sqrt(2) for equal tubes), what the two tubes alone can change the distance by: "
+                             "no robust plan exists; position eps below " + num(f.mu / (2 * std::sqrt(2.0))) + " would do");
+  }
+  return out;
+}
+
+std::string to_text(const Advice& adv) {
+  std::ostringstream s;
+  s << "trackers per agent (estimates: one core's time, peak memory)\n";
+  for (const auto& a : adv.agents) {
+    s << "  " << a.agent << ": " << a.chosen << (a.automatic ? " (auto's pick" : " (named in the file");
+    if (a.automatic) {
+      s << "; fallback order: " << a.chosen;
+      for (const auto& f : a.fallbacks) s << ", then " << f;
+    }
+    s << ")\n";
+    if (!a.auto_note.empty()) s << "    " << a.auto_note << "\n";
+    for (const auto& t : a.trackers) {
+      s << "    " << t.tracker << ": ";
+      if (t.assessment.ok)
+        s << "accepts, about " << seconds(t.assessment.work_s) << ", " << format_bytes(t.assessment.memory_bytes)
+          << (t.assessment.summary.empty() ? "" : "; " + t.assessment.summary);
+      else
+        s << "refuses" << (t.assessment.field.empty() ? "" : " (" + t.assessment.field + ")") << ": " << t.assessment.message;
+      s << "\n";
+    }
+  }
+  for (const auto& w : adv.warnings) s << "warning: " << w << "\n";
+  return s.str();
+}
+
+}  // namespace marsyn

@@ -1,0 +1,96 @@
+// `marsyn check` advises (issue 25 item 2, docs/parameters.md): every tracker's assessment per
+// agent, auto's pick and its fallback order, and warnings with numbers on constructed cases.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "marsyn/core/problem/problem_advice.hpp"
+#include "pendulum_variant.hpp"
+
+namespace {
+
+using marsyn::test::pendulum_variant;
+
+std::string all(const marsyn::Advice& a) {
+  std::string s;
+  for (const auto& w : a.warnings) s += w + "\n";
+  return s;
+}
+
+TEST(ProblemAdvice, TheExampleAsWrittenHasNoWarningAndEveryTrackerSpeaks) {
+  const auto lp = marsyn::load_problem(pendulum_variant("advice_plain", "tracker: auto"));
+  const marsyn::Advice a = marsyn::advise(lp);
+  EXPECT_TRUE(a.warnings.empty()) << all(a);
+  ASSERT_EQ(a.agents.size(), 1u);
+  std::set<std::string> named;
+  for (const auto& t : a.agents[0].trackers) named.insert(t.tracker);
+  EXPECT_TRUE(named.count("abcd") && named.count("funnel") && named.count("never")) << marsyn::to_text(a);
+  // auto picks the cheapest that accepts (the test tracker, at no cost) and falls back in order.
+  EXPECT_TRUE(a.agents[0].automatic);
+  EXPECT_EQ(a.agents[0].chosen, "never");
+  ASSERT_EQ(a.agents[0].fallbacks.size(), 2u);
+  const std::string text = marsyn::to_text(a);
+  EXPECT_NE(text.find("  pendulum: never (auto's pick; fallback order: never, then " + a.agents[0].fallbacks[0] + ", then " +
+                      a.agents[0].fallbacks[1] + ")"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("    abcd: accepts, about "), std::string::npos) << text;
+}
+
+TEST(ProblemAdvice, EpsBelowWhatTheDisturbanceForcesInOnePeriod) {
+  // w tau = 0.01 x 0.1 = 0.001 in the rate; eps 0.0008 there.
+  const auto lp = marsyn::load_problem(pendulum_variant(
+      "advice_wtau", "tracker: never", {{"eps: [0.2, 0.2]", "eps: [0.2, 0.0008]"}, {"eta_x: [0.01, 0.01]", "eta_x: [0.01, 0.0005]"}}));
+  const std::string w = all(marsyn::advise(lp));
+  EXPECT_NE(w.find("pendulum: eps 0.0008 in 'rate' is at most what the disturbance alone moves the state in one period (w tau "
+                   "= 0.01 x 0.1 = 0.001)"),
+            std::string::npos)
+      << w;
+  // Just above: no warning.
+  const auto ok = marsyn::load_problem(pendulum_variant(
+      "advice_wtau_ok", "tracker: never", {{"eps: [0.2, 0.2]", "eps: [0.2, 0.0011]"}, {"eta_x: [0.01, 0.01]", "eta_x: [0.01, 0.0005]"}}));
+  EXPECT_EQ(all(marsyn::advise(ok)).find("disturbance alone"), std::string::npos);
+}
+
+TEST(ProblemAdvice, EtaXAboveEps) {
+  const auto lp =
+      marsyn::load_problem(pendulum_variant("advice_eta", "tracker: never", {{"eta_x: [0.01, 0.01]", "eta_x: [0.3, 0.01]"}}));
+  const std::string w = all(marsyn::advise(lp));
+  EXPECT_NE(w.find("pendulum: eta_x 0.3 in 'angle' exceeds eps 0.2: no grid cell fits the tube"), std::string::npos) << w;
+}
+
+TEST(ProblemAdvice, AFallbackWhoseEstimateIsMinutes) {
+  // auto picks the test tracker; abcd, its fallback, on a 0.0005 grid: 800 x 800 tube cells x 101
+  // steps x 121 inputs x 1e-8 s = 78 s.
+  const auto lp = marsyn::load_problem(pendulum_variant(
+      "advice_slow", "tracker: auto",
+      {{"eta_x: [0.01, 0.01]", "eta_x: [0.0005, 0.0005]"}, {"eta_u: [0.1]", "eta_u: [0.05]"}}));
+  const std::string w = all(marsyn::advise(lp));
+  EXPECT_NE(w.find("pendulum: the fallback abcd is estimated at 1."), std::string::npos) << w;
+  EXPECT_NE(w.find(" min of one core"), std::string::npos) << w;
+  EXPECT_NE(w.find("(it runs when "), std::string::npos) << w;
+  // The file's grid: no such warning.
+  EXPECT_EQ(all(marsyn::advise(marsyn::load_problem(pendulum_variant("advice_fast", "tracker: auto")))).find("estimated at"),
+            std::string::npos);
+}
+
+TEST(ProblemAdvice, AFormationWhoseMuIsBelowWhatTheTubesCanChange) {
+  std::ifstream in(std::string(MARSYN_SOURCE_DIR) + "/examples/formation.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string s = text.str();
+  const std::string from = "eps: [0.12, 0.12, 0.24]";
+  s.replace(s.find(from), from.size(), "eps: [0.24, 0.24, 0.24]");
+  const std::string path = testing::TempDir() + "advice_formation.yaml";
+  std::ofstream(path) << s;
+  const std::string w = all(marsyn::advise(marsyn::load_problem(path)));
+  EXPECT_NE(w.find("formation centre-north: mu 0.5 is not above sqrt(2) (eps_i + eps_j) = 0.6788"), std::string::npos) << w;
+  EXPECT_NE(w.find("position eps below 0.1768 would do"), std::string::npos) << w;
+  // The example as shipped (eps 0.12: 0.34 < 0.5): none.
+  EXPECT_EQ(all(marsyn::advise(marsyn::load_problem(std::string(MARSYN_SOURCE_DIR) + "/examples/formation.yaml"))).find("formation"),
+            std::string::npos);
+}
+
+}  // namespace

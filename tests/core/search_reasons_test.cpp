@@ -1,0 +1,163 @@
+// The outer search chooses its rounds from the failure's reason (issue 29 item 1, docs/search.md):
+// a tube miss in one coordinate, an empty winning set, a nominal pinned at a bound of U and a
+// failed plan each lead to their own levers, the trackers' own knobs as each declares them. The
+// test tracker `never` (tests/fixtures/never_tracker.cpp) fails on command by agent name.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "marsyn/core/problem/problem_loader.hpp"
+#include "marsyn/core/report/result_json.hpp"
+#include "marsyn/core/search_levers.hpp"
+#include "marsyn/core/solve.hpp"
+#include "pendulum_variant.hpp"
+
+namespace {
+
+using marsyn::TrackFailureKind;
+using marsyn::search::Failure;
+using marsyn::search::Lever;
+using marsyn::search::LeverChoice;
+using marsyn::test::pendulum_variant;
+
+// U wide enough that the swing-up's nominal never sits at a bound (no "tighten U" round).
+const std::pair<std::string, std::string> kWideU{"input_bounds: {lo: [-3], hi: [3]}", "input_bounds: {lo: [-30], hi: [30]}"};
+
+marsyn::SolveOptions quick() {
+  marsyn::SolveOptions so;
+  so.verification_runs = 5;
+  so.global_memory_budget_bytes = 0;
+  return so;
+}
+
+std::vector<std::string> actions(const marsyn::SolveOutcome& o) {
+  std::vector<std::string> a;
+  for (const auto& r : o.search.rounds) a.push_back(r.action);
+  return a;
+}
+
+// No two rounds of a search computed the same thing: no two tracking attempts of an agent share
+// their parameters unless the plan changed in between (a new eps, U share or horizon).
+void expect_no_repeat(const marsyn::SolveOutcome& o, const std::string& agent) {
+  std::set<std::string> seen;
+  std::string plan;
+  for (const auto& a : o.attempts) {
+    if (a.stage == "plan") plan = a.parameters;
+    if (a.stage == "track " + agent) EXPECT_TRUE(seen.insert(plan + " | " + a.parameters).second) << "repeated: " << a.parameters;
+  }
+}
+
+const std::vector<marsyn::TrackerLever> kDeclared{{"tighter knob", {TrackFailureKind::TubeMiss}, 1.0},
+                                                  {"finer cells", {TrackFailureKind::EmptyWinningSet}, 2.0}};
+
+TEST(SearchReasons, EachFailureKindHasItsOwnLevers) {
+  Failure miss{Failure::NoController, "no controller for a", {0}, {}};
+  miss.why = {{TrackFailureKind::TubeMiss, 1, 5, 0.01, 0}};
+  miss.nominal_saturation = {0};
+  EXPECT_EQ(marsyn::search::levers_for(miss, kDeclared),
+            (std::vector<LeverChoice>{{Lever::TrackerLever, "tighter knob"}, {Lever::EpsInCoordinate, ""}, {Lever::FallBack, ""},
+                                      {Lever::EnlargeEps, ""}}));
+  Failure empty = miss;
+  empty.why = {{TrackFailureKind::EmptyWinningSet, -1, 7, 0, 0}};
+  EXPECT_EQ(marsyn::search::levers_for(empty, kDeclared),
+            (std::vector<LeverChoice>{{Lever::TrackerLever, "finer cells"}, {Lever::FallBack, ""}, {Lever::EnlargeEps, ""}}));
+  Failure pinned = miss;
+  pinned.nominal_saturation = {0.3};
+  EXPECT_EQ(marsyn::search::levers_for(pinned, kDeclared).front(), (LeverChoice{Lever::TightenInput, ""}));
+  Failure plan{Failure::Plan, "planning failed", {}, {}};
+  EXPECT_EQ(marsyn::search::levers_for(plan, kDeclared),
+            (std::vector<LeverChoice>{{Lever::LongerHorizon, ""}, {Lever::ShrinkEps, ""}}));
+  Failure unknown = miss;
+  unknown.why = {{}};
+  EXPECT_EQ(marsyn::search::levers_for(unknown, kDeclared),
+            (std::vector<LeverChoice>{{Lever::FallBack, ""}, {Lever::EnlargeEps, ""}}));
+}
+
+TEST(SearchReasons, ATubeMissTurnsTheTrackersKnobThenEpsInThatCoordinateOnly) {
+  const auto lp = marsyn::load_problem(
+      pendulum_variant("reasons_miss", "tracker: never", {{"- name: pendulum", "- name: miss_pendulum"}, kWideU}));
+  const marsyn::SolveOutcome o = marsyn::solve(lp, quick());
+  EXPECT_FALSE(o.verified);
+  const auto a = actions(o);
+  ASSERT_GE(a.size(), 4u);
+  EXPECT_EQ(a[1], "the tracker's tighter knob");
+  EXPECT_EQ(a[2], "the tracker's tighter knob");
+  EXPECT_EQ(a[3], "enlarge eps by 1.25 in the missed coordinate and re-plan");
+  // Only the coordinate the tracker named (1) widens.
+  const auto& ch = o.search.rounds[3].changes;
+  ASSERT_EQ(ch.size(), 1u);
+  EXPECT_EQ(ch[0].what, "eps");
+  EXPECT_EQ(ch[0].from, "(0.2,0.2)");
+  EXPECT_EQ(ch[0].to, "(0.2,0.25)");
+  EXPECT_EQ(o.search.rounds[1].changes.at(0).what, "tracker params");
+  const std::string m = o.search.message();
+  EXPECT_NE(m.find("tried: the tracker's tighter knob x2, enlarge eps by 1.25 in the missed coordinate and re-plan x"),
+            std::string::npos)
+      << m;
+  EXPECT_NE(m.find("fall back to the next tracker (tracker: auto) (the file names the agents' trackers"), std::string::npos) << m;
+  expect_no_repeat(o, "miss_pendulum");
+}
+
+TEST(SearchReasons, AnEmptyWinningSetTurnsTheGridKnobNotTheTubeMissOne) {
+  const auto lp = marsyn::load_problem(
+      pendulum_variant("reasons_empty", "tracker: never", {{"- name: pendulum", "- name: empty_pendulum"}, kWideU}));
+  const marsyn::SolveOutcome o = marsyn::solve(lp, quick());
+  const auto a = actions(o);
+  ASSERT_GE(a.size(), 3u);
+  EXPECT_EQ(a[1], "the tracker's finer cells");
+  EXPECT_EQ(a[2], "enlarge eps by 1.25 and re-plan");
+  for (const auto& s : a) EXPECT_NE(s, "the tracker's tighter knob");
+  expect_no_repeat(o, "empty_pendulum");
+}
+
+TEST(SearchReasons, ANominalPinnedAtABoundOfUIsReplannedInsideASmallerU) {
+  const auto lp = marsyn::load_problem(
+      pendulum_variant("reasons_pinned", "tracker: never", {{"- name: pendulum", "- name: pinned_pendulum"}, kWideU}));
+  const marsyn::SolveOutcome o = marsyn::solve(lp, quick());
+  const auto a = actions(o);
+  ASSERT_GE(a.size(), 3u);
+  EXPECT_EQ(a[1], "re-plan with U tightened for the nominal");
+  ASSERT_EQ(o.search.rounds[1].changes.size(), 1u);
+  EXPECT_EQ(o.search.rounds[1].changes[0].what, "share of U for the nominal");
+  EXPECT_EQ(o.search.rounds[1].changes[0].from, "100 %");
+  EXPECT_EQ(o.search.rounds[1].changes[0].to, "80 %");
+  EXPECT_TRUE(o.search.rounds[1].planned);
+  EXPECT_EQ(a[2], "re-plan with U tightened for the nominal");
+  EXPECT_EQ(o.search.rounds[2].changes.at(0).to, "60 %");
+  // The trackers keep the file's U; only the plan is asked to stay inside the smaller one.
+  EXPECT_EQ(o.problem.agents[0].input_bounds.hi[0], 30);
+  expect_no_repeat(o, "pinned_pendulum");
+}
+
+TEST(SearchReasons, CoreMeasuresHowOftenTheNominalSitsAtABoundOfU) {
+  marsyn::Box u;
+  u.lo = Eigen::VectorXd::Constant(2, -3);
+  u.hi = Eigen::VectorXd::Constant(2, 3);
+  std::vector<Eigen::VectorXd> nominal{Eigen::Vector2d(0, 0), Eigen::Vector2d(3, 0), Eigen::Vector2d(0, -3),
+                                       Eigen::Vector2d(2.99, 0)};
+  EXPECT_DOUBLE_EQ(marsyn::search::saturation_share(nominal, u), 0.5);
+  // A pinned nominal puts "tighten U" first even when the tracker gave no reason.
+  Failure f{Failure::NoController, "no controller for a", {0}, {}};
+  f.why = {{}};
+  f.nominal_saturation = {marsyn::search::saturation_share(nominal, u)};
+  EXPECT_EQ(marsyn::search::levers_for(f, kDeclared).front(), (LeverChoice{Lever::TightenInput, ""}));
+}
+
+TEST(SearchReasons, AFailedPlanStartsFromALongerHorizonThenShrinksEps) {
+  // Too little torque to swing up at any horizon the planning stage tries from 10.
+  const auto lp = marsyn::load_problem(pendulum_variant(
+      "reasons_plan", "tracker: never", {{"horizon: 100", "horizon: 10"}}));
+  marsyn::SolveOptions so = quick();
+  so.max_rounds = 3;
+  const marsyn::SolveOutcome o = marsyn::solve(lp, so);
+  const auto a = actions(o);
+  ASSERT_EQ(o.search.rounds[0].outcome.rfind("planning failed", 0), 0u) << o.search.rounds[0].outcome;
+  ASSERT_GE(a.size(), 2u);
+  EXPECT_EQ(a[1], "plan from a longer horizon");
+  ASSERT_EQ(o.search.rounds[1].changes.size(), 1u);
+  EXPECT_EQ(o.search.rounds[1].changes[0].what, "horizon");
+  EXPECT_GT(o.search.rounds[1].horizon, std::stoi(o.search.rounds[1].changes[0].from));
+  if (a.size() > 2 && o.search.rounds[1].outcome.rfind("planning failed", 0) == 0) EXPECT_EQ(a[2], "shrink eps by 0.8 and re-plan");
+}
+
+}  // namespace
