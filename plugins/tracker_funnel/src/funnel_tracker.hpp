@@ -24,6 +24,10 @@ struct FunnelSettings {
   double state_weight = 1.0, input_weight = 1.0, terminal_weight = 1.0;
   bool weight_search = true;
   long rk4_substeps = 4;
+  std::string enclosure = "second_order";  // or "mean_value" (the first-order form, for comparison)
+  long tightness_runs = 64;
+  long set_order = 2;
+  long box_substeps = 0;                // sampled runs of the tightness figure; 0: none
 };
 
 class FunnelTracker : public marsyn::Tracker {
