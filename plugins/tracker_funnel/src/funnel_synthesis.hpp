@@ -17,7 +17,8 @@ namespace marsyn::funnel {
 struct VerifyOptions {
   FlowOptions flow;     // flow.tau is set from the problem
   int parts = 8;        // period enclosures per step (divides flow.substeps)
-  int set_order = 2;    // > 2: also try verified zonotopes of that order (generators / n)
+  int set_order = 8;
+  bool try_all_shapes = false;  // lookahead over every candidate even when the order-set_order zonotope fits    // > 2: also try verified zonotopes of that order (generators / n)
   Eigen::VectorXd initial_radius;  // half-widths of the initial box around x_0
 };
 

@@ -54,7 +54,7 @@ ParamSet<FunnelSettings> declare() {
       });
   integer_in(s, "picard_iterations", &O::picard_iterations, 1, 100, "a priori enclosure attempts per enclosure step");
   integer_in(s, "max_generators", &O::max_generators, 0, 1000,
-             "zonotope generators kept before order reduction; 0: 3 (n + m)");
+             "zonotope generators kept before order reduction; 0: max(3 (n + m), min(set_order n, 64) + n + m)");
   // Its length (the state dimension) is checked per agent (assess, track).
   s.add("initial_radius", &O::initial_radius, "[0, eps)",
         "half-widths of the initial box around x0 (one per state); empty: initial_fraction x eps")
@@ -80,6 +80,8 @@ ParamSet<FunnelSettings> declare() {
                 "expected second_order or mean_value"});
   integer_in(s, "set_order", &O::set_order, 2, 8,
              "zonotope order (generators / n) of the verified sets also tried besides order 2 and parallelotopes");
+  s.add("try_all_shapes", &O::try_all_shapes, "true|false",
+        "compare every candidate verified set by a one-period lookahead, even when the order-set_order zonotope fits");
   integer_in(s, "box_substeps", &O::box_substeps, 0, 1024,
              "enclosure steps after which the box of new errors becomes zonotope generators; 0: once per period");
   integer_in(s, "tightness_runs", &O::tightness_runs, 0, 100000,
@@ -180,6 +182,7 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
   vo.flow.remainder = s_.enclosure == "mean_value" ? Remainder::MeanValue : Remainder::SecondOrder;
   vo.parts = s_.parts;
   vo.set_order = static_cast<int>(s_.set_order);
+  vo.try_all_shapes = s_.try_all_shapes;
   vo.flow.box_substeps = static_cast<int>(s_.box_substeps);
   vo.initial_radius.resize(n);
   for (int i = 0; i < n; ++i)
@@ -234,6 +237,11 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
     const Tightness t = measure_tightness(*p.dynamics, *controller, best.half_width, static_cast<int>(s_.tightness_runs), 1);
     msg << "; tightness (verified half-width / largest deviation in " << t.runs << " adversarial runs): "
         << describe(t, p.dynamics->state_names());
+  }
+  {
+    int kinds[3] = {0, 0, 0};
+    for (const StepSet& st : d.sets) ++kinds[std::min<int>(st.kind, 2)];
+    msg << "; sets: " << kinds[1] << " parallelotopes, " << kinds[2] << " zonotopes";
   }
   if (best.rows > 0) msg << "; second-order remainder on " << 100 * best.second_order_rows / best.rows << "% of rows";
   res.message = msg.str();

@@ -26,7 +26,8 @@ struct FunnelSettings {
   long rk4_substeps = 4;
   std::string enclosure = "second_order";  // or "mean_value" (the first-order form, for comparison)
   long tightness_runs = 64;
-  long set_order = 2;
+  long set_order = 8;
+  bool try_all_shapes = false;
   long box_substeps = 0;                // sampled runs of the tightness figure; 0: none
 };
 
