@@ -179,6 +179,7 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
   vo.flow.substeps = s_.substeps;
   vo.flow.picard_iterations = s_.picard_iterations;
   vo.flow.max_generators = s_.max_generators;
+  vo.flow.remainder_scale = remainder_scale_;
   vo.flow.remainder = s_.enclosure == "mean_value" ? Remainder::MeanValue : Remainder::SecondOrder;
   vo.parts = s_.parts;
   vo.set_order = static_cast<int>(s_.set_order);
