@@ -72,6 +72,11 @@ Fit certify_zonotope(const Zonotope& zend, int basis, const std::vector<double>&
   const int n = zend.dim();
   Zonotope z = zend;
   reduce_order(z, basis, std::min(order * n, kMaxMembershipGenerators));
+  // A relative margin of 1e-6 about the centre: reachable states at a vertex of an (unreduced,
+  // hence tight) enclosure would otherwise sit on the boundary, where the solver's tolerances
+  // can refuse them (measured: 144 in 1e6 vertex samples of the unicycle at order 8). The proof
+  // only needs the next period to start from what is stored, and it does (f.next below).
+  z.G *= 1.0 + 1e-6;
   const int p = z.generators();
   if (p > kMaxMembershipGenerators || p < 1) return f;
   const double kappa = rounding_factor(p + 1);

