@@ -148,4 +148,14 @@ inline DualD2 second_order_variable(double value, int slot, int count) {
 }
 inline double second_derivative(const DualD2& y, int a, int b) { return y.derivative(a).derivative(b); }
 
+// The same seeding over any scalar (e.g. FastInterval: Hessian enclosures over a box).
+template <class T>
+Dual<Dual<T>> second_order_variable_of(const T& value, int slot, int count) {
+  return Dual<Dual<T>>::variable(Dual<T>::variable(value, slot, count), slot, count);
+}
+template <class T>
+T second_derivative_of(const Dual<Dual<T>>& y, int a, int b) {
+  return y.derivative(a).derivative(b);
+}
+
 }  // namespace marsyn

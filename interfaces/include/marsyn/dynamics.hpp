@@ -2,7 +2,7 @@
 // A control system x' = f(x, u) + w with w in the box [-W, W] (paper Sec. 2, additive
 // disturbance). Models write the vector field once, as a template over the scalar type, by
 // deriving from DynamicsModel<Model>; the same definition then serves simulation (double),
-// exact Jacobians (DualD) and Hessians (DualD2), and sound enclosures (Interval, DualI; FastInterval, DualFI in hot
+// exact Jacobians (DualD) and Hessians (DualD2), and sound enclosures (Interval, DualI; FastInterval, DualFI, DualFI2 in hot
 // loops, see fast_interval.hpp).
 #include <stdexcept>
 #include <string>
@@ -38,6 +38,13 @@ class Dynamics {
   virtual bool has_second_order() const { return false; }
   virtual void field(const DualD2* /*x*/, const DualD2* /*u*/, DualD2* /*dx*/) const {
     throw std::logic_error("this dynamics model has no second-order (DualD2) field");
+  }
+  // Hessian enclosures over boxes (DualFI2, valid in round-to-nearest like FastInterval), for
+  // second-order remainders. DynamicsModel provides them; a Dynamics written by hand reports
+  // false and its users fall back to first-order (Jacobian) enclosures.
+  virtual bool has_interval_second_order() const { return false; }
+  virtual void field(const DualFI2* /*x*/, const DualFI2* /*u*/, DualFI2* /*dx*/) const {
+    throw std::logic_error("this dynamics model has no interval second-order (DualFI2) field");
   }
 
   // State coordinates f does not read. Translating the state along them translates every
@@ -104,6 +111,8 @@ class DynamicsModel : public Dynamics {
   void field(const DualFI* x, const DualFI* u, DualFI* dx) const final { self().vector_field(x, u, dx); }
   bool has_second_order() const final { return true; }
   void field(const DualD2* x, const DualD2* u, DualD2* dx) const final { self().vector_field(x, u, dx); }
+  bool has_interval_second_order() const final { return true; }
+  void field(const DualFI2* x, const DualFI2* u, DualFI2* dx) const final { self().vector_field(x, u, dx); }
 
  public:
   // Models without a footprint inherit this no-op; those with one shadow it.

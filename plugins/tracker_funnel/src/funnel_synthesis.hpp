@@ -17,6 +17,8 @@ namespace marsyn::funnel {
 struct VerifyOptions {
   FlowOptions flow;     // flow.tau is set from the problem
   int parts = 8;        // period enclosures per step (divides flow.substeps)
+  int set_order = 8;
+  bool try_all_shapes = false;  // lookahead over every candidate even when the order-set_order zonotope fits    // > 2: also try verified zonotopes of that order (generators / n)
   Eigen::VectorXd initial_radius;  // half-widths of the initial box around x_0
 };
 
@@ -30,6 +32,10 @@ struct VerifyOutcome {
   int saturated_steps = 0;  // steps where some input row hit U and was enclosed as a box
   double max_fill = 0.0;  // max over k, i of (hull half-width of V_k along i) / eps_i
   double mean_fill = 0.0;
+  // Per step k = 0..T and coordinate i: max |x_i - x_k,i| over the hull of V_k (the tightness
+  // figure's verified side, tightness.hpp).
+  std::vector<std::vector<double>> half_width;
+  long rows = 0, second_order_rows = 0;  // of the chosen periods' enclosures (FlowResult)
 };
 
 // K: the gains; closed (may be empty): the closed loop's linearization per step, whose real

@@ -24,6 +24,11 @@ struct FunnelSettings {
   double state_weight = 1.0, input_weight = 1.0, terminal_weight = 1.0;
   bool weight_search = true;
   long rk4_substeps = 4;
+  std::string enclosure = "second_order";  // or "mean_value" (the first-order form, for comparison)
+  long tightness_runs = 32;
+  long set_order = 8;
+  bool try_all_shapes = false;
+  long box_substeps = 0;                // sampled runs of the tightness figure; 0: none
 };
 
 class FunnelTracker : public marsyn::Tracker {
@@ -43,9 +48,12 @@ class FunnelTracker : public marsyn::Tracker {
   std::shared_ptr<const Controller> read_controller(const std::string& path) const override;
 
   const FunnelSettings& settings() const { return s_; }
+  // Test hook: scales the second-order remainder (docs/soundness.md section 11); 1 is sound.
+  void scale_remainder_for_tests(double scale) { remainder_scale_ = scale; }
 
  private:
   FunnelSettings s_;
+  double remainder_scale_ = 1.0;
 };
 
 }  // namespace marsyn::funnel

@@ -1,8 +1,10 @@
 #include "period_flow.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include "marsyn/apriori_enclosure.hpp"
+#include "linearization.hpp"
 #include "marsyn/scalar.hpp"
 
 namespace marsyn::funnel {
@@ -43,8 +45,7 @@ FlowResult enclose_period(const Dynamics& f, const Zonotope& start, const std::v
     W[i] = FastInterval(-w[i], w[i]);
     hw[i] = (h * FastInterval(w[i])).upper();
   }
-  IMatrix JX, JB;
-  IVector unused;
+  IMatrix JB;
   Zonotope z = start;
   // Everything new within the period (rounding, wrapping, remainder, disturbance) is kept as one
   // box b, itself carried by |I + h Jm| each substep, and becomes generators at the period's end:
@@ -65,23 +66,29 @@ FlowResult enclose_period(const Dynamics& f, const Zonotope& start, const std::v
     // term is, row by row (mean value theorem on the segment, which B contains),
     // J_i(zeta) (x(t+s) - x) with x(t+s) - x in s (f(B, U) + W): it lies in h^2/2 [J](B)(f(B)+W).
     jacobian(f, B.data(), U, JB, FB);
-    // The Euler part x + h f(x, u) over the zonotope, in mean-value form about its centre: the
-    // midpoint Jacobian over the hull X acts on the generators, the rest of [J](X) is a box.
-    jacobian(f, X.data(), U, JX, unused);
+    // The Euler part x + h f(x, u) over the zonotope z (plus the box b), row by row, about its
+    // centre c: f_i(z) = f_i(c) + L_i (z - c) + e_i with |e_i| <= bound_i (linearization.hpp),
+    // from the mean-value form and, when the model has interval Hessians, the second-order form.
+    // Either statement holds for row i alone, so each row keeps the smaller bound.
     for (int i = 0; i < N; ++i) C[i] = FastInterval(z.c[i]);
-    f.field(C.data(), C.data() + n, Fc.data());
     std::vector<double> rad(N), extra(N, 0.0);
     for (int k = 0; k < N; ++k) rad[k] = fast_detail::add_up(z.radius(k), b[k]);
+    const Linearization mv = mean_value_linearization(f, X.data(), rad);
+    const bool second_order = opt.remainder == Remainder::SecondOrder && f.has_interval_second_order();
+    Linearization so;
+    if (second_order) so = second_order_linearization(f, X.data(), C.data(), rad, opt.remainder_scale);
+    f.field(C.data(), C.data() + n, Fc.data());
     Eigen::MatrixXd Jm(n, N);
+    r.rows += n;
     for (int i = 0; i < n; ++i) {
-      FastInterval second(0.0), wrap(0.0);
+      FastInterval second(0.0);
       for (int k = 0; k < n; ++k) second += JB(i, k) * (FB[k] + W[k]);  // u' = 0: input columns add nothing
-      for (int k = 0; k < N; ++k) {
-        Jm(i, k) = median(JX(i, k));
-        wrap += FastInterval(radius_about(JX(i, k), Jm(i, k))) * FastInterval(rad[k]);
-      }
+      const bool use_so = second_order && so.bound[i] < mv.bound[i];
+      const Linearization& lin = use_so ? so : mv;
+      if (use_so) ++r.second_order_rows;
+      Jm.row(i) = lin.L.row(i);
       center[i] = C[i] + h * Fc[i] + half_h2 * second;
-      extra[i] = fast_detail::add_up((h * wrap).upper(), hw[i]);
+      extra[i] = fast_detail::add_up((h * FastInterval(lin.bound[i])).upper(), hw[i]);
       if (!finite(center[i]) || !std::isfinite(extra[i])) return r;
     }
     for (int i = n; i < N; ++i) center[i] = C[i];
@@ -108,6 +115,12 @@ FlowResult enclose_period(const Dynamics& f, const Zonotope& start, const std::v
       if (!std::isfinite(nb[i])) return r;
     }
     b.swap(nb);
+    if (opt.box_substeps > 0 && (s + 1) % opt.box_substeps == 0 && s + 1 < S) {
+      // The same set: each box coordinate gets a generator of its own coefficient.
+      append_box(z, b);
+      std::fill(b.begin(), b.end(), 0.0);
+      reduce_order(z, basis, max_generators);
+    }
   }
   append_box(z, b);
   reduce_order(z, basis, max_generators);

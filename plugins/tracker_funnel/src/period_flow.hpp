@@ -10,17 +10,35 @@
 
 namespace marsyn::funnel {
 
+// How the Euler part x + h f(x, u) over the zonotope is linearized (docs/soundness.md section 11).
+enum class Remainder {
+  // Mean value about the centre: the midpoint of the interval Jacobian over the hull acts on the
+  // generators, |[J](hull) - Jm| radii is the error (grows like the Jacobian's spread x size).
+  MeanValue,
+  // Linearization at the centre plus the Lagrange remainder 1/2 |[H](hull)| radii radii
+  // (grows with the square of the size); per state row the smaller of this and the mean-value
+  // bound is kept, both being sound for that row.
+  SecondOrder,
+};
+
 struct FlowOptions {
   double tau = 0.1;
+  Remainder remainder = Remainder::SecondOrder;
+  // Test hook: multiplies the Lagrange remainder (1: sound; < 1 only to show a test can fail).
+  double remainder_scale = 1.0;
   int substeps = 16;          // enclosure steps per period (a multiple of the period's parts)
   int picard_iterations = 20;
   int max_generators = 0;     // 0: 3 (n + m)
+  // Substeps after which the box of new errors becomes generators (carried exactly by the linear
+  // part from then on, instead of by |I + h L|); 0: once, at the period's end.
+  int box_substeps = 0;
 };
 
 struct FlowResult {
   bool ok = false;
   Zonotope end;                     // over (x, u) at the end of the period
   std::vector<FastInterval> boxes;  // substeps x n: every state during each substep
+  long rows = 0, second_order_rows = 0;  // state rows enclosed, and of them by the Lagrange form
 };
 
 // `start` lives in R^{n+m} (states first, then inputs) and contains every (x(t0), u) the closed

@@ -25,16 +25,19 @@ struct Tracked {
   TrackResult result;
 };
 
-const Tracked& tracked(const std::string& name) {
-  static std::map<std::string, Tracked> cache;
+// remainder_scale < 1: the second-order remainder shrunk (the test hook), to show leaks.
+const Tracked& tracked(const std::string& name, double remainder_scale = 1.0) {
+  static std::map<std::pair<std::string, double>, Tracked> cache;
   static std::mutex mu;
   std::lock_guard<std::mutex> lock(mu);
-  auto it = cache.find(name);
+  auto it = cache.find({name, remainder_scale});
   if (it != cache.end()) return it->second;
   Tracked t;
   t.problem = scenario(name);
-  t.result = FunnelTracker().track(t.problem, {});
-  return cache.emplace(name, std::move(t)).first->second;
+  FunnelTracker tracker;
+  tracker.scale_remainder_for_tests(remainder_scale);
+  t.result = tracker.track(t.problem, {});
+  return cache.emplace(std::make_pair(name, remainder_scale), std::move(t)).first->second;
 }
 
 struct Counts {
@@ -106,6 +109,17 @@ Counts sample(const Tracked& t, long total, std::uint64_t seed) {
           // A vertex-biased point of the zonotope c + G xi.
           std::vector<double> xi(set.generators);
           for (auto& v : xi) v = U01(rng) < 0.5 ? (U01(rng) < 0.5 ? -1.0 : 1.0) : U(rng);
+          if (U01(rng) < 0.5) {
+            // A vertex: the support point in a random direction a (xi_j = sign(g_j . a)). With
+            // many generators random signs stay near the centre; vertices reach the boundary.
+            std::vector<double> a(n);
+            for (auto& v : a) v = U(rng);
+            for (int j = 0; j < set.generators; ++j) {
+              double dot = 0;
+              for (int i = 0; i < n; ++i) dot += set.S[j * n + i] * a[i];
+              xi[j] = dot >= 0 ? 1.0 : -1.0;
+            }
+          }
           for (int i = 0; i < n; ++i) {
             x[i] = set.c[i];
             for (int j = 0; j < set.generators; ++j) x[i] += set.S[j * n + i] * xi[j] * (1 - 1e-12);
