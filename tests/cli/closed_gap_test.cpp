@@ -2,6 +2,9 @@
 // with both obstacles and the width; a field without one gets no warning.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <unistd.h>
+
 #include "run.hpp"
 
 using marsyn::test::run_marsyn;
@@ -20,4 +23,19 @@ TEST(ClosedGap, AnOpenFieldHasNoWarning) {
   const auto r = run_marsyn(std::string("check ") + MARSYN_SOURCE_DIR + "/examples/multi_drone.yaml");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(r.out.find("leave a gap"), std::string::npos) << r.out;
+}
+
+// Three robots whose straight lines run through closed gaps of a row of shelves: the first plan
+// presses them into the gaps; the search re-plans the same horizon from routes around the row
+// and finds a plan robust in continuous time there (issue 22, routes).
+TEST(ClosedGap, RoutesAroundTheFieldGiveARobustPlan) {
+  namespace fs = std::filesystem;
+  const fs::path out = fs::temp_directory_path() / ("marsyn_routes_" + std::to_string(::getpid()));
+  const auto r = run_marsyn(std::string("plan ") + MARSYN_SOURCE_DIR + "/tests/continuous/obstacle_field.yaml --out " +
+                            out.string());
+  fs::remove_all(out);
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  const std::string all = r.out + r.err;
+  EXPECT_NE(all.find("from routes around them"), std::string::npos) << all;
+  EXPECT_NE(all.find("FEASIBLE: horizon 120"), std::string::npos) << all;
 }

@@ -116,6 +116,10 @@ std::vector<Waypoint> route_waypoints(const Problem& problem, int horizon) {
       Waypoint w;
       w.step = std::clamp(static_cast<int>(std::lround(horizon * along[j + 1] / total)), 1, horizon - 1);
       w.x = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::quiet_NaN());
+      // Weakly held, a reference through the corners is undone by the first steps of a solver
+      // started at rest (the obstacle field of tests/continuous: 40 x holds the route, 1 x and
+      // 10 x did not).
+      w.follow = 40.0;
       w.x[layout.state[i] + ix] = corners[j].x() - ws.offset[0];
       w.x[layout.state[i] + iy] = corners[j].y() - ws.offset[1];
       out.push_back(std::move(w));

@@ -40,6 +40,10 @@ inline const char* to_string(PlannerStatus s) {
 struct Waypoint {
   int step = 0;
   Eigen::VectorXd x;
+  // How firmly a planner that tracks a reference should follow it: its tracking weight on the
+  // coordinates this waypoint pins is multiplied by this (at least 1). A route around obstacles
+  // (core's plan search) asks for more than a mission stage, whose constraints already hold it.
+  double follow = 1.0;
 };
 
 // The eps-robust planning problem on the product system, assembled by core from a Problem.

@@ -129,6 +129,7 @@ class Solver {
   std::vector<Vec> X_, U_, ref_;
   Vec goal_centre_;
   double bend_ = 0.0;  // the reference's bend (Options::bend, or larger from the bend search)
+  bool uniform_q_ = true;  // q_stage_ is q_track everywhere (the cost then keeps its old arithmetic)
   Vec q_stage_;  // stage tracking weight per product coordinate: q_track x q_state
   // Multipliers: state bounds (lo, hi), input bounds, generic constraints, goal (terminal).
   std::vector<Vec> lam_xlo_, lam_xhi_, lam_ulo_, lam_uhi_, lam_c_;

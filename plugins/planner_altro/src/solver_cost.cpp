@@ -11,7 +11,7 @@ double Solver::stage_cost(int k, const Vec& x, const Vec* u) const {
   const bool term = k == T_;
   // Without q_state, the same arithmetic as before it existed (plans stay bit-identical).
   if (term) J += 0.5 * opt_.q_terminal * (x - goal_centre_).squaredNorm();
-  else if (opt_.q_state.empty()) J += 0.5 * opt_.q_track * (x - ref_[k]).squaredNorm();
+  else if (uniform_q_) J += 0.5 * opt_.q_track * (x - ref_[k]).squaredNorm();
   else J += 0.5 * (q_stage_.array() * (x - ref_[k]).array().square()).sum();
   if (u) {
     J += 0.5 * opt_.r_input * u->squaredNorm();

@@ -89,6 +89,11 @@ void Solver::initial_guess() {
   }
   q_stage_ = Vec::Constant(n_, opt_.q_track);
   if (!opt_.q_state.empty()) q_stage_ = q_stage_.cwiseProduct(Eigen::Map<const Vec>(opt_.q_state.data(), n_));
+  uniform_q_ = opt_.q_state.empty();
+  for (const auto& w : pp_.waypoints)  // a route to follow weighs more than a straight line
+    if (w.x.size() == n_ && w.follow > 1.0)
+      for (int c = 0; c < n_; ++c)
+        if (std::isfinite(w.x[c])) q_stage_[c] = std::max(q_stage_[c], w.follow * opt_.q_track), uniform_q_ = false;
   reference(opt_.bend);
   bend_ = opt_.bend;
   // Where the references of a team still meet (agents crossing one region at one time, as in
