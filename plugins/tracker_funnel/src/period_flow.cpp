@@ -13,17 +13,10 @@ namespace {
 // Interval Jacobian of the state rows of F(z) = (f(x, u), 0) over the box (x, u), n x (n + m),
 // and the interval value f(x, u).
 void jacobian(const Dynamics& f, const FastInterval* x, const FastInterval* u, IMatrix& J, IVector& value) {
-  const int n = f.state_dim(), m = f.input_dim(), N = n + m;
-  std::vector<DualFI> xd(n), ud(m), out(n);
-  for (int i = 0; i < n; ++i) xd[i] = DualFI::variable(x[i], i, N);
-  for (int j = 0; j < m; ++j) ud[j] = DualFI::variable(u[j], n + j, N);
-  f.field(xd.data(), ud.data(), out.data());
-  J = IMatrix(n, N);
-  value.resize(n);
-  for (int i = 0; i < n; ++i) {
-    value[i] = out[i].v;
-    for (int k = 0; k < N; ++k) J(i, k) = out[i].derivative(k);
-  }
+  const int n = f.state_dim(), m = f.input_dim();
+  std::vector<FastInterval> X(x, x + n);
+  X.insert(X.end(), u, u + m);
+  interval_jacobian(f, X.data(), J, value);
 }
 
 bool finite(const FastInterval& x) { return std::isfinite(x.lower()) && std::isfinite(x.upper()); }
