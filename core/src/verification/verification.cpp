@@ -68,39 +68,50 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
 
   const std::vector<Scenario> scenarios = verification_scenarios(std::max(opt.runs, 5), opt.seed);
   std::vector<RunSummary> results(scenarios.size());
+  // This rank's runs, in batches of Lanes::kWidth that advance together (closed_loop.hpp).
+  std::vector<int> owned;
+  for (int r = 0; r < static_cast<int>(scenarios.size()); ++r)
+    if (mpi::owns_run(opt.collective, r)) owned.push_back(r);
+  const int batches = (static_cast<int>(owned.size()) + Lanes::kWidth - 1) / Lanes::kWidth;
   const Stopwatch runs_clock;
   std::atomic<int> next{0}, done{0};
   std::mutex progress_mutex;
+  auto summarize = [&](int r, const ClosedLoopRun& run) {
+    const SpecEvaluation& ev = run.sampled;
+    RunSummary& s = results[r];
+    s.scenario = scenarios[r];
+    s.between = run.between;
+    s.satisfied = ev.satisfied && run.outside_domain_agent < 0;
+    s.min_margin = s.sampled_margin = ev.min_margin;
+    s.worst = ev.worst;
+    if (rep.continuous && run.between.min() < s.min_margin) {
+      s.min_margin = run.between.min();
+      s.worst = run.between_worst + " at t = " + std::to_string(run.between_worst_t) + " s (between samples)";
+    }
+    if (rep.continuous && run.between.min() < 0) s.satisfied = false;
+    // A tiny tolerance only for the ratio's own rounding; the tube is closed.
+    s.left_tube = run.max_tube_excess > 1.0 + 1e-12;
+    s.outside_domain = run.outside_domain_agent >= 0;
+    if (s.outside_domain)
+      s.worst = "controller of " + problem.agents[run.outside_domain_agent].name + " had no input at step " +
+                std::to_string(run.outside_domain_step);
+  };
   auto worker = [&] {
-    for (int task = next++; task < n_kept + static_cast<int>(scenarios.size()); task = next++) {
+    for (int task = next++; task < n_kept + batches; task = next++) {
       if (task < n_kept) {
         Kept& k = kept[static_cast<size_t>(task)];
         k.run = simulate(*k.setup, {k.variant < 0 ? DisturbanceMode::None : DisturbanceMode::PaperConstant, opt.seed,
                                     std::max(k.variant, 0)});
         continue;
       }
-      const int r = task - n_kept;
-      if (!mpi::owns_run(opt.collective, r)) continue;
-      ClosedLoopRun run = simulate(closed, scenarios[r]);
-      const SpecEvaluation& ev = run.sampled;
-      RunSummary& s = results[r];
-      s.scenario = scenarios[r];
-      s.between = run.between;
-      s.satisfied = ev.satisfied && run.outside_domain_agent < 0;
-      s.min_margin = s.sampled_margin = ev.min_margin;
-      s.worst = ev.worst;
-      if (rep.continuous && run.between.min() < s.min_margin) {
-        s.min_margin = run.between.min();
-        s.worst = run.between_worst + " at t = " + std::to_string(run.between_worst_t) + " s (between samples)";
-      }
-      if (rep.continuous && run.between.min() < 0) s.satisfied = false;
-      // A tiny tolerance only for the ratio's own rounding; the tube is closed.
-      s.left_tube = run.max_tube_excess > 1.0 + 1e-12;
-      s.outside_domain = run.outside_domain_agent >= 0;
-      if (s.outside_domain)
-        s.worst = "controller of " + problem.agents[run.outside_domain_agent].name + " had no input at step " +
-                  std::to_string(run.outside_domain_step);
-      const int d = ++done * (opt.collective ? opt.collective->size() : 1);  // all ranks: about as far as this one
+      const int first = (task - n_kept) * Lanes::kWidth;
+      const int count = std::min(Lanes::kWidth, static_cast<int>(owned.size()) - first);
+      std::vector<Scenario> batch;
+      for (int b = 0; b < count; ++b) batch.push_back(scenarios[owned[first + b]]);
+      const std::vector<ClosedLoopRun> runs = simulate(closed, batch);
+      for (int b = 0; b < count; ++b) summarize(owned[first + b], runs[b]);
+      // All ranks: about as far as this one.
+      const int d = (done += count) * (opt.collective ? opt.collective->size() : 1);
       if (opt.progress) {
         std::lock_guard<std::mutex> lock(progress_mutex);
         opt.progress(std::min(d, static_cast<int>(scenarios.size())), static_cast<int>(scenarios.size()));

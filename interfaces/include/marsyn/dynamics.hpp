@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "marsyn/lanes.hpp"
 #include "marsyn/scalar.hpp"
 
 namespace marsyn {
@@ -32,6 +33,9 @@ class Dynamics {
   // the Interval overloads, which are just as sound, only slower.
   virtual void field(const FastInterval* x, const FastInterval* u, FastInterval* dx) const;
   virtual void field(const DualFI* x, const DualFI* u, DualFI* dx) const;
+  // Four states at once (lanes.hpp: the verification's runs in lockstep). A Dynamics written by
+  // hand inherits a lane-by-lane loop over the double field.
+  virtual void field(const Lanes* x, const Lanes* u, Lanes* dx) const;
   // Exact second derivatives (forward over forward AD) for second-order planners. DynamicsModel
   // provides them; a Dynamics written by hand reports false here, and planners then difference
   // first derivatives instead.
@@ -92,6 +96,17 @@ inline void Dynamics::field(const DualFI* x, const DualFI* u, DualFI* dx) const 
   }
 }
 
+inline void Dynamics::field(const Lanes* x, const Lanes* u, Lanes* dx) const {
+  const int n = state_dim(), m = input_dim();
+  std::vector<double> xs(static_cast<std::size_t>(n)), us(static_cast<std::size_t>(m)), ds(static_cast<std::size_t>(n));
+  for (int l = 0; l < Lanes::kWidth; ++l) {
+    for (int i = 0; i < n; ++i) xs[i] = x[i][l];
+    for (int j = 0; j < m; ++j) us[j] = u[j][l];
+    field(xs.data(), us.data(), ds.data());
+    for (int i = 0; i < n; ++i) dx[i][l] = ds[i];
+  }
+}
+
 // CRTP adapter: Model provides
 //   template <class S> void vector_field(const S* x, const S* u, S* dx) const;
 // and optionally
@@ -109,6 +124,7 @@ class DynamicsModel : public Dynamics {
     self().vector_field(x, u, dx);
   }
   void field(const DualFI* x, const DualFI* u, DualFI* dx) const final { self().vector_field(x, u, dx); }
+  void field(const Lanes* x, const Lanes* u, Lanes* dx) const final { self().vector_field(x, u, dx); }
   bool has_second_order() const final { return true; }
   void field(const DualD2* x, const DualD2* u, DualD2* dx) const final { self().vector_field(x, u, dx); }
   bool has_interval_second_order() const final { return true; }

@@ -12,11 +12,12 @@
 
 namespace marsyn {
 
-template <class S>
-void rk4_step(const Dynamics& f, const S* x, const S* u, const double* w, double tau, int substeps,
-              S* out, int steps = -1) {
-  // steps >= 0: only the first `steps` of the substeps (dense output between the samples, with
-  // the same arithmetic as the whole step).
+namespace rk4_detail {
+
+// `steps` of the `substeps` equal RK4 steps over tau (all when steps < 0), w (one per state, or
+// null) added to the right-hand side. W is double, or Lanes with S (one disturbance per lane).
+template <class S, class W>
+void run(const Dynamics& f, const S* x, const S* u, const W* w, double tau, int substeps, S* out, int steps) {
   const int n = f.state_dim();
   // Planner rollouts call this T x N times per line-search trial: agent-sized systems use stack
   // storage, only larger ones (a product of agents) the heap.
@@ -35,8 +36,8 @@ void rk4_step(const Dynamics& f, const S* x, const S* u, const double* w, double
     if (w)
       for (int i = 0; i < n; ++i) d[i] = d[i] + w[i];
   };
-  const int run = steps < 0 ? substeps : steps;
-  for (int s = 0; s < run; ++s) {
+  const int count = steps < 0 ? substeps : steps;
+  for (int s = 0; s < count; ++s) {
     rhs(xs, k1);
     for (int i = 0; i < n; ++i) y[i] = xs[i] + (0.5 * h) * k1[i];
     rhs(y, k2);
@@ -47,6 +48,23 @@ void rk4_step(const Dynamics& f, const S* x, const S* u, const double* w, double
     for (int i = 0; i < n; ++i) xs[i] = xs[i] + (h / 6.0) * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
   }
   for (int i = 0; i < n; ++i) out[i] = xs[i];
+}
+
+}  // namespace rk4_detail
+
+// steps >= 0: only the first `steps` of the substeps (dense output between the samples, with
+// the same arithmetic as the whole step).
+template <class S>
+void rk4_step(const Dynamics& f, const S* x, const S* u, const double* w, double tau, int substeps,
+              S* out, int steps = -1) {
+  rk4_detail::run<S, double>(f, x, u, w, tau, substeps, out, steps);
+}
+
+// rk4_step for four states at once (lanes.hpp), each lane with its own disturbance: lane by lane
+// the arithmetic of rk4_step<double>.
+inline void rk4_step_lanes(const Dynamics& f, const Lanes* x, const Lanes* u, const Lanes* w, double tau,
+                           int substeps, Lanes* out, int steps = -1) {
+  rk4_detail::run<Lanes, Lanes>(f, x, u, w, tau, substeps, out, steps);
 }
 
 // Discrete Jacobians A = d f_tau / dx, B = d f_tau / du (row-major n x n and n x m), exact for

@@ -7,6 +7,7 @@
 // below, so they nest for DualD2) and the tight interval square.
 #include <cmath>
 
+#include "marsyn/lanes.hpp"
 #include "marsyn/scalar.hpp"
 
 namespace marsyn::equations::ops {
@@ -23,6 +24,7 @@ template <class S> S fn_atan(const S& x) { using std::atan; return atan(x); }
 inline double fn_log(double x) { return std::log(x); }
 inline Interval fn_log(const Interval& x) { return boost::numeric::log(x); }
 inline FastInterval fn_log(const FastInterval& x) { return marsyn::log(x); }
+inline Lanes fn_log(const Lanes& x) { return marsyn::log(x); }
 template <class T>
 Dual<T> fn_log(const Dual<T>& a) {
   return dual_detail::chain(a, fn_log(a.v), T(1.0) / a.v, 0);
@@ -33,6 +35,7 @@ Dual<T> fn_log(const Dual<T>& a) {
 inline double fn_pow(double x, int k) { return std::pow(x, k); }
 inline Interval fn_pow(const Interval& x, int k) { return k == 2 ? boost::numeric::square(x) : boost::numeric::pow(x, k); }
 inline FastInterval fn_pow(const FastInterval& x, int k) { return k == 2 ? marsyn::square(x) : marsyn::pow(x, k); }
+inline Lanes fn_pow(const Lanes& x, int k) { return marsyn::pow(x, k); }
 template <class T>
 Dual<T> fn_pow(const Dual<T>& a, int k) {
   const T slope = k == 2 ? T(2.0) * a.v : T(static_cast<double>(k)) * fn_pow(a.v, k - 1);

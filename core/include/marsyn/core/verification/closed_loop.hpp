@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 #include <random>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -70,5 +71,8 @@ struct SimulationSetup {
 };
 
 ClosedLoopRun simulate(const SimulationSetup& setup, const Scenario& scenario);
+// Up to Lanes::kWidth runs at once (lanes.hpp: one integrator call per agent and substep for all
+// of them); run r is what simulate(setup, scenarios[r]) gives, to the last bit.
+std::vector<ClosedLoopRun> simulate(const SimulationSetup& setup, std::span<const Scenario> scenarios);
 
 }  // namespace marsyn
