@@ -120,6 +120,7 @@ class Search {
   search::Team team() { return {&pb_, &out_.trackers, &extra_, &input_share_, &min_horizon_}; }
   std::string fingerprint() const { return search::fingerprint(pb_.agents, extra_, input_share_, min_horizon_); }
   double last_plan_s_ = 0, last_track_s_ = 0, last_certify_s_ = 0;
+  double full_track_s_ = 0;  // the last tracking of every agent
   // What the last tracking ran with, per agent: its parameters (agent_parameters) and nominal. An
   // agent with a controller whose both are unchanged keeps its controller (nothing it depends on
   // changed); only the others are tracked again.
@@ -244,6 +245,7 @@ Failure Search::track(SearchRound& round) {
     if (i < out_.plan.nominal.size()) tracked_nominal_[i] = out_.plan.nominal[i];
   }
   round.track_time_s = last_track_s_ = t.seconds();
+  if (redo.size() == N) full_track_s_ = last_track_s_;
   log("[track] all agents in " + std::to_string(round.track_time_s) + " s");
   Failure f{Failure::NoController, "no controller for", {}, {}};
   for (std::size_t i = 0; i < out_.agents.size(); ++i) {
@@ -251,8 +253,8 @@ Failure Search::track(SearchRound& round) {
     const bool kept = std::find(redo.begin(), redo.end(), static_cast<int>(i)) == redo.end();
     if (!kept)
       out_.attempts.push_back({"track " + out_.agents[i].name, agent_parameters(pb_.agents[i]),
-                             std::string(to_string(r.status)) + (r.message.empty() ? "" : ": " + r.message),
-                             r.stats.abstraction_time_s + r.stats.synthesis_time_s, pb_.horizon});
+                               std::string(to_string(r.status)) + (r.message.empty() ? "" : ": " + r.message),
+                               r.stats.abstraction_time_s + r.stats.synthesis_time_s, pb_.horizon});
     if (r.status == TrackerStatus::ControllerFound) continue;
     // Only "no controller" is a reason to change parameters; bad input or an exhausted budget
     // would fail the same way again.
@@ -296,7 +298,9 @@ double Search::estimate(const search::Proposal& p, double cost) {
     const double after = assess_tracker(instances_, p.agents[i].tracker, p.agents[i], ask()).work_s;
     if (before > 0 && after > 0) ratio = std::max(ratio, after / before);
   }
-  return (p.replan ? last_plan_s_ : 0) + last_track_s_ * ratio + last_certify_s_;
+  // A re-plan tracks every agent again; a round that kept controllers tracked only some.
+  const double track = p.replan ? std::max(last_track_s_, full_track_s_) : last_track_s_;
+  return (p.replan ? last_plan_s_ : 0) + track * ratio + last_certify_s_;
 }
 
 // Whether a tracker's knob got an agent further: a controller, a miss later or at least a quarter
