@@ -107,6 +107,20 @@ TEST(SearchReasons, ATubeMissTurnsTheTrackersKnobThenEpsInThatCoordinateOnly) {
   expect_no_repeat(o, "miss_pendulum");
 }
 
+TEST(SearchReasons, AKnobThatHelpsIsTurnedAgain) {
+  // shrinking*: the miss halves with each turn of the knob (0.01, 0.005, 0.0025): turned until
+  // its own limit (knob 2), then the search moves on.
+  const auto lp = marsyn::load_problem(
+      pendulum_variant("reasons_shrinking", "tracker: never", {{"- name: pendulum", "- name: shrinking_pendulum"}, kWideU}));
+  const marsyn::SolveOutcome o = marsyn::solve(lp, quick());
+  const auto a = actions(o);
+  ASSERT_GE(a.size(), 4u);
+  EXPECT_EQ(a[1], "the tracker's tighter knob");
+  EXPECT_EQ(a[2], "the tracker's tighter knob");
+  EXPECT_EQ(a[3], "enlarge eps by 1.25 in the missed coordinate and re-plan");
+  EXPECT_EQ(o.search.message().find("did not help"), std::string::npos) << o.search.message();
+}
+
 TEST(SearchReasons, AnEmptyWinningSetTurnsTheGridKnobNotTheTubeMissOne) {
   const auto lp = marsyn::load_problem(
       pendulum_variant("reasons_empty", "tracker: never", {{"- name: pendulum", "- name: empty_pendulum"}, kWideU}));
