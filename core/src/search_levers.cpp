@@ -75,7 +75,7 @@ int lever_cap(Lever lever) {
   switch (lever) {
     case Lever::LongerHorizon: return 1;
     case Lever::ShrinkEps: return 4;
-    case Lever::TightenInput: return 2;
+    case Lever::TightenInput: return 2 * kInputShareLevels;  // per agent: kInputShareLevels
     case Lever::TrackerLever: return 4;
     case Lever::EpsInCoordinate: return 3;
     case Lever::FallBack: return 1000;  // bounded by the installed trackers
@@ -86,6 +86,12 @@ int lever_cap(Lever lever) {
 }
 
 double input_share_after(int uses) { return 1.0 - 0.2 * uses; }
+
+double next_input_share(double share) {
+  for (int uses = 1; uses <= kInputShareLevels; ++uses)
+    if (input_share_after(uses) < share - 1e-9) return input_share_after(uses);
+  return share;
+}
 
 double saturation_share(const std::vector<Eigen::VectorXd>& u, const Box& b) {
   if (u.empty() || b.dim() == 0) return 0.0;
@@ -110,13 +116,9 @@ std::vector<LeverChoice> levers_for(const Failure& f, const std::vector<TrackerL
     default: return {};
   }
   std::vector<LeverChoice> out;
-  // A nominal pinned at a bound of U leaves the feedback no authority there (the torque-limited
-  // swing-up): no knob of the tracker gives it back, a plan inside a smaller U does.
-  bool pinned = false;
-  for (std::size_t i = 0; i < f.agents.size(); ++i)
-    pinned = pinned || (i < f.nominal_saturation.size() && f.nominal_saturation[i] > 0) ||
-             (i < f.why.size() && f.why[i].input_saturation > 0);
-  if (pinned) out.push_back({Lever::TightenInput, ""});
+  // The levers that keep the plan come first (the failed agents' trackers' own knobs, another
+  // tracker for just those agents): they leave every other agent's plan and controller as it is.
+  // A re-plan perturbs every agent's nominal and can break controllers elsewhere, so it waits.
   // The first failed agent's reason decides the order (the others' levers follow it).
   const TrackFailureKind kind = f.why.empty() ? TrackFailureKind::Unknown : f.why.front().kind;
   auto own = [&] {
@@ -129,10 +131,6 @@ std::vector<LeverChoice> levers_for(const Failure& f, const std::vector<TrackerL
   };
   switch (kind) {
     case TrackFailureKind::TubeMiss:
-      own();
-      out.push_back({Lever::EpsInCoordinate, ""});
-      out.push_back({Lever::FallBack, ""});
-      break;
     case TrackFailureKind::EmptyWinningSet:
       own();
       out.push_back({Lever::FallBack, ""});
@@ -143,6 +141,14 @@ std::vector<LeverChoice> levers_for(const Failure& f, const std::vector<TrackerL
       own();
       break;
   }
+  // A nominal pinned at a bound of U leaves the feedback no authority there (the torque-limited
+  // swing-up): when no knob of the tracker gave it back, a plan inside a smaller U does.
+  bool pinned = false;
+  for (std::size_t i = 0; i < f.agents.size(); ++i)
+    pinned = pinned || (i < f.nominal_saturation.size() && f.nominal_saturation[i] > 0) ||
+             (i < f.why.size() && f.why[i].input_saturation > 0);
+  if (pinned) out.push_back({Lever::TightenInput, ""});
+  if (kind == TrackFailureKind::TubeMiss) out.push_back({Lever::EpsInCoordinate, ""});
   out.push_back({Lever::EnlargeEps, ""});
   return out;
 }
@@ -220,11 +226,13 @@ Proposal propose(const LeverChoice& lever, const Failure& failure, const Team& t
       break;
     }
     case Lever::TightenInput: {
-      const double share = input_share_after(uses + 1);
+      // Per agent, one level at a time: an agent tightened for the first time starts at the
+      // mild level (80 %), whatever other agents reached before.
       for (std::size_t w = 0; w < failure.agents.size(); ++w) {
         const int i = failure.agents[w];
         const bool pinned = (w < failure.nominal_saturation.size() && failure.nominal_saturation[w] > 0) ||
                             (w < failure.why.size() && failure.why[w].input_saturation > 0);
+        const double share = next_input_share(p.input_share[i]);
         if (!pinned || !(share < p.input_share[i])) continue;
         char from[32], to[32];
         std::snprintf(from, sizeof from, "%.0f %%", 100 * p.input_share[i]);

@@ -120,6 +120,23 @@ class Search {
   search::Team team() { return {&pb_, &out_.trackers, &extra_, &input_share_, &min_horizon_}; }
   std::string fingerprint() const { return search::fingerprint(pb_.agents, extra_, input_share_, min_horizon_); }
   double last_plan_s_ = 0, last_track_s_ = 0, last_certify_s_ = 0;
+  double full_track_s_ = 0;  // the last tracking of every agent
+  // What the last tracking ran with, per agent: its parameters (agent_parameters) and nominal. An
+  // agent with a controller whose both are unchanged keeps its controller (nothing it depends on
+  // changed); only the others are tracked again.
+  std::vector<std::string> tracked_params_;
+  std::vector<NominalTrajectory> tracked_nominal_;
+  // The lever of the running round when it was one of a tracker's own knobs (no re-plan), the
+  // agents it changed and their failures before it: if none of them got better the lever is not
+  // turned again (its cap is spent), rather than repeated on the hope that more of it helps.
+  struct LastKnob {
+    std::string name;
+    std::map<int, TrackFailure> before;
+  } last_knob_;
+  std::map<std::string, std::string> unhelpful_;  // lever name -> why it is not turned again
+  // The plan stage's warm start: the last feasible plan, when the next re-plan follows a tracker
+  // failure (the same team with a changed tube or U: the previous plan is a good initial guess).
+  bool warm_from_last_ = false;
 };
 
 Failure Search::plan(SearchRound& round, double time_left) {
@@ -146,6 +163,21 @@ Failure Search::plan(SearchRound& round, double time_left) {
     }
     planned = &tightened;
   }
+  if (warm_from_last_ && out_.plan.feasible && !out_.plan.plan.u.empty()) {
+    // The previous plan, its inputs clamped to the U the planner now sees: its horizon, and
+    // the planner refines it instead of starting cold (planning::PlanSearchOptions::warm_start).
+    GlobalPlan w = out_.plan.plan;
+    Eigen::VectorXd lo(planned->product_input_dim()), hi(planned->product_input_dim());
+    for (std::size_t i = 0, o = 0; i < planned->agents.size(); o += planned->agents[i].m(), ++i) {
+      lo.segment(o, planned->agents[i].m()) = planned->agents[i].input_bounds.lo;
+      hi.segment(o, planned->agents[i].m()) = planned->agents[i].input_bounds.hi;
+    }
+    for (auto& u : w.u)
+      if (u.size() == lo.size()) u = u.cwiseMax(lo).cwiseMin(hi);
+    po.warm_start = std::move(w);
+    log("[plan] warm start: the previous plan (T = " + std::to_string(out_.plan.plan.horizon()) + ")");
+  }
+  warm_from_last_ = false;
   const Stopwatch t;
   if (root()) out_.plan = planning::plan(*planned, *planner_, po);
   if (opt_.cluster) mpi::broadcast_plan(*opt_.cluster, out_.plan);  // what the other ranks need of it
@@ -179,15 +211,50 @@ Failure Search::plan(SearchRound& round, double time_left) {
 
 Failure Search::track(SearchRound& round) {
   const Stopwatch t;
-  out_.agents = track_agents(pb_, out_.plan.nominal, instances_.for_agents(pb_), opt_, loaded_.memory_budget);
+  const std::size_t N = pb_.agents.size();
+  std::vector<int> redo;
+  for (std::size_t i = 0; i < N; ++i) {
+    const bool keep = i < out_.agents.size() && out_.agents[i].track.controller && i < tracked_params_.size() &&
+                      tracked_params_[i] == agent_parameters(pb_.agents[i]) && i < tracked_nominal_.size() &&
+                      i < out_.plan.nominal.size() && tracked_nominal_[i].x == out_.plan.nominal[i].x &&
+                      tracked_nominal_[i].u == out_.plan.nominal[i].u;
+    if (!keep) redo.push_back(static_cast<int>(i));
+  }
+  if (redo.size() == N || out_.agents.size() != N) {
+    out_.agents = track_agents(pb_, out_.plan.nominal, instances_.for_agents(pb_), opt_, loaded_.memory_budget);
+  } else {
+    // Only the agents whose nominal or parameters changed, or that have no controller yet.
+    Problem sub = pb_;
+    sub.agents.clear();
+    std::vector<NominalTrajectory> nominal;
+    for (int i : redo) {
+      sub.agents.push_back(pb_.agents[i]);
+      nominal.push_back(out_.plan.nominal[i]);
+    }
+    log("[track] " + std::to_string(N - redo.size()) + " agent(s) keep their controllers (nominal and parameters unchanged); tracking " +
+        std::to_string(redo.size()));
+    std::vector<AgentOutcome> fresh =
+        redo.empty() ? std::vector<AgentOutcome>{}
+                     : track_agents(sub, nominal, instances_.for_agents(sub), opt_, loaded_.memory_budget);
+    for (std::size_t w = 0; w < redo.size(); ++w) out_.agents[redo[w]] = std::move(fresh[w]);
+  }
+  tracked_params_.resize(N);
+  tracked_nominal_.resize(N);
+  for (std::size_t i = 0; i < N; ++i) {
+    tracked_params_[i] = agent_parameters(pb_.agents[i]);
+    if (i < out_.plan.nominal.size()) tracked_nominal_[i] = out_.plan.nominal[i];
+  }
   round.track_time_s = last_track_s_ = t.seconds();
+  if (redo.size() == N) full_track_s_ = last_track_s_;
   log("[track] all agents in " + std::to_string(round.track_time_s) + " s");
   Failure f{Failure::NoController, "no controller for", {}, {}};
   for (std::size_t i = 0; i < out_.agents.size(); ++i) {
     const auto& r = out_.agents[i].track;
-    out_.attempts.push_back({"track " + out_.agents[i].name, agent_parameters(pb_.agents[i]),
-                             std::string(to_string(r.status)) + (r.message.empty() ? "" : ": " + r.message),
-                             r.stats.abstraction_time_s + r.stats.synthesis_time_s, pb_.horizon});
+    const bool kept = std::find(redo.begin(), redo.end(), static_cast<int>(i)) == redo.end();
+    if (!kept)
+      out_.attempts.push_back({"track " + out_.agents[i].name, agent_parameters(pb_.agents[i]),
+                               std::string(to_string(r.status)) + (r.message.empty() ? "" : ": " + r.message),
+                               r.stats.abstraction_time_s + r.stats.synthesis_time_s, pb_.horizon});
     if (r.status == TrackerStatus::ControllerFound) continue;
     // Only "no controller" is a reason to change parameters; bad input or an exhausted budget
     // would fail the same way again.
@@ -231,12 +298,52 @@ double Search::estimate(const search::Proposal& p, double cost) {
     const double after = assess_tracker(instances_, p.agents[i].tracker, p.agents[i], ask()).work_s;
     if (before > 0 && after > 0) ratio = std::max(ratio, after / before);
   }
-  return (p.replan ? last_plan_s_ : 0) + last_track_s_ * ratio + last_certify_s_;
+  // A re-plan tracks every agent again; a round that kept controllers tracked only some.
+  const double track = p.replan ? std::max(last_track_s_, full_track_s_) : last_track_s_;
+  return (p.replan ? last_plan_s_ : 0) + track * ratio + last_certify_s_;
+}
+
+// Whether a tracker's knob got an agent further: a controller, a miss later or at least a quarter
+// smaller, an empty winning set from an earlier step.
+bool helped(const TrackFailure& before, const Failure& now, int agent) {
+  const auto it = std::find(now.agents.begin(), now.agents.end(), agent);
+  if (it == now.agents.end()) return true;
+  const std::size_t w = static_cast<std::size_t>(it - now.agents.begin());
+  if (w >= now.why.size()) return false;
+  const TrackFailure& after = now.why[w];
+  if (after.kind != before.kind || before.step < 0 || after.step < 0) return false;
+  if (after.kind == TrackFailureKind::TubeMiss)
+    return after.step > before.step || (after.step == before.step && after.amount <= 0.75 * before.amount);
+  if (after.kind == TrackFailureKind::EmptyWinningSet) return after.step < before.step;
+  return false;
+}
+
+std::string miss_text(const TrackFailure& f) {
+  if (f.kind == TrackFailureKind::TubeMiss) {
+    char b[64];
+    std::snprintf(b, sizeof b, "miss %.3g at step %d", f.amount, f.step);
+    return b;
+  }
+  if (f.kind == TrackFailureKind::EmptyWinningSet) return "empty from step " + std::to_string(f.step);
+  return "no controller";
 }
 
 bool Search::next_round(const Failure& failure, double elapsed, SearchRound& next, bool& replan) {
   SearchReport& rep = out_.search;
   rep.not_tried.clear();
+  if (!last_knob_.name.empty() && failure.kind == Failure::NoController) {
+    bool any = false;
+    std::string story;
+    for (const auto& [i, before] : last_knob_.before) {
+      any = any || helped(before, failure, i);
+      const auto it = std::find(failure.agents.begin(), failure.agents.end(), i);
+      const std::size_t w = static_cast<std::size_t>(it - failure.agents.begin());
+      if (story.empty() && it != failure.agents.end() && w < failure.why.size())
+        story = pb_.agents[i].name + ": " + miss_text(before) + " -> " + miss_text(failure.why[w]);
+    }
+    if (!any) unhelpful_[last_knob_.name] = "its last use did not help enough (" + story + ")";
+  }
+  last_knob_ = {};
   // The failed agents' trackers' own knobs, as each declares them (no names in core).
   std::vector<TrackerLever> declared;
   for (int i : failure.agents) {
@@ -252,6 +359,10 @@ bool Search::next_round(const Failure& failure, double elapsed, SearchRound& nex
   for (const LeverChoice& lever : search::levers_for(failure, declared)) {
     const std::string name = search::lever_name(lever);
     int& used = uses_[name];
+    if (unhelpful_.count(name)) {
+      rep.not_tried.push_back({name, unhelpful_.at(name)});
+      continue;
+    }
     if (used >= search::lever_cap(lever.lever)) {
       rep.not_tried.push_back({name, "used " + std::to_string(used) + " times, its limit"});
       continue;
@@ -273,6 +384,16 @@ bool Search::next_round(const Failure& failure, double elapsed, SearchRound& nex
       rep.not_tried.push_back({name, "would take about " + seconds(need) + ", " + seconds(std::max(0.0, left)) + " left"});
       continue;
     }
+    if (lever.lever == Lever::TrackerLever) {
+      last_knob_.name = name;
+      for (int i : p.changed) {
+        const auto it = std::find(failure.agents.begin(), failure.agents.end(), i);
+        const std::size_t w = static_cast<std::size_t>(it - failure.agents.begin());
+        if (it != failure.agents.end() && w < failure.why.size()) last_knob_.before[i] = failure.why[w];
+      }
+    }
+    // A re-plan after a tracker failure starts from the plan it replaces.
+    warm_from_last_ = p.replan && failure.kind == Failure::NoController;
     search::apply(p, team());
     ++used;
     next.action = name;

@@ -325,14 +325,18 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
 
   // The closed loop's start at step k over (x, u): u = u_k + K_k (x - x_k) is affine in the
   // generators; the controller's rounding adds at most kappa (|u_k| + |K| |x - x_k|) per input.
+  // `u` is the law's u_k as the controller will store it: the nominal's input, or (shift) that
+  // input moved by the least amount that keeps the row's hull inside U (docs/funnel.md, "Inputs
+  // at a bound of U").
   struct Period {
     FlowResult fr;
-    bool saturated = false;
+    bool saturated = false;  // some row enclosed as sat_U of its hull (a box)
+    bool shifted = false;    // some row's u_k moved inside U instead
+    std::vector<double> u;
   };
-  auto period = [&](const Zonotope& zx, int k, int basis_now) {
+  auto period = [&](const Zonotope& zx, int k, int basis_now, bool shift) {
     const StepSet& sk = d.sets[k];
     const auto& xk = p.nominal.x[k];
-    const auto& uk = p.nominal.u[k];
     const int pg = zx.generators();
     IVector center(N);
     IMatrix gens(N, pg);
@@ -342,17 +346,18 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
       for (int l = 0; l < pg; ++l) gens(i, l) = fi(zx.G(i, l));
     }
     Period out_p;
-    bool& saturated = out_p.saturated;
+    out_p.u.assign(p.nominal.u[k].data(), p.nominal.u[k].data() + m);
     for (int i = 0; i < m; ++i) {
-      FastInterval c = fi(uk[i]);
-      double round = std::fabs(uk[i]), meas = 0.0;
+      // The feedback part K (x - x_k) over the set: centre, generators and rounding, which do not
+      // depend on u_k but for |u_k| in the rounding allowance.
+      FastInterval fb(0.0);
+      double round = 0.0, meas = 0.0;
       for (int j = 0; j < n; ++j) {
-        c += fi(K[k](i, j)) * (fi(zx.c[j]) - fi(xk[j]));
+        fb += fi(K[k](i, j)) * (fi(zx.c[j]) - fi(xk[j]));
         round = add_up(round, mul_up(std::fabs(K[k](i, j)), reach(sk.lo[j], sk.hi[j], xk[j])));
         // The controller sees the measured (double) state, not the real one.
         meas = add_up(meas, mul_up(std::fabs(K[k](i, j)), measured(sk.lo[j], sk.hi[j])));
       }
-      const double delta = add_up(add_up(mul_up(kappa, round), kTiny), meas);
       double spread = 0.0;
       for (int l = 0; l < pg; ++l) {
         FastInterval g(0.0);
@@ -360,16 +365,42 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
         gens(n + i, l) = g;
         spread = add_up(spread, mag(g));
       }
-      const FastInterval hull = c + FastInterval(-add_up(spread, delta), add_up(spread, delta));
-      if (hull.lower() >= d.u_lo[i] && hull.upper() <= d.u_hi[i]) {
+      // The row for the law's input ui: its centre, rounding allowance and hull.
+      auto row = [&](double ui, FastInterval& c, double& delta) {
+        c = fi(ui) + fb;
+        delta = add_up(add_up(mul_up(kappa, add_up(std::fabs(ui), round)), kTiny), meas);
+        return c + FastInterval(-add_up(spread, delta), add_up(spread, delta));
+      };
+      FastInterval c;
+      double delta;
+      FastInterval hull = row(out_p.u[i], c, delta);
+      const double lo = d.u_lo[i], hi = d.u_hi[i];
+      if (shift && !(hull.lower() >= lo && hull.upper() <= hi) && hull.upper() - hull.lower() < hi - lo) {
+        // Move u_k by the overshoot (and a hair, for the rounding of the move itself) when the
+        // hull is narrower than U: the row stays affine in the generators (no saturation), at
+        // the price of pulling the closed loop off the nominal by the move.
+        const double over = hull.upper() > hi ? hull.upper() - hi : hull.lower() - lo;
+        const double moved = out_p.u[i] - over - std::copysign(1e-9 * (hi - lo), over);
+        FastInterval c2;
+        double delta2;
+        const FastInterval hull2 = row(moved, c2, delta2);
+        if (std::isfinite(moved) && hull2.lower() >= lo && hull2.upper() <= hi) {
+          out_p.u[i] = moved;
+          out_p.shifted = true;
+          c = c2;
+          delta = delta2;
+          hull = hull2;
+        }
+      }
+      if (hull.lower() >= lo && hull.upper() <= hi) {
         center[n + i] = c;
         extra[n + i] = delta;
       } else {
         // Saturation: sat_U maps the hull's values into [sat(lo), sat(hi)]; the row keeps that
         // interval and loses its correlation with the state (sound, less tight).
-        saturated = true;
-        const double a = std::clamp(hull.lower(), d.u_lo[i], d.u_hi[i]);
-        const double b = std::clamp(hull.upper(), d.u_lo[i], d.u_hi[i]);
+        out_p.saturated = true;
+        const double a = std::clamp(hull.lower(), lo, hi);
+        const double b = std::clamp(hull.upper(), lo, hi);
         center[n + i] = FastInterval(a, b);
         for (int l = 0; l < pg; ++l) gens(n + i, l) = FastInterval(0.0);
       }
@@ -377,6 +408,27 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
     const Zonotope za = from_intervals(center, gens, extra);
     out_p.fr = enclose_period(f, za, d.w, basis_now, flow);
     return out_p;
+  };
+  // How far the period's end reaches from x_{k+1} relative to eps (centre offset + radius), the
+  // score that decides between saturating and shifting: a shift pays with the offset.
+  auto end_reach = [&](const FlowResult& fr, int k1) {
+    if (!fr.ok) return std::numeric_limits<double>::infinity();
+    double worst = 0.0;
+    for (int i = 0; i < n; ++i) {
+      double r = std::fabs(fr.end.c[i] - p.nominal.x[k1][i]);
+      for (Eigen::Index j = 0; j < fr.end.G.cols(); ++j) r += std::fabs(fr.end.G(i, j));
+      worst = std::max(worst, r / p.tube.eps[i]);
+    }
+    return worst;
+  };
+  // The period of step k from zx: with saturated rows as boxes, or, when some row saturates and
+  // shifting is allowed, the shifted law if its end reaches less far out of the tube.
+  auto best_period = [&](const Zonotope& zx, int k, int basis_now) {
+    Period a = period(zx, k, basis_now, false);
+    if (!a.saturated || !o.shift_inputs) return a;
+    Period b = period(zx, k, basis_now, true);
+    if (!b.shifted) return a;
+    return end_reach(b.fr, k + 1) < end_reach(a.fr, k + 1) ? b : a;
   };
   auto end_fill = [&](const FlowResult& fr) {
     if (!fr.ok) return std::numeric_limits<double>::infinity();
@@ -389,10 +441,12 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
     return worst;
   };
 
-  Period cur = period(zx, 0, basis);
+  Period cur = best_period(zx, 0, basis);
   for (int k = 0; k < T; ++k) {
     const FlowResult& fr = cur.fr;
     const bool saturated = cur.saturated;
+    d.u_nom[k] = cur.u;  // the law's u_k (moved inside U where that was verified)
+    if (cur.shifted) ++out.shifted_steps;
     out.rows += fr.rows;
     out.second_order_rows += fr.second_order_rows;
     if (saturated) ++out.saturated_steps;
@@ -471,7 +525,7 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
       double score;
       Period pn;
       if (k + 1 < T) {
-        pn = period(c.next, k + 1, n);
+        pn = best_period(c.next, k + 1, n);
         score = end_fill(pn.fr);
       } else {
         score = 0.0;

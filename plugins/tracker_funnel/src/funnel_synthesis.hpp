@@ -18,7 +18,11 @@ struct VerifyOptions {
   FlowOptions flow;     // flow.tau is set from the problem
   int parts = 8;        // period enclosures per step (divides flow.substeps)
   int set_order = 8;
-  bool try_all_shapes = false;  // lookahead over every candidate even when the order-set_order zonotope fits    // > 2: also try verified zonotopes of that order (generators / n)
+  bool try_all_shapes = false;  // lookahead over every candidate even when the order-set_order zonotope fits
+  // Where a row of u_k + K_k (x - x_k) leaves U over the set but is narrower than U: also try
+  // the law with u_k moved inside U (no saturation, an offset), and keep whichever period ends
+  // closer inside the tube.
+  bool shift_inputs = true;
   Eigen::VectorXd initial_radius;  // half-widths of the initial box around x_0
 };
 
@@ -30,6 +34,7 @@ struct VerifyOutcome {
   int miss_coordinate = -1;  // when the enclosure left the tube: the coordinate and by how much
   double miss_amount = 0.0;
   int saturated_steps = 0;  // steps where some input row hit U and was enclosed as a box
+  int shifted_steps = 0;    // steps whose law's u_k was moved inside U instead
   double max_fill = 0.0;  // max over k, i of (hull half-width of V_k along i) / eps_i
   double mean_fill = 0.0;
   // Per step k = 0..T and coordinate i: max |x_i - x_k,i| over the hull of V_k (the tightness

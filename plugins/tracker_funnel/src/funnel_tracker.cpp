@@ -85,6 +85,9 @@ ParamSet<FunnelSettings> declare() {
         "compare every candidate verified set by a one-period lookahead, even when the order-set_order zonotope fits");
   integer_in(s, "box_substeps", &O::box_substeps, 0, 1024,
              "enclosure steps after which the box of new errors becomes zonotope generators; 0: once per period");
+  s.add("shift_inputs", &O::shift_inputs, "true|false",
+        "where u_k + K (x - x_k) leaves U over the verified set but fits in it, also try the law with u_k moved "
+        "inside U (an offset instead of saturation) and keep the period that ends closer inside the tube");
   integer_in(s, "tightness_runs", &O::tightness_runs, 0, 100000,
              "sampled closed-loop runs measuring verified half-width / largest deviation seen (a statistic; 0: off)");
   return s;
@@ -213,6 +216,7 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
   vo.parts = s_.parts;
   vo.set_order = static_cast<int>(s_.set_order);
   vo.try_all_shapes = s_.try_all_shapes;
+  vo.shift_inputs = s_.shift_inputs;
   vo.flow.box_substeps = static_cast<int>(s_.box_substeps);
   vo.initial_radius.resize(n);
   for (int i = 0; i < n; ++i)
@@ -269,6 +273,7 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
   msg.precision(3);
   msg << "verified sets fill at most " << 100 * best.max_fill << "% of eps (mean " << 100 * best.mean_fill << "%)";
   if (best.saturated_steps) msg << ", inputs saturate on " << best.saturated_steps << " step(s)";
+  if (best.shifted_steps) msg << ", u_k moved inside U on " << best.shifted_steps << " step(s)";
   auto controller = std::make_shared<FunnelController>(best.data);
   if (s_.tightness_runs > 0) {
     const Tightness t = measure_tightness(*p.dynamics, *controller, best.half_width, static_cast<int>(s_.tightness_runs), 1);

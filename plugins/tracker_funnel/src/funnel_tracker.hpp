@@ -28,6 +28,7 @@ struct FunnelSettings {
   long tightness_runs = 32;
   long set_order = 8;
   bool try_all_shapes = false;
+  bool shift_inputs = true;  // VerifyOptions::shift_inputs
   long box_substeps = 0;                // sampled runs of the tightness figure; 0: none
 };
 

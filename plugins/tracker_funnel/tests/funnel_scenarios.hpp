@@ -53,6 +53,18 @@ inline TrackingProblem unicycle(int steps = 60) {
   return p;
 }
 
+// The unicycle with its speed pinned at U's upper bound for 34 of its 60 steps (t in [1.5, 4.8]
+// s): the feedback has authority on one side only there (docs/funnel.md, "Inputs at a bound of
+// U"), as in the circle swaps, whose nominals run at full speed through the crowd.
+inline TrackingProblem unicycle_at_bound(int steps = 60) {
+  TrackingProblem p = unicycle(steps);
+  p.agent = "pinned";
+  p.nominal = simulate(*p.dynamics, vec({0, 0, M_PI / 4}), steps, p.tau, [](double t) {
+    return vec({std::min(2.4, 1.6 + 1.2 * std::sin(0.5 * t)), 0.3 * std::sin(2 * M_PI * t / 5.15)});
+  });
+  return p;
+}
+
 inline TrackingProblem crane(int steps = 40) {
   TrackingProblem p;
   p.agent = "crane";
@@ -117,6 +129,7 @@ inline TrackingProblem quadrotor(int steps = 30) {
 // within a third to a half of it (docs/tracker.md, "funnel: limits").
 inline TrackingProblem scenario(const std::string& name) {
   if (name == "unicycle") return unicycle();
+  if (name == "unicycle_at_bound") return unicycle_at_bound();
   if (name == "crane") return crane(12);
   if (name == "bicycle") return bicycle(18);
   if (name == "planar_quadrotor") return planar_quadrotor(14);

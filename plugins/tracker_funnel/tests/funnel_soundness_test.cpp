@@ -196,7 +196,7 @@ TEST_P(FunnelSoundness, SuccessorsStayInTheNextVerifiedSet) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, FunnelSoundness,
-                         ::testing::Values("unicycle", "crane", "bicycle", "planar_quadrotor", "quadrotor"));
+                         ::testing::Values("unicycle", "unicycle_at_bound", "crane", "bicycle", "planar_quadrotor", "quadrotor"));
 
 TEST(FunnelSoundness, TooLargeADisturbanceGivesNoController) {
   TrackingProblem p = scenario("unicycle");

@@ -44,9 +44,12 @@ std::string lever_name(const LeverChoice& lever);
 // is 1.95 eps; each tracker lever four times).
 int lever_cap(Lever lever);
 
-// The share of the input range the nominal may use after k uses of TightenInput: 0.8, 0.6 (the
-// feedback keeps 20 %, then 40 % of U's half-range around the nominal's own bound).
+// The share of the input range the nominal may use after k uses of TightenInput on one agent:
+// 0.8, 0.6 (the feedback keeps 20 %, then 40 % of U's half-range around the nominal's own bound).
 double input_share_after(int uses);
+inline constexpr int kInputShareLevels = 2;
+// An agent's next share after `share` (the next level below it), or `share` when none is left.
+double next_input_share(double share);
 
 // What a round failed on, as far as the levers care.
 struct Failure {

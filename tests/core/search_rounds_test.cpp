@@ -1,0 +1,105 @@
+// What a round of the outer search keeps and where it starts (docs/search.md): agents whose
+// nominal and parameters did not change keep their controllers, U is tightened per agent from
+// the mild level, and a re-plan after a tracker failure starts from the plan it replaces. The
+// test tracker `never` (tests/fixtures/never_tracker.cpp) fails on command by agent name.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "marsyn/core/problem/problem_loader.hpp"
+#include "marsyn/core/search_levers.hpp"
+#include "marsyn/core/solve.hpp"
+#include "pendulum_variant.hpp"
+
+namespace {
+
+using marsyn::test::pendulum_variant;
+
+marsyn::SolveOptions quick(std::vector<std::string>* log = nullptr) {
+  marsyn::SolveOptions so;
+  so.verification_runs = 5;
+  so.global_memory_budget_bytes = 0;
+  if (log) so.log = [log](const std::string& s) { log->push_back(s); };
+  return so;
+}
+
+long count(const marsyn::SolveOutcome& o, const std::string& stage) {
+  return std::count_if(o.attempts.begin(), o.attempts.end(), [&](const auto& a) { return a.stage == stage; });
+}
+
+// Two pendulums: `pendulum` (funnel, verifies) and `miss_pendulum` (never: a tube miss).
+std::string two_pendulums(const std::string& name) {
+  const std::string miss =
+      "  - name: miss_pendulum\n"
+      "    tracker: never\n"
+      "    dynamics: {type: pendulum, params: {input_gain: 0.2}}\n"
+      "    x0: [0, 0]\n"
+      "    goal: {center: [3.141592653589793, 0], radius: [0.3, 0.3]}\n"
+      "    state_bounds: {lo: [-2.5, -3], hi: [4.5, 3]}\n"
+      "    input_bounds: {lo: [-30], hi: [30]}\n"
+      "    disturbance: [0, 0.01]\n"
+      "    eps: [0.2, 0.2]\n"
+      "  - name: pendulum\n";
+  return pendulum_variant(name, "tracker: funnel",
+                          {{"horizon: 100\n", "horizon: 100\npairwise_collision: false\n"}, {"  - name: pendulum\n", miss}, {"input_bounds: {lo: [-3], hi: [3]}", "input_bounds: {lo: [-30], hi: [30]}"}});
+}
+
+TEST(SearchRounds, AgentsWhoseNominalAndParametersDidNotChangeKeepTheirControllers) {
+  std::vector<std::string> log;
+  // The loaded problem holds the plugin libraries, whose code the controllers run: it outlives o.
+  const auto lp = marsyn::load_problem(two_pendulums("rounds_keep"));
+  const marsyn::SolveOutcome o = marsyn::solve(lp, quick(&log));
+  ASSERT_GE(o.search.rounds.size(), 2u);
+  ASSERT_EQ(o.search.rounds[1].action, "the tracker's tighter knob");
+  ASSERT_FALSE(o.search.rounds[1].planned);
+  // Round 2 kept the plan: the funnel pendulum was tracked in round 1 only, until a re-plan.
+  const int replans = static_cast<int>(std::count_if(o.search.rounds.begin(), o.search.rounds.end(),
+                                                     [](const auto& r) { return r.planned; }));
+  EXPECT_LE(count(o, "track pendulum"), replans);
+  EXPECT_GE(count(o, "track miss_pendulum"), 2);
+  ASSERT_EQ(o.agents.size(), 2u);
+  EXPECT_TRUE(o.agents[1].track.controller) << o.agents[1].track.message;
+  EXPECT_NE(std::find(log.begin(), log.end(),
+                      "[track] 1 agent(s) keep their controllers (nominal and parameters unchanged); tracking 1"),
+            log.end());
+}
+
+TEST(SearchRounds, UIsTightenedPerAgentFromTheMildLevel) {
+  EXPECT_DOUBLE_EQ(marsyn::search::next_input_share(1.0), 0.8);
+  EXPECT_DOUBLE_EQ(marsyn::search::next_input_share(0.8), 0.6);
+  EXPECT_DOUBLE_EQ(marsyn::search::next_input_share(0.6), 0.6);  // no level left
+  auto lp = marsyn::load_problem(two_pendulums("rounds_share"));
+  std::map<std::string, double> extra;
+  std::vector<double> share{0.8, 1.0};  // miss_pendulum was tightened once, pendulum never
+  int min_horizon = 0;
+  const marsyn::search::Team team{&lp.problem, &lp.trackers, &extra, &share, &min_horizon};
+  marsyn::TrackerInstances instances(lp.registry);
+  marsyn::search::Failure f{marsyn::search::Failure::NoController, "no controller for miss_pendulum pendulum", {0, 1}, {}};
+  f.why = {{}, {}};
+  f.nominal_saturation = {0.5, 0.5};
+  const auto p = marsyn::search::propose({marsyn::search::Lever::TightenInput, ""}, f, team, instances,
+                                         {lp.problem.horizon, lp.problem.tau, lp.memory_budget}, 1);
+  ASSERT_TRUE(p.why_not.empty()) << p.why_not;
+  EXPECT_DOUBLE_EQ(p.input_share[0], 0.6);
+  EXPECT_DOUBLE_EQ(p.input_share[1], 0.8);  // a fresh agent starts at 80 %, not at the other's 60 %
+  EXPECT_TRUE(p.replan);
+}
+
+TEST(SearchRounds, AReplanAfterATrackerFailureStartsFromThePreviousPlan) {
+  std::vector<std::string> log;
+  const auto lp = marsyn::load_problem(pendulum_variant(
+      "rounds_warm", "tracker: never",
+      {{"- name: pendulum", "- name: pinned_pendulum"}, {"input_bounds: {lo: [-3], hi: [3]}", "input_bounds: {lo: [-30], hi: [30]}"}}));
+  const marsyn::SolveOutcome o = marsyn::solve(lp, quick(&log));
+  ASSERT_GE(o.search.rounds.size(), 2u);
+  ASSERT_TRUE(o.search.rounds[1].planned);
+  const auto warm = std::find_if(log.begin(), log.end(), [](const std::string& l) {
+    return l.rfind("[plan] warm start: the previous plan (T = ", 0) == 0;
+  });
+  ASSERT_NE(warm, log.end());
+  // Announced after round 2's lever, before its plan; never in round 1.
+  const auto round2 = std::find_if(log.begin(), log.end(), [](const std::string& l) { return l.rfind("[search] round 2:", 0) == 0; });
+  EXPECT_LT(round2 - log.begin(), warm - log.begin());
+}
+
+}  // namespace
