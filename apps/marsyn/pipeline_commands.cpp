@@ -2,7 +2,6 @@
 #include <sys/resource.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -27,25 +26,26 @@
 #include "marsyn/core/planning/plan.hpp"
 #include "marsyn/core/problem/problem_loader.hpp"
 #include "marsyn/core/verification/spec_monitor.hpp"
+#include "marsyn/stopwatch.hpp"
 
 namespace fs = std::filesystem;
 
 namespace marsyn::cli {
 namespace {
 
-const auto kStart = std::chrono::steady_clock::now();
+const Stopwatch kStart;  // the log lines' times count from the program's start
 
 bool g_bar_drawn = false;  // a live progress line is on the terminal: the next line first clears it
 
 void log_line(const std::string& s) {
-  const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - kStart).count();
+  const double t = kStart.seconds();
   std::fprintf(stderr, "%s[%7.2f s] %s\n", g_bar_drawn ? "\r\033[K" : "", t, s.c_str());
   g_bar_drawn = false;
 }
 
 // SolveOptions::live on a terminal: one line redrawn in place (an empty line clears it).
 void live_line(const std::string& s) {
-  const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - kStart).count();
+  const double t = kStart.seconds();
   if (s.empty()) std::fprintf(stderr, "\r\033[K");
   else std::fprintf(stderr, "\r\033[K[%7.2f s] %s", t, s.c_str());
   std::fflush(stderr);

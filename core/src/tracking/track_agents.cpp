@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "marsyn/core/tracking/tracker_choice.hpp"
-#include "marsyn/core/stopwatch.hpp"
+#include "marsyn/stopwatch.hpp"
 
 namespace marsyn {
 namespace {

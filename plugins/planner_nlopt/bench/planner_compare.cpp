@@ -10,7 +10,6 @@
 // --warm-from P adds, per example, a row "Q<-P" for every other planner Q: Q solves the same
 // horizon starting from P's feasible plan (PlanningProblem::warm_start), then the exact check.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -23,6 +22,7 @@
 
 #include "marsyn/core/planning/plan.hpp"
 #include "marsyn/core/problem/problem_loader.hpp"
+#include "marsyn/stopwatch.hpp"
 
 using namespace marsyn;
 
@@ -42,10 +42,6 @@ struct Row {
   int horizon = 0, iterations = 0;
   double time_s = 0, cost = 0, margin = 0;
 };
-
-double now_s() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 std::string fmt(double v, const char* f = "%.3g") {
   char b[64];
@@ -141,9 +137,9 @@ int main(int argc, char** argv) {
       pp.warm_start = warm->plan;
       PlanOptions po;
       po.time_limit_s = limit;
-      const double t0 = now_s();
+      const Stopwatch clock;
       PlanResult res = planner->solve(pp, po);
-      r.time_s = now_s() - t0;
+      r.time_s = clock.seconds();
       GlobalPlan plan = res.plan;
       if (static_cast<int>(plan.u.size()) == warm->horizon) {
         for (auto& u : plan.u)
