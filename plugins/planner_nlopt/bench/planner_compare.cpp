@@ -12,16 +12,17 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <optional>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "marsyn/core/planning/plan.hpp"
 #include "marsyn/core/problem/problem_loader.hpp"
+#include "marsyn/number_text.hpp"
 #include "marsyn/stopwatch.hpp"
 
 using namespace marsyn;
@@ -42,12 +43,6 @@ struct Row {
   int horizon = 0, iterations = 0;
   double time_s = 0, cost = 0, margin = 0;
 };
-
-std::string fmt(double v, const char* f = "%.3g") {
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
 
 }  // namespace
 
@@ -165,8 +160,8 @@ int main(int argc, char** argv) {
             << "|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows)
     std::cout << "| " << r.planner << " | " << r.example << " | " << (r.feasible ? "yes" : "no") << " | " << r.horizon
-              << " | " << fmt(r.time_s) << " | " << r.iterations << " | " << fmt(r.cost) << " | " << fmt(r.margin)
-              << " | " << r.status << " |\n";
+              << " | " << number_text(r.time_s, 3) << " | " << r.iterations << " | " << number_text(r.cost, 3) << " | "
+              << number_text(r.margin, 3) << " | " << r.status << " |\n";
   std::cout << "\nNotes (failures: solver message; exact check):\n";
   for (const auto& r : rows)
     if (!r.feasible) std::cout << "- " << r.planner << " / " << r.example << ": " << r.note << "\n";
