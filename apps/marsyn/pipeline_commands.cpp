@@ -11,6 +11,8 @@
 
 #include <optional>
 
+#include <nlohmann/json.hpp>
+
 #include "commands.hpp"
 #include "marsyn/core/tracking/sweep_progress.hpp"
 #include "marsyn/core/tracking/mpi_plan_broadcast.hpp"
@@ -241,10 +243,10 @@ int run_track(const std::string& config, const std::string& agent, const std::st
   }
   const OutputFolder folder(out_dir_for(out_requested, pb));
   {
+    const nlohmann::json j = {
+        {"agent", a.name}, {"status", to_string(r.status)}, {"winning_cells_per_step", s.winning_cells_per_step}};
     std::ofstream f(folder.path(a.name + ".track.json"));
-    f << "{\"agent\": \"" << a.name << "\", \"status\": \"" << to_string(r.status) << "\", \"winning_cells_per_step\": [";
-    for (std::size_t k = 0; k < s.winning_cells_per_step.size(); ++k) f << (k ? ", " : "") << s.winning_cells_per_step[k];
-    f << "]}\n";
+    f << j.dump() << "\n";  // one line, as before: the per-step list is long
   }
   if (r.status == TrackerStatus::ControllerFound && r.controller) {
     const std::string file = folder.path(a.name + ".ctrl");

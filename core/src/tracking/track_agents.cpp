@@ -14,10 +14,6 @@
 #include "marsyn/stopwatch.hpp"
 
 namespace marsyn {
-namespace {
-
-
-}  // namespace
 
 TrackingProblem tracking_problem(const Problem& pb, int index, const NominalTrajectory& nominal) {
   const AgentSpec& a = pb.agents[index];
