@@ -8,9 +8,10 @@
 #include <sstream>
 
 #include "commands.hpp"
-#include "marsyn/core/solve.hpp"
 #include "marsyn/core/planning/plan.hpp"
 #include "marsyn/core/problem/problem_loader.hpp"
+#include "marsyn/core/solve.hpp"
+#include "marsyn/number_text.hpp"
 
 namespace fs = std::filesystem;
 
@@ -71,12 +72,6 @@ void emit(const std::string& out_dir, const std::vector<std::string>& head, cons
   std::printf("\nwrote %s/bench.csv and %s/bench.md\n", out_dir.c_str(), out_dir.c_str());
 }
 
-std::string num(double v, int prec = 3) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", prec, v);
-  return buf;
-}
-
 }  // namespace
 
 int run_bench(const std::string& examples_list, const std::string& planners_list, const std::string& stage,
@@ -100,11 +95,12 @@ int run_bench(const std::string& examples_list, const std::string& planners_list
         ta = std::max(ta, a.track.stats.abstraction_time_s);
         ts = std::max(ts, a.track.stats.synthesis_time_s);
       }
-      rows.push_back({{ex, o.verified ? "verified" : "failed", num(o.plan.total_time_s), num(nl), num(ta), num(ts),
-                       std::to_string(o.verification.runs), std::to_string(o.verification.violations),
-                       std::to_string(o.verification.open_loop_violations) + "/" +
-                           std::to_string(o.verification.open_loop_runs),
-                       num(o.total_time_s)}});
+      rows.push_back(
+          {{ex, o.verified ? "verified" : "failed", number_text(o.plan.total_time_s, 3), number_text(nl, 3),
+            number_text(ta, 3), number_text(ts, 3), std::to_string(o.verification.runs),
+            std::to_string(o.verification.violations),
+            std::to_string(o.verification.open_loop_violations) + "/" + std::to_string(o.verification.open_loop_runs),
+            number_text(o.total_time_s, 3)}});
     }
     emit(out_dir, head, rows);
     return 0;
@@ -140,8 +136,9 @@ int run_bench(const std::string& examples_list, const std::string& planners_list
       }
       const bool has_plan = !o.plan.u.empty();
       rows.push_back({{ex, name, o.feasible ? "yes" : "no (" + std::string(to_string(o.result.status)) + ")",
-                       num(o.total_time_s), std::to_string(o.result.iterations), has_plan ? num(o.result.cost) : "-",
-                       has_plan ? num(o.check.min_margin) : "-", std::to_string(o.horizon), tracking}});
+                       number_text(o.total_time_s, 3), std::to_string(o.result.iterations),
+                       has_plan ? number_text(o.result.cost, 3) : "-",
+                       has_plan ? number_text(o.check.min_margin, 3) : "-", std::to_string(o.horizon), tracking}});
     }
   }
   emit(out_dir, head, rows);

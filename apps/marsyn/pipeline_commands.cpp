@@ -2,7 +2,6 @@
 #include <sys/resource.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +10,8 @@
 #include <unistd.h>
 
 #include <optional>
+
+#include <nlohmann/json.hpp>
 
 #include "commands.hpp"
 #include "marsyn/core/tracking/sweep_progress.hpp"
@@ -27,25 +28,26 @@
 #include "marsyn/core/planning/plan.hpp"
 #include "marsyn/core/problem/problem_loader.hpp"
 #include "marsyn/core/verification/spec_monitor.hpp"
+#include "marsyn/stopwatch.hpp"
 
 namespace fs = std::filesystem;
 
 namespace marsyn::cli {
 namespace {
 
-const auto kStart = std::chrono::steady_clock::now();
+const Stopwatch kStart;  // the log lines' times count from the program's start
 
 bool g_bar_drawn = false;  // a live progress line is on the terminal: the next line first clears it
 
 void log_line(const std::string& s) {
-  const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - kStart).count();
+  const double t = kStart.seconds();
   std::fprintf(stderr, "%s[%7.2f s] %s\n", g_bar_drawn ? "\r\033[K" : "", t, s.c_str());
   g_bar_drawn = false;
 }
 
 // SolveOptions::live on a terminal: one line redrawn in place (an empty line clears it).
 void live_line(const std::string& s) {
-  const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - kStart).count();
+  const double t = kStart.seconds();
   if (s.empty()) std::fprintf(stderr, "\r\033[K");
   else std::fprintf(stderr, "\r\033[K[%7.2f s] %s", t, s.c_str());
   std::fflush(stderr);
@@ -241,10 +243,10 @@ int run_track(const std::string& config, const std::string& agent, const std::st
   }
   const OutputFolder folder(out_dir_for(out_requested, pb));
   {
+    const nlohmann::json j = {
+        {"agent", a.name}, {"status", to_string(r.status)}, {"winning_cells_per_step", s.winning_cells_per_step}};
     std::ofstream f(folder.path(a.name + ".track.json"));
-    f << "{\"agent\": \"" << a.name << "\", \"status\": \"" << to_string(r.status) << "\", \"winning_cells_per_step\": [";
-    for (std::size_t k = 0; k < s.winning_cells_per_step.size(); ++k) f << (k ? ", " : "") << s.winning_cells_per_step[k];
-    f << "]}\n";
+    f << j.dump() << "\n";  // one line, as before: the per-step list is long
   }
   if (r.status == TrackerStatus::ControllerFound && r.controller) {
     const std::string file = folder.path(a.name + ".ctrl");

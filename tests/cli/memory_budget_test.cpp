@@ -23,6 +23,17 @@ TEST(MemoryBudget, TrackHandsTheCommandLineBudgetToTheSynthesis) {
   EXPECT_NE(r.out.find("tracked 1073741824)"), std::string::npos) << r.out;
 }
 
+// The same through `marsyn solve`: the loader, the tracker's assessment and every round's
+// synthesis (track_agents) judge the one budget given on the command line.
+TEST(MemoryBudget, SolveHandsTheCommandLineBudgetToTheSynthesis) {
+  const std::string file = write_temp("budget_probe_solve.yaml", kProbe);
+  const auto r = run_marsyn("--memory-budget 1G solve " + file + " --time-limit 5 --out " + file + ".solve");
+  EXPECT_EQ(r.code, 1) << r.err;  // `never` finds no controller, by design
+  // the tracker's message reaches result.json, not the summary
+  const std::string result = marsyn::test::slurp(file + ".solve/result.json");
+  EXPECT_NE(result.find("(memory budget: assessed 1073741824, tracked 1073741824)"), std::string::npos) << result;
+}
+
 TEST(MemoryBudget, ABadBudgetIsALocatedErrorBeforeAnyWork) {
   const auto r = run_marsyn("track x.yaml --agent a --memory-budget 12Q");
   EXPECT_EQ(r.code, 2);

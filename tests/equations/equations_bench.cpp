@@ -2,7 +2,6 @@
 // second (abcd::SuccessorBox, FastInterval/DualFI inside) for the unicycle and the cart-pole,
 // the equation model and the plugin interleaved in one run. The boxes must be bit-identical.
 // Usage: marsyn_equations_bench [seconds per measurement, default 1]
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <random>
@@ -11,6 +10,7 @@
 #include "dynamics_cartpole/src/cartpole.hpp"
 #include "dynamics_unicycle/src/unicycle.hpp"
 #include "equations/equation_dynamics.hpp"
+#include "marsyn/stopwatch.hpp"
 #include "successor_box.hpp"
 
 using namespace marsyn;
@@ -46,7 +46,7 @@ double rate(const abcd::SuccessorBox& sb, const Work& w, double seconds, std::ve
   const std::size_t n = w.cells.front().size();
   std::vector<double> lo(n), hi(n);
   long long count = 0;
-  const auto t0 = std::chrono::steady_clock::now();
+  const Stopwatch clock;
   double elapsed = 0;
   do {
     for (std::size_t c = 0; c < w.cells.size(); ++c) {
@@ -58,7 +58,7 @@ double rate(const abcd::SuccessorBox& sb, const Work& w, double seconds, std::ve
       }
       ++count;
     }
-    elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    elapsed = clock.seconds();
   } while (elapsed < seconds);
   return static_cast<double>(count) / elapsed;
 }

@@ -34,8 +34,8 @@ Box read_box(const Field& f, int n, const std::string& why) {
     b = {f.required("lo").vector(n, why), f.required("hi").vector(n, why)};
     for (int i = 0; i < n; ++i)
       if (b.lo[i] > b.hi[i])
-        f.child("lo")[static_cast<std::size_t>(i)].fail("lower bound " + fmt(b.lo[i]) + " exceeds upper bound " +
-                                                         fmt(b.hi[i]));
+        f.child("lo")[static_cast<std::size_t>(i)].fail("lower bound " + number_text(b.lo[i]) +
+                                                        " exceeds upper bound " + number_text(b.hi[i]));
   }
   return b;
 }
@@ -89,24 +89,25 @@ void validate_agent(const AgentSpec& a, const Field& x0f, const Field& goalf) {
       case AgentDefect::None:
         break;
       case AgentDefect::X0OutsideBounds:
-        x0f[si].fail("x0 = " + fmt(a.x0[i]) + " in " + coord + " lies outside the state bounds [" + fmt(lo) + ", " +
-                     fmt(hi) + "]");
+        x0f[si].fail("x0 = " + number_text(a.x0[i]) + " in " + coord + " lies outside the state bounds [" +
+                     number_text(lo) + ", " + number_text(hi) + "]");
       case AgentDefect::TubeOutsideBounds:
         x0f[si].fail("the tube around x0 leaves the state bounds in " + coord + ": x0 +- eps = [" +
-                     fmt(a.x0[i] - a.tube.eps[i]) + ", " + fmt(a.x0[i] + a.tube.eps[i]) + "] is not inside [" + fmt(lo) +
-                     ", " + fmt(hi) + "]");
+                     number_text(a.x0[i] - a.tube.eps[i]) + ", " + number_text(a.x0[i] + a.tube.eps[i]) +
+                     "] is not inside [" + number_text(lo) + ", " + number_text(hi) + "]");
       case AgentDefect::GoalEmpty:
-        goalf.fail("the goal shrunk by eps is empty in " + coord + ": [" + fmt(a.goal.lo[i]) + " + " +
-                   fmt(a.tube.eps[i]) + ", " + fmt(a.goal.hi[i]) + " - " + fmt(a.tube.eps[i]) + "] = [" +
-                   fmt(a.goal.lo[i] + a.tube.eps[i]) + ", " + fmt(a.goal.hi[i] - a.tube.eps[i]) +
-                   "]; enlarge the goal or reduce eps");
+        goalf.fail("the goal shrunk by eps is empty in " + coord + ": [" + number_text(a.goal.lo[i]) + " + " +
+                   number_text(a.tube.eps[i]) + ", " + number_text(a.goal.hi[i]) + " - " + number_text(a.tube.eps[i]) +
+                   "] = [" + number_text(a.goal.lo[i] + a.tube.eps[i]) + ", " +
+                   number_text(a.goal.hi[i] - a.tube.eps[i]) + "]; enlarge the goal or reduce eps");
       case AgentDefect::GoalOutsideBounds:
-        goalf.fail("the goal [" + fmt(a.goal.lo[i]) + ", " + fmt(a.goal.hi[i]) + "] in " + coord +
-                   " lies outside the state bounds [" + fmt(lo) + ", " + fmt(hi) + "]");
+        goalf.fail("the goal [" + number_text(a.goal.lo[i]) + ", " + number_text(a.goal.hi[i]) + "] in " + coord +
+                   " lies outside the state bounds [" + number_text(lo) + ", " + number_text(hi) + "]");
       case AgentDefect::GoalUnreachable:
         goalf.fail("no eps-robust final state in " + coord + ": the goal shrunk by eps [" +
-                   fmt(a.goal.lo[i] + a.tube.eps[i]) + ", " + fmt(a.goal.hi[i] - a.tube.eps[i]) +
-                   "] and the state bounds shrunk by eps [" + fmt(lo + a.tube.eps[i]) + ", " + fmt(hi - a.tube.eps[i]) +
+                   number_text(a.goal.lo[i] + a.tube.eps[i]) + ", " + number_text(a.goal.hi[i] - a.tube.eps[i]) +
+                   "] and the state bounds shrunk by eps [" + number_text(lo + a.tube.eps[i]) + ", " +
+                   number_text(hi - a.tube.eps[i]) +
                    "] do not overlap; move the goal inside the state bounds or reduce eps");
     }
   }

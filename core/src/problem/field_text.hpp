@@ -1,16 +1,11 @@
 #pragma once
-// Numbers and lists as the loader's messages print them.
-#include <sstream>
+// Lists as the loader's messages print them; numbers print as everywhere else (number_text).
 #include <string>
 #include <vector>
 
-namespace marsyn::loader {
+#include "marsyn/number_text.hpp"
 
-inline std::string fmt(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
+namespace marsyn::loader {
 
 inline std::string join(const std::vector<std::string>& items) {
   std::string out;

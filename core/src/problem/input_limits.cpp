@@ -1,10 +1,10 @@
 #include "marsyn/core/problem/input_limits.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 
 #include "marsyn/core/problem/config_error.hpp"
+#include "marsyn/number_text.hpp"
 
 namespace marsyn {
 
@@ -35,14 +35,6 @@ std::string name_from_stem(const std::string& stem) {
   return out.empty() ? "problem" : out;
 }
 
-namespace {
-std::string g(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
-}  // namespace
-
 MemoryEstimate planner_memory(const Problem& pb) {
   const double steps = static_cast<double>(pb.horizon) + 1;
   const double N = static_cast<double>(pb.agents.size());
@@ -57,8 +49,8 @@ MemoryEstimate planner_memory(const Problem& pb) {
   const double per_step = blocks + pairs * 32.0 * (2 * nmax + 1) + obstacle_rows * 32.0 * (nmax + 1);
   MemoryEstimate e;
   e.bytes = steps * per_step;
-  e.detail = g(steps) + " steps x (" + g(N) + " agents' blocks + " + g(pairs) + " pair and " + g(obstacle_rows) +
-             " obstacle constraint rows)";
+  e.detail = number_text(steps, 3) + " steps x (" + number_text(N, 3) + " agents' blocks + " + number_text(pairs, 3) +
+             " pair and " + number_text(obstacle_rows, 3) + " obstacle constraint rows)";
   return e;
 }
 

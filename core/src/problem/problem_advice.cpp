@@ -1,24 +1,18 @@
 #include "marsyn/core/problem/problem_advice.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <sstream>
 
 #include "marsyn/memory_budget.hpp"
+#include "marsyn/number_text.hpp"
 
 namespace marsyn {
 
 namespace {
 
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.4g", v);
-  return b;
-}
-
 std::string seconds(double s) {
-  if (s >= 60) return num(s / 60) + " min";
-  return num(s) + " s";
+  if (s >= 60) return number_text(s / 60, 4) + " min";
+  return number_text(s, 4) + " s";
 }
 
 std::string coordinate(const AgentSpec& a, int i) {
@@ -66,7 +60,7 @@ Advice advise(const LoadedProblem& lp) {
       first_auto_eps(first, pb.tau, &eps_rule);
       auto_grid(first, {false, at.eta_x, at.eta_u}, &grid_rule);
       std::string v;
-      for (Eigen::Index k = 0; k < a.tube.eps.size(); ++k) v += (k ? ", " : "") + num(a.tube.eps[k]);
+      for (Eigen::Index k = 0; k < a.tube.eps.size(); ++k) v += (k ? ", " : "") + number_text(a.tube.eps[k], 4);
       if (at.eps) ad.auto_note = "eps: auto, (" + v + ") to start (" + eps_rule + "); solve narrows it to the tube the controller keeps";
       if (at.eta_x || at.eta_u) ad.auto_note += (ad.auto_note.empty() ? "" : "; ") + grid_rule;
     }
@@ -75,14 +69,15 @@ Advice advise(const LoadedProblem& lp) {
     for (int k = 0; k < a.n(); ++k) {
       const double push = a.tube.w.size() > k ? a.tube.w[k] * pb.tau : 0.0;
       if (push > 0 && a.tube.eps[k] <= push)
-        out.warnings.push_back(who + "eps " + num(a.tube.eps[k]) + " in " + coordinate(a, k) +
+        out.warnings.push_back(who + "eps " + number_text(a.tube.eps[k], 4) + " in " + coordinate(a, k) +
                                " is at most what the disturbance alone moves the state in one period (w tau = " +
-                               num(a.tube.w[k]) + " x " + num(pb.tau) + " = " + num(push) +
-                               "): no tracker can keep that tube; enlarge eps or shorten tau");
+                               number_text(a.tube.w[k], 4) + " x " + number_text(pb.tau, 4) + " = " +
+                               number_text(push, 4) + "): no tracker can keep that tube; enlarge eps or shorten tau");
       if (a.tube.eta_x.size() == a.n() && a.tube.eta_x[k] > a.tube.eps[k])
-        out.warnings.push_back(who + "eta_x " + num(a.tube.eta_x[k]) + " in " + coordinate(a, k) + " exceeds eps " +
-                               num(a.tube.eps[k]) + ": no grid cell fits the tube; a grid tracker (abcd) cannot work " +
-                               "(eps / 8 = " + num(a.tube.eps[k] / 8) + " would)");
+        out.warnings.push_back(who + "eta_x " + number_text(a.tube.eta_x[k], 4) + " in " + coordinate(a, k) +
+                               " exceeds eps " + number_text(a.tube.eps[k], 4) +
+                               ": no grid cell fits the tube; a grid tracker (abcd) cannot work " +
+                               "(eps / 8 = " + number_text(a.tube.eps[k] / 8, 4) + " would)");
     }
     // The chosen tracker, then the fallbacks: each whose estimate is a minute or more.
     std::vector<std::string> order{ad.chosen};
@@ -103,10 +98,12 @@ Advice advise(const LoadedProblem& lp) {
     if (ei < 0 || ej < 0) continue;
     const double change = std::sqrt(2.0) * (ei + ej);
     if (!(change < f.mu))
-      out.warnings.push_back("formation " + pb.agents[f.i].name + "-" + pb.agents[f.j].name + ": mu " + num(f.mu) +
-                             " is not above sqrt(2) (eps_i + eps_j) = " + num(change) +
+      out.warnings.push_back("formation " + pb.agents[f.i].name + "-" + pb.agents[f.j].name + ": mu " +
+                             number_text(f.mu, 4) +
+                             " is not above sqrt(2) (eps_i + eps_j) = " + number_text(change, 4) +
                              " (2 eps sqrt(2) for equal tubes), what the two tubes alone can change the distance by: "
-                             "no robust plan exists; position eps below " + num(f.mu / (2 * std::sqrt(2.0))) + " would do");
+                             "no robust plan exists; position eps below " +
+                             number_text(f.mu / (2 * std::sqrt(2.0)), 4) + " would do");
   }
   return out;
 }

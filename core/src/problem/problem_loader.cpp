@@ -130,7 +130,7 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
       name.fail("duplicate agent name '" + a.name + "' (also agents[" + std::to_string(it->second) + "])");
     seen[a.name] = idx;
 
-    // A plugin name, or equations written in the file (core/src/equations, issue 15).
+    // A plugin name, or equations written in the file (core/src/problem/equations, issue 15).
     const Field dyn_field = agent_required(af, defaults, "dynamics");
     if (equations::is_equation_model(dyn_field, defaults.child("dynamics"))) {
       a.dynamics = equations::load_equation_dynamics(dyn_field, defaults.child("dynamics"));

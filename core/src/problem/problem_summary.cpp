@@ -7,6 +7,7 @@
 
 #include "marsyn/core/planning/mission.hpp"
 #include "marsyn/core/planning/workspace_gaps.hpp"
+#include "marsyn/number_text.hpp"
 
 namespace marsyn {
 
@@ -18,15 +19,6 @@ ConstraintCounts count_constraints(const Problem& pb) {
   c.formation = static_cast<int>(pb.formation.size());
   return c;
 }
-
-namespace {
-std::string vec(const Eigen::VectorXd& v) {
-  std::ostringstream s;
-  s << "(";
-  for (Eigen::Index i = 0; i < v.size(); ++i) s << (i ? ", " : "") << v[i];
-  return s.str() + ")";
-}
-}  // namespace
 
 std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& trackers) {
   std::ostringstream s;
@@ -60,8 +52,8 @@ std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& track
       }
       if (!t.assessment.summary.empty()) tracker += ": " + t.assessment.summary;
     }
-    rows.push_back({a.name, a.dynamics_type, std::to_string(a.n()) + " x " + std::to_string(a.m()), vec(a.tube.eps),
-                    a.tube.eta_x.size() ? vec(a.tube.eta_x) : std::string("-"), tracker});
+    rows.push_back({a.name, a.dynamics_type, std::to_string(a.n()) + " x " + std::to_string(a.m()),
+                    list_text(a.tube.eps), a.tube.eta_x.size() ? list_text(a.tube.eta_x) : std::string("-"), tracker});
   }
   std::array<std::size_t, 6> width{};
   for (const auto& r : rows)

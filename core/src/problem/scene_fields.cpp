@@ -11,7 +11,7 @@
 
 namespace marsyn::loader {
 
-std::string point(const Eigen::Vector2d& p) { return "(" + fmt(p.x()) + ", " + fmt(p.y()) + ")"; }
+std::string point(const Eigen::Vector2d& p) { return "(" + number_text(p.x()) + ", " + number_text(p.y()) + ")"; }
 
 // The real specification at k = 0, with the exact geometry of the robustness check
 // (planning/spec_margins.hpp): each agent's workspace point at x0 keeps delta from every obstacle and
@@ -34,8 +34,9 @@ void check_start_geometry(const Problem& pb, const std::vector<Field>& x0_fields
       const std::string what = "x0 puts " + a.name + "'s workspace point " + point(p[i]);
       if (depth < 0) x0_fields[i].fail(what + " inside obstacle '" + o.name + "'");
       if (margin < 0)
-        x0_fields[i].fail(what + " at " + norm + " distance " + fmt(margin + pb.delta) + " from obstacle '" + o.name +
-                          "', less than delta = " + fmt(pb.delta) + " (inside the obstacle grown by delta)");
+        x0_fields[i].fail(what + " at " + norm + " distance " + number_text(margin + pb.delta) + " from obstacle '" +
+                          o.name + "', less than delta = " + number_text(pb.delta) +
+                          " (inside the obstacle grown by delta)");
     }
   }
   if (!pb.pairwise_collision) return;
@@ -44,9 +45,9 @@ void check_start_geometry(const Problem& pb, const std::vector<Field>& x0_fields
       const double margin = planning::collision_margin(p[j], {}, p[i], {}, pb.delta, pb.delta_norm);
       const double dist = margin + pb.delta;
       if (margin < 0)
-        x0_fields[j].fail("x0 puts " + pb.agents[j].name + " at " + point(p[j]) + ", " + norm + " distance " + fmt(dist) +
-                          " from " + pb.agents[i].name + " at " + point(p[i]) + " (agents[" + std::to_string(i) +
-                          "]), less than delta = " + fmt(pb.delta));
+        x0_fields[j].fail("x0 puts " + pb.agents[j].name + " at " + point(p[j]) + ", " + norm + " distance " +
+                          number_text(dist) + " from " + pb.agents[i].name + " at " + point(p[i]) + " (agents[" +
+                          std::to_string(i) + "]), less than delta = " + number_text(pb.delta));
     }
 }
 

@@ -51,8 +51,8 @@ int read_steps(const Field& f, double tau, Round round, const std::string& what)
   const double r = std::round(k);
   const double v = std::abs(k - r) < 1e-6 ? r : round == Round::Up ? std::ceil(k) : std::floor(k);
   if (v > static_cast<double>(kMaxHorizon))
-    f.fail("expected at most " + std::to_string(kMaxHorizon) + " steps (" + fmt(kMaxHorizon * tau) + " s), got '" +
-           f.text() + "'");
+    f.fail("expected at most " + std::to_string(kMaxHorizon) + " steps (" + number_text(kMaxHorizon * tau) +
+           " s), got '" + f.text() + "'");
   return static_cast<int>(v);
 }
 
@@ -120,7 +120,7 @@ MissionStage read_stage(const Field& f, std::size_t index, const AgentSpec& a, d
     for (int c = 0; c < 2; ++c)
       if (a.workspace.index[c] >= 0) r[c] = a.tube.eps[a.workspace.index[c]];
     if (!shrunk_polygon_nonempty(st.polygon, r))
-      rf.child("polygon").fail("the polygon shrunk by eps (" + fmt(r.x()) + ", " + fmt(r.y()) +
+      rf.child("polygon").fail("the polygon shrunk by eps (" + number_text(r.x()) + ", " + number_text(r.y()) +
                                " in the workspace) is empty: no eps-robust visit exists; enlarge it or reduce eps");
   } else {
     const std::string sn = "a box in the state of '" + a.dynamics_type + "', which has " + std::to_string(n) +
@@ -131,9 +131,9 @@ MissionStage read_stage(const Field& f, std::size_t index, const AgentSpec& a, d
       const double lo = std::max(st.box.lo[c], a.state_bounds.lo[c]) + a.tube.eps[c];
       const double hi = std::min(st.box.hi[c], a.state_bounds.hi[c]) - a.tube.eps[c];
       if (lo > hi)
-        rf.fail("the region in " + coord + " [" + fmt(st.box.lo[c]) + ", " + fmt(st.box.hi[c]) +
-                "], within the state bounds and shrunk by eps " + fmt(a.tube.eps[c]) + ", is empty ([" + fmt(lo) +
-                ", " + fmt(hi) + "]): no eps-robust visit exists; enlarge it or reduce eps");
+        rf.fail("the region in " + coord + " [" + number_text(st.box.lo[c]) + ", " + number_text(st.box.hi[c]) +
+                "], within the state bounds and shrunk by eps " + number_text(a.tube.eps[c]) + ", is empty ([" +
+                number_text(lo) + ", " + number_text(hi) + "]): no eps-robust visit exists; enlarge it or reduce eps");
     }
   }
   if (Field w = f.child("not_before"); w.present()) st.not_before = std::max(1, read_steps(w, tau, Round::Up, "the earliest visit"));

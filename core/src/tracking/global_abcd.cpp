@@ -5,7 +5,7 @@
 
 #include "marsyn/core/tracking/product_dynamics.hpp"
 #include "marsyn/scalar.hpp"
-#include "marsyn/core/stopwatch.hpp"
+#include "marsyn/stopwatch.hpp"
 
 namespace marsyn {
 namespace {

@@ -12,7 +12,7 @@
 #include "marsyn/core/tracking/tracker_choice.hpp"
 #include "mpi_bytes.hpp"
 #include "marsyn/core/tracking/sweep_progress.hpp"
-#include "marsyn/core/stopwatch.hpp"
+#include "marsyn/stopwatch.hpp"
 
 namespace fs = std::filesystem;
 

@@ -11,13 +11,9 @@
 #include <thread>
 
 #include "marsyn/core/tracking/tracker_choice.hpp"
-#include "marsyn/core/stopwatch.hpp"
+#include "marsyn/stopwatch.hpp"
 
 namespace marsyn {
-namespace {
-
-
-}  // namespace
 
 TrackingProblem tracking_problem(const Problem& pb, int index, const NominalTrajectory& nominal) {
   const AgentSpec& a = pb.agents[index];

@@ -12,7 +12,7 @@
 // widened by one ulp on each side, which is sound for any correctly rounded operation. Plain
 // double code around these operations (model constants, libm calls) keeps running in
 // round-to-nearest, exactly as in a double evaluation of the same model. docs/soundness.md
-// section 2 has the argument; tests/fast_interval_test.cpp in the tracker checks it.
+// section 2 has the argument; plugins/tracker_abcd/tests/fast_interval_test.cpp checks it.
 //
 // Precondition: the calling thread's rounding mode is round-to-nearest (every thread's default).
 // Code that cannot rule out a caller's different mode holds a RoundToNearestScope.

@@ -20,7 +20,6 @@
 #include "marsyn/export.hpp"
 #include "marsyn/params.hpp"
 #include "marsyn/planner.hpp"
-#include "marsyn/projector.hpp"
 #include "marsyn/tracker.hpp"
 
 // Bump whenever any interface header changes in a way that alters layout or vtables.
@@ -32,7 +31,6 @@ namespace marsyn {
 template <class T> struct PluginKind;
 template <> struct PluginKind<Dynamics> { static constexpr const char* name = "dynamics"; };
 template <> struct PluginKind<Planner> { static constexpr const char* name = "planner"; };
-template <> struct PluginKind<Projector> { static constexpr const char* name = "projector"; };
 template <> struct PluginKind<Tracker> { static constexpr const char* name = "tracker"; };
 template <> struct PluginKind<DistanceModel> { static constexpr const char* name = "distance"; };
 
@@ -41,7 +39,7 @@ template <> struct PluginKind<DistanceModel> { static constexpr const char* name
 extern "C" {
 
 struct marsyn_plugin_entry {
-  const char* kind;     // "dynamics", "planner", "projector", "tracker", "distance"
+  const char* kind;     // "dynamics", "planner", "tracker", "distance"
   const char* name;     // unique within a kind, used in configs
   const char* summary;  // one line
   // Returns a new object as a pointer to the kind's interface type (e.g. marsyn::Dynamics*);

@@ -166,7 +166,7 @@ struct TrackFailure {
 
 struct TrackResult {
   TrackerStatus status = TrackerStatus::InvalidInput;
-  std::shared_ptr<const Controller> controller;  // set iff status == Controller (or partial)
+  std::shared_ptr<const Controller> controller;  // set iff status == ControllerFound
   TrackerStats stats;
   std::string message;
   TrackFailure failure;  // status == NoController: why, as far as the tracker can say

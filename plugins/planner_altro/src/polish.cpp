@@ -11,11 +11,11 @@ namespace marsyn::altro::detail {
 // functions of the inputs, it takes the least-norm input change that drives the violated rows to
 // zero and holds the others to first order: dU = J' (J J')^-1 t, t_i = -max(c_i, 0), where row i
 // of J is dc_i/dU by an adjoint sweep through the block-diagonal Jacobians.
-bool Solver::polish(double& viol, std::string& worst, double deadline) {
+bool Solver::polish(double& viol, std::string& worst, const Stopwatch& clock) {
   const int N = static_cast<int>(agents_.size());
   const double active = 1e-3;
   for (int it = 0; it < opt_.polish_iterations && viol > opt_.constraint_tolerance; ++it) {
-    if (now_seconds() > deadline) return false;
+    if (clock.seconds() > run_.time_limit_s) return false;
     linearize();
     struct Row {
       int k;

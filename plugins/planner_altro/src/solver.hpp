@@ -10,7 +10,7 @@
 #include <Eigen/Core>
 
 #include "altro_solver.hpp"
-#include "marsyn/planner_support/clock.hpp"
+#include "marsyn/stopwatch.hpp"
 #include "marsyn/planner_support/proximity_screen.hpp"
 
 namespace marsyn::altro::detail {
@@ -18,8 +18,6 @@ namespace marsyn::altro::detail {
 using Mat = Eigen::MatrixXd;
 using Vec = Eigen::VectorXd;
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-using planner_support::now_seconds;  // the clock every planner measures its time limit with
 
 struct AgentBlock {
   const Dynamics* dyn;
@@ -95,7 +93,7 @@ class Solver {
   void between_gradients(int k, int j, const ConstraintRef& r, const double* jac, int row,
                          std::vector<AgentGradient>& out);
   // Final projection: Gauss-Newton steps on the inputs onto the active constraints.
-  bool polish(double& viol, std::string& worst, double deadline);
+  bool polish(double& viol, std::string& worst, const Stopwatch& clock);
   // iLQR
   void linearize();
   void expand_costs();

@@ -201,7 +201,7 @@ bool Solver::forward(double dv1, double dv2, double& alpha) {
 }
 
 PlanResult Solver::run() {
-  const double t0 = now_seconds();
+  const Stopwatch clock;
   PlanResult res;
   layout();
   const int N = static_cast<int>(agents_.size()), G = static_cast<int>(groups_.size());
@@ -241,7 +241,7 @@ PlanResult Solver::run() {
   for (; outer < opt_.max_outer; ++outer) {
     const double tol = viol <= 1e2 * opt_.constraint_tolerance ? opt_.cost_tolerance : opt_.cost_tolerance_intermediate;
     for (int inner = 0; inner < opt_.max_inner && iterations_ < opt_.max_iterations; ++inner) {
-      if (now_seconds() - t0 > run_.time_limit_s) {
+      if (clock.seconds() > run_.time_limit_s) {
         timed_out = true;
         break;
       }
@@ -281,7 +281,7 @@ PlanResult Solver::run() {
     if (run_.progress) run_.progress({iterations_, cost_, viol});
     if (viol <= opt_.constraint_tolerance || timed_out || iterations_ >= opt_.max_iterations) break;
     // Close enough for the projection to finish: cheaper than more penalty rounds.
-    if (viol <= opt_.polish_start && polish(viol, worst, t0 + run_.time_limit_s)) {
+    if (viol <= opt_.polish_start && polish(viol, worst, clock)) {
       polished = true;
       break;
     }
@@ -293,13 +293,13 @@ PlanResult Solver::run() {
     cost_ = total_cost(X_, U_);
   }
   if (viol > opt_.constraint_tolerance && viol <= opt_.polish_max_violation && !timed_out)
-    polished = polish(viol, worst, t0 + run_.time_limit_s);
+    polished = polish(viol, worst, clock);
   cost_ = total_cost(X_, U_);
   res.plan.tau = prob_.tau;
   res.plan.x = X_;
   res.plan.u = U_;
   res.iterations = iterations_;
-  res.solve_time_s = now_seconds() - t0;
+  res.solve_time_s = clock.seconds();
   res.max_violation = viol;
   res.cost = cost_;
   std::ostringstream msg;

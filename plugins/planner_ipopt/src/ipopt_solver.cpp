@@ -5,7 +5,7 @@
 #include <mutex>
 #include <sstream>
 
-#include "marsyn/planner_support/clock.hpp"
+#include "marsyn/stopwatch.hpp"
 #include "shooting_nlp.hpp"
 
 namespace marsyn::ipopt_planner {
@@ -21,7 +21,7 @@ std::mutex& ipopt_mutex() {
 
 PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Options& o,
                  std::vector<SecondOrderField> fields) {
-  const double t0 = planner_support::now_seconds();
+  const Stopwatch clock;
   PlanResult res;
   if (!pp.problem || pp.horizon <= 0) {
     res.status = PlannerStatus::InvalidInput;
@@ -29,7 +29,7 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
     return res;
   }
   planner_support::ProductModel model(pp);
-  Ipopt::SmartPtr<ShootingNlp> nlp = new ShootingNlp(model, o, run, t0, std::move(fields));
+  Ipopt::SmartPtr<ShootingNlp> nlp = new ShootingNlp(model, o, run, clock, std::move(fields));
   Ipopt::ApplicationReturnStatus st;
   int iterations = 0;
   {
@@ -71,7 +71,7 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
     iterations = nlp->iterations();
   }
   res.iterations = iterations;
-  res.solve_time_s = planner_support::now_seconds() - t0;
+  res.solve_time_s = clock.seconds();
   if (nlp->inputs().empty()) {
     res.status = PlannerStatus::Crash;
     res.message = "Ipopt returned no solution (status " + std::to_string(static_cast<int>(st)) + ")";

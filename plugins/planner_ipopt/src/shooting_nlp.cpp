@@ -5,7 +5,7 @@
 
 #include <Eigen/QR>
 
-#include "marsyn/planner_support/clock.hpp"
+#include "marsyn/stopwatch.hpp"
 #include "marsyn/sampled_map.hpp"
 
 namespace marsyn::ipopt_planner {
@@ -15,9 +15,9 @@ constexpr double kIpoptInf = 2e19;  // beyond Ipopt's default nlp_{lower,upper}_
 double finite_or(double v, double inf) { return std::isfinite(v) ? v : inf; }
 }  // namespace
 
-ShootingNlp::ShootingNlp(const planner_support::ProductModel& model, const Options& options, const PlanOptions& run, double t0,
+ShootingNlp::ShootingNlp(const planner_support::ProductModel& model, const Options& options, const PlanOptions& run, Stopwatch clock,
                          std::vector<SecondOrderField> fields)
-    : model_(model), o_(options), run_(run), t0_(t0), T_(model.T), n_(model.n), m_(model.m), fields_(std::move(fields)) {
+    : model_(model), o_(options), run_(run), clock_(clock), T_(model.T), n_(model.n), m_(model.m), fields_(std::move(fields)) {
   fields_.resize(model_.agents.size());
   for (size_t i = 0; i < fields_.size(); ++i)
     if (!fields_[i]) fields_[i] = second_order_field(*model_.agents[i].dyn);
@@ -311,7 +311,7 @@ bool ShootingNlp::eval_h(Index, const Number* z, bool, Number sigma, Index, cons
     std::copy(hcol_.begin(), hcol_.end(), jCol);
     return true;
   }
-  const double start = planner_support::now_seconds();
+  const Stopwatch h_clock;
   const bool exact = o_.hessian == "exact";
   blocks_ = {};
   size_t e = 0;
@@ -360,7 +360,7 @@ bool ShootingNlp::eval_h(Index, const Number* z, bool, Number sigma, Index, cons
   for (int i = 0; i < n_; ++i) v[e++] = sigma * o_.q_terminal;
   if (points_ > 0) e += between_hessian(z, lambda, exact, v + e);
   ++h_evals_;
-  h_seconds_ += planner_support::now_seconds() - start;
+  h_seconds_ += h_clock.seconds();
   return true;
 }
 
@@ -370,7 +370,7 @@ bool ShootingNlp::intermediate_callback(Ipopt::AlgorithmMode, Index iter, Number
   iterations_ = iter;
   if (run_.progress) run_.progress({static_cast<int>(iter), obj, inf_pr});
   // Wall-clock limit (Ipopt 3.11's max_cpu_time counts CPU time).
-  if (planner_support::now_seconds() - t0_ > run_.time_limit_s) {
+  if (clock_.seconds() > run_.time_limit_s) {
     timed_out_ = true;
     return false;
   }

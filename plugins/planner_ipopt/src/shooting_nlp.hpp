@@ -6,6 +6,7 @@
 
 #include "ipopt_solver.hpp"
 #include "marsyn/planner_support/product_model.hpp"
+#include "marsyn/stopwatch.hpp"
 #include "second_order.hpp"
 
 namespace marsyn::ipopt_planner {
@@ -17,7 +18,7 @@ class ShootingNlp : public Ipopt::TNLP {
 
   // `fields`: one per agent, the vector field with nested duals for exact dynamics blocks; empty
   // (or an empty entry) takes what marsyn::Dynamics offers (second_order.hpp).
-  ShootingNlp(const planner_support::ProductModel& model, const Options& options, const PlanOptions& run, double t0,
+  ShootingNlp(const planner_support::ProductModel& model, const Options& options, const PlanOptions& run, Stopwatch clock,
               std::vector<SecondOrderField> fields = {});
 
   bool get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag, IndexStyleEnum& style) override;
@@ -83,7 +84,7 @@ class ShootingNlp : public Ipopt::TNLP {
   const planner_support::ProductModel& model_;
   const Options& o_;
   const PlanOptions& run_;
-  const double t0_;
+  const Stopwatch clock_;  // started with the solve: the time limit counts from there
   const int T_, n_, m_;
   std::vector<const Constraint*> path_, terminal_;
   int path_rows_ = 0, terminal_rows_ = 0;

@@ -199,7 +199,7 @@ TEST(IpoptHessian, AssembledLagrangianHessianMatchesDifferencedLagrangianGradien
   PlanOptions run;
   const models::Unicycle uni;
   Ipopt::SmartPtr<ipopt_planner::ShootingNlp> nlp =
-      new ipopt_planner::ShootingNlp(model, o, run, 0.0, {field_of(uni), field_of(uni)});
+      new ipopt_planner::ShootingNlp(model, o, run, Stopwatch(), {field_of(uni), field_of(uni)});
   Ipopt::Index nv, nc, nj, nh;
   Ipopt::TNLP::IndexStyleEnum style;
   nlp->get_nlp_info(nv, nc, nj, nh, style);

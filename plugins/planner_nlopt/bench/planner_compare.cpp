@@ -10,19 +10,20 @@
 // --warm-from P adds, per example, a row "Q<-P" for every other planner Q: Q solves the same
 // horizon starting from P's feasible plan (PlanningProblem::warm_start), then the exact check.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <optional>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "marsyn/core/planning/plan.hpp"
 #include "marsyn/core/problem/problem_loader.hpp"
+#include "marsyn/number_text.hpp"
+#include "marsyn/stopwatch.hpp"
 
 using namespace marsyn;
 
@@ -42,16 +43,6 @@ struct Row {
   int horizon = 0, iterations = 0;
   double time_s = 0, cost = 0, margin = 0;
 };
-
-double now_s() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-std::string fmt(double v, const char* f = "%.3g") {
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
 
 }  // namespace
 
@@ -141,9 +132,9 @@ int main(int argc, char** argv) {
       pp.warm_start = warm->plan;
       PlanOptions po;
       po.time_limit_s = limit;
-      const double t0 = now_s();
+      const Stopwatch clock;
       PlanResult res = planner->solve(pp, po);
-      r.time_s = now_s() - t0;
+      r.time_s = clock.seconds();
       GlobalPlan plan = res.plan;
       if (static_cast<int>(plan.u.size()) == warm->horizon) {
         for (auto& u : plan.u)
@@ -169,8 +160,8 @@ int main(int argc, char** argv) {
             << "|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows)
     std::cout << "| " << r.planner << " | " << r.example << " | " << (r.feasible ? "yes" : "no") << " | " << r.horizon
-              << " | " << fmt(r.time_s) << " | " << r.iterations << " | " << fmt(r.cost) << " | " << fmt(r.margin)
-              << " | " << r.status << " |\n";
+              << " | " << number_text(r.time_s, 3) << " | " << r.iterations << " | " << number_text(r.cost, 3) << " | "
+              << number_text(r.margin, 3) << " | " << r.status << " |\n";
   std::cout << "\nNotes (failures: solver message; exact check):\n";
   for (const auto& r : rows)
     if (!r.feasible) std::cout << "- " << r.planner << " / " << r.example << ": " << r.note << "\n";

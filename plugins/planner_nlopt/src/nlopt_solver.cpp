@@ -5,7 +5,7 @@
 #include <nlopt.hpp>
 #include <sstream>
 
-#include "marsyn/planner_support/clock.hpp"
+#include "marsyn/stopwatch.hpp"
 #include "marsyn/planner_support/product_model.hpp"
 
 namespace marsyn::nlopt_planner {
@@ -160,7 +160,7 @@ void constraints_cb(unsigned, double* c, unsigned, const double* z, double* grad
 }  // namespace
 
 PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Options& o) {
-  const double t0 = planner_support::now_seconds();
+  const Stopwatch clock;
   PlanResult res;
   if (!pp.problem || pp.horizon <= 0) {
     res.status = PlannerStatus::InvalidInput;
@@ -232,7 +232,7 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
   res.cost = 0.5 * o.q_terminal * (res.plan.x.back() - model.goal_centre).squaredNorm();
   for (const auto& u : U) res.cost += 0.5 * o.r_input * u.squaredNorm();
   res.iterations = static_cast<int>(sh.evaluations());
-  res.solve_time_s = planner_support::now_seconds() - t0;
+  res.solve_time_s = clock.seconds();
   if (res.max_violation <= o.feasibility_tolerance) {
     res.status = PlannerStatus::ExactSolution;
   } else {

@@ -19,7 +19,7 @@
 #include <ompl/util/Console.h>
 #include <ompl/util/RandomNumbers.h>
 
-#include "marsyn/planner_support/clock.hpp"
+#include "marsyn/stopwatch.hpp"
 #include "marsyn/planner_support/product_model.hpp"
 
 namespace marsyn::ompl_planner {
@@ -148,7 +148,7 @@ std::once_flag seed_once;
 }  // namespace
 
 PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Options& o) {
-  const double t0 = planner_support::now_seconds();
+  const Stopwatch clock;
   PlanResult res;
   if (!pp.problem || pp.horizon <= 0) {
     res.status = PlannerStatus::InvalidInput;
@@ -261,7 +261,7 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
   ob::PlannerData data(si);
   planner->getPlannerData(data);
   res.iterations = static_cast<int>(data.numVertices());
-  res.solve_time_s = planner_support::now_seconds() - t0;
+  res.solve_time_s = clock.seconds();
   std::ostringstream msg;
   msg << o.planner << ": " << st.asString() << ", " << data.numVertices() << " tree vertices";
   const bool exact = st == ob::PlannerStatus::EXACT_SOLUTION && pdef->hasExactSolution() && !pdef->hasApproximateSolution();

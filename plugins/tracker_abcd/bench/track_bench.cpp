@@ -1,13 +1,13 @@
 // Prints the tracker's figures per scenario (docs/benchmarks-tracker.md records them).
 // Usage: marsyn_track_bench [drone|crane|lane|formation|vehicle|pendulum ...] [--threads N] [--out DIR]
 //        [--substeps N] [--no-prefilter] [--steps N]
-#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <string>
 #include <vector>
 
 #include "abcd_tracker.hpp"
+#include "marsyn/stopwatch.hpp"
 #include "track_scenarios.hpp"
 #include "synthesis.hpp"
 
@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
   if (which.empty()) which = {"drone", "crane"};
   abcd::AbcdTracker tracker(params);
   for (const auto& name : which) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const Stopwatch clock;
     TrackingProblem p;
     if (name == "drone") p = abcd::scenarios::drone(steps > 0 ? steps : 103);
     else if (name == "crane") p = abcd::scenarios::crane(steps > 0 ? steps : 70);
@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
     const TrackResult r = tracker.track(p, o);
     const std::string file = out + "/" + name + ".ctl";
     if (r.controller) r.controller->write(file);
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double wall = clock.seconds();
     const auto& s = r.stats;
     long long win0 = s.winning_cells_per_step.empty() ? 0 : s.winning_cells_per_step[0];
     std::printf(

@@ -2,13 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <sstream>
 #include <thread>
 #include <tuple>
 
 #include "controller_file.hpp"
 #include "marsyn/memory_budget.hpp"
+#include "marsyn/number_text.hpp"
 #include "marsyn/param_set.hpp"
 
 namespace marsyn::abcd {
@@ -100,24 +99,6 @@ TrackResult AbcdTracker::reach_avoid(const ReachAvoidProblem& problem, const Tra
 
 namespace {
 
-std::string fmt(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
-std::string g(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
-
-std::string vec(const Eigen::VectorXd& v) {
-  std::string s = "[";
-  for (Eigen::Index i = 0; i < v.size(); ++i) s += (i ? ", " : "") + fmt(v[i]);
-  return s + "]";
-}
-
 bool has_grid(const AgentSpec& a) {
   return a.tube.eta_x.size() == a.n() && a.tube.eta_u.size() == a.m() && a.n() > 0;
 }
@@ -158,23 +139,26 @@ TrackerAssessment AbcdTracker::assess(const AgentSpec& a, const AssessRequest& r
     if (have != size)
       return refuse(field, -1,
                     std::string("the abcd tracker needs '") + field + "', " + what + " (" + std::to_string(size) +
-                        " positive numbers" + (eps ? ", each at most eps, e.g. eps / 8 = " + vec(a.tube.eps / 8) : "") +
+                        " positive numbers" +
+                        (eps ? ", each at most eps, e.g. eps / 8 = " + list_text(a.tube.eps / 8, "[", "]") : "") +
                         "); give it or choose another tracker");
   }
   const auto names = a.dynamics ? a.dynamics->state_names() : std::vector<std::string>(n, "?");
   if (const int i = x0_cell_defect(a); i >= 0) {
     const CellBounds cell = x0_cell(a, i);
     return refuse("eta_x", i,
-                  "x0's grid cell [" + fmt(cell.lo) + ", " + fmt(cell.hi) + "] in '" + names[i] +
-                      "' does not fit inside the tube [x0 - eps, x0 + eps] = [" + fmt(a.x0[i] - a.tube.eps[i]) + ", " +
-                      fmt(a.x0[i] + a.tube.eps[i]) + "]; choose eta_x <= eps (" + fmt(a.tube.eps[i]) + ")");
+                  "x0's grid cell [" + number_text(cell.lo) + ", " + number_text(cell.hi) + "] in '" + names[i] +
+                      "' does not fit inside the tube [x0 - eps, x0 + eps] = [" + number_text(a.x0[i] - a.tube.eps[i]) +
+                      ", " + number_text(a.x0[i] + a.tube.eps[i]) + "]; choose eta_x <= eps (" +
+                      number_text(a.tube.eps[i]) + ")");
   }
   for (int i = 0; i < n; ++i) {
     const double cells = (a.state_bounds.hi[i] - a.state_bounds.lo[i]) / a.tube.eta_x[i];
     if (!(cells <= kMaxGridCellsPerCoordinate))
       return refuse("eta_x", i,
-                    "eta_x = " + fmt(a.tube.eta_x[i]) + " makes " + fmt(cells) + " grid cells across the state bounds in '" +
-                        names[i] + "'; at most " + fmt(kMaxGridCellsPerCoordinate) + " are supported");
+                    "eta_x = " + number_text(a.tube.eta_x[i]) + " makes " + number_text(cells) +
+                        " grid cells across the state bounds in '" + names[i] + "'; at most " +
+                        number_text(kMaxGridCellsPerCoordinate) + " are supported");
   }
   // Storage: a u16 per (tube cell, step), prefix sums over two steps' tubes, the input grid over
   // U. Tube cells per step: prod_i (floor(2 eps_i / eta_x_i) + 1) at most.
@@ -191,19 +175,20 @@ TrackerAssessment AbcdTracker::assess(const AgentSpec& a, const AssessRequest& r
   const double state_bytes = (static_cast<double>(horizon) + 1) * tube * 2 + 2 * tube * 8;
   if (!(state_bytes <= budget))
     return refuse("eta_x", -1,
-                  "the tracker would need about " + format_bytes(state_bytes) + " for this agent (" + g(tube) +
-                      " tube cells per step x " + std::to_string(horizon + 1) + " steps), more than the memory budget of " +
-                      format_bytes(budget) + " (" + source + "); enlarge eta_x");
+                  "the tracker would need about " + format_bytes(state_bytes) + " for this agent (" +
+                      number_text(tube, 3) + " tube cells per step x " + std::to_string(horizon + 1) +
+                      " steps), more than the memory budget of " + format_bytes(budget) + " (" + source +
+                      "); enlarge eta_x");
   const double input_bytes = inputs * (m + 1) * 8.0;
   if (!(input_bytes <= budget))
     return refuse("eta_u", -1,
-                  "the tracker would need about " + format_bytes(input_bytes) + " for this agent's inputs (" + g(inputs) +
-                      " grid inputs over U), more than the memory budget of " + format_bytes(budget) + " (" + source +
-                      "); enlarge eta_u");
+                  "the tracker would need about " + format_bytes(input_bytes) + " for this agent's inputs (" +
+                      number_text(inputs, 3) + " grid inputs over U), more than the memory budget of " +
+                      format_bytes(budget) + " (" + source + "); enlarge eta_u");
   TrackerAssessment r;
   r.work_s = kSecondsPerStateInputPair * (static_cast<double>(horizon) + 1) * work_cells * inputs;
   r.memory_bytes = state_bytes + input_bytes;
-  r.summary = "<= " + fmt(tube_upper) + " tube cells/step, " + fmt(inputs) + " grid inputs";
+  r.summary = "<= " + number_text(tube_upper) + " tube cells/step, " + number_text(inputs) + " grid inputs";
   return r;
 }
 

@@ -1,6 +1,7 @@
 #include "controller_file.hpp"
 
 #include "marsyn/binary_file.hpp"
+#include "marsyn/period_enclosure_file.hpp"
 
 #include <cstring>
 #include <fstream>
@@ -45,16 +46,7 @@ std::string serialize(const ControllerData& d) {
     }
   }
   // Version 2: the period enclosures (continuous time).
-  p.u32(static_cast<std::uint32_t>(d.enclosures.size()));
-  for (const PeriodEnclosure& e : d.enclosures) {
-    p.u32(static_cast<std::uint32_t>(e.step));
-    p.f64(e.t0);
-    p.f64(e.t1);
-    for (int i = 0; i < d.n; ++i) p.f64(e.state.lo[i]);
-    for (int i = 0; i < d.n; ++i) p.f64(e.state.hi[i]);
-    for (int c = 0; c < 2; ++c) p.f64(e.workspace.lo[c]);
-    for (int c = 0; c < 2; ++c) p.f64(e.workspace.hi[c]);
-  }
+  binary::write_period_enclosures(p, d.enclosures, d.n);
   return binary::envelope(kMagic, kFormatVersion, p.bytes());
 }
 
@@ -114,28 +106,7 @@ ControllerData deserialize(const std::string& s, const std::string& what) {
       total += cells;
     }
   }
-  const std::uint32_t nenc = r.u32();
-  r.need(static_cast<size_t>(nenc) * static_cast<size_t>(20 + 16 * d.n + 32));
-  for (std::uint32_t q = 0; q < nenc; ++q) {
-    PeriodEnclosure e;
-    e.step = static_cast<int>(r.u32());
-    e.t0 = r.f64();
-    e.t1 = r.f64();
-    e.state.lo.resize(d.n);
-    e.state.hi.resize(d.n);
-    for (int i = 0; i < d.n; ++i) e.state.lo[i] = r.f64();
-    for (int i = 0; i < d.n; ++i) e.state.hi[i] = r.f64();
-    e.workspace.lo.resize(2);
-    e.workspace.hi.resize(2);
-    for (int c = 0; c < 2; ++c) e.workspace.lo[c] = r.f64();
-    for (int c = 0; c < 2; ++c) e.workspace.hi[c] = r.f64();
-    if (e.step < 0 || e.step >= static_cast<int>(ntables) || !(e.t0 <= e.t1)) fail("bad period enclosure");
-    for (int i = 0; i < d.n; ++i)
-      if (!(e.state.lo[i] <= e.state.hi[i])) fail("bad period enclosure");
-    for (int c = 0; c < 2; ++c)
-      if (!(e.workspace.lo[c] <= e.workspace.hi[c])) fail("bad period enclosure");
-    d.enclosures.push_back(std::move(e));
-  }
+  d.enclosures = binary::read_period_enclosures(r, d.n, static_cast<int>(ntables));
   if (!r.done()) fail("trailing bytes in payload");
   return d;
 }

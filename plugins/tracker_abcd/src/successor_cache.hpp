@@ -7,13 +7,13 @@
 // floating-point work per cell. One table per thread: no locks, and an entry is a pure function
 // of its key, so results never depend on which thread computed it.
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <utility>
 #include <vector>
 
 #include "input_grid.hpp"
+#include "marsyn/stopwatch.hpp"
 #include "successor_box.hpp"
 #include "uniform_grid.hpp"
 
@@ -224,10 +224,10 @@ class SuccessorTable {
     double u[kMaxDim];
     ug_.value(j, u);
     ++computed_;
-    const auto t0 = std::chrono::steady_clock::now();
+    const Stopwatch box_clock;
     double lo[kMaxDim], hi[kMaxDim];
     e.ok = sb_.compute(cell, u, lo, hi);
-    seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    seconds_ += box_clock.seconds();
     for (int i = 0; e.ok && i < n_; ++i) {
       std::int64_t a, b;
       if (inv_[i]) {

@@ -3,12 +3,12 @@
 #include <sys/resource.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <memory>
 #include <numeric>
 #include <thread>
 
+#include "marsyn/stopwatch.hpp"
 #include "period_enclosure.hpp"
 #include "split_sweep.hpp"
 #include "successor_cache.hpp"
@@ -16,10 +16,6 @@
 
 namespace marsyn::abcd {
 namespace {
-
-double now_s() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 std::vector<bool> invariant_coords(const Dynamics& f) {
   auto inv = f.field_independent_of();
@@ -86,7 +82,7 @@ long long peak_rss_bytes() {
 }
 
 TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o) {
-  const double t_start = now_s();
+  const Stopwatch clock;
   TrackResult r;
   auto invalid = [&](const std::string& why) {
     r.status = TrackerStatus::InvalidInput;
@@ -333,19 +329,19 @@ TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o
   }
   st.boxes_computed = split.sum(st.boxes_computed);  // over the ranks: the same figure as one process's
   st.abstraction_time_s = box_seconds / threads;
-  st.synthesis_time_s = std::max(0.0, now_s() - t_start - st.abstraction_time_s);
+  st.synthesis_time_s = std::max(0.0, clock.seconds() - st.abstraction_time_s);
 
   // Between the samples: only for a complete sweep (the controller is used from step 0).
   std::string enclosure_failure;
   if (k < 0) {
-    const double t_enc = now_s();
+    const Stopwatch enclosure_clock;
     EnclosureOptions eo;
     eo.substeps = o.enclosure_substeps;
     eo.block = o.enclosure_block;
     eo.threads = threads;
     eo.collective = split.split() ? o.collective : nullptr;
     if (!compute_period_enclosures(p, inv, sb, eo, d, enclosure_failure)) d.enclosures.clear();
-    st.enclosure_time_s = now_s() - t_enc;
+    st.enclosure_time_s = enclosure_clock.seconds();
     st.enclosure_substeps = o.enclosure_substeps;
   }
 
@@ -375,7 +371,7 @@ TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o
 }
 
 TrackResult synthesize_reach_avoid(const ReachAvoidProblem& p, const SynthesisOptions& o) {
-  const double t_start = now_s();
+  const Stopwatch clock;
   TrackResult r;
   auto invalid = [&](const std::string& why) {
     r.status = TrackerStatus::InvalidInput;
@@ -507,7 +503,7 @@ TrackResult synthesize_reach_avoid(const ReachAvoidProblem& p, const SynthesisOp
   for (auto v : win) count += v;
   st.winning_cells_per_step = {count};
   st.abstraction_time_s = box_seconds / threads;
-  st.synthesis_time_s = std::max(0.0, now_s() - t_start - st.abstraction_time_s);
+  st.synthesis_time_s = std::max(0.0, clock.seconds() - st.abstraction_time_s);
   st.peak_memory_bytes = peak_rss_bytes();
   if (count > 0) {
     r.status = TrackerStatus::ControllerFound;

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "marsyn/binary_file.hpp"
+#include "marsyn/period_enclosure_file.hpp"
 #include "membership.hpp"
 
 namespace marsyn::funnel {
@@ -95,16 +96,7 @@ std::string serialize(const FunnelData& d) {
     p.reals(d.u_nom[static_cast<std::size_t>(k)]);
     p.reals(d.K[static_cast<std::size_t>(k)]);
   }
-  p.u32(static_cast<std::uint32_t>(d.enclosures.size()));
-  for (const auto& e : d.enclosures) {
-    p.u32(static_cast<std::uint32_t>(e.step));
-    p.f64(e.t0);
-    p.f64(e.t1);
-    for (int i = 0; i < d.n; ++i) p.f64(e.state.lo[i]);
-    for (int i = 0; i < d.n; ++i) p.f64(e.state.hi[i]);
-    for (int c = 0; c < 2; ++c) p.f64(e.workspace.lo[c]);
-    for (int c = 0; c < 2; ++c) p.f64(e.workspace.hi[c]);
-  }
+  binary::write_period_enclosures(p, d.enclosures, d.n);
   return binary::envelope(kMagic, kFormatVersion, p.bytes());
 }
 
@@ -165,19 +157,7 @@ FunnelData deserialize(const std::string& s, const std::string& what) {
     d.K.push_back(r.reals(static_cast<std::size_t>(m) * n));
     if (!finite_all(d.u_nom.back()) || !finite_all(d.K.back())) r.fail("step " + std::to_string(k) + ": non-finite gains");
   }
-  const std::uint32_t count = r.u32();
-  if (count > 64u * T + 64u) r.fail("too many period enclosures");
-  for (std::uint32_t e = 0; e < count; ++e) {
-    PeriodEnclosure pe;
-    pe.step = static_cast<int>(r.u32());
-    if (pe.step < 0 || pe.step >= static_cast<int>(T)) r.fail("period enclosure for a step outside the horizon");
-    pe.t0 = r.f64();
-    pe.t1 = r.f64();
-    const auto lo = r.reals(n), hi = r.reals(n), wlo = r.reals(2), whi = r.reals(2);
-    pe.state = {Eigen::Map<const Eigen::VectorXd>(lo.data(), n), Eigen::Map<const Eigen::VectorXd>(hi.data(), n)};
-    pe.workspace = {Eigen::Map<const Eigen::VectorXd>(wlo.data(), 2), Eigen::Map<const Eigen::VectorXd>(whi.data(), 2)};
-    d.enclosures.push_back(std::move(pe));
-  }
+  d.enclosures = binary::read_period_enclosures(r, d.n, static_cast<int>(T));
   if (!r.done()) r.fail("trailing bytes in the payload");
   return d;
 }

@@ -1,0 +1,24 @@
+#pragma once
+// Numbers as messages, summaries and tables print them, in core and in plugins alike.
+#include <Eigen/Core>
+#include <cstdio>
+#include <string>
+
+namespace marsyn {
+
+// printf's %g with `digits` significant digits: "0.25", "1e+06", "4096". Six digits is what an
+// ostream prints by default, so messages that used `os << v` read the same.
+inline std::string number_text(double v, int digits = 6) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+// "(a, b, c)", each coordinate by number_text; `open` and `close` give other brackets.
+inline std::string list_text(const Eigen::VectorXd& v, const char* open = "(", const char* close = ")") {
+  std::string s = open;
+  for (Eigen::Index i = 0; i < v.size(); ++i) s += (i ? ", " : "") + number_text(v[i]);
+  return s + close;
+}
+
+}  // namespace marsyn
