@@ -14,6 +14,9 @@ import resource
 import subprocess
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from svg_lines import line_plot  # noqa: E402
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
@@ -38,34 +41,10 @@ def rows_per_step(n, continuous, points=1):
 
 
 def svg(rows, path):
-    width, height, pad = 640, 400, 60
-    ns = [r["agents"] for r in rows]
-    top = max(max(r["cont_cpu"], r["samp_cpu"]) for r in rows) * 1.1 or 1.0
-    def x(n):
-        return pad + (width - 2 * pad) * (n - min(ns)) / max(1, max(ns) - min(ns))
-    def y(v):
-        return height - pad - (height - 2 * pad) * v / top
-    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" font-family="sans-serif" font-size="12">',
-             f'<rect width="{width}" height="{height}" fill="white"/>',
-             f'<line x1="{pad}" y1="{height - pad}" x2="{width - pad}" y2="{height - pad}" stroke="black"/>',
-             f'<line x1="{pad}" y1="{pad}" x2="{pad}" y2="{height - pad}" stroke="black"/>',
-             f'<text x="{width / 2}" y="{height - 20}" text-anchor="middle">agents N (circle swap)</text>',
-             f'<text x="15" y="{height / 2}" transform="rotate(-90 15 {height / 2})" text-anchor="middle">plan CPU s</text>']
-    for n in ns:
-        parts.append(f'<text x="{x(n)}" y="{height - pad + 16}" text-anchor="middle">{n}</text>')
-    for frac in (0, 0.25, 0.5, 0.75, 1.0):
-        v = top * frac
-        parts.append(f'<text x="{pad - 6}" y="{y(v) + 4}" text-anchor="end">{v:.0f}</text>')
-    for key, colour, label in (("cont_cpu", "#c0392b", "continuous (between samples in the problem)"),
-                               ("samp_cpu", "#2471a3", "sampled (knots only)")):
-        pts = " ".join(f"{x(r['agents'])},{y(r[key])}" for r in rows)
-        parts.append(f'<polyline points="{pts}" fill="none" stroke="{colour}" stroke-width="2"/>')
-        for r in rows:
-            parts.append(f'<circle cx="{x(r["agents"])}" cy="{y(r[key])}" r="3" fill="{colour}"/>')
-        parts.append(f'<text x="{pad + 10}" y="{pad + (14 if key == "cont_cpu" else 30)}" fill="{colour}">{label}</text>')
-    parts.append("</svg>")
-    with open(path, "w") as f:
-        f.write("\n".join(parts))
+    line_plot(path, [(label, colour, [(r["agents"], r[key]) for r in rows])
+                     for key, colour, label in (("cont_cpu", "#c0392b", "continuous (between samples in the problem)"),
+                                                ("samp_cpu", "#2471a3", "sampled (knots only)"))],
+              "agents N (circle swap)", "plan CPU s")
 
 
 def main():

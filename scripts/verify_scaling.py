@@ -2,7 +2,7 @@
 """How the closed-loop verification grows with the number of agents and of runs (issue 24).
 
 Circle swaps of N unicycles (scripts/circle_swap.py), each agent tracked (`marsyn track`) on the
-straight-line plan, then `marsyn verify --plan straight-line` timed; with --baseline, a second
+straight-line plan (abcd: the funnel, which follows the dynamics, refuses the straight lines), then `marsyn verify --plan straight-line` timed; with --baseline, a second
 build verifies the same controllers right after, so that the ratio holds on a loaded machine.
 (The straight lines meet in the centre: the runs collide there, which the verification simulates
 at full cost all the same; the figures measure speed, not the problem.) Prints a table (CPU and
@@ -18,6 +18,9 @@ import re
 import resource
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from svg_lines import line_plot  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -38,7 +41,7 @@ def controllers(marsyn, n, horizon, folder):
     os.makedirs(folder, exist_ok=True)
     problem = os.path.join(folder, f"swap{n}.yaml")
     subprocess.run([sys.executable, os.path.join(HERE, "circle_swap.py"), str(n), "--out", problem,
-                    "--guarantee", "sampled", "--horizon", str(horizon)], check=True, capture_output=True)
+                    "--guarantee", "sampled", "--tracker", "abcd", "--horizon", str(horizon)], check=True, capture_output=True)
     for i in range(1, n + 1):
         if not os.path.exists(os.path.join(folder, f"a{i}.ctrl")):
             run([marsyn, "track", problem, "--agent", f"a{i}", "--plan", "straight-line", "--out", folder])
@@ -55,34 +58,12 @@ def verify(marsyn, problem, folder, runs, threads):
 
 
 def svg(rows, path, has_base):
-    width, height, pad = 640, 400, 60
-    ns = sorted({r["agents"] for r in rows})
     keys = [("cpu_per_1000", "#c0392b", "this build")] + ([("base_per_1000", "#2471a3", "baseline")] if has_base else [])
-    top = max(r[k] for r in rows for k, _, _ in keys) * 1.1 or 1.0
-    def x(n):
-        return pad + (width - 2 * pad) * (n - min(ns)) / max(1, max(ns) - min(ns))
-    def y(v):
-        return height - pad - (height - 2 * pad) * v / top
-    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" font-family="sans-serif" font-size="12">',
-             f'<rect width="{width}" height="{height}" fill="white"/>',
-             f'<line x1="{pad}" y1="{height - pad}" x2="{width - pad}" y2="{height - pad}" stroke="black"/>',
-             f'<line x1="{pad}" y1="{pad}" x2="{pad}" y2="{height - pad}" stroke="black"/>',
-             f'<text x="{width / 2}" y="{height - 20}" text-anchor="middle">agents N (circle swap, T = horizon)</text>',
-             f'<text x="15" y="{height / 2}" transform="rotate(-90 15 {height / 2})" text-anchor="middle">CPU s per 1000 runs</text>']
-    for n in ns:
-        parts.append(f'<text x="{x(n)}" y="{height - pad + 16}" text-anchor="middle">{n}</text>')
-    for frac in (0, 0.25, 0.5, 0.75, 1.0):
-        parts.append(f'<text x="{pad - 6}" y="{y(top * frac) + 4}" text-anchor="end">{top * frac:.0f}</text>')
-    for i, (key, colour, label) in enumerate(keys):
-        pts = sorted((r["agents"], r[key]) for r in rows if r["runs"] == max(q["runs"] for q in rows if q["agents"] == r["agents"]))
-        parts.append('<polyline fill="none" stroke="{}" stroke-width="2" points="{}"/>'.format(
-            colour, " ".join(f"{x(n):.1f},{y(v):.1f}" for n, v in pts)))
-        for n, v in pts:
-            parts.append(f'<circle cx="{x(n):.1f}" cy="{y(v):.1f}" r="3" fill="{colour}"/>')
-        parts.append(f'<text x="{pad + 10}" y="{pad + 16 * i}" fill="{colour}">{label}</text>')
-    parts.append("</svg>")
-    with open(path, "w") as f:
-        f.write("\n".join(parts))
+    # One point per N: its largest run count (the others are the runs sweep).
+    most = {n: max(r["runs"] for r in rows if r["agents"] == n) for n in {r["agents"] for r in rows}}
+    line_plot(path, [(label, colour, [(r["agents"], r[key]) for r in rows if r["runs"] == most[r["agents"]]])
+                     for key, colour, label in keys],
+              "agents N (circle swap, T = horizon)", "CPU s per 1000 runs")
 
 
 def main():

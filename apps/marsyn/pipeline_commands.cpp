@@ -244,7 +244,8 @@ int run_track(const std::string& config, const std::string& agent, const std::st
   const OutputFolder folder(out_dir_for(out_requested, pb));
   {
     const nlohmann::json j = {
-        {"agent", a.name}, {"status", to_string(r.status)}, {"winning_cells_per_step", s.winning_cells_per_step}};
+        {"agent", a.name}, {"status", to_string(r.status)}, {"tracker", {{"name", used}}},
+        {"winning_cells_per_step", s.winning_cells_per_step}};
     std::ofstream f(folder.path(a.name + ".track.json"));
     f << j.dump() << "\n";  // one line, as before: the per-step list is long
   }

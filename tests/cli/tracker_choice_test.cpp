@@ -188,3 +188,29 @@ TEST(TrackerChoice, BadTrackerFieldsAreLocated) {
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find(": agents[0].tracker.params.substeps: "), std::string::npos) << r.err;
 }
+
+TEST(TrackerChoice, AFallbackControllerFromTrackIsReadBackByItsTracker) {
+  // Under auto, `never` (cheapest) gives no controller and abcd writes a.ctrl; `marsyn verify`
+  // on that folder must read the file with abcd (recorded in a.track.json), not with the
+  // agent's first choice.
+  namespace fs = std::filesystem;
+  // 5 m in 4 s: slow enough for abcd on the straight line.
+  std::string yaml = problem(kNever);
+  yaml.replace(yaml.find("horizon: 20"), 11, "horizon: 40");
+  const std::string file = write_temp("auto_fallback.yaml", yaml);
+  const fs::path dir = fs::temp_directory_path() / ("marsyn_auto_fallback_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const std::string exe = marsyn_with_abcd_only();
+  for (const char* agent : {"a", "b"}) {
+    const auto t = marsyn::test::run_exe(exe, std::string("track ") + file + " --agent " + agent +
+                                                  " --plan straight-line --out " + dir.string());
+    ASSERT_EQ(t.code, 0) << t.out << t.err;
+    EXPECT_NE(t.out.find("tracker             abcd (chosen by tracker: auto)"), std::string::npos) << t.out;
+    EXPECT_NE(t.err.find("never"), std::string::npos) << t.err;  // tried first, no controller
+  }
+  const auto v = marsyn::test::run_exe(exe, "verify " + file + " --controllers " + dir.string() +
+                                                " --plan straight-line --runs 8");
+  EXPECT_NE(v.code, 2) << v.err;
+  EXPECT_NE(v.out.find("8 closed-loop runs"), std::string::npos) << v.out << v.err;
+  fs::remove_all(dir);
+}

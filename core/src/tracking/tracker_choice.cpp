@@ -67,10 +67,31 @@ std::map<std::string, std::string> recorded_trackers(const std::string& dir) {
   return out;
 }
 
+namespace {
+
+// `marsyn track` records the tracker that wrote <agent>.ctrl in <agent>.track.json (under
+// `tracker: auto`, possibly the fallback): "" when absent or unreadable.
+std::string tracked_by(const std::string& dir, const std::string& agent) {
+  std::ifstream in(std::filesystem::path(dir) / (agent + ".track.json"));
+  if (!in) return "";
+  try {
+    const nlohmann::json j = nlohmann::json::parse(in);
+    if (j.contains("tracker") && j["tracker"].is_object() && j["tracker"].contains("name") && j["tracker"]["name"].is_string())
+      return j["tracker"]["name"].get<std::string>();
+  } catch (const std::exception&) {
+  }
+  return "";
+}
+
+}  // namespace
+
 std::vector<std::shared_ptr<const Controller>> read_agent_controllers(const Problem& pb, TrackerInstances& trackers,
                                                                       const std::string& dir) {
   std::vector<std::shared_ptr<const Controller>> out;
-  const auto recorded = recorded_trackers(dir);
+  auto recorded = recorded_trackers(dir);  // a solve folder's result.json
+  for (const auto& a : pb.agents)
+    if (!recorded.count(a.name))
+      if (std::string t = tracked_by(dir, a.name); !t.empty()) recorded[a.name] = t;
   for (const auto& a : pb.agents) {
     const auto it = recorded.find(a.name);
     const PluginChoice choice = it == recorded.end() || it->second == a.tracker.name ? a.tracker : PluginChoice{it->second, {}};
