@@ -11,6 +11,7 @@
 #include "marsyn/core/search_levers.hpp"
 #include "marsyn/core/solve.hpp"
 #include "pendulum_variant.hpp"
+#include "quick_solve.hpp"
 
 namespace {
 
@@ -23,12 +24,7 @@ using marsyn::test::pendulum_variant;
 // U wide enough that the swing-up's nominal never sits at a bound (no "tighten U" round).
 const std::pair<std::string, std::string> kWideU{"input_bounds: {lo: [-3], hi: [3]}", "input_bounds: {lo: [-30], hi: [30]}"};
 
-marsyn::SolveOptions quick() {
-  marsyn::SolveOptions so;
-  so.verification_runs = 5;
-  so.global_memory_budget_bytes = 0;
-  return so;
-}
+marsyn::SolveOptions quick(std::vector<std::string>* log = nullptr) { return marsyn::test::quick_solve(log); }
 
 std::vector<std::string> actions(const marsyn::SolveOutcome& o) {
   std::vector<std::string> a;

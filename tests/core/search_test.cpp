@@ -13,18 +13,13 @@
 #include "marsyn/core/search_levers.hpp"
 #include "marsyn/core/solve.hpp"
 #include "pendulum_variant.hpp"
+#include "quick_solve.hpp"
 
 namespace {
 
 using marsyn::test::pendulum_variant;
 
-marsyn::SolveOptions quick(std::vector<std::string>* log = nullptr) {
-  marsyn::SolveOptions so;
-  so.verification_runs = 5;
-  so.global_memory_budget_bytes = 0;
-  if (log) so.log = [log](const std::string& s) { log->push_back(s); };
-  return so;
-}
+marsyn::SolveOptions quick(std::vector<std::string>* log = nullptr) { return marsyn::test::quick_solve(log); }
 
 TEST(Search, SaysWhyItStopsWhatItTriedAndWhatIsLeft) {
   const auto lp = marsyn::load_problem(pendulum_variant("search_stop", "tracker: never"));

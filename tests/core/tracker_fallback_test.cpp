@@ -15,6 +15,7 @@
 #include "marsyn/core/solve.hpp"
 #include "marsyn/core/problem/problem_loader.hpp"
 #include "pendulum_variant.hpp"
+#include "quick_solve.hpp"
 
 namespace {
 
@@ -37,12 +38,7 @@ int plans(const marsyn::SolveOutcome& o) {
   return n;
 }
 
-marsyn::SolveOptions quick() {
-  marsyn::SolveOptions so;
-  so.verification_runs = 5;
-  so.global_memory_budget_bytes = 0;
-  return so;
-}
+marsyn::SolveOptions quick(std::vector<std::string>* log = nullptr) { return marsyn::test::quick_solve(log); }
 
 TEST(TrackerFallback, AutoFallsBackBeforeTheEpsSearch) {
   const auto lp = marsyn::load_problem(pendulum("auto", "tracker: auto"));
