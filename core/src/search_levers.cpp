@@ -6,7 +6,9 @@
 #include <sstream>
 #include <variant>
 
+#include "marsyn/core/planning/workspace_gaps.hpp"
 #include "marsyn/core/problem/agent_checks.hpp"
+#include "marsyn/number_text.hpp"
 
 namespace marsyn::search {
 std::string vector_text(const Eigen::VectorXd& v) {
@@ -110,7 +112,10 @@ double saturation_share(const std::vector<Eigen::VectorXd>& u, const Box& b) {
 std::vector<LeverChoice> levers_for(const Failure& f, const std::vector<TrackerLever>& declared) {
   switch (f.kind) {
     // The planning stage lengthened the horizon already: longer still, then a narrower tube.
-    case Failure::Plan: return {{Lever::LongerHorizon, ""}, {Lever::ShrinkEps, ""}};
+    // Starts too crowded for the tubes (planning/workspace_gaps.hpp): no horizon can help.
+    case Failure::Plan:
+      if (f.start_eps_factor < 1) return {{Lever::ShrinkEps, ""}};
+      return {{Lever::LongerHorizon, ""}, {Lever::ShrinkEps, ""}};
     case Failure::Certification: return {{Lever::MoreClearance, ""}};
     case Failure::NoController: break;
     default: return {};
@@ -202,10 +207,17 @@ Proposal propose(const LeverChoice& lever, const Failure& failure, const Team& t
       p.replan = true;
       break;
     }
-    case Lever::ShrinkEps:
-      scale_eps(everyone, 0.8, {});
+    case Lever::ShrinkEps: {
+      // 0.8, or further where crowded starts need it (just below the factor that makes step 0 robust).
+      const double start = planning::start_eps_factor(*team.problem);
+      if (start <= 0.05) {
+        p.why_not = "the starts are too close for any tube (eps x " + number_text(start, 3) + ")";
+        break;
+      }
+      scale_eps(everyone, std::min(0.8, 0.95 * start), {});
       if (p.changed.empty()) p.why_not = "no agent's tracker accepts a smaller eps";
       break;
+    }
     case Lever::EnlargeEps:
       scale_eps(failure.agents, 1.25, {});
       if (p.changed.empty()) p.why_not = "a wider tube is refused by the goal, the state bounds or the tracker";

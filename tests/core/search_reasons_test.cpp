@@ -4,6 +4,8 @@
 // test tracker `never` (tests/fixtures/never_tracker.cpp) fails on command by agent name.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <set>
 
 #include "marsyn/core/problem/problem_loader.hpp"
@@ -178,6 +180,54 @@ TEST(SearchReasons, AFailedPlanStartsFromALongerHorizonThenShrinksEps) {
   EXPECT_EQ(o.search.rounds[1].changes[0].what, "horizon");
   EXPECT_GT(o.search.rounds[1].horizon, std::stoi(o.search.rounds[1].changes[0].from));
   if (a.size() > 2 && o.search.rounds[1].outcome.rfind("planning failed", 0) == 0) EXPECT_EQ(a[2], "shrink eps by 0.8 and re-plan");
+}
+
+// Two unicycles driving side by side 0.5 apart (inf-norm delta 0.24): with eps 0.2 in position the
+// robust pair requirement needs 0.64 at step 0 already, so no horizon can help; eps x 0.65 makes
+// the start exactly robust.
+std::string crowded_pair() {
+  const auto path = std::filesystem::temp_directory_path() / "marsyn_crowded_pair.yaml";
+  std::ofstream(path) << R"(name: crowded-pair
+tau: 0.1
+horizon: 40
+delta: 0.24
+delta_norm: inf
+planner: altro
+tracker: funnel
+defaults:
+  dynamics: unicycle
+  state_bounds: {lo: [-2, -2, -3], hi: [6, 3, 3]}
+  input_bounds: {lo: [-2, -2], hi: [2, 2]}
+  disturbance: [0, 0.01, 0.01]
+  eps: [0.2, 0.2, 0.24]
+  workspace: {position: [0, 1]}
+agents:
+  - {name: low, x0: [0, 0, 0], goal: {center: [3, 0, 0], radius: [0.4, 0.4, 0.6]}}
+  - {name: high, x0: [0, 0.5, 0], goal: {center: [3, 0.5, 0], radius: [0.4, 0.4, 0.6]}}
+)";
+  return path.string();
+}
+
+TEST(SearchReasons, CrowdedStartsShrinkEpsAsFarAsTheyNeedWithoutTryingHorizons) {
+  Failure f{Failure::Plan, "planning failed", {}, {}};
+  f.start_eps_factor = 0.9;
+  EXPECT_EQ(marsyn::search::levers_for(f, kDeclared), (std::vector<LeverChoice>{{Lever::ShrinkEps, ""}}));
+
+  const auto lp = marsyn::load_problem(crowded_pair());  // outlives the outcome: it holds the plugins
+  const marsyn::SolveOutcome o = marsyn::solve(lp, quick());
+  EXPECT_TRUE(o.verified) << o.search.message();
+  ASSERT_GE(o.search.rounds.size(), 2u);
+  // Round 1 planned nothing: the plan stage named the crowded start at once.
+  EXPECT_NE(o.search.rounds[0].outcome.find("no eps-robust plan at any horizon: low and high start 0.5 apart"),
+            std::string::npos)
+      << o.search.rounds[0].outcome;
+  EXPECT_EQ(actions(o)[1], "shrink eps by 0.8 and re-plan");
+  // 0.95 x 0.65 = 0.6175 at once, not 0.8 (still crowded) and not horizons in between.
+  const auto& ch = o.search.rounds[1].changes;
+  ASSERT_FALSE(ch.empty());
+  EXPECT_EQ(ch[0].what, "eps");
+  EXPECT_EQ(ch[0].to, "(0.1235,0.1235,0.1482)");
+  EXPECT_EQ(o.search.rounds[1].horizon, 40);
 }
 
 }  // namespace

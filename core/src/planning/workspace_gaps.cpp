@@ -7,6 +7,7 @@
 
 #include "marsyn/core/planning/geometry.hpp"
 #include "marsyn/core/planning/margins.hpp"
+#include "marsyn/core/planning/spec_margins.hpp"
 
 namespace marsyn::planning {
 
@@ -97,6 +98,79 @@ std::string describe(const NarrowGap& g) {
      << " (2 (delta + eps)): closed to ";
   for (size_t i = 0; i < g.agents.size(); ++i) os << (i ? ", " : "") << g.agents[i];
   os << " at every horizon";
+  return os.str();
+}
+
+namespace {
+
+std::vector<CrowdedStart> all_crowded_starts(const Problem& problem) {
+  std::vector<CrowdedStart> out;
+  const std::size_t n = problem.agents.size();
+  std::vector<Eigen::Vector2d> p(n);
+  std::vector<WorkspaceMargin> m(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const AgentSpec& a = problem.agents[i];
+    if (a.x0.size() != a.n()) return out;
+    workspace_point(*a.dynamics, a.workspace, a.x0.data(), p[i].data());
+    m[i] = margin_at(a, a.x0);
+  }
+  const bool inf = problem.delta_norm == Norm::Inf;
+  // Real margin g0 (tubes of width 0) and robust margin g1: the tubes take g0 - g1, so eps x f
+  // leaves g0 - f (g0 - g1), zero at f = g0 / (g0 - g1).
+  auto crowded = [&](std::string first, std::string second, double g0, double g1, double distance) {
+    if (!(g1 < 0)) return;
+    CrowdedStart c{std::move(first), std::move(second), distance, distance - g1, 0.0};
+    c.eps_factor = g0 > 0 ? g0 / (g0 - g1) : 0.0;
+    out.push_back(std::move(c));
+  };
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t o = 0; o < problem.obstacles.size(); ++o) {
+      const Polygon& poly = problem.obstacles[o].vertices;
+      const double g0 = obstacle_margin(poly, p[i], {}, problem.delta, problem.delta_norm);
+      const double g1 = obstacle_margin(poly, p[i], m[i], problem.delta, problem.delta_norm);
+      crowded(problem.agents[i].name, "obstacle " + problem.obstacles[o].name, g0, g1, g0 + problem.delta);
+    }
+  if (problem.pairwise_collision)
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = i + 1; j < n; ++j) {
+        const double g0 = collision_margin(p[i], {}, p[j], {}, problem.delta, problem.delta_norm);
+        // A cheap reject first: teams of hundreds have tens of thousands of pairs.
+        if (g0 > 2 * ((inf ? m[i].inf() : m[i].two()) + (inf ? m[j].inf() : m[j].two()))) continue;
+        const double g1 = collision_margin(p[i], m[i], p[j], m[j], problem.delta, problem.delta_norm);
+        crowded(problem.agents[i].name, problem.agents[j].name, g0, g1, g0 + problem.delta);
+      }
+  std::sort(out.begin(), out.end(), [](const CrowdedStart& a, const CrowdedStart& b) {
+    return a.distance - a.needed < b.distance - b.needed;
+  });
+  return out;
+}
+
+}  // namespace
+
+std::vector<CrowdedStart> crowded_starts(const Problem& problem, std::size_t limit, std::size_t* total) {
+  auto out = all_crowded_starts(problem);
+  if (total) *total = out.size();
+  if (out.size() > limit) out.resize(limit);
+  return out;
+}
+
+double start_eps_factor(const Problem& problem) {
+  double f = 1.0;
+  for (const auto& c : all_crowded_starts(problem)) f = std::min(f, c.eps_factor);
+  return f;
+}
+
+std::string describe(const CrowdedStart& c, const Problem& problem) {
+  std::ostringstream os;
+  const std::string norm = problem.delta_norm == Norm::Inf ? "inf-norm" : "Euclidean";
+  os << c.first << (c.second.rfind("obstacle ", 0) == 0 ? " starts " : " and " + c.second + " start ") << c.distance
+     << (c.second.rfind("obstacle ", 0) == 0 ? " from " + c.second : std::string(" apart")) << " (" << norm
+     << "); the eps-robust plan keeps " << c.needed
+     << " (delta and the tubes) at every step, step 0 included: no horizon can help; ";
+  if (c.eps_factor > 0)
+    os << "eps x " << std::floor(c.eps_factor * 100) / 100 << " or less (or starts further apart) would";
+  else
+    os << "only starts further apart would";
   return os.str();
 }
 

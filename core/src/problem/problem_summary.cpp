@@ -88,6 +88,9 @@ std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& track
     if (!sched.feasible) s << "warning: " << sched.why << "\n";
   }
   for (const auto& gap : planning::narrow_gaps(pb)) s << "warning: " << planning::describe(gap) << "\n";
+  std::size_t crowded = 0;
+  for (const auto& c : planning::crowded_starts(pb, 5, &crowded)) s << "warning: " << planning::describe(c, pb) << "\n";
+  if (crowded > 5) s << "warning: " << crowded - 5 << " more crowded starts\n";
   return s.str();
 }
 

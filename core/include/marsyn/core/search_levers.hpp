@@ -62,6 +62,9 @@ struct Failure {
   std::vector<TrackFailure> why;
   std::vector<double> nominal_saturation;
   int longest_horizon = 0;                   // Plan: the longest horizon the planning stage tried
+  // Plan: below 1 when the starts are too crowded for the tubes at any horizon
+  // (planning::start_eps_factor): only a narrower tube helps then.
+  double start_eps_factor = 1.0;
 };
 
 // The share (0..1) of the steps on which some input of `u` lies within 1e-6 of U's range of a bound.

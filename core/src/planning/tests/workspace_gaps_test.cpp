@@ -3,6 +3,7 @@
 // only the larger agent cannot pass are told apart.
 #include <gtest/gtest.h>
 
+#include "dynamics_unicycle/src/unicycle.hpp"
 #include "marsyn/core/planning/workspace_gaps.hpp"
 
 using namespace marsyn;
@@ -85,4 +86,63 @@ TEST(WorkspaceGaps, TheEuclideanNormMeasuresDiagonalGapsByTheirLength) {
   gaps = narrow_gaps(p);  // inf-norm width 0.5
   ASSERT_EQ(gaps.size(), 1u);
   EXPECT_NEAR(gaps[0].width, 0.5, 1e-9);
+}
+
+namespace {
+
+// Two unicycles side by side, `gap` apart in x (inf-norm delta 0.24, eps 0.2 in position): the
+// robust requirement at step 0 needs 0.24 + 0.2 + 0.2 = 0.64.
+Problem side_by_side(double gap, Norm norm = Norm::Inf) {
+  Problem p;
+  p.delta = 0.24;
+  p.delta_norm = norm;
+  for (int i = 0; i < 2; ++i) {
+    AgentSpec a = agent(i ? "right" : "left", 0.2);
+    a.dynamics = std::make_shared<models::Unicycle>();
+    a.x0 = Eigen::Vector3d(i * gap, 0, 0);
+    p.agents.push_back(a);
+  }
+  return p;
+}
+
+}  // namespace
+
+TEST(CrowdedStarts, StartsCloserThanDeltaAndBothTubesAreNamedWithTheFactorThatFreesThem) {
+  std::size_t total = 0;
+  const auto c = crowded_starts(side_by_side(0.6), 8, &total);
+  ASSERT_EQ(total, 1u);
+  EXPECT_EQ(c[0].first, "left");
+  EXPECT_EQ(c[0].second, "right");
+  EXPECT_NEAR(c[0].distance, 0.6, 1e-12);
+  EXPECT_NEAR(c[0].needed, 0.64, 1e-12);
+  EXPECT_NEAR(c[0].eps_factor, (0.6 - 0.24) / 0.4, 1e-12);
+  EXPECT_NE(describe(c[0], side_by_side(0.6)).find("no horizon can help"), std::string::npos);
+  EXPECT_NEAR(start_eps_factor(side_by_side(0.6)), 0.9, 1e-12);
+  // At the factor itself the start is exactly robust, just below it robust with room.
+  Problem scaled = side_by_side(0.6);
+  for (auto& a : scaled.agents) a.tube.eps *= 0.899;
+  EXPECT_TRUE(crowded_starts(scaled).empty());
+  for (auto& a : scaled.agents) a.tube.eps *= 0.902 / 0.899;
+  EXPECT_EQ(crowded_starts(scaled).size(), 1u);
+}
+
+TEST(CrowdedStarts, StartsJustFarEnoughAndTheEuclideanDiscsAreToldApart) {
+  EXPECT_TRUE(crowded_starts(side_by_side(0.641)).empty());
+  EXPECT_EQ(start_eps_factor(side_by_side(0.641)), 1.0);
+  // Euclidean: the tubes are the boxes' circumscribed discs, 0.2 sqrt 2 each.
+  const double need = 0.24 + 0.4 * std::sqrt(2.0);
+  EXPECT_EQ(crowded_starts(side_by_side(need - 1e-3, Norm::Two)).size(), 1u);
+  EXPECT_TRUE(crowded_starts(side_by_side(need + 1e-3, Norm::Two)).empty());
+}
+
+TEST(CrowdedStarts, AStartWithinDeltaAndTheTubeOfAnObstacleIsNamed) {
+  Problem p = side_by_side(5.0);
+  p.obstacles = {box("pillar", 0.5, -1, 1.5, 1)};  // 0.5 from "left": needs 0.24 + 0.2
+  auto c = crowded_starts(p);
+  EXPECT_TRUE(c.empty());
+  p.obstacles = {box("pillar", 0.4, -1, 1.5, 1)};  // 0.4 < 0.44
+  c = crowded_starts(p);
+  ASSERT_EQ(c.size(), 1u);
+  EXPECT_EQ(c[0].second, "obstacle pillar");
+  EXPECT_NEAR(c[0].eps_factor, (0.4 - 0.24) / 0.2, 1e-12);
 }

@@ -27,4 +27,29 @@ std::vector<NarrowGap> narrow_gaps(const Problem& problem);
 // (2 (delta + eps)): closed to drone1, drone2 at every horizon".
 std::string describe(const NarrowGap& gap);
 
+// Starts that no eps-robust plan can keep apart: the robust check reads step 0 with the tubes
+// too, so two agents whose x0 are closer than delta plus both tubes' workspace margins (or an
+// agent whose x0 is within delta plus its margin of an obstacle) fail at every horizon; only a
+// narrower tube or other starts help. (The real specification at x0 is the loader's: an error.)
+struct CrowdedStart {
+  std::string first, second;  // agent names; second is "obstacle <name>" for an obstacle
+  double distance = 0.0;      // between the x0 workspace points (to the obstacle), in the problem's norm
+  double needed = 0.0;        // what the eps-robust requirement keeps at step 0
+  // The factor on both agents' eps (all coordinates) at which step 0 is exactly robust: the
+  // margin is affine in that factor (inf-norm boxes, the 2-norm's circumscribed discs), so
+  // any eps x f with f below it leaves room.
+  double eps_factor = 0.0;
+};
+
+// Every crowded start, worst first (at most `limit`; `total`, when given, receives the count).
+std::vector<CrowdedStart> crowded_starts(const Problem& problem, std::size_t limit = 8, std::size_t* total = nullptr);
+
+// "a12 and a13 start 0.533 apart (inf-norm); the eps-robust plan keeps 0.64 at every step, step 0
+// included: no horizon can help; eps x 0.73 or less (or starts further apart) would".
+std::string describe(const CrowdedStart& c, const Problem& problem);
+
+// The largest factor on every eps that leaves all starts robust (below the smallest
+// CrowdedStart::eps_factor), or 1 when no start is crowded.
+double start_eps_factor(const Problem& problem);
+
 }  // namespace marsyn::planning
