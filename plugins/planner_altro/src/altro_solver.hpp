@@ -49,6 +49,9 @@ struct Options {
   // Skip the pair rows whose agents are farther apart than the rows' reach (Constraint::pair_reach)
   // and that carry no multiplier: they add exactly nothing, so the plan is the same bit for bit.
   bool broad_phase = true;
+  // Threads for the Jacobians, rollouts, costs and the per-agent backward pass (0: the machine's,
+  // at most 8). The plan does not depend on it: per-knot results are reduced in knot order.
+  int threads = 0;
 
   // The parameters, declared once in options.cpp (defaults: the initializers above).
   static std::vector<ParamSpec> specs();

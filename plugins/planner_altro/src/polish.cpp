@@ -37,7 +37,7 @@ bool Solver::polish(double& viol, std::string& worst, const Stopwatch& clock) {
         interior_points(X_[k], U_[k], Z);
         for (int j = 1; j <= points_; ++j) {
           const double* z = Z.data() + static_cast<long>(j - 1) * n_;
-          std::fill(have_jac_.begin(), have_jac_.end(), 0);
+          std::fill(work_[0].have_jac.begin(), work_[0].have_jac.end(), 0);
           for (const auto& r : between_) {
             g.resize(std::max<size_t>(g.size(), r.rows));
             r.c->evaluate(z, g.data(), nullptr);
@@ -48,7 +48,7 @@ bool Solver::polish(double& viol, std::string& worst, const Stopwatch& clock) {
             r.c->evaluate(z, g.data(), jac.data());
             for (int i = 0; i < r.rows; ++i) {
               if (g[i] <= -active) continue;
-              between_gradients(k, j, r, jac.data(), i, grads);
+              between_gradients(k, j, r, jac.data(), i, grads, work_[0]);
               Row row{k, g[i], {}, false};
               for (const auto& ga : grads) {
                 const auto& a = agents_[ga.agent];

@@ -11,6 +11,7 @@
 
 #include "altro_solver.hpp"
 #include "marsyn/stopwatch.hpp"
+#include "marsyn/planner_support/parallel_chunks.hpp"
 #include "marsyn/planner_support/proximity_screen.hpp"
 
 namespace marsyn::altro::detail {
@@ -68,9 +69,26 @@ class Solver {
   void reference(double bend);
   // How deep ref_ cuts into the pair requirements: the sum of their squared positive rows.
   double reference_conflict() const;
+  struct AgentGradient {
+    int agent;
+    Vec cx, cu;
+  };
+  // What one evaluation writes, one per thread (the solver's phases over knots or agents run on
+  // several threads; everything else they read is fixed during the phase).
+  struct Scratch {
+    std::vector<double> g = std::vector<double>(64);
+    std::vector<char> near;
+    Vec z;
+    planner_support::ProximityScreen::Buffers screen;
+    std::vector<double> jac;
+    std::vector<AgentGradient> grads;
+    // Partial-step Jacobians of the current iterate at one (k, j), per agent, filled on demand.
+    std::vector<Mat> Az, Bz;
+    std::vector<char> have_jac;
+  };
   // Evaluation
   void rollout_nominal();
-  double stage_cost(int k, const Vec& x, const Vec* u) const;
+  double stage_cost(int k, const Vec& x, const Vec* u, Scratch& s) const;
   double total_cost(const std::vector<Vec>& X, const std::vector<Vec>& U) const;
   double max_violation(const std::vector<Vec>& X, const std::vector<Vec>& U, std::string* worst) const;
   void update_multipliers();
@@ -78,26 +96,24 @@ class Solver {
   // points of each period, functions of (x_k, u_k) through the partial RK4 step.
   // Z: the interior points of the period from x under u, point-major (points_ x n_).
   void interior_points(const Vec& x, const Vec& u, Vec& Z) const;
-  double between_cost(int k, const Vec& x, const Vec& u) const;
+  double between_cost(int k, const Vec& x, const Vec& u, Scratch& s) const;
   void for_each_between_row(const std::vector<Vec>& X, const std::vector<Vec>& U,
                             const std::function<void(int k, int j, const ConstraintRef& r, const double* g)>& f) const;
   double between_violation(const std::vector<Vec>& X, const std::vector<Vec>& U, std::string* worst, double v) const;
   void update_between_multipliers();
-  void expand_between(int k);
+  void expand_between(int k, Scratch& s);
   // Row i of a between row's gradient in (x_k, u_k), per agent it reads: dg/dz times the
   // partial step's Jacobians. Used by the expansion and the final projection.
-  struct AgentGradient {
-    int agent;
-    Vec cx, cu;
-  };
   void between_gradients(int k, int j, const ConstraintRef& r, const double* jac, int row,
-                         std::vector<AgentGradient>& out);
+                         std::vector<AgentGradient>& out, Scratch& s) const;
   // Final projection: Gauss-Newton steps on the inputs onto the active constraints.
   bool polish(double& viol, std::string& worst, const Stopwatch& clock);
   // iLQR
   void linearize();
   void expand_costs();
+  void expand_knot(int k, Scratch& s);
   bool backward(double reg, double& dv1, double& dv2);
+  bool backward_group(int group, double reg, double& dv1, double& dv2);
   bool forward(double dv1, double dv2, double& alpha);
   void step_agent(const AgentBlock& a, const Vec& x, const Vec& u, Vec& out) const;
 
@@ -119,9 +135,6 @@ class Solver {
   std::vector<int> agent_of_;          // product state index -> agent
   std::vector<Vec> lam_b_;             // [k]: multipliers of the between rows, point-major
   std::vector<Mat> Luu_, Lux_;         // [k * G + group]: the between rows' blocks in u and (u, x)
-  // Partial-step Jacobians of the current iterate at one (k, j), per agent, filled on demand.
-  std::vector<Mat> Az_, Bz_;
-  std::vector<char> have_jac_;
   mutable Vec z_;
 
   std::vector<Vec> X_, U_, ref_;
@@ -141,6 +154,12 @@ class Solver {
   int iterations_ = 0;
   double cost_ = kInf;
   mutable std::vector<double> scratch_ = std::vector<double>(64);
+  int threads_ = 1;                  // Options::threads resolved
+  mutable std::vector<Scratch> work_;  // [thread]
+  mutable std::vector<double> knot_cost_;  // total_cost's per-knot terms, summed in knot order
+  // Threads for a loop over `items` of `weight` agent-steps each: one for small work, where
+  // starting threads would cost more than it saves.
+  int threads_for(long items, long weight) const { return items * weight >= 256 ? threads_ : 1; }
 };
 
 }  // namespace marsyn::altro::detail

@@ -26,17 +26,17 @@ void Solver::interior_points(const Vec& x, const Vec& u, Vec& Z) const {
   }
 }
 
-double Solver::between_cost(int k, const Vec& x, const Vec& u) const {
+double Solver::between_cost(int k, const Vec& x, const Vec& u, Scratch& s) const {
   double J = 0.0;
-  std::vector<double>& g = scratch_;
-  interior_points(x, u, z_);
+  std::vector<double>& g = s.g;
+  interior_points(x, u, s.z);
   for (int j = 1; j <= points_; ++j) {
-    const double* z = z_.data() + static_cast<long>(j - 1) * n_;
+    const double* z = s.z.data() + static_cast<long>(j - 1) * n_;
     const double* lam = lam_b_[k].data() + static_cast<long>(j - 1) * between_rows_;
-    screen_b_->mark(z, near_);
+    screen_b_->mark(z, s.near, s.screen);
     for (int c = 0; c < static_cast<int>(between_.size()); ++c) {
       const auto& r = between_[c];
-      if (!needed(near_, c, r, lam)) continue;
+      if (!needed(s.near, c, r, lam)) continue;
       if (static_cast<int>(g.size()) < r.rows) g.resize(r.rows);
       r.c->evaluate(z, g.data(), nullptr);
       for (int i = 0; i < r.rows; ++i) J += phr(g[i], lam[r.lam_offset + i], rho_);
@@ -87,7 +87,7 @@ void Solver::update_between_multipliers() {
 }
 
 void Solver::between_gradients(int k, int j, const ConstraintRef& r, const double* jac, int row,
-                               std::vector<AgentGradient>& out) {
+                               std::vector<AgentGradient>& out, Scratch& s) const {
   out.clear();
   const auto& sup = r.c->support();
   const FlowPointStep step = flow_point_step(prob_.tau, prob_.rk4_substeps, j, points_);
@@ -96,13 +96,13 @@ void Solver::between_gradients(int k, int j, const ConstraintRef& r, const doubl
     if (J[e] == 0.0) continue;
     const int ai = agent_of_[sup[e]];
     const auto& a = agents_[ai];
-    if (!have_jac_[ai]) {
+    if (!s.have_jac[ai]) {
       Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> Ar(a.n, a.n), Br(a.n, a.m);
       rk4_jacobians_staged(*a.dyn, X_[k].data() + a.xo, U_[k].data() + a.uo, step.h, step.substeps, Ar.data(),
                            Br.data());
-      Az_[ai] = Ar;
-      Bz_[ai] = Br;
-      have_jac_[ai] = 1;
+      s.Az[ai] = Ar;
+      s.Bz[ai] = Br;
+      s.have_jac[ai] = 1;
     }
     auto it = std::find_if(out.begin(), out.end(), [&](const AgentGradient& g) { return g.agent == ai; });
     if (it == out.end()) {
@@ -110,29 +110,30 @@ void Solver::between_gradients(int k, int j, const ConstraintRef& r, const doubl
       it = out.end() - 1;
     }
     const int li = sup[e] - a.xo;
-    it->cx.noalias() += J[e] * Az_[ai].row(li).transpose();
-    it->cu.noalias() += J[e] * Bz_[ai].row(li).transpose();
+    it->cx.noalias() += J[e] * s.Az[ai].row(li).transpose();
+    it->cu.noalias() += J[e] * s.Bz[ai].row(li).transpose();
   }
 }
 
-void Solver::expand_between(int k) {
+void Solver::expand_between(int k, Scratch& s) {
   const int G = static_cast<int>(groups_.size());
   for (int gi = 0; gi < G; ++gi) {
     Luu_[k * G + gi].setZero(groups_[gi].m, groups_[gi].m);
     Lux_[k * G + gi].setZero(groups_[gi].m, groups_[gi].n);
   }
-  std::vector<double> g(64), jac;
-  std::vector<AgentGradient> grads;
-  Vec Z;
+  std::vector<double>& g = s.g;
+  std::vector<double>& jac = s.jac;
+  std::vector<AgentGradient>& grads = s.grads;
+  Vec& Z = s.z;
   interior_points(X_[k], U_[k], Z);
   for (int j = 1; j <= points_; ++j) {
     const double* z = Z.data() + static_cast<long>(j - 1) * n_;
-    std::fill(have_jac_.begin(), have_jac_.end(), 0);
+    std::fill(s.have_jac.begin(), s.have_jac.end(), 0);
     const double* lam = lam_b_[k].data() + static_cast<long>(j - 1) * between_rows_;
-    screen_b_->mark(z, near_);
+    screen_b_->mark(z, s.near, s.screen);
     for (int c = 0; c < static_cast<int>(between_.size()); ++c) {
       const auto& r = between_[c];
-      if (!needed(near_, c, r, lam)) continue;
+      if (!needed(s.near, c, r, lam)) continue;
       g.resize(std::max<size_t>(g.size(), r.rows));
       r.c->evaluate(z, g.data(), nullptr);
       bool any = false;
@@ -145,7 +146,7 @@ void Solver::expand_between(int k) {
       for (int i = 0; i < r.rows; ++i) {
         const double mu = lam[r.lam_offset + i] + rho_ * g[i];
         if (mu <= 0) continue;
-        between_gradients(k, j, r, jac.data(), i, grads);
+        between_gradients(k, j, r, jac.data(), i, grads, s);
         for (const auto& ga : grads) {
           const auto& a = agents_[ga.agent];
           const int gi = a.group;

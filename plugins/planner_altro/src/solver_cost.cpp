@@ -6,7 +6,7 @@
 
 namespace marsyn::altro::detail {
 
-double Solver::stage_cost(int k, const Vec& x, const Vec* u) const {
+double Solver::stage_cost(int k, const Vec& x, const Vec* u, Scratch& s) const {
   double J = 0.0;
   const bool term = k == T_;
   // Without q_state, the same arithmetic as before it existed (plans stay bit-identical).
@@ -20,18 +20,18 @@ double Solver::stage_cost(int k, const Vec& x, const Vec* u) const {
       J += phr((*u)[j] - pp_.input_bounds.hi[j], lam_uhi_[k][j], rho_);
     }
   }
-  if (u && points_ > 0) J += between_cost(k, x, *u);  // u_0 moves the flow after x0 too
+  if (u && points_ > 0) J += between_cost(k, x, *u, s);  // u_0 moves the flow after x0 too
   if (k == 0) return J;  // x0 is fixed: constraints there cannot be influenced
   for (int i = 0; i < n_; ++i) {
     if (std::isfinite(pp_.state_bounds.lo[i])) J += phr(pp_.state_bounds.lo[i] - x[i], lam_xlo_[k][i], rho_);
     if (std::isfinite(pp_.state_bounds.hi[i])) J += phr(x[i] - pp_.state_bounds.hi[i], lam_xhi_[k][i], rho_);
   }
-  std::vector<double>& g = scratch_;
-  screen_->mark(x.data(), near_);
+  std::vector<double>& g = s.g;
+  screen_->mark(x.data(), s.near, s.screen);
   for (int i = 0; i < static_cast<int>(stage_.size()); ++i) {
     const auto& r = stage_[i];
     if (!applies_at(*r.c, k, T_)) continue;  // a mission stage's rows: at its visit knots only
-    if (!needed(near_, i, r, lam_c_[k].data())) continue;
+    if (!needed(s.near, i, r, lam_c_[k].data())) continue;
     if (static_cast<int>(g.size()) < r.rows) g.resize(r.rows);
     r.c->evaluate(x.data(), g.data(), nullptr);
     for (int j = 0; j < r.rows; ++j) J += phr(g[j], lam_c_[k][r.lam_offset + j], rho_);
@@ -51,9 +51,17 @@ double Solver::stage_cost(int k, const Vec& x, const Vec* u) const {
 }
 
 double Solver::total_cost(const std::vector<Vec>& X, const std::vector<Vec>& U) const {
+  // Knots on several threads, summed in knot order: the same sum for any number of threads.
+  std::vector<double>& c = knot_cost_;
+  c.resize(T_ + 1);
+  planner_support::parallel_chunks(T_ + 1, threads_for(T_ + 1, static_cast<long>(agents_.size())),
+                                   [&](int t, int begin, int end) {
+                                     for (int k = begin; k < end; ++k)
+                                       c[k] = stage_cost(k, X[k], k < T_ ? &U[k] : nullptr, work_[t]);
+                                   });
   double J = 0.0;
-  for (int k = 0; k < T_; ++k) J += stage_cost(k, X[k], &U[k]);
-  return J + stage_cost(T_, X[T_], nullptr);
+  for (int k = 0; k < T_; ++k) J += c[k];
+  return J + c[T_];
 }
 
 double Solver::max_violation(const std::vector<Vec>& X, const std::vector<Vec>& U, std::string* worst) const {

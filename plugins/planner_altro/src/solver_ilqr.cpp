@@ -15,24 +15,35 @@ namespace marsyn::altro::detail {
 
 void Solver::linearize() {
   const int N = static_cast<int>(agents_.size());
-  for (int k = 0; k < T_; ++k)
-    for (int i = 0; i < N; ++i) {
-      const auto& a = agents_[i];
-      Mat& A = A_[k * N + i];
-      Mat& B = B_[k * N + i];
-      // rk4_jacobians writes row-major; Eigen's default is column-major.
-      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> Ar(a.n, a.n), Br(a.n, a.m);
-      rk4_jacobians_staged(*a.dyn, X_[k].data() + a.xo, U_[k].data() + a.uo, prob_.tau, prob_.rk4_substeps,
-                           Ar.data(), Br.data());
-      A = Ar;
-      B = Br;
-    }
+  planner_support::parallel_chunks(T_, threads_for(T_, N), [&](int, int begin, int end) {
+    for (int k = begin; k < end; ++k)
+      for (int i = 0; i < N; ++i) {
+        const auto& a = agents_[i];
+        Mat& A = A_[k * N + i];
+        Mat& B = B_[k * N + i];
+        // rk4_jacobians writes row-major; Eigen's default is column-major.
+        Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> Ar(a.n, a.n), Br(a.n, a.m);
+        rk4_jacobians_staged(*a.dyn, X_[k].data() + a.xo, U_[k].data() + a.uo, prob_.tau, prob_.rk4_substeps,
+                             Ar.data(), Br.data());
+        A = Ar;
+        B = Br;
+      }
+  });
 }
 
 void Solver::expand_costs() {
+  // Knots on several threads: knot k writes only its own blocks of the expansion.
+  planner_support::parallel_chunks(T_ + 1, threads_for(T_ + 1, static_cast<long>(agents_.size())),
+                                   [&](int t, int begin, int end) {
+                                     for (int k = begin; k < end; ++k) expand_knot(k, work_[t]);
+                                   });
+}
+
+void Solver::expand_knot(int k, Scratch& s) {
   const int G = static_cast<int>(groups_.size());
-  std::vector<double> g(64), jac;
-  for (int k = 0; k <= T_; ++k) {
+  std::vector<double>& g = s.g;
+  std::vector<double>& jac = s.jac;
+  {
     const bool term = k == T_;
     const Vec& target = term ? goal_centre_ : ref_[k];
     const Vec& x = X_[k];
@@ -75,8 +86,8 @@ void Solver::expand_costs() {
         }
       }
     }
-    if (points_ > 0 && !term) expand_between(k);
-    if (k == 0) continue;
+    if (points_ > 0 && !term) expand_between(k, s);
+    if (k == 0) return;
     auto add = [&](const ConstraintRef& r, const double* lam) {
       g.resize(std::max<size_t>(g.size(), r.rows));
       r.c->evaluate(x.data(), g.data(), nullptr);
@@ -102,9 +113,9 @@ void Solver::expand_costs() {
         }
       }
     };
-    screen_->mark(x.data(), near_);
+    screen_->mark(x.data(), s.near, s.screen);
     for (int c = 0; c < static_cast<int>(stage_.size()); ++c)
-      if (applies_at(*stage_[c].c, k, T_) && needed(near_, c, stage_[c], lam_c_[k].data()))
+      if (applies_at(*stage_[c].c, k, T_) && needed(s.near, c, stage_[c], lam_c_[k].data()))
         add(stage_[c], lam_c_[k].data());
     if (term)
       for (const auto& r : terminal_) add(r, lam_t_.data());
@@ -113,9 +124,26 @@ void Solver::expand_costs() {
 
 bool Solver::backward(double reg, double& dv1, double& dv2) {
   const int G = static_cast<int>(groups_.size());
-  const int N = static_cast<int>(agents_.size());
+  // Groups share nothing in the backward pass: several threads, each group's expected decrease
+  // kept apart and summed in group order (the same sums for any number of threads).
+  std::vector<double> e1(G, 0.0), e2(G, 0.0);
+  std::vector<char> ok(G, 1);
+  planner_support::parallel_chunks(G, G > 1 ? threads_for(G, T_) : 1, [&](int, int begin, int end) {
+    for (int gi = begin; gi < end; ++gi) ok[gi] = backward_group(gi, reg, e1[gi], e2[gi]);
+  });
   dv1 = dv2 = 0.0;
   for (int gi = 0; gi < G; ++gi) {
+    if (!ok[gi]) return false;
+    dv1 += e1[gi];
+    dv2 += e2[gi];
+  }
+  return true;
+}
+
+bool Solver::backward_group(int gi, double reg, double& dv1, double& dv2) {
+  const int G = static_cast<int>(groups_.size());
+  const int N = static_cast<int>(agents_.size());
+  {
     const auto& gr = groups_[gi];
     Mat P = lxx_[T_ * G + gi];
     Vec p = lx_[T_ * G + gi];
@@ -175,17 +203,24 @@ bool Solver::forward(double dv1, double dv2, double& alpha) {
   alpha = 1.0;
   for (int ls = 0; ls < opt_.line_search_steps; ++ls, alpha *= 0.5) {
     Xn_[0] = X_[0];
-    bool finite = true;
-    for (int k = 0; k < T_ && finite; ++k) {
-      for (int gi = 0; gi < G; ++gi) {
+    // Each group's rollout reads only its own states and gains: groups on several threads, each
+    // writing its own segments of Xn_ and Un_.
+    std::vector<char> finite_from(G, 1);
+    planner_support::parallel_chunks(G, G > 1 ? threads_for(G, T_) : 1, [&](int, int begin, int end) {
+      for (int gi = begin; gi < end; ++gi) {
         const auto& gr = groups_[gi];
-        Un_[k].segment(gr.uo, gr.m) = U_[k].segment(gr.uo, gr.m) + alpha * d_[k * G + gi] +
-                                     K_[k * G + gi] * (Xn_[k].segment(gr.xo, gr.n) - X_[k].segment(gr.xo, gr.n));
+        for (int k = 0; k < T_; ++k) {
+          Un_[k].segment(gr.uo, gr.m) = U_[k].segment(gr.uo, gr.m) + alpha * d_[k * G + gi] +
+                                       K_[k * G + gi] * (Xn_[k].segment(gr.xo, gr.n) - X_[k].segment(gr.xo, gr.n));
+          for (int i = gr.first; i < gr.last; ++i) step_agent(agents_[i], Xn_[k], Un_[k], Xn_[k + 1]);
+          if (!Xn_[k + 1].segment(gr.xo, gr.n).allFinite()) {
+            finite_from[gi] = 0;
+            break;
+          }
+        }
       }
-      for (const auto& a : agents_) step_agent(a, Xn_[k], Un_[k], Xn_[k + 1]);
-      finite = Xn_[k + 1].allFinite();
-    }
-    if (!finite) continue;
+    });
+    if (std::find(finite_from.begin(), finite_from.end(), 0) != finite_from.end()) continue;
     const double J = total_cost(Xn_, Un_);
     const double expected = -(alpha * dv1 + alpha * alpha * dv2);
     if (!std::isfinite(J)) continue;
@@ -224,11 +259,15 @@ PlanResult Solver::run() {
     lam_b_.assign(T_, Vec::Zero(static_cast<long>(points_) * between_rows_));
     Luu_.resize(lxx_.size());
     Lux_.resize(lxx_.size());
-    Az_.resize(N);
-    Bz_.resize(N);
-    have_jac_.assign(N, 0);
   }
   rho_ = opt_.penalty_initial;
+  threads_ = planner_support::solver_threads(opt_.threads);
+  work_.assign(threads_, Scratch{});
+  for (auto& w : work_) {
+    w.Az.resize(N);
+    w.Bz.resize(N);
+    w.have_jac.assign(N, 0);
+  }
   initial_guess();
   Xn_ = X_;
   Un_ = U_;

@@ -36,15 +36,20 @@ ProximityScreen::ProximityScreen(const Problem& problem, const std::vector<const
     first_[key] = i;
     ++count_[key];
   }
-  px_.resize(N);
-  py_.resize(N);
-  order_.resize(N);
 }
 
-void ProximityScreen::mark(const double* x, std::vector<char>& near) const {
+void ProximityScreen::mark(const double* x, std::vector<char>& near) const { mark(x, near, own_); }
+
+void ProximityScreen::mark(const double* x, std::vector<char>& near, Buffers& b) const {
   near = unscreened_;
   if (pairs_.empty()) return;
   const int N = static_cast<int>(offsets_.size());
+  b.px.resize(N);
+  b.py.resize(N);
+  b.order.resize(N);
+  std::vector<double>& px_ = b.px;
+  std::vector<double>& py_ = b.py;
+  std::vector<int>& order_ = b.order;
   bool finite = true;
   for (int i = 0; i < N; ++i) {
     const AgentSpec& a = problem_.agents[i];

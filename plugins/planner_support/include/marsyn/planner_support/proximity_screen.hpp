@@ -24,6 +24,12 @@ class ProximityScreen {
   // near[i] = 1 when constraint i may have a row above zero at product state x (every
   // constraint without a reach, and every pair within its reach), 0 otherwise.
   void mark(const double* x, std::vector<char>& near) const;
+  // The same for concurrent callers: each thread brings its own buffers.
+  struct Buffers {
+    std::vector<double> px, py;
+    std::vector<int> order;
+  };
+  void mark(const double* x, std::vector<char>& near, Buffers& buffers) const;
 
  private:
   struct Pair {
@@ -37,8 +43,7 @@ class ProximityScreen {
   std::vector<Pair> pairs_;
   std::vector<int> first_, count_;   // pairs_ sorted by (a, b): the run of agent pair a * N + b
   double widest_ = 0.0;              // the largest reach
-  mutable std::vector<double> px_, py_;
-  mutable std::vector<int> order_;
+  mutable Buffers own_;  // the single-threaded mark's
 };
 
 }  // namespace marsyn::planner_support
