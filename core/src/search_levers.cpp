@@ -168,8 +168,24 @@ Proposal propose(const LeverChoice& lever, const Failure& failure, const Team& t
   p.input_share = *team.input_share;
   p.input_share.resize(p.agents.size(), 1.0);
   p.min_horizon = *team.min_horizon;
+  // Why each refused change was refused, for the stop message ("a1: eps[theta] 0.156 empties
+  // the goal ..."): the first reason per agent.
+  std::vector<std::string> refused;
   auto acceptable = [&](const AgentSpec& a) {
-    return agent_consistent(a) && assess_tracker(instances, a.tracker, a, request).ok;
+    const std::string defect = agent_defect_text(a);
+    if (!defect.empty()) {
+      refused.push_back(a.name + ": " + defect);
+      return false;
+    }
+    const TrackerAssessment as = assess_tracker(instances, a.tracker, a, request);
+    if (!as.ok) refused.push_back(a.name + ": " + a.tracker.name + " refuses (" + as.message + ")");
+    return as.ok;
+  };
+  auto refusals = [&] {
+    std::string out;
+    for (std::size_t r = 0; r < refused.size() && r < 3; ++r) out += (r ? "; " : ": ") + refused[r];
+    if (refused.size() > 3) out += "; and " + std::to_string(refused.size() - 3) + " more";
+    return out;
   };
   auto consider = [&](int i, const AgentSpec& b) {
     if (!acceptable(b)) return;
@@ -215,12 +231,12 @@ Proposal propose(const LeverChoice& lever, const Failure& failure, const Team& t
         break;
       }
       scale_eps(everyone, std::min(0.8, 0.95 * start), {});
-      if (p.changed.empty()) p.why_not = "no agent's tracker accepts a smaller eps";
+      if (p.changed.empty()) p.why_not = "no agent's tracker accepts a smaller eps" + refusals();
       break;
     }
     case Lever::EnlargeEps:
       scale_eps(failure.agents, 1.25, {});
-      if (p.changed.empty()) p.why_not = "a wider tube is refused by the goal, the state bounds or the tracker";
+      if (p.changed.empty()) p.why_not = "a wider tube is refused" + refusals();
       break;
     case Lever::EpsInCoordinate: {
       std::vector<int> who, coord;
@@ -234,7 +250,7 @@ Proposal propose(const LeverChoice& lever, const Failure& failure, const Team& t
         break;
       }
       scale_eps(who, 1.25, coord);
-      if (p.changed.empty()) p.why_not = "a wider tube in that coordinate is refused by the goal, the state bounds or the tracker";
+      if (p.changed.empty()) p.why_not = "a wider tube in that coordinate is refused" + refusals();
       break;
     }
     case Lever::TightenInput: {
@@ -280,7 +296,10 @@ Proposal propose(const LeverChoice& lever, const Failure& failure, const Team& t
           b.tracker = choice.fallbacks.front();
           choice.fallbacks.erase(choice.fallbacks.begin());
           const TrackerAssessment as = assess_tracker(instances, b.tracker, b, request);
-          if (!as.ok) continue;
+          if (!as.ok) {
+            refused.push_back(b.name + ": " + b.tracker.name + " refuses (" + as.message + ")");
+            continue;
+          }
           choice.assessment = as;
           describe(p.agents[i], b, p.changes);
           p.agents[i] = b;
@@ -291,7 +310,7 @@ Proposal propose(const LeverChoice& lever, const Failure& failure, const Team& t
       if (p.changed.empty()) {
         bool automatic = false;
         for (int i : failure.agents) automatic = automatic || p.trackers[i].automatic;
-        p.why_not = automatic ? "no other installed tracker accepts the agents"
+        p.why_not = automatic ? "no other installed tracker accepts the agents" + refusals()
                               : "the file names the agents' trackers; only tracker: auto falls back";
       }
       break;

@@ -37,7 +37,9 @@ TEST(Search, SaysWhyItStopsWhatItTriedAndWhatIsLeft) {
       << m;
   // never declares no lever for a failure without a reason (Tracker::levers), so none is listed.
   EXPECT_EQ(m.find("the tracker's"), std::string::npos) << m;
-  EXPECT_NE(m.find("enlarge eps by 1.25 and re-plan (a wider tube is refused by the goal, the state bounds or the tracker)"),
+  // ... and says which coordinate of which agent refused it, with the numbers.
+  EXPECT_NE(m.find("enlarge eps by 1.25 and re-plan (a wider tube is refused: pendulum: eps[angle] 0.3125 empties the goal, "
+                   "whose half-width there is 0.3)"),
             std::string::npos)
       << m;
   const auto j = marsyn::result_json(o)["search"];

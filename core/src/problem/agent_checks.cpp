@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "marsyn/number_text.hpp"
+
 namespace marsyn {
 
 AgentDefect agent_defect(const AgentSpec& a, int i) {
@@ -18,6 +20,31 @@ bool agent_consistent(const AgentSpec& a) {
   for (int i = 0; i < a.n(); ++i)
     if (agent_defect(a, i) != AgentDefect::None) return false;
   return true;
+}
+
+std::string agent_defect_text(const AgentSpec& a) {
+  const auto names = a.dynamics ? a.dynamics->state_names() : std::vector<std::string>{};
+  for (int i = 0; i < a.n(); ++i) {
+    const AgentDefect d = agent_defect(a, i);
+    if (d == AgentDefect::None) continue;
+    const std::string eps = "eps[" + (i < static_cast<int>(names.size()) ? names[i] : std::to_string(i)) + "] " +
+                            number_text(a.tube.eps[i], 4);
+    const double lo = a.state_bounds.lo[i], hi = a.state_bounds.hi[i];
+    switch (d) {
+      case AgentDefect::X0OutsideBounds: return "x0 " + number_text(a.x0[i], 4) + " is outside the state bounds";
+      case AgentDefect::TubeOutsideBounds:
+        return eps + " reaches past the state bounds [" + number_text(lo, 4) + ", " + number_text(hi, 4) + "] around x0 " +
+               number_text(a.x0[i], 4);
+      case AgentDefect::GoalEmpty:
+        return eps + " empties the goal, whose half-width there is " +
+               number_text(0.5 * (a.goal.hi[i] - a.goal.lo[i]), 4);
+      case AgentDefect::GoalOutsideBounds: return "the goal lies outside the state bounds";
+      case AgentDefect::GoalUnreachable:
+        return eps + " leaves no point of the goal eps inside the state bounds";
+      case AgentDefect::None: break;
+    }
+  }
+  return "";
 }
 
 }  // namespace marsyn

@@ -3,6 +3,8 @@
 // start, whatever tracker follows: the loader rejects violations with located messages, the
 // orchestrator's parameter search never proposes them. Conditions of a tracker's own (abcd: its
 // grid and x0's cell) are that tracker's, asked through Tracker::assess.
+#include <string>
+
 #include "marsyn/problem.hpp"
 
 namespace marsyn {
@@ -20,5 +22,9 @@ enum class AgentDefect {
 AgentDefect agent_defect(const AgentSpec& agent, int i);
 
 bool agent_consistent(const AgentSpec& agent);
+
+// The first defect of any coordinate in words with its numbers ("eps[theta] 0.156 empties the
+// goal, whose half-width there is 0.15"), or "" when the agent is consistent.
+std::string agent_defect_text(const AgentSpec& agent);
 
 }  // namespace marsyn
