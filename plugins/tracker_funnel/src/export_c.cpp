@@ -6,8 +6,9 @@
 // - every constant is a hexadecimal floating literal, the very double of the .ctrl file;
 // - u = clamp(u_k + sum_j K_ij (x_j - x_kj)) is accumulated left to right from u_k, as the C++
 //   loop does, and clamped with std::clamp's comparisons;
-// - the set tests are in_set's loops; the zonotope's membership solver is membership.cpp's
-//   simplex transcribed operation by operation (its answer only proposes coefficients; the
+// - the set tests are in_set's loops; the zonotope's least-norm map P is stored (the doubles
+//   FunnelController computes from the same G) and its coefficients tried first in the same
+//   order; the membership solver is membership.cpp's simplex transcribed operation by operation (its answer only proposes coefficients; the
 //   residual test decides, so even a solver that differed could only refuse, never accept, a
 //   state outside the verified zonotope: docs/soundness.md section 11);
 // - the source refuses excess precision and turns contraction into FMA off (c_source.hpp).
@@ -82,6 +83,10 @@ struct SetPool {
   int max_generators = 0;
   bool any_zonotope = false, any_parallelotope = false, any_axis = false;
   int offset_bytes = 1;
+  // The zonotopes' least-norm maps (membership.hpp), each step's at fast_at[k] (-1: none), as
+  // FunnelController computes them from the same G.
+  std::vector<double> fast;
+  std::vector<long long> fast_at;  // T + 1
 };
 
 SetPool pool_of(const FunnelData& d) {
@@ -108,9 +113,13 @@ SetPool pool_of(const FunnelData& d) {
       p.values.insert(p.values.end(), s.tol.begin(), s.tol.end());
       p.max_generators = std::max(p.max_generators, s.generators);
       p.any_zonotope = true;
+      const std::vector<double> P = least_norm_map(s.S.data(), n, s.generators);
+      p.fast_at.push_back(P.empty() ? -1 : static_cast<long long>(p.fast.size()));
+      p.fast.insert(p.fast.end(), P.begin(), P.end());
       p.any_axis = p.any_axis || axis;
       if (axis) kind = (kind & kExplicitBox) | kAxisZonotope;
     }
+    if (s.kind != kZonotope) p.fast_at.push_back(-1);
     p.kind.push_back(kind);
   }
   p.offset_bytes = unsigned_bytes(p.values.size());
@@ -122,7 +131,8 @@ SetPool pool_of(const FunnelData& d) {
 long long const_bytes(const FunnelData& d, const SetPool& p) {
   const long long T = d.horizon(), n = d.n, m = d.m;
   const long long doubles = (T + 1) * n + T * (m + m * n) + n + 2 * m + std::max<long long>(1, static_cast<long long>(p.values.size()));
-  return 8 * doubles + (T + 1) * (1 + (p.any_zonotope ? 1 : 0) + p.offset_bytes);
+  return 8 * (doubles + static_cast<long long>(p.fast.size())) +
+         (T + 1) * (1 + (p.any_zonotope ? 1 + 4 : 0) + p.offset_bytes);
 }
 
 // membership.cpp's zonotope_coefficients for this agent's n (rows) and largest p, with fixed-size
@@ -246,6 +256,15 @@ std::string source(const FunnelData& d, const SetPool& pool, const std::string& 
   c << ";\nstatic const double " << p << "set[" << std::max<size_t>(1, pool.values.size()) << "] = ";
   array_body(c, static_cast<long long>(pool.values.size()), [&](long long i) { return hex_double(pool.values[static_cast<size_t>(i)]); });
   c << ";\n\n";
+  if (pool.any_zonotope) {
+    c << "/* zonotope steps: the least-norm map P = G' (G G')^-1 (g x n row-major) at fast[fast_at[k]], -1: none;\n"
+         " * its coefficients are tried before the simplex's, and the same residual test decides */\n"
+      << "static const int32_t " << p << "fast_at[" << T + 1 << "] = ";
+    array_body(c, T + 1, [&](long long k) { return std::to_string(pool.fast_at[static_cast<size_t>(k)]); });
+    c << ";\nstatic const double " << p << "fast[" << std::max<size_t>(1, pool.fast.size()) << "] = ";
+    array_body(c, static_cast<long long>(pool.fast.size()), [&](long long i) { return hex_double(pool.fast[static_cast<size_t>(i)]); });
+    c << ";\n\n";
+  }
   if (any_eps_box)
     c << "/* a - b rounded up and a + b rounded down with round-to-nearest operations only: TwoSum's exact error\n"
          " * says which way the sum was rounded, t +- 2^-53 (1 + 2^-52) |t| is the neighbouring double. marsyn\n"
@@ -281,6 +300,15 @@ std::string source(const FunnelData& d, const SetPool& pool, const std::string& 
       << "      for (i = 0; i < " << n << "; ++i)\n        G[j * " << n << " + i] = i == j - dense ? c[" << n << " + " << n
       << " * dense + i] : 0.0;\n"
       << "    for (j = 0; j < " << n << "; ++j)\n      d[j] = x[j] - c[j];\n"
+      << "    if (" << p << "fast_at[k] >= 0) {\n"
+      << "      const double *P = " << p << "fast + " << p << "fast_at[k];\n      int ok = 1;\n"
+      << "      for (j = 0; j < g; ++j) {\n        double s = 0.0;\n"
+      << "        for (i = 0; i < " << n << "; ++i)\n          s += P[j * " << n << " + i] * d[i];\n        xi[j] = s;\n      }\n"
+      << "      for (j = 0; j < g && ok; ++j)\n        if (!(fabs(xi[j]) <= 1.0))\n          ok = 0;\n"
+      << "      for (i = 0; i < " << n << " && ok; ++i) {\n        double r = -d[i];\n"
+      << "        for (j = 0; j < g; ++j)\n          r += G[j * " << n << " + i] * xi[j];\n"
+      << "        if (!(fabs(r) <= tol[i]))\n          ok = 0;\n      }\n"
+      << "      if (ok)\n        return 1;\n    }\n"
       << "    " << p << "coefficients(G, g, d, xi);\n"
       << "    /* the residual allowance holds for coefficients in the cube only */\n"
       << "    for (j = 0; j < g; ++j)\n      if (!(fabs(xi[j]) <= 1.0))\n        return 0;\n"
@@ -318,6 +346,10 @@ ExportResult export_c(const FunnelData& d, const ExportRequest& req) {
   std::string prefix;
   if (!c_source::c_request_prefix(req, d.agent, prefix, r)) return r;
   const SetPool pool = pool_of(d);
+  if (pool.fast.size() > 0x7FFFFFFFull) {
+    r.message = "the least-norm maps hold more than 2^31 numbers; the C tables index them with 32 bits";
+    return r;
+  }
   if (pool.values.size() > 0xFFFFFFFFull) {
     r.message = "the verified sets hold more than 2^32 numbers; the C tables index them with 32 bits";
     return r;

@@ -18,7 +18,15 @@ constexpr std::uint32_t kMaxDim = 64, kMaxSteps = 1u << 20;
 
 }  // namespace
 
-FunnelController::FunnelController(FunnelData d) : data_(std::move(d)) {}
+FunnelController::FunnelController(FunnelData d) : data_(std::move(d)) {
+  least_norm_.resize(data_.sets.size());
+  for (std::size_t k = 0; k < data_.sets.size(); ++k) {
+    const StepSet& s = data_.sets[k];
+    if (s.kind == kZonotope && s.generators <= kMaxMembershipGenerators &&
+        s.S.size() == static_cast<std::size_t>(s.generators) * data_.n)
+      least_norm_[k] = least_norm_map(s.S.data(), data_.n, s.generators);
+  }
+}
 
 bool FunnelController::in_set(const double* x, int k) const {
   if (k < 0 || k > horizon()) return false;
@@ -28,20 +36,29 @@ bool FunnelController::in_set(const double* x, int k) const {
     if (!(x[j] >= s.lo[j] && x[j] <= s.hi[j])) return false;  // also refuses NaN
   if (s.kind == kBox) return true;
   if (s.kind == kZonotope) {
-    // The solver proposes coefficients; only the residual check below decides.
+    // Two proposals of coefficients, the least-norm ones (cheap) and then the simplex's; only the
+    // residual check decides.
     const int p = s.generators;
     double d[64], xi[kMaxMembershipGenerators];
     for (int j = 0; j < n; ++j) d[j] = x[j] - s.c[j];
-    zonotope_coefficients(s.S.data(), n, p, d, xi);
-    // The residual allowance holds for coefficients in the cube only: check them too.
-    for (int j = 0; j < p; ++j)
-      if (!(std::fabs(xi[j]) <= 1.0)) return false;
-    for (int i = 0; i < n; ++i) {
-      double r = -d[i];
-      for (int j = 0; j < p; ++j) r += s.S[static_cast<std::size_t>(j) * n + i] * xi[j];
-      if (!(std::fabs(r) <= s.tol[i])) return false;
+    auto accepted = [&] {
+      // The residual allowance holds for coefficients in the cube only: check them too.
+      for (int j = 0; j < p; ++j)
+        if (!(std::fabs(xi[j]) <= 1.0)) return false;
+      for (int i = 0; i < n; ++i) {
+        double r = -d[i];
+        for (int j = 0; j < p; ++j) r += s.S[static_cast<std::size_t>(j) * n + i] * xi[j];
+        if (!(std::fabs(r) <= s.tol[i])) return false;
+      }
+      return true;
+    };
+    const std::vector<double>& P = least_norm_[static_cast<std::size_t>(k)];
+    if (!P.empty()) {
+      least_norm_coefficients(P.data(), n, p, d, xi);
+      if (accepted()) return true;
     }
-    return true;
+    zonotope_coefficients(s.S.data(), n, p, d, xi);
+    return accepted();
   }
   // The verification bounds the rounding of exactly this loop (docs/soundness.md section 11).
   for (int i = 0; i < n; ++i) {

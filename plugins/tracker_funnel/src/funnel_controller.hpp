@@ -3,8 +3,9 @@
 //   u = sat_U(u_k + K_k (x - x_k))   for x in the verified set V_k of step k.
 // V_0 is the initial box; V_k (k >= 1) is a parallelotope {x in box_k : |fl(S_k (x - c_k))|_inf
 // <= 1} or a zonotope (membership.hpp), exactly the set the evaluation below accepts, floating
-// point included (docs/soundness.md section 11). O(n^2) per call for parallelotopes, one small
-// simplex (n rows, <= 2n columns) for zonotopes.
+// point included (docs/soundness.md section 11). O(n^2) per call for parallelotopes; for
+// zonotopes O(n p) when the least-norm coefficients lie in the cube, else one small simplex
+// (n rows, p columns).
 //
 // File layout (binary_file.hpp envelope, magic "MARSYNFT", format 1): payload = dynamics type,
 // agent, u32 n, m, T, f64 tau, eps[n], w[n], u_lo[m], u_hi[m]; per step k = 0..T: x_k[n],
@@ -69,9 +70,12 @@ class FunnelController : public marsyn::Controller {
   // x in V_k (k = 0..T).
   bool in_set(const double* x, int k) const;
   const FunnelData& data() const { return data_; }
+  // Per step: the zonotope's least-norm map (membership.hpp), or empty.
+  const std::vector<double>& least_norm(int k) const { return least_norm_[static_cast<std::size_t>(k)]; }
 
  private:
   FunnelData data_;
+  std::vector<std::vector<double>> least_norm_;
 };
 
 std::string serialize(const FunnelData& d);

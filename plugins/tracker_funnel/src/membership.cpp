@@ -4,6 +4,9 @@
 #include <array>
 #include <cmath>
 
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
 namespace marsyn::funnel {
 
 bool zonotope_coefficients(const double* G, int n, int p, const double* d, double* xi) {
@@ -104,6 +107,24 @@ bool zonotope_coefficients(const double* G, int n, int p, const double* d, doubl
   for (int i = 0; i < n; ++i)
     if (basis[i] < p) xi[basis[i]] = std::clamp(value[i] - 1.0, -1.0, 1.0);
   return infeasibility <= 1e-9 * scale;
+}
+
+std::vector<double> least_norm_map(const double* G, int n, int p) {
+  if (n < 1 || p < n) return {};
+  const Eigen::Map<const Eigen::MatrixXd> g(G, n, p);  // column-major, as stored
+  if (!g.allFinite()) return {};
+  const Eigen::MatrixXd gram = g * g.transpose();
+  Eigen::LLT<Eigen::MatrixXd> llt(gram);
+  if (llt.info() != Eigen::Success) return {};
+  // A nearly singular G G' gives coefficients the residual test would refuse anyway: skip it.
+  const Eigen::VectorXd diag = llt.matrixL().toDenseMatrix().diagonal();
+  if (!(diag.minCoeff() > 1e-6 * diag.maxCoeff())) return {};
+  const Eigen::MatrixXd P = llt.solve(g).transpose();  // p x n = G' (G G')^-1
+  if (!P.allFinite()) return {};
+  std::vector<double> out(static_cast<std::size_t>(p) * n);
+  for (int j = 0; j < p; ++j)
+    for (int i = 0; i < n; ++i) out[static_cast<std::size_t>(j) * n + i] = P(j, i);
+  return out;
 }
 
 }  // namespace marsyn::funnel

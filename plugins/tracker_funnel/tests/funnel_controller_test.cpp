@@ -1,13 +1,16 @@
 #include <dlfcn.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
+#include <random>
 #include <fstream>
 #include <sstream>
 
 #include "funnel_scenarios.hpp"
 #include "funnel_tracker.hpp"
 #include "marsyn/plugin.hpp"
+#include "membership.hpp"
 
 namespace marsyn::funnel {
 namespace {
@@ -56,6 +59,65 @@ TEST(FunnelController, FileRoundTripIsByteIdenticalAndAnswersAlike) {
   EXPECT_EQ(back->period_enclosures().size(), c->period_enclosures().size());
   std::filesystem::remove(a);
   std::filesystem::remove(b);
+}
+
+// The zonotope test as it was before the least-norm proposal: the simplex's coefficients, in the
+// cube, with the residual within tol.
+bool in_zonotope_by_simplex(const StepSet& s, int n, const double* x) {
+  const int p = s.generators;
+  std::vector<double> d(n), xi(p);
+  for (int j = 0; j < n; ++j) d[j] = x[j] - s.c[j];
+  zonotope_coefficients(s.S.data(), n, p, d.data(), xi.data());
+  for (int j = 0; j < p; ++j)
+    if (!(std::fabs(xi[j]) <= 1.0)) return false;
+  for (int i = 0; i < n; ++i) {
+    double r = -d[i];
+    for (int j = 0; j < p; ++j) r += s.S[static_cast<size_t>(j) * n + i] * xi[j];
+    if (!(std::fabs(r) <= s.tol[i])) return false;
+  }
+  return true;
+}
+
+// The least-norm coefficients are a cheaper proposal, not a new rule: on states c + G xi with xi
+// a little beyond the cube (inside and outside V_k) in_set answers exactly as the simplex alone,
+// and most accepted states never reach the simplex.
+TEST(FunnelController, TheLeastNormProposalAcceptsExactlyWhatTheSimplexAccepts) {
+  const auto c = unicycle_controller();
+  const FunnelData& d = c->data();
+  std::mt19937_64 rng(7);
+  long zonotope_steps = 0, inside = 0, outside = 0, by_least_norm = 0;
+  for (int k = 1; k <= d.horizon(); ++k) {
+    const StepSet& s = d.sets[k];
+    if (s.kind != kZonotope) continue;
+    ++zonotope_steps;
+    ASSERT_FALSE(c->least_norm(k).empty()) << "step " << k;
+    for (int t = 0; t < 400; ++t) {
+      std::vector<double> x(d.n), xi(s.generators), dx(d.n);
+      // c + G xi with xi a little beyond the cube: inside, outside, and near the faces.
+      // Every other sample a vertex of the cube scaled by 0.8..1.3 (outside beyond about 1).
+      std::uniform_real_distribution<double> coefficient(-1.15, 1.15), scale(0.8, 1.3);
+      const double lambda = scale(rng);
+      for (int j = 0; j < s.generators; ++j) xi[j] = t % 2 ? coefficient(rng) : lambda * (rng() % 2 ? 1.0 : -1.0);
+      for (int i = 0; i < d.n; ++i) {
+        x[i] = s.c[i];
+        for (int j = 0; j < s.generators; ++j) x[i] += s.S[static_cast<size_t>(j) * d.n + i] * xi[j];
+        dx[i] = x[i] - s.c[i];
+      }
+      bool in_box = true;
+      for (int i = 0; i < d.n; ++i) in_box = in_box && x[i] >= s.lo[i] && x[i] <= s.hi[i];
+      const bool expected = in_box && in_zonotope_by_simplex(s, d.n, x.data());
+      ASSERT_EQ(c->in_set(x.data(), k), expected) << "step " << k << ", sample " << t;
+      (expected ? inside : outside) += 1;
+      least_norm_coefficients(c->least_norm(k).data(), d.n, s.generators, dx.data(), xi.data());
+      bool cube = true;
+      for (double v : xi) cube = cube && std::fabs(v) <= 1.0;
+      by_least_norm += expected && cube;
+    }
+  }
+  ASSERT_GT(zonotope_steps, 0);
+  EXPECT_GT(inside, 1000);
+  EXPECT_GT(outside, 300);
+  EXPECT_GT(by_least_norm, inside / 2) << "the least-norm proposal rarely lies in the cube";
 }
 
 TEST(FunnelController, StatusesOutsideTheSetAndTheHorizon) {
