@@ -31,8 +31,8 @@
 #ifdef MARSYN_HAVE_PLANNING
 #include "marsyn/core/report/result_json.hpp"
 #include "marsyn/core/report/solve_outputs.hpp"
-#include "marsyn/core/solve.hpp"
 #include "marsyn/core/planning/plan.hpp"
+#include "marsyn/core/setup.hpp"
 #endif
 
 namespace py = pybind11;
@@ -262,18 +262,8 @@ void add_module_plugin_paths() {
   if (!path.empty()) setenv("MARSYN_PLUGIN_PATH", path.c_str(), 1);
 }
 
-}  // namespace
-
-PYBIND11_MODULE(marsyn, m) {
-  m.doc() = "marsyn: formally guaranteed, decentralized controllers for multi-agent reach-avoid problems (docs/python.md)";
-  add_module_plugin_paths();
-  m.attr("OK") = 0;
-  m.attr("OUTSIDE_DOMAIN") = 1;
-  m.attr("OUTSIDE_HORIZON") = 2;
-#ifdef MARSYN_VERSION
-  m.attr("__version__") = MARSYN_VERSION;
-#endif
-
+// marsyn.ConfigError and marsyn.ParamError, with the fields of their C++ originals.
+void bind_errors(py::module_& m) {
   static py::handle config_error =
       py::exception<ConfigError>(m, "ConfigError", PyExc_ValueError).release();
   static py::handle param_error = py::exception<ParamError>(m, "ParamError", PyExc_ValueError).release();
@@ -294,7 +284,10 @@ PYBIND11_MODULE(marsyn, m) {
       PyErr_SetObject(param_error.ptr(), ex.ptr());
     }
   });
+}
 
+// plugins(), Problem and load().
+void bind_problem(py::module_& m) {
   m.def(
       "plugins",
       []() {
@@ -378,7 +371,10 @@ PYBIND11_MODULE(marsyn, m) {
       "memory) is what the trackers' and the planner's estimates are judged against, here and when this problem is "
       "tracked or solved. Bad input raises marsyn.ConfigError with the CLI's located message "
       "(attributes file, line, column, path, message).");
+}
 
+// Controller and read_controller().
+void bind_controller(py::module_& m) {
   py::class_<PyController>(m, "Controller", "A synthesized controller C(x, k).")
       .def_property_readonly("state_dim", [](const PyController& c) { return c.c->state_dim(); })
       .def_property_readonly("input_dim", [](const PyController& c) { return c.c->input_dim(); })
@@ -443,24 +439,22 @@ PYBIND11_MODULE(marsyn, m) {
       },
       py::arg("path"), py::arg("tracker") = "abcd",
       "Read a controller file written by a tracker plugin (default abcd); a corrupt file raises ConfigError.");
+}
 
 #ifdef MARSYN_HAVE_PLANNING
+// plan() and track(): stages 1-3 through the Setup, as `marsyn plan` and `marsyn track`.
+void bind_plan_and_track(py::module_& m) {
   m.def(
       "plan",
       [](const PyProblem& p, py::object log) {
-        const auto& lp = *p.lp;
-        const Problem& pb = lp.problem;
-        auto planner = lp.registry->create<Planner>(pb.planner.name, pb.planner.params);
-        std::shared_ptr<Planner> warm;
-        if (!pb.warm_start_planner.name.empty())
-          warm = lp.registry->create<Planner>(pb.warm_start_planner.name, pb.warm_start_planner.params);
+        Setup setup(p.lp);
+        const Problem& pb = setup.problem();
         planning::PlanSearchOptions po;
         po.log = progress(log);
-        po.warm_start_planner = warm.get();
         planning::PlanOutcome out;
         {
           py::gil_scoped_release release;
-          out = planning::plan(pb, *planner, po);
+          out = setup.plan(po);
           po.log = nullptr;
         }
         py::dict d;
@@ -485,44 +479,29 @@ PYBIND11_MODULE(marsyn, m) {
   m.def(
       "track",
       [](const PyProblem& p, const std::string& agent, py::object plan, int threads, py::object log) {
-        const auto& lp = *p.lp;
-        const Problem& pb = lp.problem;
+        Setup setup(p.lp);
+        const Problem& pb = setup.problem();
         int index = -1;
         for (size_t i = 0; i < pb.agents.size(); ++i)
           if (pb.agents[i].name == agent) index = static_cast<int>(i);
         if (index < 0) throw ConfigError(pb.source, 0, 0, "agent", "no agent named '" + agent + "'");
         std::vector<NominalTrajectory> nominal;
         if (plan.is_none()) {
-          auto planner = lp.registry->create<Planner>(pb.planner.name, pb.planner.params);
-          std::shared_ptr<Planner> warm;
-          if (!pb.warm_start_planner.name.empty())
-            warm = lp.registry->create<Planner>(pb.warm_start_planner.name, pb.warm_start_planner.params);
           planning::PlanSearchOptions po;
           po.log = progress(log);
-          po.warm_start_planner = warm.get();
-          planning::PlanOutcome out;
-          {
-            py::gil_scoped_release release;
-            out = planning::plan(pb, *planner, po);
-            po.log = nullptr;
-          }
-          if (!out.feasible) throw std::runtime_error("planning failed: " + out.check.message);
-          nominal = out.nominal;
+          py::gil_scoped_release release;
+          nominal = setup.nominal(po);
+          po.log = nullptr;
         } else {
           nominal = nominal_from(pb, plan);
         }
-        TrackerInstances trackers(lp.registry);
-        const size_t i = static_cast<size_t>(index);
-        const TrackingProblem tp = tracking_problem(pb, index, nominal[i]);
-        TrackOptions to;
+        TrackOptions to;  // its memory budget: the loaded problem's, set by the Setup
         to.threads = threads;
-        to.memory_budget_bytes = lp.memory_budget.bytes;
         FallbackTrack tracked;
         {
           const auto log_line = progress(log);
           py::gil_scoped_release release;
-          tracked = track_with_fallback(trackers, pb.agents[i], i < lp.trackers.size() ? &lp.trackers[i] : nullptr, tp,
-                                        to, log_line);
+          tracked = setup.track(index, nominal[static_cast<size_t>(index)], to, log_line);
         }
         const TrackResult& r = tracked.result;
         py::dict d;
@@ -544,7 +523,12 @@ PYBIND11_MODULE(marsyn, m) {
       "the next tracker that accepted the agent. plan is a dict from plan()/solve(), a plan.json path, or None (plan "
       "now). Returns {agent, tracker (the one whose result this is), automatic, tried, status, message, stats, "
       "controller, nominal}.");
+}
+#endif
 
+#ifdef MARSYN_HAVE_PLANNING
+// solve(): everything through the Setup, as `marsyn solve`.
+void bind_solve(py::module_& m) {
   m.def(
       "solve",
       [](const PyProblem& p, int runs, int threads, double global_budget, py::object out, py::object log,
@@ -564,7 +548,7 @@ PYBIND11_MODULE(marsyn, m) {
         SolveOutcome outcome;
         {
           py::gil_scoped_release release;
-          outcome = solve(*p.lp, so);
+          outcome = Setup(p.lp).solve(so);
           so.log = nullptr;
         }
         py::list files;
@@ -592,8 +576,11 @@ PYBIND11_MODULE(marsyn, m) {
       "controllers {name: Controller}, tubes {name: {t, nominal, lo, hi, eps, enclosures}}, margins (one dict per kept "
       "closed-loop run: t, samples, dense_t, dense), changes (what the search changed against the file: {agent, what, "
       "given, used}) and, with out=DIR, the files written there.");
+}
 #endif
 
+// simulate(), as `marsyn simulate`.
+void bind_simulate(py::module_& m) {
   m.def(
       "simulate",
       [](const PyProblem& p, py::object controllers, py::object plan, const std::string& disturbance, std::uint64_t seed,
@@ -649,4 +636,26 @@ PYBIND11_MODULE(marsyn, m) {
       "All agents' closed loop (or open loop with controllers=None) under a disturbance mode (none, vertex, paper, "
       "uniform, switching), as `marsyn simulate`. controllers: {name: Controller}, a list, or a solve folder. Returns "
       "states (T+1, N), agents {name: (T+1, n)}, satisfied, min_margin, worst, max_tube_excess, outside_domain_*.");
+}
+
+}  // namespace
+
+PYBIND11_MODULE(marsyn, m) {
+  m.doc() = "marsyn: formally guaranteed, decentralized controllers for multi-agent reach-avoid problems (docs/python.md)";
+  add_module_plugin_paths();
+  m.attr("OK") = 0;
+  m.attr("OUTSIDE_DOMAIN") = 1;
+  m.attr("OUTSIDE_HORIZON") = 2;
+#ifdef MARSYN_VERSION
+  m.attr("__version__") = MARSYN_VERSION;
+#endif
+
+  bind_errors(m);
+  bind_problem(m);
+  bind_controller(m);
+#ifdef MARSYN_HAVE_PLANNING
+  bind_plan_and_track(m);
+  bind_solve(m);
+#endif
+  bind_simulate(m);
 }

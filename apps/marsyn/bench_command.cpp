@@ -10,7 +10,7 @@
 #include "commands.hpp"
 #include "marsyn/core/planning/plan.hpp"
 #include "marsyn/core/problem/problem_loader.hpp"
-#include "marsyn/core/solve.hpp"
+#include "marsyn/core/setup.hpp"
 #include "marsyn/number_text.hpp"
 
 namespace fs = std::filesystem;
@@ -83,12 +83,12 @@ int run_bench(const std::string& examples_list, const std::string& planners_list
     const std::vector<std::string> head = {"example", "status", "T_plan s", "N_l (max)", "T_abs s (max)", "T_syn s (max)",
                                            "verify runs", "violations", "open-loop viol.", "total s"};
     for (const auto& ex : examples) {
-      const LoadedProblem lp = load_problem(resolve_example(ex), load);
+      Setup setup(load_problem(resolve_example(ex), load));
       SolveOptions so;
       so.verification_runs = runs;
       so.threads = threads;
       std::fprintf(stderr, "[bench] solve %s ...\n", ex.c_str());
-      const SolveOutcome o = solve(lp, so);
+      const SolveOutcome o = setup.solve(so);
       double nl = 0, ta = 0, ts = 0;
       for (const auto& a : o.agents) {
         nl = std::max(nl, a.track.stats.state_input_pairs);
@@ -108,28 +108,26 @@ int run_bench(const std::string& examples_list, const std::string& planners_list
   const std::vector<std::string> head = {"example", "planner", "feasible", "plan s", "iterations", "cost",
                                          "min robust margin", "horizon", "tracking"};
   for (const auto& ex : examples) {
-    const LoadedProblem lp = load_problem(resolve_example(ex), load);
+    Setup setup(load_problem(resolve_example(ex), load));
     std::vector<std::string> planners = split(planners_list);
-    if (planners.empty()) planners = lp.registry->names("planner");
+    if (planners.empty()) planners = setup.loaded().registry->names("planner");
     for (const auto& name : planners) {
-      Problem pb = lp.problem;
+      Problem pb = setup.problem();
       if (pb.planner.name != name) pb.planner = {name, {}};  // the config's parameters belong to its own planner
-      std::shared_ptr<Planner> planner;
+      pb.warm_start_planner = {};  // each planner measured alone, without the config's chain
       try {
-        planner = lp.registry->create<Planner>(name, pb.planner.params);
+        setup.planner(pb.planner);
       } catch (const std::exception& e) {
         rows.push_back({{ex, name, "error", "-", "-", "-", "-", "-", e.what()}});
         continue;
       }
       std::fprintf(stderr, "[bench] %s with %s ...\n", ex.c_str(), name.c_str());
-      planning::PlanSearchOptions po;
-      const planning::PlanOutcome o = planning::plan(pb, *planner, po);
+      const planning::PlanOutcome o = setup.plan(pb, {});
       std::string tracking = "-";
       if (track && o.feasible) {
-        TrackerInstances trackers(lp.registry);
         SolveOptions so;
         so.threads = threads;
-        const auto agents = track_agents(pb, o.nominal, trackers.for_agents(pb), so, lp.memory_budget);
+        const auto agents = setup.track(pb, o.nominal, so);
         int ok = 0;
         for (const auto& a : agents) ok += a.track.status == TrackerStatus::ControllerFound;
         tracking = std::to_string(ok) + "/" + std::to_string(agents.size()) + " agents";

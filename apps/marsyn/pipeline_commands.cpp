@@ -22,6 +22,7 @@
 #include "marsyn/core/problem/config_error.hpp"
 #include "marsyn/core/report/result_json.hpp"
 #include "marsyn/core/report/solve_outputs.hpp"
+#include "marsyn/core/setup.hpp"
 #include "marsyn/core/solve.hpp"
 #include "marsyn/core/report/output_folder.hpp"
 #include "marsyn/core/planning/plan_io.hpp"
@@ -129,27 +130,21 @@ std::vector<NominalTrajectory> straight_line(const Problem& pb) {
   return out;
 }
 
-// The config's planner.warm_start, if any.
-std::shared_ptr<Planner> warm_start_planner(const LoadedProblem& lp) {
-  const auto& w = lp.problem.warm_start_planner;
-  return w.name.empty() ? nullptr : lp.registry->create<Planner>(w.name, w.params);
-}
-
-std::vector<NominalTrajectory> nominal_for(const LoadedProblem& lp, const std::string& plan_file) {
-  if (plan_file == "straight-line") {
-    log_line("[plan] straight line from x0 to the goal centre (ignores the dynamics, paper Sec. 3.5)");
-    return straight_line(lp.problem);
-  }
-  if (!plan_file.empty()) return planning::read_plan_json(plan_file, lp.problem);
-  log_line("[plan] no --plan given: planning first with " + lp.problem.planner.name);
-  auto planner = lp.registry->create<Planner>(lp.problem.planner.name, lp.problem.planner.params);
-  const auto warm = warm_start_planner(lp);
+// The plan stage's options as every command here gives them: progress lines to stderr.
+planning::PlanSearchOptions plan_options() {
   planning::PlanSearchOptions po;
   po.log = [](const std::string& s) { log_line("[plan] " + s); };
-  po.warm_start_planner = warm.get();
-  const planning::PlanOutcome out = planning::plan(lp.problem, *planner, po);
-  if (!out.feasible) throw std::runtime_error("planning failed: " + out.check.message);
-  return out.nominal;
+  return po;
+}
+
+std::vector<NominalTrajectory> nominal_for(Setup& setup, const std::string& plan_file) {
+  if (plan_file == "straight-line") {
+    log_line("[plan] straight line from x0 to the goal centre (ignores the dynamics, paper Sec. 3.5)");
+    return straight_line(setup.problem());
+  }
+  if (!plan_file.empty()) return planning::read_plan_json(plan_file, setup.problem());
+  log_line("[plan] no --plan given: planning first with " + setup.problem().planner.name);
+  return setup.nominal(plan_options());
 }
 
 }  // namespace
@@ -161,14 +156,9 @@ void mark_failure_shared() { g_failure_shared = true; }
 bool failure_is_shared() { return g_failure_shared; }
 
 int run_plan(const std::string& config, const std::string& out_requested, const LoadOptions& load) {
-  const LoadedProblem lp = load_problem(config, load);
-  const Problem& pb = lp.problem;
-  auto planner = lp.registry->create<Planner>(pb.planner.name, pb.planner.params);
-  const auto warm = warm_start_planner(lp);
-  planning::PlanSearchOptions po;
-  po.log = [](const std::string& s) { log_line("[plan] " + s); };
-  po.warm_start_planner = warm.get();
-  const planning::PlanOutcome out = planning::plan(pb, *planner, po);
+  Setup setup(load_problem(config, load));
+  const Problem& pb = setup.problem();
+  const planning::PlanOutcome out = setup.plan(plan_options());
   // Output rule (docs/problem-format.md): plan.json always (feasible or not, with the reason);
   // the per-agent CSVs only for a feasible plan.
   const OutputFolder folder(out_dir_for(out_requested, pb));
@@ -187,29 +177,24 @@ int run_plan(const std::string& config, const std::string& out_requested, const 
 int run_track(const std::string& config, const std::string& agent, const std::string& plan_file,
               const std::string& out_requested, int threads, const LoadOptions& load, const Collective* cluster) {
   const bool root = !cluster || cluster->rank() == 0;
-  const LoadedProblem lp = load_on_every_rank(config, load, cluster);
-  const Problem& pb = lp.problem;
+  Setup setup(load_on_every_rank(config, load, cluster));
+  const Problem& pb = setup.problem();
   int index = -1;
   const AgentSpec& a = find_agent(pb, agent, &index);
-  TrackerInstances trackers(lp.registry);
   // Over MPI: rank 0 plans (or reads the plan), the others receive the nominal trajectories.
   planning::PlanOutcome planned;
-  if (root) planned.nominal = nominal_for(lp, plan_file);
+  if (root) planned.nominal = nominal_for(setup, plan_file);
   if (cluster) mpi::broadcast_plan(*cluster, planned);
-  const auto& nominal = planned.nominal;
-  const TrackingProblem tp = tracking_problem(pb, index, nominal[index]);
-  TrackOptions to;
+  TrackOptions to;  // its memory budget: the loader's, set by the Setup
   to.threads = threads;
-  to.memory_budget_bytes = lp.memory_budget.bytes;  // the budget the loader's assessment judged
   to.collective = cluster;  // every rank shares this agent's sweep (docs/mpi.md)
   if (root)
     to.progress = [p = std::make_shared<SweepProgress>(a.name, log_line, stderr_is_terminal() ? live_line : SweepProgress::Sink{})](
                       int done, int total) { (*p)(done, total); };
   // The agent's tracker; under `tracker: auto`, on "no controller" the next one that accepted it.
   if (root && cluster) log_line("[track] " + a.name + " over " + std::to_string(cluster->size()) + " ranks");
-  const auto index_ok = static_cast<std::size_t>(index) < lp.trackers.size();
-  const FallbackTrack tracked = track_with_fallback(trackers, a, index_ok ? &lp.trackers[index] : nullptr, tp, to,
-                                                    root ? log_line : std::function<void(const std::string&)>{});
+  const FallbackTrack tracked =
+      setup.track(index, planned.nominal[index], to, root ? log_line : std::function<void(const std::string&)>{});
   const TrackResult& r = tracked.result;
   const std::string& used = tracked.tracker;
   const bool automatic = tracked.automatic;
@@ -258,39 +243,24 @@ int run_track(const std::string& config, const std::string& agent, const std::st
   return 1;
 }
 
-int run_solve(const std::string& config, const std::string& out_requested, int runs, int threads, double global_budget,
-              std::optional<double> time_limit_s, const LoadOptions& load, const Collective* cluster) {
-  const bool root = !cluster || cluster->rank() == 0;
-  const LoadedProblem lp = load_on_every_rank(config, load, cluster);
-  SolveOptions so;
-  if (lp.search_time_limit_s) so.time_limit_s = *lp.search_time_limit_s;
-  if (time_limit_s) so.time_limit_s = *time_limit_s;  // the command line over the file
-  so.verification_runs = runs;
-  so.threads = threads;
-  so.global_memory_budget_bytes = global_budget;
-  so.cluster = cluster;
-  if (root) so.log = log_line;  // one progress stream: rank 0's
-  if (root && stderr_is_terminal()) so.live = live_line;
-  std::string trackers;  // "abcd" or "abcd x9, funnel x1"
-  {
-    std::vector<std::pair<std::string, int>> counts;
-    for (const auto& a : lp.problem.agents) {
-      auto it = std::find_if(counts.begin(), counts.end(), [&](const auto& c) { return c.first == a.tracker.name; });
-      if (it == counts.end()) counts.emplace_back(a.tracker.name, 1);
-      else ++it->second;
-    }
-    for (const auto& [name, count] : counts)
-      trackers += (trackers.empty() ? "" : ", ") + name + (counts.size() > 1 ? " x" + std::to_string(count) : "");
+namespace {
+
+// "abcd", or "abcd x9, funnel x1" when the agents' trackers differ.
+std::string trackers_text(const Problem& pb) {
+  std::vector<std::pair<std::string, int>> counts;
+  for (const auto& a : pb.agents) {
+    auto it = std::find_if(counts.begin(), counts.end(), [&](const auto& c) { return c.first == a.tracker.name; });
+    if (it == counts.end()) counts.emplace_back(a.tracker.name, 1);
+    else ++it->second;
   }
-  if (root)
-    log_line("[solve] " + lp.problem.name + ": " + count_of(lp.problem.agents.size(), "agent") + ", planner " +
-             lp.problem.planner.name + ", tracker " + (lp.problem.tracker.name == kAutoTracker ? "auto: " : "") + trackers +
-             (cluster ? ", " + std::to_string(cluster->size()) + " MPI ranks" : ""));
-  SolveOutcome out = solve(lp, so);
-  if (!root) return out.verified ? 0 : 1;  // rank 0 writes the output folder and prints the summary
-  const std::string dir = out_dir_for(out_requested, lp.problem);
-  const std::vector<std::string> written = write_solve_outputs(dir, out);
-  const auto& v = out.verification;
+  std::string text;
+  for (const auto& [name, count] : counts)
+    text += (text.empty() ? "" : ", ") + name + (counts.size() > 1 ? " x" + std::to_string(count) : "");
+  return text;
+}
+
+// The summary's status, plan, per-agent, tracking, certification and search lines.
+void print_search_summary(const SolveOutcome& out) {
   std::printf("\nstatus        %s%s%s\n", out.verified ? "VERIFIED" : "FAILED", out.failure.empty() ? "" : ": ",
               out.failure.c_str());
   std::printf("guarantee     %s\n", out.problem.guarantee == Guarantee::Continuous
@@ -315,7 +285,10 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
     for (const auto& c : r.changes)
       std::printf("  %-12s %s %s -> %s (round %d: %s)\n", c.agent.empty() ? "(team)" : c.agent.c_str(), c.what.c_str(),
                   c.from.c_str(), c.to.c_str(), r.index, r.reason.c_str());
-  // What the file left to marsyn (eps / eta: auto), the values chosen and why.
+}
+
+// What the file left to marsyn (eps / eta: auto), the values chosen and why.
+void print_auto_values(const SolveOutcome& out) {
   for (std::size_t i = 0; i < out.auto_tube.size() && i < out.problem.agents.size(); ++i) {
     const AutoTube& at = out.auto_tube[i];
     if (!at.any()) continue;
@@ -335,34 +308,64 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
     const std::string note = i < out.auto_notes.size() && !out.auto_notes[i].empty() ? out.auto_notes[i] : "the first value stood";
     std::printf("auto          %-12s %s: %s\n", a.name.c_str(), vals.c_str(), at.eps ? note.c_str() : "from eps and U");
   }
-  if (out.verification_ran) {
-    if (v.between.min() < 1e299)
-      std::printf("verification  %d closed-loop runs, %d violations, smallest margin %.4g at the samples, %.4g between "
-                  "them (dense, every %.3g s)\n",
-                  v.runs, v.violations, v.sampled_min_margin, v.between.min(), v.dense_resolution_s);
-    else  // no obstacle, collision or formation: nothing to check between the samples but the bounds
-      std::printf("verification  %d closed-loop runs, %d violations, smallest margin %.4g\n", v.runs, v.violations,
-                  v.sampled_min_margin);
-    std::printf("              %.2f s, %.0f runs/s\n", v.time_s, v.runs_per_s());
-    std::printf("open loop     %d runs, %d violations, smallest margin %.4g (%s)\n", v.open_loop_runs,
-                v.open_loop_violations, v.open_loop_min_margin, v.open_loop_worst.c_str());
-    // Each run's parts, so that a collision shows even where a missed goal is the worst.
-    for (const auto& r : v.open_loop) {
-      std::string parts;
-      auto add = [&](const char* name, const OpenLoopRun::Part& p) {
-        if (p.step < 0) return;
-        char buf[96];
-        std::snprintf(buf, sizeof buf, "%s%s %.3g (step %d)", parts.empty() ? "" : ", ", name, p.margin, p.step);
-        parts += buf;
-      };
-      add("obstacle", r.obstacle);
-      add("collision", r.collision);
-      add("formation", r.formation);
-      char goal[64];
-      std::snprintf(goal, sizeof goal, "%sgoal %.3g", parts.empty() ? "" : ", ", r.goal);
-      std::printf("  %-34s %s%s\n", r.label.c_str(), (parts + goal).c_str(), r.satisfied ? "" : "  VIOLATED");
-    }
+}
+
+void print_verification(const VerificationReport& v) {
+  if (v.between.min() < 1e299)
+    std::printf("verification  %d closed-loop runs, %d violations, smallest margin %.4g at the samples, %.4g between "
+                "them (dense, every %.3g s)\n",
+                v.runs, v.violations, v.sampled_min_margin, v.between.min(), v.dense_resolution_s);
+  else  // no obstacle, collision or formation: nothing to check between the samples but the bounds
+    std::printf("verification  %d closed-loop runs, %d violations, smallest margin %.4g\n", v.runs, v.violations,
+                v.sampled_min_margin);
+  std::printf("              %.2f s, %.0f runs/s\n", v.time_s, v.runs_per_s());
+  std::printf("open loop     %d runs, %d violations, smallest margin %.4g (%s)\n", v.open_loop_runs,
+              v.open_loop_violations, v.open_loop_min_margin, v.open_loop_worst.c_str());
+  // Each run's parts, so that a collision shows even where a missed goal is the worst.
+  for (const auto& r : v.open_loop) {
+    std::string parts;
+    auto add = [&](const char* name, const OpenLoopRun::Part& p) {
+      if (p.step < 0) return;
+      char buf[96];
+      std::snprintf(buf, sizeof buf, "%s%s %.3g (step %d)", parts.empty() ? "" : ", ", name, p.margin, p.step);
+      parts += buf;
+    };
+    add("obstacle", r.obstacle);
+    add("collision", r.collision);
+    add("formation", r.formation);
+    char goal[64];
+    std::snprintf(goal, sizeof goal, "%sgoal %.3g", parts.empty() ? "" : ", ", r.goal);
+    std::printf("  %-34s %s%s\n", r.label.c_str(), (parts + goal).c_str(), r.satisfied ? "" : "  VIOLATED");
   }
+}
+
+}  // namespace
+
+int run_solve(const std::string& config, const std::string& out_requested, int runs, int threads, double global_budget,
+              std::optional<double> time_limit_s, const LoadOptions& load, const Collective* cluster) {
+  const bool root = !cluster || cluster->rank() == 0;
+  Setup setup(load_on_every_rank(config, load, cluster));
+  const LoadedProblem& lp = setup.loaded();
+  SolveOptions so;
+  if (lp.search_time_limit_s) so.time_limit_s = *lp.search_time_limit_s;
+  if (time_limit_s) so.time_limit_s = *time_limit_s;  // the command line over the file
+  so.verification_runs = runs;
+  so.threads = threads;
+  so.global_memory_budget_bytes = global_budget;
+  so.cluster = cluster;
+  if (root) so.log = log_line;  // one progress stream: rank 0's
+  if (root && stderr_is_terminal()) so.live = live_line;
+  if (root)
+    log_line("[solve] " + lp.problem.name + ": " + count_of(lp.problem.agents.size(), "agent") + ", planner " +
+             lp.problem.planner.name + ", tracker " + (lp.problem.tracker.name == kAutoTracker ? "auto: " : "") +
+             trackers_text(lp.problem) + (cluster ? ", " + std::to_string(cluster->size()) + " MPI ranks" : ""));
+  SolveOutcome out = setup.solve(so);
+  if (!root) return out.verified ? 0 : 1;  // rank 0 writes the output folder and prints the summary
+  const std::string dir = out_dir_for(out_requested, lp.problem);
+  const std::vector<std::string> written = write_solve_outputs(dir, out);
+  print_search_summary(out);
+  print_auto_values(out);
+  if (out.verification_ran) print_verification(out.verification);
   std::printf("global ABCD   N_g = %.3g state-input pairs, >= %.3g bytes: %s\n", out.global.state_input_pairs,
               out.global.memory_bytes_estimate, out.global.status.c_str());
   std::printf("total         %.2f s, peak memory %.1f MB\n", out.total_time_s, peak_rss_mb());
@@ -374,8 +377,8 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
 
 int run_simulate(const std::string& config, const std::string& controllers_dir, const std::string& mode_text,
                  unsigned long seed, const std::string& out_file, const LoadOptions& load) {
-  const LoadedProblem lp = load_problem(config, load);
-  const Problem& pb = lp.problem;
+  Setup setup(load_problem(config, load));
+  const Problem& pb = setup.problem();
   DisturbanceMode mode;
   try {
     mode = parse_disturbance_mode(mode_text);
@@ -384,13 +387,12 @@ int run_simulate(const std::string& config, const std::string& controllers_dir, 
   }
   const std::string plan_path = (fs::path(controllers_dir) / "plan.json").string();
   const auto nominal = planning::read_plan_json(plan_path, pb);
-  // Each agent's controller, read back by the agent's own tracker.
-  TrackerInstances trackers(lp.registry);
-  const std::vector<std::shared_ptr<const Controller>> ctrls = read_agent_controllers(pb, trackers, controllers_dir);
+  // Each agent's controller, read back by the tracker that wrote it.
+  const std::vector<std::shared_ptr<const Controller>> ctrls = setup.read_controllers(controllers_dir);
   // The horizon schedules the mission stages (docs/tasks.md) that the closed loop checks.
   const SpecMonitor monitor(pb, nominal.empty() ? -1 : static_cast<int>(nominal.front().u.size()));
-  SimulationSetup setup{&pb, nominal, ctrls, 20, &monitor, true};
-  const ClosedLoopRun run = simulate(setup, {mode, seed, 0});
+  const SimulationSetup loop{&pb, nominal, ctrls, 20, &monitor, true};
+  const ClosedLoopRun run = simulate(loop, {mode, seed, 0});
   const SpecEvaluation ev = monitor.evaluate(run.states);
   const bool continuous = pb.guarantee == Guarantee::Continuous;
   const bool between_ok = run.between.min() >= 0;
@@ -428,18 +430,17 @@ int run_simulate(const std::string& config, const std::string& controllers_dir, 
 
 int run_verify(const std::string& config, const std::string& controllers_dir, const std::string& plan_file, int runs,
                int threads, bool all_pairs, const LoadOptions& load) {
-  const LoadedProblem lp = load_problem(config, load);
-  const Problem& pb = lp.problem;
-  const auto nominal = nominal_for(lp, plan_file.empty() ? (fs::path(controllers_dir) / "plan.json").string() : plan_file);
-  TrackerInstances trackers(lp.registry);
-  const std::vector<std::shared_ptr<const Controller>> ctrls = read_agent_controllers(pb, trackers, controllers_dir);
+  Setup setup(load_problem(config, load));
+  const Problem& pb = setup.problem();
+  const auto nominal = nominal_for(setup, plan_file.empty() ? (fs::path(controllers_dir) / "plan.json").string() : plan_file);
+  const std::vector<std::shared_ptr<const Controller>> ctrls = setup.read_controllers(controllers_dir);
   VerificationOptions vo;
   vo.runs = runs;
   vo.threads = threads;
   vo.all_pairs = all_pairs;
   vo.progress = [p = std::make_shared<RunProgress>(log_line, stderr_is_terminal() ? live_line : RunProgress::Sink{})](
                     int done, int total) { (*p)(done, total); };
-  const VerificationReport v = verify(pb, nominal, ctrls, vo);
+  const VerificationReport v = setup.verify(pb, nominal, ctrls, vo);
   // Margins to the last bit: the broad phase and --all-pairs must print the same digits.
   std::printf("check         %s\n", all_pairs ? "all pairs (reference)" : "broad phase");
   // Which elementary functions the runs used: figures from machines with and without AVX2 differ.

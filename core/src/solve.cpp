@@ -10,11 +10,10 @@
 #include "marsyn/core/stopwatch.hpp"
 #include "marsyn/core/verification/run_progress.hpp"
 #include "marsyn/core/planning/workspace_gaps.hpp"
-#include "marsyn/core/tracking/global_abcd.hpp"
 #include "marsyn/core/tracking/mpi_plan_broadcast.hpp"
-#include "marsyn/core/tracking/track_agents.hpp"
 #include "marsyn/core/search_auto.hpp"
 #include "marsyn/core/search_levers.hpp"
+#include "marsyn/core/setup.hpp"
 #include "marsyn/core/problem/agent_checks.hpp"
 
 namespace marsyn {
@@ -49,14 +48,12 @@ std::string changes_text(const std::vector<SearchChange>& changes) {
 // The search's run through the stages, round by round (docs/search.md). One object per solve().
 class Search {
  public:
-  Search(const LoadedProblem& loaded, const SolveOptions& opt, SolveOutcome& out)
-      : loaded_(loaded), opt_(opt), out_(out), pb_(out.problem), instances_(loaded.registry) {
-    planner_ = loaded.registry->create<Planner>(pb_.planner.name, pb_.planner.params);
-    if (!pb_.warm_start_planner.name.empty())
-      warm_planner_ = loaded.registry->create<Planner>(pb_.warm_start_planner.name, pb_.warm_start_planner.params);
+  // The stages run through `setup` (its planners, its trackers, its budget).
+  Search(Setup& setup, const SolveOptions& opt, SolveOutcome& out)
+      : setup_(setup), loaded_(setup.loaded()), opt_(opt), out_(out), pb_(out.problem), instances_(setup.trackers()) {
     out_.search.time_limit_s = opt.time_limit_s;
     input_share_.assign(pb_.agents.size(), 1.0);
-    out_.auto_tube = loaded.auto_tube;
+    out_.auto_tube = loaded_.auto_tube;
   }
 
   // Runs rounds until every agent has a certified controller or the search stops; returns
@@ -78,11 +75,26 @@ class Search {
   AssessRequest ask() const { return {pb_.horizon, pb_.tau, loaded_.memory_budget}; }
 
   Failure plan(SearchRound& round, double time_left);
+  // The problem with each agent's U narrowed to its input share, in `tightened`; false (and
+  // `tightened` untouched) when every agent may use all of U.
+  bool tighten_inputs(Problem& tightened) const;
+  GlobalPlan clamped_last_plan(const Problem& planned) const;
+  void record_plan_attempts();
   Failure track(SearchRound& round);
+  // The agents whose controller does not carry over (see tracked_params_), in agent order.
+  std::vector<int> agents_to_track() const;
+  // The tracked agents' attempts recorded; the failure, if an agent has no controller.
+  Failure tracking_failure(const std::vector<int>& redo);
   Failure certify(SearchRound& round);
   // The next round's lever, applied (replan: whether it invalidated the plan), or false (with
   // stop_reason and not_tried set).
   bool next_round(const Failure& failure, double elapsed, SearchRound& next, bool& replan);
+  // Marks the last round's tracker knob unhelpful (last_knob_) when no agent it changed got further.
+  void judge_last_knob(const Failure& failure);
+  // The failed agents' trackers' own levers, each name once.
+  std::vector<TrackerLever> declared_levers(const Failure& failure);
+  // The tracker knob this round turns and its agents' failures before it, for judge_last_knob.
+  void remember_knob(const std::string& name, const search::Proposal& p, const Failure& failure);
   // After a round in which every agent got a controller: narrows the auto agents' eps to the
   // tubes their controllers kept (search_auto.hpp), saving this round to fall back on; false when
   // no auto eps would narrow, the iterations are used up or time does not allow.
@@ -93,12 +105,12 @@ class Search {
   // cost: the tracker's declared cost factor of a tracker lever (1 otherwise).
   double estimate(const search::Proposal& p, double cost = 1);
 
+  Setup& setup_;
   const LoadedProblem& loaded_;
   const SolveOptions& opt_;
   SolveOutcome& out_;
   Problem& pb_;
-  TrackerInstances instances_;
-  std::shared_ptr<Planner> planner_, warm_planner_;
+  TrackerInstances& instances_;
   std::map<std::string, double> extra_;  // per constraint: grows where certification fell short
   std::set<std::string> seen_;           // fingerprints of the attempts made
   std::map<std::string, int> uses_;      // per lever (by name): the rounds it ran
@@ -144,46 +156,65 @@ Failure Search::plan(SearchRound& round, double time_left) {
   planning::PlanSearchOptions po;
   po.time_limit_s = std::max(1.0, time_left);
   po.log = [&](const std::string& s) { log("[plan] " + s); };
-  po.warm_start_planner = warm_planner_.get();
   po.assembly.extra = extra_;
   log("[plan] " + pb_.planner.name + " on the product system (" + std::to_string(pb_.product_state_dim()) + " state" +
       (pb_.product_state_dim() == 1 ? "" : "s") + ", " + std::to_string(pb_.product_input_dim()) + " input" +
       (pb_.product_input_dim() == 1 ? "" : "s") + ")");
   if (min_horizon_ > pb_.horizon) pb_.horizon = min_horizon_;
-  // U tightened for the nominal (docs/search.md): the planner sees the smaller box, the trackers
-  // the file's, so the feedback keeps the rest of U around the nominal's input.
-  const Problem* planned = &pb_;
   Problem tightened;
-  if (std::any_of(input_share_.begin(), input_share_.end(), [](double s) { return s < 1; })) {
-    tightened = pb_;
-    for (std::size_t i = 0; i < tightened.agents.size(); ++i) {
-      Box& u = tightened.agents[i].input_bounds;
-      const Eigen::VectorXd c = 0.5 * (u.lo + u.hi), h = 0.5 * input_share_[i] * (u.hi - u.lo);
-      u.lo = c - h;
-      u.hi = c + h;
-    }
-    planned = &tightened;
-  }
+  const Problem& planned = tighten_inputs(tightened) ? tightened : pb_;
   if (warm_from_last_ && out_.plan.feasible && !out_.plan.plan.u.empty()) {
-    // The previous plan, its inputs clamped to the U the planner now sees: its horizon, and
-    // the planner refines it instead of starting cold (planning::PlanSearchOptions::warm_start).
-    GlobalPlan w = out_.plan.plan;
-    Eigen::VectorXd lo(planned->product_input_dim()), hi(planned->product_input_dim());
-    for (std::size_t i = 0, o = 0; i < planned->agents.size(); o += planned->agents[i].m(), ++i) {
-      lo.segment(o, planned->agents[i].m()) = planned->agents[i].input_bounds.lo;
-      hi.segment(o, planned->agents[i].m()) = planned->agents[i].input_bounds.hi;
-    }
-    for (auto& u : w.u)
-      if (u.size() == lo.size()) u = u.cwiseMax(lo).cwiseMin(hi);
-    po.warm_start = std::move(w);
+    po.warm_start = clamped_last_plan(planned);
     log("[plan] warm start: the previous plan (T = " + std::to_string(out_.plan.plan.horizon()) + ")");
   }
   warm_from_last_ = false;
   const Stopwatch t;
-  if (root()) out_.plan = planning::plan(*planned, *planner_, po);
+  if (root()) out_.plan = setup_.plan(planned, std::move(po));
   if (opt_.cluster) mpi::broadcast_plan(*opt_.cluster, out_.plan);  // what the other ranks need of it
   round.planned = true;
   round.plan_time_s = last_plan_s_ = t.seconds();
+  record_plan_attempts();
+  round.horizon = out_.plan.horizon;
+  if (!out_.plan.feasible) {
+    Failure f{Failure::Plan, "planning failed: " + out_.plan.check.message, {}, {}};
+    for (const auto& pa : out_.plan.attempts) f.longest_horizon = std::max(f.longest_horizon, pa.horizon);
+    if (out_.plan.attempts.empty()) f.start_eps_factor = planning::start_eps_factor(pb_);
+    return f;
+  }
+  if (!out_.plan.nominal.empty()) pb_.horizon = out_.plan.horizon;
+  extra_ = out_.plan.extra;  // a later re-plan keeps the clearance this one needed
+  return {};
+}
+
+bool Search::tighten_inputs(Problem& tightened) const {
+  // U tightened for the nominal (docs/search.md): the planner sees the smaller box, the trackers
+  // the file's, so the feedback keeps the rest of U around the nominal's input.
+  if (std::none_of(input_share_.begin(), input_share_.end(), [](double s) { return s < 1; })) return false;
+  tightened = pb_;
+  for (std::size_t i = 0; i < tightened.agents.size(); ++i) {
+    Box& u = tightened.agents[i].input_bounds;
+    const Eigen::VectorXd c = 0.5 * (u.lo + u.hi), h = 0.5 * input_share_[i] * (u.hi - u.lo);
+    u.lo = c - h;
+    u.hi = c + h;
+  }
+  return true;
+}
+
+GlobalPlan Search::clamped_last_plan(const Problem& planned) const {
+  // The previous plan, its inputs clamped to the U the planner now sees: its horizon, and
+  // the planner refines it instead of starting cold (planning::PlanSearchOptions::warm_start).
+  GlobalPlan w = out_.plan.plan;
+  Eigen::VectorXd lo(planned.product_input_dim()), hi(planned.product_input_dim());
+  for (std::size_t i = 0, o = 0; i < planned.agents.size(); o += planned.agents[i].m(), ++i) {
+    lo.segment(o, planned.agents[i].m()) = planned.agents[i].input_bounds.lo;
+    hi.segment(o, planned.agents[i].m()) = planned.agents[i].input_bounds.hi;
+  }
+  for (auto& u : w.u)
+    if (u.size() == lo.size()) u = u.cwiseMax(lo).cwiseMin(hi);
+  return w;
+}
+
+void Search::record_plan_attempts() {
   // Each horizon the planning stage tried, with its own T.
   for (const auto& pa : out_.plan.attempts) {
     std::ostringstream params;
@@ -199,31 +230,14 @@ Failure Search::plan(SearchRound& round, double time_left) {
                                     : std::string(to_string(pa.status)) + (pa.check.message.empty() ? "" : ": " + pa.check.message),
                              pa.solve_time_s, pa.horizon});
   }
-  round.horizon = out_.plan.horizon;
-  if (!out_.plan.feasible) {
-    Failure f{Failure::Plan, "planning failed: " + out_.plan.check.message, {}, {}};
-    for (const auto& pa : out_.plan.attempts) f.longest_horizon = std::max(f.longest_horizon, pa.horizon);
-    if (out_.plan.attempts.empty()) f.start_eps_factor = planning::start_eps_factor(pb_);
-    return f;
-  }
-  if (!out_.plan.nominal.empty()) pb_.horizon = out_.plan.horizon;
-  extra_ = out_.plan.extra;  // a later re-plan keeps the clearance this one needed
-  return {};
 }
 
 Failure Search::track(SearchRound& round) {
   const Stopwatch t;
   const std::size_t N = pb_.agents.size();
-  std::vector<int> redo;
-  for (std::size_t i = 0; i < N; ++i) {
-    const bool keep = i < out_.agents.size() && out_.agents[i].track.controller && i < tracked_params_.size() &&
-                      tracked_params_[i] == agent_parameters(pb_.agents[i]) && i < tracked_nominal_.size() &&
-                      i < out_.plan.nominal.size() && tracked_nominal_[i].x == out_.plan.nominal[i].x &&
-                      tracked_nominal_[i].u == out_.plan.nominal[i].u;
-    if (!keep) redo.push_back(static_cast<int>(i));
-  }
+  const std::vector<int> redo = agents_to_track();
   if (redo.size() == N || out_.agents.size() != N) {
-    out_.agents = track_agents(pb_, out_.plan.nominal, instances_.for_agents(pb_), opt_, loaded_.memory_budget);
+    out_.agents = setup_.track(pb_, out_.plan.nominal, opt_);
   } else {
     // Only the agents whose nominal or parameters changed, or that have no controller yet.
     Problem sub = pb_;
@@ -235,9 +249,7 @@ Failure Search::track(SearchRound& round) {
     }
     log("[track] " + std::to_string(N - redo.size()) + " agent(s) keep their controllers (nominal and parameters unchanged); tracking " +
         std::to_string(redo.size()));
-    std::vector<AgentOutcome> fresh =
-        redo.empty() ? std::vector<AgentOutcome>{}
-                     : track_agents(sub, nominal, instances_.for_agents(sub), opt_, loaded_.memory_budget);
+    std::vector<AgentOutcome> fresh = redo.empty() ? std::vector<AgentOutcome>{} : setup_.track(sub, nominal, opt_);
     for (std::size_t w = 0; w < redo.size(); ++w) out_.agents[redo[w]] = std::move(fresh[w]);
   }
   tracked_params_.resize(N);
@@ -249,6 +261,22 @@ Failure Search::track(SearchRound& round) {
   round.track_time_s = last_track_s_ = t.seconds();
   if (redo.size() == N) full_track_s_ = last_track_s_;
   log("[track] all agents in " + std::to_string(round.track_time_s) + " s");
+  return tracking_failure(redo);
+}
+
+std::vector<int> Search::agents_to_track() const {
+  std::vector<int> redo;
+  for (std::size_t i = 0; i < pb_.agents.size(); ++i) {
+    const bool keep = i < out_.agents.size() && out_.agents[i].track.controller && i < tracked_params_.size() &&
+                      tracked_params_[i] == agent_parameters(pb_.agents[i]) && i < tracked_nominal_.size() &&
+                      i < out_.plan.nominal.size() && tracked_nominal_[i].x == out_.plan.nominal[i].x &&
+                      tracked_nominal_[i].u == out_.plan.nominal[i].u;
+    if (!keep) redo.push_back(static_cast<int>(i));
+  }
+  return redo;
+}
+
+Failure Search::tracking_failure(const std::vector<int>& redo) {
   Failure f{Failure::NoController, "no controller for", {}, {}};
   for (std::size_t i = 0; i < out_.agents.size(); ++i) {
     const auto& r = out_.agents[i].track;
@@ -274,9 +302,7 @@ Failure Search::track(SearchRound& round) {
 }
 
 Failure Search::certify(SearchRound& round) {
-  std::vector<std::shared_ptr<const Controller>> ctrls;
-  for (const auto& a : out_.agents) ctrls.push_back(a.track.controller);
-  out_.certification = marsyn::certify(pb_, ctrls);
+  out_.certification = setup_.certify(pb_, out_.agents);
   out_.certification_ran = true;
   round.certify_time_s = last_certify_s_ = out_.certification.time_s;
   log("[certify] " + out_.certification.message);
@@ -330,9 +356,7 @@ std::string miss_text(const TrackFailure& f) {
   return "no controller";
 }
 
-bool Search::next_round(const Failure& failure, double elapsed, SearchRound& next, bool& replan) {
-  SearchReport& rep = out_.search;
-  rep.not_tried.clear();
+void Search::judge_last_knob(const Failure& failure) {
   if (!last_knob_.name.empty() && failure.kind == Failure::NoController) {
     bool any = false;
     std::string story;
@@ -346,6 +370,9 @@ bool Search::next_round(const Failure& failure, double elapsed, SearchRound& nex
     if (!any) unhelpful_[last_knob_.name] = "its last use did not help enough (" + story + ")";
   }
   last_knob_ = {};
+}
+
+std::vector<TrackerLever> Search::declared_levers(const Failure& failure) {
   // The failed agents' trackers' own knobs, as each declares them (no names in core).
   std::vector<TrackerLever> declared;
   for (int i : failure.agents) {
@@ -358,6 +385,14 @@ bool Search::next_round(const Failure& failure, double elapsed, SearchRound& nex
       if (std::none_of(declared.begin(), declared.end(), [&](const TrackerLever& d) { return d.name == l.name; }))
         declared.push_back(l);
   }
+  return declared;
+}
+
+bool Search::next_round(const Failure& failure, double elapsed, SearchRound& next, bool& replan) {
+  SearchReport& rep = out_.search;
+  rep.not_tried.clear();
+  judge_last_knob(failure);
+  const std::vector<TrackerLever> declared = declared_levers(failure);
   for (const LeverChoice& lever : search::levers_for(failure, declared)) {
     const std::string name = search::lever_name(lever);
     int& used = uses_[name];
@@ -386,14 +421,7 @@ bool Search::next_round(const Failure& failure, double elapsed, SearchRound& nex
       rep.not_tried.push_back({name, "would take about " + seconds(need) + ", " + seconds(std::max(0.0, left)) + " left"});
       continue;
     }
-    if (lever.lever == Lever::TrackerLever) {
-      last_knob_.name = name;
-      for (int i : p.changed) {
-        const auto it = std::find(failure.agents.begin(), failure.agents.end(), i);
-        const std::size_t w = static_cast<std::size_t>(it - failure.agents.begin());
-        if (it != failure.agents.end() && w < failure.why.size()) last_knob_.before[i] = failure.why[w];
-      }
-    }
+    if (lever.lever == Lever::TrackerLever) remember_knob(name, p, failure);
     // A re-plan after a tracker failure starts from the plan it replaces.
     warm_from_last_ = p.replan && failure.kind == Failure::NoController;
     search::apply(p, team());
@@ -411,6 +439,15 @@ bool Search::next_round(const Failure& failure, double elapsed, SearchRound& nex
   for (const auto& n : rep.not_tried)
     if (n.why.rfind("would take about", 0) == 0) rep.stop_reason = failure.reason + "; the time limit (" + seconds(opt_.time_limit_s) + ") is near";
   return false;
+}
+
+void Search::remember_knob(const std::string& name, const search::Proposal& p, const Failure& failure) {
+  last_knob_.name = name;
+  for (int i : p.changed) {
+    const auto it = std::find(failure.agents.begin(), failure.agents.end(), i);
+    const std::size_t w = static_cast<std::size_t>(it - failure.agents.begin());
+    if (it != failure.agents.end() && w < failure.why.size()) last_knob_.before[i] = failure.why[w];
+  }
 }
 
 bool Search::narrow_auto_eps(double elapsed, SearchRound& next) {
@@ -526,56 +563,61 @@ bool Search::run(const Stopwatch& t_start) {
   return done;
 }
 
-}  // namespace
-
-SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) {
-  const Stopwatch t_start;
-  SolveOutcome out;
-  out.problem = loaded.problem;
+// Each agent's tracker (AgentSpec::tracker, resolved by the loader). An agent without one (a
+// Problem built by hand) gets the top-level tracker, or abcd.
+void resolve_trackers(const LoadedProblem& loaded, SolveOutcome& out) {
   Problem& pb = out.problem;
-  auto log = [&](const std::string& s) {
-    if (opt.log) opt.log(s);
-  };
-  // Each agent's tracker (AgentSpec::tracker, resolved by the loader). An agent without one (a
-  // Problem built by hand) gets the top-level tracker, or abcd.
   for (auto& a : pb.agents)
     if (a.tracker.name.empty())
       a.tracker = pb.tracker.name.empty() || pb.tracker.name == kAutoTracker ? PluginChoice{"abcd", {}} : pb.tracker;
   out.trackers = loaded.trackers;
   out.trackers.resize(pb.agents.size());
+}
 
-  Search search(loaded, opt, out);
+// Stage 5 on the search's controllers, recorded in `out`.
+void verify_controllers(Setup& setup, const SolveOptions& opt, SolveOutcome& out) {
+  VerificationOptions vo;
+  vo.runs = opt.verification_runs;
+  vo.threads = opt.threads;
+  vo.collective = opt.cluster;
+  // A live bar on a terminal (runs, runs/s, time left), else a line every quarter.
+  vo.progress = [p = std::make_shared<RunProgress>(opt.log, opt.live)](int done, int total) { (*p)(done, total); };
+  out.verification = setup.verify(out.problem, out.plan.nominal, controllers_of(out.agents), vo);
+  out.verification_ran = true;
+  out.attempts.push_back({"verify", std::to_string(out.verification.runs) + " runs",
+                          std::to_string(out.verification.violations) + " violations", out.verification.time_s,
+                          out.problem.horizon});
+  out.verified = out.verification.violations == 0 && out.verification.tube_violations == 0;
+  // A closed-loop run cannot certify; it can only refute. "verified" rests on the trackers'
+  // guarantee (and, in continuous time, on the certificate above).
+  out.failure = out.verified ? "" : "verification found violations (a soundness bug): " + out.verification.worst;
+}
+
+}  // namespace
+
+SolveOutcome Setup::solve(const SolveOptions& opt) {
+  const Stopwatch t_start;
+  SolveOutcome out;
+  out.problem = problem();
+  auto log = [&](const std::string& s) {
+    if (opt.log) opt.log(s);
+  };
+  resolve_trackers(loaded(), out);
+
+  Search search(*this, opt, out);
   const bool controllers = search.run(t_start);
   log("[search] " + out.search.message());
 
-  const bool root = !opt.cluster || opt.cluster->rank() == 0;
-  TrackerInstances instances(loaded.registry);
   // The baseline is a figure for the report: rank 0's alone.
-  if (root) out.global = attempt_global_abcd(pb, instances, opt, log);
+  if (!opt.cluster || opt.cluster->rank() == 0) out.global = global_baseline(out.problem, opt, log);
   if (out.global.attempted)
     out.attempts.push_back({"global ABCD", "eta_x, eta_u of the agents, product domain", out.global.status, out.global.time_s, 0});
 
-  if (controllers) {
-    std::vector<std::shared_ptr<const Controller>> ctrls;
-    for (const auto& a : out.agents) ctrls.push_back(a.track.controller);
-    VerificationOptions vo;
-    vo.runs = opt.verification_runs;
-    vo.threads = opt.threads;
-    vo.collective = opt.cluster;
-    // A live bar on a terminal (runs, runs/s, time left), else a line every quarter.
-    vo.progress = [p = std::make_shared<RunProgress>(opt.log, opt.live)](int done, int total) { (*p)(done, total); };
-    out.verification = verify(pb, out.plan.nominal, ctrls, vo);
-    out.verification_ran = true;
-    out.attempts.push_back({"verify", std::to_string(out.verification.runs) + " runs",
-                            std::to_string(out.verification.violations) + " violations", out.verification.time_s,
-                            pb.horizon});
-    out.verified = out.verification.violations == 0 && out.verification.tube_violations == 0;
-    // A closed-loop run cannot certify; it can only refute. "verified" rests on the trackers'
-    // guarantee (and, in continuous time, on the certificate above).
-    out.failure = out.verified ? "" : "verification found violations (a soundness bug): " + out.verification.worst;
-  }
+  if (controllers) verify_controllers(*this, opt, out);
   out.total_time_s = t_start.seconds();
   return out;
 }
+
+SolveOutcome solve(const LoadedProblem& loaded, const SolveOptions& opt) { return Setup(loaded).solve(opt); }
 
 }  // namespace marsyn
