@@ -6,7 +6,12 @@ of agents). Parameters follow examples/multi_drone.yaml (eps, eta, W, U, delta);
 radius, the horizon and the tracker are options.
 
     python3 scripts/circle_swap.py 50 > /tmp/swap50.yaml
-    python3 scripts/circle_swap.py 100 --radius 12 --horizon 160 --out /tmp/swap100.yaml
+    python3 scripts/circle_swap.py 100 --radius 24 --horizon 320 --out /tmp/swap100.yaml
+
+At radius 12 neighbours stand 2 pi 12 / N apart: for N = 100 closer (0.533 in the inf-norm)
+than delta plus both tubes (0.64), so no eps-robust plan exists at any horizon (`marsyn check`
+warns, "crowded starts"); the script warns too. docs/benchmarks.md scales the circle with N
+past 50 (radius 12 N / 50, horizon 160 N / 50: the 50-agent swap's density and speed).
 """
 import argparse
 import math
@@ -61,6 +66,14 @@ def main():
     a = p.parse_args()
     if a.agents < 2:
         p.error("at least 2 agents")
+    # Neighbours' inf-norm distance against delta + 2 eps (the drones' 0.24 and 0.2).
+    pts = [(a.radius * math.cos(2 * math.pi * i / a.agents), a.radius * math.sin(2 * math.pi * i / a.agents))
+           for i in range(a.agents)]
+    gap = min(max(abs(pts[i][0] - pts[i - 1][0]), abs(pts[i][1] - pts[i - 1][1])) for i in range(a.agents))
+    if gap < 0.24 + 2 * 0.20:
+        need = a.radius * (0.24 + 2 * 0.20) / gap
+        print(f"circle_swap.py: warning: neighbours start {gap:.3f} apart, less than delta + 2 eps = 0.64: "
+              f"no eps-robust plan exists (a radius of {math.ceil(need * 10) / 10} or more would do)", file=sys.stderr)
     text = problem(a.agents, a.radius, a.horizon, a.tracker, a.guarantee)
     if a.out:
         with open(a.out, "w") as f:
