@@ -99,8 +99,10 @@ class Search {
   // tubes their controllers kept (search_auto.hpp), saving this round to fall back on; false when
   // no auto eps would narrow, the iterations are used up or time does not allow.
   bool narrow_auto_eps(double elapsed, SearchRound& next);
-  // The saved round, back (the narrower one failed).
-  void restore();
+  // A saved round, back (the narrower auto eps failed; a re-plan for a tracker found no plan).
+  struct Saved;
+  Saved snapshot(int round) const;
+  void restore(const Saved& s);
   // Seconds the round a proposal asks for would take, from the last rounds' times.
   // cost: the tracker's declared cost factor of a tracker lever (1 otherwise).
   double estimate(const search::Proposal& p, double cost = 1);
@@ -130,6 +132,16 @@ class Search {
     std::vector<double> input_share;
     int min_horizon = 0, horizon = 0, round = 0;
   } saved_;
+  // The round before a re-plan chosen for a tracker failure (U tightened, a wider tube): when
+  // that re-plan finds no eps-robust plan, the search goes back to it and its failure, and the
+  // lever counts as unhelpful, instead of following the planning failure the lever caused
+  // (shrinking eps and lengthening the horizon, the opposite of what the tracker asked for).
+  struct ReplanBase {
+    bool active = false;
+    std::string lever;
+    Failure failure;
+    Saved saved;
+  } replan_base_;
   search::Team team() { return {&pb_, &out_.trackers, &extra_, &input_share_, &min_horizon_}; }
   std::string fingerprint() const { return search::fingerprint(pb_.agents, extra_, input_share_, min_horizon_); }
   double last_plan_s_ = 0, last_track_s_ = 0, last_certify_s_ = 0;
@@ -422,6 +434,8 @@ bool Search::next_round(const Failure& failure, double elapsed, SearchRound& nex
       continue;
     }
     if (lever.lever == Lever::TrackerLever) remember_knob(name, p, failure);
+    replan_base_.active = p.replan && failure.kind == Failure::NoController;
+    if (replan_base_.active) replan_base_ = {true, name, failure, snapshot(next.index - 1)};
     // A re-plan after a tracker failure starts from the plan it replaces.
     warm_from_last_ = p.replan && failure.kind == Failure::NoController;
     search::apply(p, team());
@@ -477,8 +491,7 @@ bool Search::narrow_auto_eps(double elapsed, SearchRound& next) {
   if (changes.empty() || seen_.count(search::fingerprint(agents, extra_, input_share_, min_horizon_))) return false;
   const double need = last_plan_s_ + last_track_s_ + last_certify_s_, left = opt_.time_limit_s - elapsed;
   if (!rank0_says(need <= left)) return false;
-  saved_ = {out_.plan, out_.agents, out_.certification, out_.certification_ran, pb_.agents, out_.trackers, extra_,
-            input_share_, min_horizon_, pb_.horizon, next.index - 1};
+  saved_ = snapshot(next.index - 1);
   pb_.agents = agents;
   ++auto_rounds_;
   trial_ = true;
@@ -490,17 +503,22 @@ bool Search::narrow_auto_eps(double elapsed, SearchRound& next) {
   return true;
 }
 
-void Search::restore() {
-  out_.plan = saved_.plan;
-  out_.agents = saved_.agents;
-  out_.certification = saved_.certification;
-  out_.certification_ran = saved_.certification_ran;
-  pb_.agents = saved_.specs;
-  out_.trackers = saved_.trackers;
-  extra_ = saved_.extra;
-  input_share_ = saved_.input_share;
-  min_horizon_ = saved_.min_horizon;
-  pb_.horizon = saved_.horizon;
+Search::Saved Search::snapshot(int round) const {
+  return {out_.plan, out_.agents, out_.certification, out_.certification_ran, pb_.agents, out_.trackers, extra_,
+          input_share_, min_horizon_, pb_.horizon, round};
+}
+
+void Search::restore(const Saved& s) {
+  out_.plan = s.plan;
+  out_.agents = s.agents;
+  out_.certification = s.certification;
+  out_.certification_ran = s.certification_ran;
+  pb_.agents = s.specs;
+  out_.trackers = s.trackers;
+  extra_ = s.extra;
+  input_share_ = s.input_share;
+  min_horizon_ = s.min_horizon;
+  pb_.horizon = s.horizon;
   out_.failure.clear();
 }
 
@@ -514,10 +532,24 @@ bool Search::run(const Stopwatch& t_start) {
     seen_.insert(fingerprint());
     Failure f;
     if (replan) f = plan(round, opt_.time_limit_s - t_start.seconds());
+    bool back = false;  // this round's re-plan failed: the search resumes from the round before it
+    if (replan && replan_base_.active) {
+      if (f.kind == Failure::Plan) {
+        const ReplanBase base = std::move(replan_base_);
+        unhelpful_[base.lever] = "its re-plan found no eps-robust plan (" + f.reason + ")";
+        log("[search] " + base.lever + " left no eps-robust plan; back to round " + std::to_string(base.saved.round) +
+            "'s plan and its failure (" + base.failure.reason + ")");
+        restore(base.saved);
+        f = base.failure;
+        back = true;
+      }
+      replan_base_.active = false;
+    }
     round.horizon = out_.plan.horizon;
     if (f.kind == Failure::None) f = track(round);
     if (f.kind == Failure::None && pb_.guarantee == Guarantee::Continuous) f = certify(round);
     round.outcome = f.kind == Failure::None ? "every agent has a controller" : f.reason;
+    if (back) round.outcome = "no eps-robust plan with " + round.action + "; back to the plan before it (" + f.reason + ")";
     round.time_s = t_round.seconds();
     rep.plan_time_s += round.plan_time_s;
     rep.track_time_s += round.track_time_s;
@@ -543,7 +575,7 @@ bool Search::run(const Stopwatch& t_start) {
     }
     if (trial_) {
       // The narrower auto eps did not verify: the last verified round stands.
-      restore();
+      restore(saved_);
       rep.stop_reason = success + " (round " + std::to_string(saved_.round) + "'s; the narrower auto eps of round " +
                         std::to_string(index) + " failed: " + f.reason + ")";
       done = true;

@@ -4,6 +4,7 @@
 // test tracker `never` (tests/fixtures/never_tracker.cpp) fails on command by agent name.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -228,6 +229,40 @@ TEST(SearchReasons, CrowdedStartsShrinkEpsAsFarAsTheyNeedWithoutTryingHorizons) 
   EXPECT_EQ(ch[0].what, "eps");
   EXPECT_EQ(ch[0].to, "(0.1235,0.1235,0.1482)");
   EXPECT_EQ(o.search.rounds[1].horizon, 40);
+}
+
+}  // namespace
+
+namespace {
+
+// A re-plan chosen for a tracker failure (U tightened for a nominal pinned at its bound) that
+// finds no eps-robust plan sends the search back to the plan before it and that failure, with the
+// lever marked unhelpful; it does not follow the planning failure it caused (longer horizons,
+// a narrower tube: the opposite of what the tracker asked for). tests/problems/03: a car passing
+// a truck whose funnel misses y with its steering saturated; at 80 % of U no plan is eps-robust.
+TEST(SearchReasons, AReplanForATrackerThatFindsNoPlanGoesBackToThePlanBeforeIt) {
+  const auto lp = marsyn::load_problem(std::string(MARSYN_SOURCE_DIR) + "/tests/problems/03_car_overtake_truck.yaml");
+  marsyn::SolveOptions so = quick();
+  so.max_rounds = 8;
+  const marsyn::SolveOutcome o = marsyn::solve(lp, so);
+  const auto a = actions(o);
+  const auto tightened = std::find(a.begin(), a.end(), "re-plan with U tightened for the nominal");
+  ASSERT_NE(tightened, a.end()) << o.search.message();
+  const std::size_t r = static_cast<std::size_t>(tightened - a.begin());
+  ASSERT_LT(r + 1, a.size()) << o.search.message();
+  EXPECT_EQ(o.search.rounds[r].outcome.rfind(
+                "no eps-robust plan with re-plan with U tightened for the nominal; back to the plan before it (no controller "
+                "for car",
+                0),
+            0u)
+      << o.search.rounds[r].outcome;
+  // The next round addresses the tracker's failure again, from the plan before the lever.
+  EXPECT_NE(a[r + 1], "plan from a longer horizon");
+  EXPECT_NE(a[r + 1], "shrink eps by 0.8 and re-plan");
+  EXPECT_EQ(o.search.rounds[r + 1].outcome.rfind("no controller for car", 0), 0u) << o.search.rounds[r + 1].outcome;
+  EXPECT_NE(o.search.message().find("re-plan with U tightened for the nominal (its re-plan found no eps-robust plan"),
+            std::string::npos)
+      << o.search.message();
 }
 
 }  // namespace
