@@ -18,6 +18,7 @@
 #include "field_text.hpp"
 #include "plugin_fields.hpp"
 #include "scene_fields.hpp"
+#include "ltl_fields.hpp"
 #include "stage_fields.hpp"
 #include "yaml_reader.hpp"
 
@@ -31,11 +32,11 @@ using namespace loader;
 const std::vector<std::string> kTopKeys = {
     "name",  "description", "tau",     "horizon",      "rk4_substeps", "delta",     "delta_norm",
     "pairwise_collision", "guarantee", "planner", "tracker", "collision", "plugin_paths", "defaults", "agents", "obstacles",
-    "formation", "search"};
+    "formation", "search", "regions"};
 const std::vector<std::string> kAgentKeys = {"name",         "dynamics",    "x0",    "goal",
                                              "state_bounds", "input_bounds", "disturbance", "eps",
                                              "eta_x",        "eta_u",        "workspace",   "tracker",
-                                             "stages"};
+                                             "stages",       "ltl"};
 
 }  // namespace
 
@@ -113,7 +114,10 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
   const bool spatial = has_obstacles || top.child("formation").present() ||
                        (pb.pairwise_collision && agent_fields.size() > 1);
   std::map<std::string, std::size_t> seen;
-  std::vector<Field> x0_fields, stage_fields;
+  std::vector<Field> x0_fields, stage_fields, ltl_fields;
+  std::vector<std::vector<LtlAvoid>> ltl_avoid;
+  const Field regions = top.child("regions");
+  check_regions(regions);
   // The top-level tracker (default of every agent without its own): a name, a block, or auto.
   const TrackerRequest top_tracker = read_tracker_request(top.child("tracker"), *out.registry);
   pb.tracker = top_tracker.automatic ? PluginChoice{kAutoTracker, {}} : top_tracker.choice;
@@ -164,8 +168,22 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
       a.workspace.index = {0, n > 1 ? 1 : -1};
     }
     validate_agent(a, x0f, goalf);
-    stage_fields.push_back(agent_field(af, defaults, "stages"));
+    // The mission, as `stages` or as `ltl` (docs/tasks.md): the agent's own field before the
+    // defaults' one; both in one block is an error.
+    for (const Field& block : {af, defaults})
+      if (block.child("stages").present() && block.child("ltl").present())
+        block.child("ltl").fail("give the mission either as 'stages' or as 'ltl', not both");
+    const bool own = af.child("stages").present() || af.child("ltl").present();
+    const Field& mission_block = own ? af : defaults;
+    stage_fields.push_back(mission_block.child("stages"));
+    ltl_fields.push_back(mission_block.child("ltl"));
+    ltl_avoid.emplace_back();
     if (stage_fields.back().present()) a.stages = read_stages(stage_fields.back(), a, pb.tau, pb.horizon);
+    if (ltl_fields.back().present()) {
+      LtlMission m = read_ltl(ltl_fields.back(), regions, a, pb.horizon);
+      a.stages = std::move(m.stages);
+      ltl_avoid.back() = std::move(m.avoid);
+    }
     // The agent's own tracker, else the default's, else the top level's (Fields are never
     // assigned: a YAML::Node assignment would write into the document).
     const Field tf = agent_field(af, defaults, "tracker");
@@ -179,6 +197,7 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
     const auto obs = top.child("obstacles").items();
     for (std::size_t i = 0; i < obs.size(); ++i) pb.obstacles.push_back(read_obstacle(obs[i], i));
   }
+  for (std::size_t i = 0; i < ltl_fields.size(); ++i) check_ltl_avoid(ltl_fields[i], ltl_avoid[i], pb.obstacles);
   if (Field f = top.child("formation"); f.present()) read_formation(f, pb);
   check_teams(pb, stage_fields);
   check_start_geometry(pb, x0_fields);

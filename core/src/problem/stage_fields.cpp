@@ -106,9 +106,28 @@ MissionStage read_stage(const Field& f, std::size_t index, const AgentSpec& a, d
     st.name = nf.text();
     if (const std::string why = name_defect(st.name); !why.empty()) nf.fail(why);
   }
+  read_stage_region(f.required("region"), a, st);
+  if (Field w = f.child("not_before"); w.present()) st.not_before = std::max(1, read_steps(w, tau, Round::Up, "the earliest visit"));
+  if (Field w = f.child("by"); w.present()) {
+    st.by = read_steps(w, tau, Round::Down, "the latest visit");
+    if (st.by < 1) w.fail("expected a latest visit at step 1 or later (step 0 is the start, which no plan can move), got " + std::to_string(st.by));
+    if (st.by < st.not_before)
+      w.fail("the window is empty: 'by' (step " + std::to_string(st.by) + ") is before 'not_before' (step " +
+             std::to_string(st.not_before) + ")");
+  }
+  if (Field w = f.child("dwell"); w.present()) st.dwell = read_steps(w, tau, Round::Up, "the dwell");
+  if (Field t = f.child("team"); t.present()) {
+    st.team = t.text();
+    if (const std::string why = name_defect(st.team); !why.empty()) t.fail(why);
+  }
+  return st;
+}
+
+}  // namespace
+
+void read_stage_region(const Field& rf, const AgentSpec& a, MissionStage& st) {
   const int n = a.n();
   const auto& names = a.dynamics->state_names();
-  Field rf = f.required("region");
   rf.expect_map();
   if (rf.child("polygon").present()) {
     rf.allow_only({"polygon"});
@@ -136,23 +155,7 @@ MissionStage read_stage(const Field& f, std::size_t index, const AgentSpec& a, d
                 number_text(lo) + ", " + number_text(hi) + "]): no eps-robust visit exists; enlarge it or reduce eps");
     }
   }
-  if (Field w = f.child("not_before"); w.present()) st.not_before = std::max(1, read_steps(w, tau, Round::Up, "the earliest visit"));
-  if (Field w = f.child("by"); w.present()) {
-    st.by = read_steps(w, tau, Round::Down, "the latest visit");
-    if (st.by < 1) w.fail("expected a latest visit at step 1 or later (step 0 is the start, which no plan can move), got " + std::to_string(st.by));
-    if (st.by < st.not_before)
-      w.fail("the window is empty: 'by' (step " + std::to_string(st.by) + ") is before 'not_before' (step " +
-             std::to_string(st.not_before) + ")");
-  }
-  if (Field w = f.child("dwell"); w.present()) st.dwell = read_steps(w, tau, Round::Up, "the dwell");
-  if (Field t = f.child("team"); t.present()) {
-    st.team = t.text();
-    if (const std::string why = name_defect(st.team); !why.empty()) t.fail(why);
-  }
-  return st;
 }
-
-}  // namespace
 
 std::vector<MissionStage> read_stages(const Field& f, const AgentSpec& a, double tau, int horizon) {
   if (!f.is_sequence()) f.fail("expected a list of stages [{region: ..., by: ..., dwell: ...}, ...]");
@@ -173,12 +176,17 @@ std::vector<MissionStage> read_stages(const Field& f, const AgentSpec& a, double
     if (shortest_mission(probe, &why) < 0)
       (items[s].child("by").present() ? items[s].child("by") : items[s]).fail(why);
   }
-  probe.stages = out;
+  check_mission_horizon(f, a, out, horizon);
+  return out;
+}
+
+void check_mission_horizon(const Field& f, const AgentSpec& a, const std::vector<MissionStage>& stages, int horizon) {
+  AgentSpec probe = a;
+  probe.stages = stages;
   const int need = shortest_mission(probe, nullptr);
   if (need > horizon)
     f.fail("the stages need a horizon of at least " + std::to_string(need) + " steps (windows, dwells and one step "
            "per visit, then the goal), but 'horizon' is " + std::to_string(horizon));
-  return out;
 }
 
 void check_teams(const Problem& pb, const std::vector<Field>& stage_fields) {
