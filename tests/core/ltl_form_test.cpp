@@ -153,6 +153,8 @@ TEST(LtlForm, FormulasOutsideTheFragmentAreLocatedErrors) {
       {"F(pickup & F(pickup & F goal))", "region 'pickup' visited a second time (first at column 3)", 14},
       {"F(pickup & F goal", "expected ')' to close the '(' at column 2", 18},
       {"F(pickup & F goal))", "unexpected ')'", 19},
+      {"F goal G !wall", "unexpected 'G'", 8},
+      {"", "expected a name, F, G, ! or '(', got 'end of the formula'", 1},
       {"F goal & G !wal", "G !wal at column 13", -1},
       {"F goal & G !wal", "(did you mean 'wall'?)", -1},
   };
@@ -182,6 +184,20 @@ TEST(LtlForm, StagesAndLtlInOneAgentIsAnError) {
   } catch (const marsyn::ConfigError& e) {
     EXPECT_EQ(e.path(), "agents[0].ltl");
     EXPECT_NE(e.message().find("either as 'stages' or as 'ltl', not both"), std::string::npos) << e.message();
+  }
+}
+
+TEST(LtlForm, ARegionNamedLikeAReservedWordIsAnError) {
+  for (const std::string word : {"goal", "F", "obstacles", "true"}) {
+    std::string text = one_agent("F goal");
+    text.replace(text.find("  pickup:"), 9, "  " + word + ":");
+    try {
+      marsyn::load_problem(write("reserved", text));
+      ADD_FAILURE() << "loaded with a region named " << word;
+    } catch (const marsyn::ConfigError& e) {
+      EXPECT_EQ(e.path(), "regions." + word);
+      EXPECT_NE(e.message().find("'" + word + "' is a reserved word of the LTL form"), std::string::npos) << e.message();
+    }
   }
 }
 

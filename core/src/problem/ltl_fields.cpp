@@ -1,6 +1,9 @@
 #include "ltl_fields.hpp"
 
 #include <map>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "field_text.hpp"
 #include "marsyn/core/problem/input_limits.hpp"
@@ -37,7 +40,8 @@ class Parser {
 
   Node formula() {
     Node n = conj(0);
-    if (tok().kind != Token::End) fail(tok().col, "unexpected '" + tok().text + "'" + after(tok().col));
+    if (tok().kind != Token::End)
+      fail(tok().col, "unexpected '" + tok().text + "'", "the formula before it is complete (a ')' without its '(', or a missing '&'?)");
     return n;
   }
 
@@ -51,9 +55,7 @@ class Parser {
     return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' || c == '.';
   }
 
-  std::string after(int col) const { return col > 1 ? " (the formula before it is complete)" : ""; }
-
-  void unsupported(int col, const std::string& op, const std::string& meaning) const {
+  [[noreturn]] void unsupported(int col, const std::string& op, const std::string& meaning) const {
     fail(col, "unsupported operator '" + op + "' (" + meaning + ")", kFragment);
   }
 
