@@ -57,21 +57,19 @@ struct Fit {
   std::vector<double> S;  // parallelotope: n x n row-major; zonotope: G column-major
   int generators = 0;
   std::vector<double> tol;
-  Zonotope next;          // contains V_{k+1}, basis in the first n generators
+  double volume = 0.0;    // parallelotope: |det S^-1|, up to the common factor 2^n
+  std::vector<double> center;  // zonotope only (a parallelotope is centred on the enclosure's)
 };
 
-// V = {x in box : the solver's xi leaves |fl(G xi - (x - c))| <= tol} for the order-2 reduction
-// c + G xi of z. Every accepted x lies in c + G xi + box(tol + err), err bounding the residual's
-// rounding (kappa (|x - c| + sum_j |G_ij|), |xi_j| <= 1), so the next period starts from that
-// zonotope. z itself lies in the reduction; the solver's completeness on it is what the
-// soundness tests sample (docs/soundness.md section 11).
-Fit certify_zonotope(const Zonotope& zend, int basis, const std::vector<double>& lo, const std::vector<double>& hi,
-                     int order) {
+// V = {x in box : the solver's xi leaves |fl(G xi - (x - c))| <= tol} for the reduction c + G xi
+// of z to `order` generators per state. z lies in the reduction; that the solver accepts every
+// state of z (completeness) is what the soundness tests sample (docs/soundness.md section 11).
+Fit certify_zonotope(const Zonotope& zend, const std::vector<double>& lo, const std::vector<double>& hi, int order) {
   Fit f;
   f.kind = kZonotope;
   const int n = zend.dim();
   Zonotope z = zend;
-  reduce_order(z, basis, std::min(order * n, kMaxMembershipGenerators));
+  reduce_order(z, 0, std::min(order * n, kMaxMembershipGenerators));
   // A relative margin of 1e-6 about the centre: reachable states at a vertex of an (unreduced,
   // hence tight) enclosure would otherwise sit on the boundary, where the solver's tolerances
   // can refuse them (measured: 144 in 1e6 vertex samples of the unicycle at order 8). The proof
@@ -79,39 +77,27 @@ Fit certify_zonotope(const Zonotope& zend, int basis, const std::vector<double>&
   z.G *= 1.0 + 1e-6;
   const int p = z.generators();
   if (p > kMaxMembershipGenerators || p < 1) return f;
-  const double kappa = rounding_factor(p + 1);
-  std::vector<double> grow(n);
+  (void)lo;
+  (void)hi;
   f.tol.resize(n);
   for (int i = 0; i < n; ++i) {
-    const double r = z.radius(i);
-    f.tol[i] = std::max(1e-9 * r, 1e-300);
-    const double err = add_up(add_up(mul_up(kappa, add_up(reach(lo[i], hi[i], z.c[i]), r)), kTiny), measured(lo[i], hi[i]));
-    grow[i] = add_up(f.tol[i], err);
-    if (!std::isfinite(grow[i])) return f;
+    f.tol[i] = std::max(1e-9 * z.radius(i), 1e-300);
+    if (!std::isfinite(f.tol[i])) return f;
   }
   f.generators = p;
   f.S.assign(z.G.data(), z.G.data() + static_cast<std::size_t>(n) * p);
-  f.next = z;
-  append_box(f.next, grow);
+  f.center.assign(z.c.data(), z.c.data() + n);
   f.ok = true;
   return f;
 }
 
-// Candidate shapes S (rows scaled so that |S (x - c)|_inf <= 1 roughly bounds z): the image of
-// the previous basis (no wrapping when the new generators are small), its QR orientation
-// (Lohner), the principal axes of the generators, the closed loop's real eigenbasis (a linear map
-// scales a parallelotope along its eigenvectors without shearing it) and the axes. Any shape is
-// sound: certify() checks containment in interval arithmetic.
-std::vector<Eigen::MatrixXd> candidate_shapes(const Zonotope& z, int basis, const Eigen::MatrixXd* closed,
-                                              const Eigen::MatrixXd* cost) {
+// Candidate shapes S (rows scaled so that |S (x - c)|_inf <= 1 roughly bounds z): the principal
+// axes of the generators, the closed loop's real eigenbasis, the LQR cost-to-go's axes and the
+// coordinate axes. Any shape is sound: certify() checks containment in interval arithmetic.
+std::vector<Eigen::MatrixXd> candidate_shapes(const Zonotope& z, const Eigen::MatrixXd* closed, const Eigen::MatrixXd* cost) {
   const int n = z.dim();
   std::vector<Eigen::MatrixXd> candidates, shapes;
   if (z.generators() < n) return shapes;  // degenerate (no disturbance and a flat set)
-  if (basis == n) {
-    candidates.push_back(z.G.leftCols(n));
-    Eigen::HouseholderQR<Eigen::MatrixXd> qr(z.G.leftCols(n));
-    candidates.push_back(qr.householderQ());
-  }
   {
     Eigen::JacobiSVD<Eigen::MatrixXd> svd(z.G, Eigen::ComputeFullU);
     const auto& sv = svd.singularValues();
@@ -158,8 +144,7 @@ std::vector<Eigen::MatrixXd> candidate_shapes(const Zonotope& z, int basis, cons
 }
 
 // V = {x in box : |fl(S (x - c))|_inf <= 1} for c = z.c, with S rescaled until V contains z
-// (checked in interval arithmetic, rounding of the evaluation included), and a zonotope with n
-// basis generators that contains V.
+// (checked in interval arithmetic, rounding of the evaluation included).
 Fit certify(const Zonotope& z, Eigen::MatrixXd S, const std::vector<double>& lo, const std::vector<double>& hi) {
   Fit f;
   const int n = z.dim(), p = z.generators();
@@ -195,38 +180,35 @@ Fit certify(const Zonotope& z, Eigen::MatrixXd S, const std::vector<double>& lo,
     }
   }
   if (!f.ok) return f;
-  f.ok = false;
-  // Every accepted x has |S (x - c)|_i <= rho_i = 1 + slack_i exactly; x - c = S^-1 y is
-  // enclosed with an approximate inverse T' and E = I - T' S: v = T' y + E v, so
-  // |v| <= |T' diag(rho)|_inf / (1 - |E|_inf) and E v lies in a box of that size times |E|_inf.
-  const Eigen::MatrixXd Tp = S.partialPivLu().inverse();
-  if (!Tp.allFinite()) return f;
-  double e = 0.0, tnorm = 0.0;
-  for (int i = 0; i < n; ++i) {
-    double erow = 0.0, trow = 0.0;
-    for (int j = 0; j < n; ++j) {
-      FastInterval acc(i == j ? 1.0 : 0.0);
-      for (int l = 0; l < n; ++l) acc -= fi(Tp(i, l)) * fi(S(l, j));
-      erow = add_up(erow, mag(acc));
-      trow = add_up(trow, mul_up(std::fabs(Tp(i, j)), add_up(1.0, slack[j])));
-    }
-    e = std::max(e, erow);
-    tnorm = std::max(tnorm, trow);
-  }
-  if (!(e < 0.5)) return f;
-  const double eta = fast_detail::div_up(mul_up(e, tnorm), (fi(1.0) - fi(e)).lower());
-  IVector center(n);
-  IMatrix gens(n, n);
-  for (int i = 0; i < n; ++i) {
-    center[i] = fi(z.c[i]);
-    for (int j = 0; j < n; ++j) gens(i, j) = fi(Tp(i, j)) * fi(add_up(1.0, slack[j]));
-  }
-  f.next = from_intervals(center, gens, std::vector<double>(n, eta));
+  f.volume = std::fabs(S.partialPivLu().determinant());
+  f.volume = f.volume > 0 ? 1.0 / f.volume : std::numeric_limits<double>::infinity();
   f.S.resize(static_cast<std::size_t>(n) * n);
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) f.S[static_cast<std::size_t>(i) * n + j] = S(i, j);
   f.ok = true;
   return f;
+}
+
+// The stored V_{k+1}, certified to contain zend: by default the parallelotope of least volume (one
+// O(n^2) test per call), else a zonotope; with zonotope_sets, the zonotope of order set_order
+// first (tighter, a simplex per call at worst). Any certified candidate is sound.
+Fit verified_set(const Zonotope& zend, const std::vector<double>& lo, const std::vector<double>& hi,
+                 const Eigen::MatrixXd* closed, const Eigen::MatrixXd* cost, const VerifyOptions& o) {
+  const int n = zend.dim();
+  const int order = std::max(o.set_order, 2);
+  if (o.zonotope_sets && zend.generators() > 2 * n) {
+    Fit high = certify_zonotope(zend, lo, hi, order);
+    if (high.ok) return high;
+  }
+  Fit best;
+  for (const Eigen::MatrixXd& S : candidate_shapes(zend, closed, cost)) {
+    Fit c = certify(zend, S, lo, hi);
+    if (c.ok && (!best.ok || c.volume < best.volume)) best = std::move(c);
+  }
+  if (best.ok) return best;
+  Fit low = certify_zonotope(zend, lo, hi, 2);
+  if (low.ok || order == 2) return low;
+  return certify_zonotope(zend, lo, hi, order);
 }
 
 }  // namespace
@@ -287,13 +269,14 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
     for (int i = 0; i < n; ++i) meas[i] = measured(s0.lo[i], s0.hi[i]);
     zx = from_intervals(c, IMatrix(n, 0), meas);
   }
-  int basis = zx.generators();
+  if (o.keep_reach) out.reach.push_back(zx);
   FlowOptions flow = o.flow;
   flow.tau = p.tau;
-  // Room for the verified set's generators plus one new box per period, so the period itself
-  // reduces nothing the next verified set could keep.
-  if (flow.max_generators <= 0)
-    flow.max_generators = std::max(3 * N, std::min(std::max(o.set_order, 2) * n, kMaxMembershipGenerators) + N);
+  // The reachable set is carried with reach_order generators per state (the period adds n + m
+  // and reduces back): a reduction boxes generators, and boxing at every step makes a contracting
+  // closed loop's enclosure grow linearly (measured on the crane: to eps in 55 steps, against 0.3
+  // eps for the linearized closed loop; with 24 n generators it stays within 0.3-0.5 eps).
+  if (flow.max_generators <= 0) flow.max_generators = std::max(3 * N, std::max(o.reach_order, 1) * n + N);
   if (o.parts < 1 || flow.substeps % o.parts != 0) {
     out.why = "enclosure_substeps must divide substeps";
     return out;
@@ -334,7 +317,7 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
     bool shifted = false;    // some row's u_k moved inside U instead
     std::vector<double> u;
   };
-  auto period = [&](const Zonotope& zx, int k, int basis_now, bool shift) {
+  auto period = [&](const Zonotope& zx, int k, bool shift) {
     const StepSet& sk = d.sets[k];
     const auto& xk = p.nominal.x[k];
     const int pg = zx.generators();
@@ -406,7 +389,7 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
       }
     }
     const Zonotope za = from_intervals(center, gens, extra);
-    out_p.fr = enclose_period(f, za, d.w, basis_now, flow);
+    out_p.fr = enclose_period(f, za, d.w, 0, flow);
     return out_p;
   };
   // How far the period's end reaches from x_{k+1} relative to eps (centre offset + radius), the
@@ -423,26 +406,15 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
   };
   // The period of step k from zx: with saturated rows as boxes, or, when some row saturates and
   // shifting is allowed, the shifted law if its end reaches less far out of the tube.
-  auto best_period = [&](const Zonotope& zx, int k, int basis_now) {
-    Period a = period(zx, k, basis_now, false);
+  auto best_period = [&](const Zonotope& zx, int k) {
+    Period a = period(zx, k, false);
     if (!a.saturated || !o.shift_inputs) return a;
-    Period b = period(zx, k, basis_now, true);
+    Period b = period(zx, k, true);
     if (!b.shifted) return a;
     return end_reach(b.fr, k + 1) < end_reach(a.fr, k + 1) ? b : a;
   };
-  auto end_fill = [&](const FlowResult& fr) {
-    if (!fr.ok) return std::numeric_limits<double>::infinity();
-    double worst = 0.0;
-    for (int i = 0; i < n; ++i) {
-      double r = 0.0;
-      for (Eigen::Index j = 0; j < fr.end.G.cols(); ++j) r += std::fabs(fr.end.G(i, j));
-      worst = std::max(worst, r / p.tube.eps[i]);
-    }
-    return worst;
-  };
-
-  Period cur = best_period(zx, 0, basis);
   for (int k = 0; k < T; ++k) {
+    const Period cur = best_period(zx, k);
     const FlowResult& fr = cur.fr;
     const bool saturated = cur.saturated;
     d.u_nom[k] = cur.u;  // the law's u_k (moved inside U where that was verified)
@@ -497,49 +469,13 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
         return out;
       }
     }
-    // The verified set V_{k+1}: of the certified shapes, the one whose next period ends with the
-    // smallest enclosure relative to eps (that period's enclosure is then reused as is).
-    Fit fit;
-    Period next_period;
-    double best = std::numeric_limits<double>::infinity();
-    std::vector<Fit> fits;
-    // The zonotope of order set_order keeps the most of the enclosure's shape and wins the
-    // lookahead almost always (measured: every step but the first on the test scenarios), so
-    // unless all shapes are asked for, it is taken alone when it fits: one period per step.
-    if (o.set_order > 2 && zend.generators() > 2 * n && !o.try_all_shapes) {
-      Fit high = certify_zonotope(zend, basis == n ? n : 0, next.lo, next.hi, o.set_order);
-      if (high.ok) fits.push_back(std::move(high));
-    }
-    if (fits.empty()) {
-    for (const Eigen::MatrixXd& S : candidate_shapes(zend, basis == n ? n : 0,
-                                                      k + 1 < static_cast<int>(closed.size()) ? &closed[k + 1] : nullptr,
-                                                      k + 1 < static_cast<int>(cost.size()) ? &cost[k + 1] : nullptr))
-      fits.push_back(certify(zend, S, next.lo, next.hi));
-    fits.push_back(certify_zonotope(zend, basis == n ? n : 0, next.lo, next.hi, 2));
-    // A zonotope of higher order keeps more of the enclosure's shape (a larger membership test).
-    if (o.set_order > 2 && zend.generators() > 2 * n)
-      fits.push_back(certify_zonotope(zend, basis == n ? n : 0, next.lo, next.hi, o.set_order));
-    }
-    for (Fit& c : fits) {
-      if (!c.ok) continue;
-      double score;
-      Period pn;
-      if (k + 1 < T) {
-        pn = best_period(c.next, k + 1, n);
-        score = end_fill(pn.fr);
-      } else {
-        score = 0.0;
-        for (int i = 0; i < n; ++i) score = std::max(score, c.next.radius(i) / p.tube.eps[i]);
-      }
-      if (!fit.ok || score < best) {
-        best = score;
-        fit = std::move(c);
-        next_period = std::move(pn);
-      }
-    }
+    // The stored set V_{k+1} only has to contain zend; the next period starts from zend itself.
+    Fit fit = verified_set(zend, next.lo, next.hi, k + 1 < static_cast<int>(closed.size()) ? &closed[k + 1] : nullptr,
+                           k + 1 < static_cast<int>(cost.size()) ? &cost[k + 1] : nullptr, o);
     if (!fit.ok) {
       if (k + 1 == T) {  // V_T need not be fitted: the box is checked and no input follows
         record_half_width(zend, next, T);
+        if (o.keep_reach) out.reach.push_back(zend);
         break;
       }
       out.why = "no verified set fits the enclosure at step " + std::to_string(k + 1) + " (degenerate)";
@@ -547,15 +483,14 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
       return out;
     }
     next.kind = fit.kind;
-    next.c.assign(fit.kind == kZonotope ? fit.next.c.data() : zend.c.data(),
-                  (fit.kind == kZonotope ? fit.next.c.data() : zend.c.data()) + n);
-    next.S = fit.S;
+    next.c.assign(zend.c.data(), zend.c.data() + n);
+    if (fit.kind == kZonotope) next.c.assign(fit.center.begin(), fit.center.end());
+    next.S = std::move(fit.S);
     next.generators = fit.generators;
-    next.tol = fit.tol;
-    zx = fit.next;
-    basis = n;
+    next.tol = std::move(fit.tol);
+    zx = std::move(zend);
+    if (o.keep_reach) out.reach.push_back(zx);
     record_fill(zx, next, k + 1);
-    cur = std::move(next_period);
   }
   out.mean_fill = fill_count ? fill_sum / fill_count : 0.0;
   out.reached_step = T;

@@ -17,8 +17,10 @@ namespace marsyn::funnel {
 struct VerifyOptions {
   FlowOptions flow;     // flow.tau is set from the problem
   int parts = 8;        // period enclosures per step (divides flow.substeps)
+  int reach_order = 24;         // generators per state of the carried reachable-set enclosure
+  bool zonotope_sets = false;   // store zonotopes of order set_order first (else parallelotopes)
   int set_order = 8;
-  bool try_all_shapes = false;  // lookahead over every candidate even when the order-set_order zonotope fits
+  bool keep_reach = false;      // keep the reachable-set enclosures in the outcome (tests)
   // Where a row of u_k + K_k (x - x_k) leaves U over the set but is narrower than U: also try
   // the law with u_k moved inside U (no saturation, an offset), and keep whichever period ends
   // closer inside the tube.
@@ -41,6 +43,9 @@ struct VerifyOutcome {
   // figure's verified side, tightness.hpp).
   std::vector<std::vector<double>> half_width;
   long rows = 0, second_order_rows = 0;  // of the chosen periods' enclosures (FlowResult)
+  // With keep_reach: per step k, a zonotope containing every state the closed loop reaches at
+  // sample k from the initial box (V_k contains it).
+  std::vector<Zonotope> reach;
 };
 
 // K: the gains; closed (may be empty): the closed loop's linearization per step, whose real

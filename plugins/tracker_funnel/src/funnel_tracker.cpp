@@ -55,7 +55,9 @@ ParamSet<FunnelSettings> declare() {
       });
   integer_in(s, "picard_iterations", &O::picard_iterations, 1, 100, "a priori enclosure attempts per enclosure step");
   integer_in(s, "max_generators", &O::max_generators, 0, 1000,
-             "zonotope generators kept before order reduction; 0: max(3 (n + m), min(set_order n, 64) + n + m)");
+             "zonotope generators kept before order reduction; 0: reach_order n + n + m");
+  integer_in(s, "reach_order", &O::reach_order, 1, 64,
+             "generators per state of the reachable-set enclosure carried from period to period (more: tighter, slower)");
   // Its length (the state dimension) is checked per agent (assess, track).
   s.add("initial_radius", &O::initial_radius, "[0, eps)",
         "half-widths of the initial box around x0 (one per state); empty: initial_fraction x eps")
@@ -79,10 +81,12 @@ ParamSet<FunnelSettings> declare() {
         "of it and the mean-value bound), or the mean-value (Jacobian spread) bound alone")
       .require({[](const std::string& v) { return v == "second_order" || v == "mean_value"; },
                 "expected second_order or mean_value"});
-  integer_in(s, "set_order", &O::set_order, 2, 8,
-             "zonotope order (generators / n) of the verified sets also tried besides order 2 and parallelotopes");
-  s.add("try_all_shapes", &O::try_all_shapes, "true|false",
-        "compare every candidate verified set by a one-period lookahead, even when the order-set_order zonotope fits");
+  s.add("verified_set", &O::verified_set, "parallelotope|zonotope",
+        "the stored set V_k the controller tests: a parallelotope (one O(n^2) test) or a zonotope of order "
+        "set_order (tighter; a small simplex at worst)")
+      .require({[](const std::string& v) { return v == "parallelotope" || v == "zonotope"; },
+                "expected parallelotope or zonotope"});
+  integer_in(s, "set_order", &O::set_order, 2, 8, "zonotope order (generators / n) of verified_set: zonotope");
   integer_in(s, "box_substeps", &O::box_substeps, 0, 1024,
              "enclosure steps after which the box of new errors becomes zonotope generators; 0: once per period");
   s.add("shift_inputs", &O::shift_inputs, "true|false",
@@ -144,6 +148,11 @@ TrackerAssessment FunnelTracker::assess(const AgentSpec& a, int horizon, double 
 bool FunnelTracker::refine(AgentSpec& a) const {
   // Tighter enclosures first (the verification's own error), then stiffer feedback.
   Params& p = a.tracker.params;
+  const long order = p.integer("reach_order", s_.reach_order);
+  if (order < 64) {
+    p.set("reach_order", std::min<long>(64, order * 2));
+    return true;
+  }
   const long sub = p.integer("substeps", s_.substeps);
   if (sub * 2 <= 256) {
     p.set("substeps", sub * 2);
@@ -160,7 +169,8 @@ bool FunnelTracker::refine(AgentSpec& a) const {
 std::vector<TrackerLever> FunnelTracker::levers(const AgentSpec& a) const {
   std::vector<TrackerLever> out;
   const std::vector<TrackFailureKind> kinds{TrackFailureKind::TubeMiss, TrackFailureKind::Unknown};
-  for (const auto& [name, cost] : {std::pair{"more enclosure substeps", 2.0}, std::pair{"stiffer feedback", 1.0}}) {
+  for (const auto& [name, cost] : {std::pair{"more enclosure generators", 2.0}, std::pair{"more enclosure substeps", 2.0},
+                                    std::pair{"stiffer feedback", 1.0}}) {
     AgentSpec b = a;
     if (apply_lever(name, {}, b)) out.push_back({name, kinds, cost});
   }
@@ -170,6 +180,12 @@ std::vector<TrackerLever> FunnelTracker::levers(const AgentSpec& a) const {
 bool FunnelTracker::apply_lever(const std::string& name, const TrackFailure& failure, AgentSpec& a) const {
   (void)failure;
   Params& p = a.tracker.params;
+  if (name == "more enclosure generators") {
+    const long order = p.integer("reach_order", s_.reach_order);
+    if (order >= 64) return false;
+    p.set("reach_order", std::min<long>(64, order * 2));
+    return true;
+  }
   if (name == "more enclosure substeps") {
     const long sub = p.integer("substeps", s_.substeps);
     if (sub * 2 > 256) return false;
@@ -215,7 +231,9 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
   vo.flow.remainder = s_.enclosure == "mean_value" ? Remainder::MeanValue : Remainder::SecondOrder;
   vo.parts = s_.parts;
   vo.set_order = static_cast<int>(s_.set_order);
-  vo.try_all_shapes = s_.try_all_shapes;
+  vo.reach_order = static_cast<int>(s_.reach_order);
+  vo.zonotope_sets = s_.verified_set == "zonotope";
+  vo.keep_reach = reach_out_ != nullptr;
   vo.shift_inputs = s_.shift_inputs;
   vo.flow.box_substeps = static_cast<int>(s_.box_substeps);
   vo.initial_radius.resize(n);
@@ -266,6 +284,7 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
     return res;
   }
   res.stats.initial_state_winning = true;
+  if (reach_out_) *reach_out_ = best.reach;
   const FunnelData& d = best.data;
   res.stats.peak_memory_bytes = static_cast<long long>(8 * (d.horizon() + 1) * (3 * n + n * n + m * (n + 1)) +
                                                        d.enclosures.size() * sizeof(PeriodEnclosure));

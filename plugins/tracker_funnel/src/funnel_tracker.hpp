@@ -26,8 +26,9 @@ struct FunnelSettings {
   long rk4_substeps = 4;
   std::string enclosure = "second_order";  // or "mean_value" (the first-order form, for comparison)
   long tightness_runs = 32;
+  long reach_order = 24;
+  std::string verified_set = "parallelotope";  // or "zonotope"
   long set_order = 8;
-  bool try_all_shapes = false;
   bool shift_inputs = true;  // VerifyOptions::shift_inputs
   long box_substeps = 0;                // sampled runs of the tightness figure; 0: none
 };
@@ -41,9 +42,9 @@ class FunnelTracker : public marsyn::Tracker {
   TrackResult track(const TrackingProblem& problem, const TrackOptions& options) const override;
   TrackerAssessment assess(const AgentSpec& agent, int horizon, double tau) const override;
   bool refine(AgentSpec& agent) const override;
-  // The outer search's knobs (docs/search.md), for a tube miss: "more enclosure substeps"
-  // (substeps x 2, up to 256: the verification's own error) and "stiffer feedback"
-  // (state_weight x 4, up to 1e4).
+  // The outer search's knobs (docs/search.md), for a tube miss: "more enclosure generators"
+  // (reach_order x 2, up to 64) and "more enclosure substeps" (substeps x 2, up to 256): the
+  // verification's own error; "stiffer feedback" (state_weight x 4, up to 1e4).
   std::vector<TrackerLever> levers(const AgentSpec& agent) const override;
   bool apply_lever(const std::string& name, const TrackFailure& failure, AgentSpec& agent) const override;
   std::shared_ptr<const Controller> read_controller(const std::string& path) const override;
@@ -51,10 +52,13 @@ class FunnelTracker : public marsyn::Tracker {
   const FunnelSettings& settings() const { return s_; }
   // Test hook: scales the second-order remainder (docs/soundness.md section 11); 1 is sound.
   void scale_remainder_for_tests(double scale) { remainder_scale_ = scale; }
+  // Test hook: the verified run's reachable-set enclosures (VerifyOutcome::reach) go to *out.
+  void keep_reach_sets_for_tests(std::vector<Zonotope>* out) { reach_out_ = out; }
 
  private:
   FunnelSettings s_;
   double remainder_scale_ = 1.0;
+  std::vector<Zonotope>* reach_out_ = nullptr;
 };
 
 }  // namespace marsyn::funnel

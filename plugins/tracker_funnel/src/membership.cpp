@@ -9,19 +9,18 @@
 
 namespace marsyn::funnel {
 
-bool zonotope_coefficients(const double* G, int n, int p, const double* d, double* xi) {
+namespace {
+
+// The solver over caller-provided, zeroed storage: M (n (p + n)), value and basis (n), at_upper
+// and is_basic (p + n). The controller's calls use fixed arrays (no allocation per call).
+// Bland's rule (the first improving column) is what the controller and its C export run; the
+// most improving column (Dantzig) takes fewer pivots on large zonotopes.
+bool solve_phase1(const double* G, int n, int p, const double* d, double* xi, double* M, double* value, int* basis,
+                  signed char* at_upper, signed char* is_basic, bool dantzig) {
   // Variables y_j = xi_j + 1 in [0, 2] (j < p) and artificials a_i >= 0 (column p + i), rows
   // G y + s_i a_i = d + G 1 with s_i = sign of the right-hand side, so that y = 0, a = |rhs| is
   // a basic solution. Phase 1 minimises sum a; d is inside when it reaches 0.
-  constexpr int kMaxRows = kMaxMembershipRows;
-  for (int j = 0; j < std::clamp(p, 0, kMaxMembershipGenerators); ++j) xi[j] = 0.0;
-  if (n < 1 || n > kMaxRows || p < 0 || p > kMaxMembershipGenerators) return false;
   const int cols = p + n;
-  std::array<double, kMaxRows*(kMaxMembershipGenerators + kMaxRows)> M{};
-  std::array<double, kMaxRows> value{};
-  std::array<int, kMaxRows> basis{};
-  std::array<signed char, kMaxMembershipGenerators + kMaxRows> at_upper{};  // nonbasic y at 2
-  std::array<signed char, kMaxMembershipGenerators + kMaxRows> is_basic{};
   auto m = [&](int i, int j) -> double& { return M[static_cast<std::size_t>(i) * cols + j]; };
   double scale = 0.0;
   for (int i = 0; i < n; ++i) {
@@ -45,14 +44,14 @@ bool zonotope_coefficients(const double* G, int n, int p, const double* d, doubl
     // Reduced costs of the y columns (artificials never re-enter): r_j = -sum over basic
     // artificials of M_ij.
     int enter = -1;
-    double dir = 0.0;
-    for (int j = 0; j < p && enter < 0; ++j) {
+    double dir = 0.0, gain = 0.0;
+    for (int j = 0; j < p && (enter < 0 || dantzig); ++j) {
       if (is_basic[j]) continue;
       double r = 0.0;
       for (int i = 0; i < n; ++i)
         if (basis[i] >= p) r -= m(i, j);
-      if (!at_upper[j] && r < -tol) enter = j, dir = 1.0;
-      else if (at_upper[j] && r > tol) enter = j, dir = -1.0;
+      if (!at_upper[j] && r < -tol && -r > gain) enter = j, dir = 1.0, gain = -r;
+      else if (at_upper[j] && r > tol && r > gain) enter = j, dir = -1.0, gain = r;
     }
     if (enter < 0) break;
     // Ratio test: basics stay in their bounds, the entering variable within [0, 2].
@@ -107,6 +106,34 @@ bool zonotope_coefficients(const double* G, int n, int p, const double* d, doubl
   for (int i = 0; i < n; ++i)
     if (basis[i] < p) xi[basis[i]] = std::clamp(value[i] - 1.0, -1.0, 1.0);
   return infeasibility <= 1e-9 * scale;
+}
+
+}  // namespace
+
+bool zonotope_coefficients(const double* G, int n, int p, const double* d, double* xi) {
+  constexpr int kMaxRows = kMaxMembershipRows;
+  for (int j = 0; j < std::clamp(p, 0, kMaxMembershipGenerators); ++j) xi[j] = 0.0;
+  if (n < 1 || n > kMaxRows || p < 0 || p > kMaxMembershipGenerators) return false;
+  std::array<double, kMaxRows*(kMaxMembershipGenerators + kMaxRows)> M{};
+  std::array<double, kMaxRows> value{};
+  std::array<int, kMaxRows> basis{};
+  std::array<signed char, kMaxMembershipGenerators + kMaxRows> at_upper{};  // nonbasic y at 2
+  std::array<signed char, kMaxMembershipGenerators + kMaxRows> is_basic{};
+  return solve_phase1(G, n, p, d, xi, M.data(), value.data(), basis.data(), at_upper.data(), is_basic.data(), false);
+}
+
+bool zonotope_coefficients_any(const double* G, int n, int p, const double* d, double* xi) {
+  if (n < 1 || p < 0) return false;
+  for (int j = 0; j < p; ++j) xi[j] = 0.0;
+  thread_local std::vector<double> M, value;
+  thread_local std::vector<int> basis;
+  thread_local std::vector<signed char> at_upper, is_basic;
+  M.assign(static_cast<std::size_t>(n) * (p + n), 0.0);
+  value.assign(n, 0.0);
+  basis.assign(n, 0);
+  at_upper.assign(p + n, 0);
+  is_basic.assign(p + n, 0);
+  return solve_phase1(G, n, p, d, xi, M.data(), value.data(), basis.data(), at_upper.data(), is_basic.data(), true);
 }
 
 std::vector<double> least_norm_map(const double* G, int n, int p) {

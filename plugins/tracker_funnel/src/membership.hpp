@@ -15,6 +15,9 @@ inline constexpr int kMaxMembershipRows = 32;
 // G column-major (n x p). Returns false when no coefficients were found (d outside, or the
 // solver gave up); xi gets p numbers in [-1, 1] either way.
 bool zonotope_coefficients(const double* G, int n, int p, const double* d, double* xi);
+// The same solver for any size, on the heap, with the most improving column entering (the
+// soundness tests' reachable-set enclosures carry more generators than a stored set).
+bool zonotope_coefficients_any(const double* G, int n, int p, const double* d, double* xi);
 
 // A cheaper proposal first: the least-norm coefficients xi = P d with P = G' (G G')^-1 (p x n,
 // row-major), computed once per set; empty when G G' is not safely positive definite. States

@@ -92,9 +92,10 @@ inline std::vector<deploy_test::CQuery> funnel_queries(const FunnelController& c
       Q.x[rng() % static_cast<unsigned>(n)] = specials[rng() % (sizeof specials / sizeof specials[0])];
     } else if (kind == 5) {
       for (int i = 0; i < n; ++i) Q.x[static_cast<size_t>(i)] += 20.0 * d.eps[static_cast<size_t>(i)] * unit(rng);
-    } else if (kind < 12) {  // near the nominal, where V_k is
+    } else if (kind < 12) {  // near V_k's centre (the nominal for the initial box), mostly inside
+      const std::vector<double>& centre = s.kind == kBox ? d.x_nom[static_cast<size_t>(kc)] : s.c;
       for (int i = 0; i < n; ++i)
-        Q.x[static_cast<size_t>(i)] = d.x_nom[static_cast<size_t>(kc)][static_cast<size_t>(i)] + 0.1 * d.eps[static_cast<size_t>(i)] * unit(rng);
+        Q.x[static_cast<size_t>(i)] = centre[static_cast<size_t>(i)] + 0.05 * d.eps[static_cast<size_t>(i)] * unit(rng);
     }
     out.push_back(std::move(Q));
   }

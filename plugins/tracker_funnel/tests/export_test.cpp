@@ -12,11 +12,11 @@
 namespace marsyn::funnel {
 namespace {
 
-// set_order 2: order-2 zonotopes and parallelotopes (the default's order-8 zonotopes win
-// almost every step, so parallelotopes would go untested).
-std::shared_ptr<const FunnelController> controller(const std::string& scenario, long set_order = 8) {
+// verified_set: zonotope stores order-8 zonotopes wherever they certify; the default stores
+// parallelotopes.
+std::shared_ptr<const FunnelController> controller(const std::string& scenario, const std::string& verified_set = "zonotope") {
   Params params;
-  params.set("set_order", set_order);
+  params.set("verified_set", verified_set);
   const TrackResult r = FunnelTracker(params).track(testing::scenario(scenario), {});
   EXPECT_EQ(r.status, TrackerStatus::ControllerFound) << r.message;
   return std::dynamic_pointer_cast<const FunnelController>(r.controller);
@@ -26,8 +26,8 @@ std::filesystem::path scratch(const std::string& name) {
   return std::filesystem::path(::testing::TempDir()) / ("marsyn_funnel_export_" + name);
 }
 
-void expect_identical(const std::string& scenario, int want_kind, long set_order = 8) {
-  const auto c = controller(scenario, set_order);
+void expect_identical(const std::string& scenario, int want_kind, const std::string& verified_set = "zonotope") {
+  const auto c = controller(scenario, verified_set);
   ASSERT_TRUE(c);
   int kinds = 0;
   for (const StepSet& s : c->data().sets) kinds += s.kind == want_kind;
@@ -47,7 +47,7 @@ void expect_identical(const std::string& scenario, int want_kind, long set_order
 
 TEST(FunnelExportC, BicycleBitIdenticalWithZonotopes) { expect_identical("bicycle", kZonotope); }
 
-TEST(FunnelExportC, UnicycleBitIdenticalWithParallelotopes) { expect_identical("unicycle", kParallelotope, 2); }
+TEST(FunnelExportC, UnicycleBitIdenticalWithParallelotopes) { expect_identical("unicycle", kParallelotope, "parallelotope"); }
 
 // The compact tables (box_k recomputed from x_k and eps, axis generators stored as their
 // diagonal) are used only where they reproduce the file's bits; elsewhere the C stores the numbers

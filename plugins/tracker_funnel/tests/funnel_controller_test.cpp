@@ -17,7 +17,10 @@ namespace {
 
 std::shared_ptr<const FunnelController> unicycle_controller() {
   static const auto c = [] {
-    const TrackResult r = FunnelTracker().track(testing::unicycle(30), {});
+    // Zonotope sets: the membership tests below need them (the default stores parallelotopes).
+    Params zonotopes;
+    zonotopes.set("verified_set", std::string("zonotope"));
+    const TrackResult r = FunnelTracker(zonotopes).track(testing::unicycle(30), {});
     EXPECT_EQ(r.status, TrackerStatus::ControllerFound) << r.message;
     return std::dynamic_pointer_cast<const FunnelController>(r.controller);
   }();
