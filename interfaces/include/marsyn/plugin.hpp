@@ -23,7 +23,7 @@
 #include "marsyn/tracker.hpp"
 
 // Bump whenever any interface header changes in a way that alters layout or vtables.
-#define MARSYN_PLUGIN_API_VERSION 10u  // 10: Dynamics Lanes field (four runs at once, lanes.hpp); 9: Constraint::pair_reach (broad phase over pair rows), Dynamics DualFI2 field (second-order funnel enclosures), TrackResult::failure (TrackFailure), Tracker::levers/apply_lever, mission stages (AgentSpec::stages, ConstraintStage::AtSteps, Constraint::steps, PlanningProblem::waypoints); 8: Tracker::assess(agent, AssessRequest) with the memory budget; 7: PlanningProblem::between (requirements between the samples); 6: TubeParams in AgentSpec and TrackingProblem; 5: TrackOptions::collective/progress (collective.hpp); 4: Tracker::assess/refine, AgentSpec::tracker; 3: period enclosures (Controller, TrackingProblem::workspace); 2: Dynamics FastInterval/DualFI/DualD2 overloads, Constraint::hessian
+#define MARSYN_PLUGIN_API_VERSION 11u  // 11: TrackFailure::off_centre; 10: Dynamics Lanes field (four runs at once, lanes.hpp); 9: Constraint::pair_reach (broad phase over pair rows), Dynamics DualFI2 field (second-order funnel enclosures), TrackResult::failure (TrackFailure), Tracker::levers/apply_lever, mission stages (AgentSpec::stages, ConstraintStage::AtSteps, Constraint::steps, PlanningProblem::waypoints); 8: Tracker::assess(agent, AssessRequest) with the memory budget; 7: PlanningProblem::between (requirements between the samples); 6: TubeParams in AgentSpec and TrackingProblem; 5: TrackOptions::collective/progress (collective.hpp); 4: Tracker::assess/refine, AgentSpec::tracker; 3: period enclosures (Controller, TrackingProblem::workspace); 2: Dynamics FastInterval/DualFI/DualD2 overloads, Constraint::hessian
 
 namespace marsyn {
 

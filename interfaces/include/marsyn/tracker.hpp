@@ -162,6 +162,10 @@ struct TrackFailure {
   // The share of the steps (0..1) on which the tracker found some input saturated at a bound of
   // U; core also measures the nominal's own share (docs/search.md, "tighten U for the nominal").
   double input_saturation = 0.0;
+  // TubeMiss: the enclosure is narrower than the tube there, but its centre has left the nominal
+  // by more than its half-width (typically inputs held at a bound of U): a tighter enclosure does
+  // not help, a nominal that leaves the feedback room (U tightened for it) may.
+  bool off_centre = false;
 };
 
 struct TrackResult {

@@ -64,7 +64,7 @@ struct Fit {
 // V = {x in box : the solver's xi leaves |fl(G xi - (x - c))| <= tol} for the reduction c + G xi
 // of z to `order` generators per state. z lies in the reduction; that the solver accepts every
 // state of z (completeness) is what the soundness tests sample (docs/soundness.md section 11).
-Fit certify_zonotope(const Zonotope& zend, const std::vector<double>& lo, const std::vector<double>& hi, int order) {
+Fit certify_zonotope(const Zonotope& zend, int order) {
   Fit f;
   f.kind = kZonotope;
   const int n = zend.dim();
@@ -77,8 +77,6 @@ Fit certify_zonotope(const Zonotope& zend, const std::vector<double>& lo, const 
   z.G *= 1.0 + 1e-6;
   const int p = z.generators();
   if (p > kMaxMembershipGenerators || p < 1) return f;
-  (void)lo;
-  (void)hi;
   f.tol.resize(n);
   for (int i = 0; i < n; ++i) {
     f.tol[i] = std::max(1e-9 * z.radius(i), 1e-300);
@@ -197,7 +195,7 @@ Fit verified_set(const Zonotope& zend, const std::vector<double>& lo, const std:
   const int n = zend.dim();
   const int order = std::max(o.set_order, 2);
   if (o.zonotope_sets && zend.generators() > 2 * n) {
-    Fit high = certify_zonotope(zend, lo, hi, order);
+    Fit high = certify_zonotope(zend, order);
     if (high.ok) return high;
   }
   Fit best;
@@ -206,9 +204,9 @@ Fit verified_set(const Zonotope& zend, const std::vector<double>& lo, const std:
     if (c.ok && (!best.ok || c.volume < best.volume)) best = std::move(c);
   }
   if (best.ok) return best;
-  Fit low = certify_zonotope(zend, lo, hi, 2);
+  Fit low = certify_zonotope(zend, 2);
   if (low.ok || order == 2) return low;
-  return certify_zonotope(zend, lo, hi, order);
+  return certify_zonotope(zend, order);
 }
 
 }  // namespace
@@ -466,6 +464,7 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
         out.reached_step = k;
         out.miss_coordinate = i;
         out.miss_amount = over;
+        out.miss_off_centre = std::fabs(zend.c[i] - p.nominal.x[k + 1][i]) > zend.radius(i);
         return out;
       }
     }

@@ -35,6 +35,7 @@ struct VerifyOutcome {
   int reached_step = 0;   // steps verified before the failure
   int miss_coordinate = -1;  // when the enclosure left the tube: the coordinate and by how much
   double miss_amount = 0.0;
+  bool miss_off_centre = false;  // the enclosure's centre is further from x_{k+1} than its half-width
   int saturated_steps = 0;  // steps where some input row hit U and was enclosed as a box
   int shifted_steps = 0;    // steps whose law's u_k was moved inside U instead
   double max_fill = 0.0;  // max over k, i of (hull half-width of V_k along i) / eps_i
