@@ -133,10 +133,11 @@ TrackerAssessment FunnelTracker::assess(const AgentSpec& a, int horizon, double 
     }
   }
   // Per enclosure step: two Jacobians over n + m directions and a zonotope product of about
-  // n x (n + m) x p operations (p = reach_order n + n + m generators), ~2 ns each; a few weight
-  // choices in the worst case.
+  // n x (n + m) x p operations (p = the first pass's carried generators, order n + n + m), ~2 ns
+  // each; a few weight choices in the worst case.
   const double N = n + m;
-  const double p = static_cast<double>(s_.max_generators > 0 ? s_.max_generators : s_.reach_order * n + N);
+  const long first_order = s_.reach_order > kFirstReachOrder ? kFirstReachOrder : s_.reach_order;
+  const double p = static_cast<double>(s_.max_generators > 0 ? s_.max_generators : first_order * n + N);
   const double per_step = 2e-9 * (n * N * p + 40 * N * N);
   const double tries = s_.weight_search ? 3 : 1;
   r.work_s = tries * std::max(1, horizon) * s_.substeps * per_step;
