@@ -57,9 +57,11 @@ ParamSet<FunnelSettings> declare() {
       });
   integer_in(s, "picard_iterations", &O::picard_iterations, 1, 100, "a priori enclosure attempts per enclosure step");
   integer_in(s, "max_generators", &O::max_generators, 0, 1000,
-             "zonotope generators kept before order reduction; 0: reach_order n + n + m");
+             "zonotope generators kept within a period; 0: reach_order n + n + m, after a cheap pass at 8 n + n + m; "
+             "a number: that many, in one pass");
   integer_in(s, "reach_order", &O::reach_order, 1, 64,
-             "generators per state of the reachable-set enclosure carried from period to period (more: tighter, slower)");
+             "generators per state of the reachable-set enclosure carried from period to period (more: tighter, slower); "
+             "above 8, a pass at 8 goes first and is kept if its sets fill at most 25% of eps");
   // Its length (the state dimension) is checked per agent (assess, track).
   s.add("initial_radius", &O::initial_radius, "[0, eps)",
         "half-widths of the initial box around x0 (one per state); empty: initial_fraction x eps")
