@@ -458,13 +458,15 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
       const FastInterval h = zend.hull(i);
       if (h.lower() < next.lo[i] || h.upper() > next.hi[i]) {
         const double over = std::max(next.lo[i] - h.lower(), h.upper() - next.hi[i]);
+        const double offset = std::fabs(zend.c[i] - p.nominal.x[k + 1][i]);
+        out.miss_off_centre = offset > zend.radius(i);
         out.why = "at step " + std::to_string(k + 1) + " of " + std::to_string(T) + ", " + f.state_names()[i] +
                   " can leave the eps-tube by " + num(over) + " (enclosure half-width " + num(zend.radius(i)) +
-                  " vs eps " + num(p.tube.eps[i]) + (out.saturated_steps ? "; some inputs saturated" : "") + ")";
+                  " vs eps " + num(p.tube.eps[i]) + (out.miss_off_centre ? ", its centre " + num(offset) + " off the nominal" : "") +
+                  (out.saturated_steps ? "; some inputs saturated" : "") + ")";
         out.reached_step = k;
         out.miss_coordinate = i;
         out.miss_amount = over;
-        out.miss_off_centre = std::fabs(zend.c[i] - p.nominal.x[k + 1][i]) > zend.radius(i);
         return out;
       }
     }
