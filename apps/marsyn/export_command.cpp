@@ -34,6 +34,82 @@ std::string tracker_from_result(const fs::path& file) {
   return it == recorded.end() ? std::string() : it->second;
 }
 
+// The controller files the inputs name, a folder's *.ctrl sorted by name; "" or what is wrong.
+std::string collect_files(const std::vector<std::string>& inputs, std::vector<std::string>& files) {
+  for (const auto& in : inputs) {
+    std::error_code ec;
+    if (fs::is_directory(in, ec)) {
+      std::vector<std::string> found;
+      for (const auto& e : fs::directory_iterator(in, ec))
+        if (e.path().extension() == ".ctrl") found.push_back(e.path().string());
+      if (found.empty()) return in + ": a folder without controller files (*.ctrl)";
+      std::sort(found.begin(), found.end());
+      files.insert(files.end(), found.begin(), found.end());
+    } else if (fs::exists(in, ec)) {
+      files.push_back(in);
+    } else {
+      return "cannot open controller file " + in + " (no such file or folder)";
+    }
+  }
+  return {};
+}
+
+// The tracker plugins that read the files, each created once.
+class Readers {
+ public:
+  explicit Readers(std::string tracker_name) : tracker_name_(std::move(tracker_name)) {}
+
+  // The tracker that reads `file`: --tracker, else the one result.json names for it, else abcd
+  // (and, when abcd cannot read the file, the first other tracker that can).
+  std::shared_ptr<Tracker> tracker_for(const std::string& file, std::string* error) {
+    std::string name = tracker_name_;
+    std::string recorded;
+    if (name.empty()) recorded = tracker_from_result(file);
+    if (name.empty()) name = recorded.empty() ? "abcd" : recorded;
+    try {
+      return created(name);
+    } catch (const std::exception&) {
+      std::string names;
+      for (const auto& n : registry_.names("tracker")) names += (names.empty() ? "" : ", ") + n;
+      *error = (recorded.empty() ? "--tracker: " : file + ": written by the tracker '" + recorded + "' (result.json); ") +
+               "no tracker plugin named '" + name + "' (found: " + (names.empty() ? "none" : names) + ")";
+      return nullptr;
+    }
+  }
+
+  // The controller in `file`, or nullptr with `error`.
+  std::shared_ptr<const Controller> read(const std::string& file, std::string* error) {
+    const auto tracker = tracker_for(file, error);
+    if (!tracker) return nullptr;
+    try {
+      return tracker->read_controller(file);
+    } catch (const std::exception& e) {
+      // A controller written by `marsyn track` has no result.json beside it: the file itself says
+      // which tracker wrote it (each reader checks its own magic), so ask the others.
+      if (tracker_name_.empty() && tracker_from_result(file).empty())
+        for (const auto& other : registry_.names("tracker")) {
+          if (other == "abcd") continue;
+          try {
+            return created(other)->read_controller(file);
+          } catch (const std::exception&) {  // not this tracker's file either
+          }
+        }
+      *error = e.what();
+      return nullptr;
+    }
+  }
+
+ private:
+  std::shared_ptr<Tracker> created(const std::string& name) {  // throws for an unknown name
+    if (auto it = trackers_.find(name); it != trackers_.end()) return it->second;
+    return trackers_[name] = registry_.create<Tracker>(name);
+  }
+
+  std::string tracker_name_;
+  PluginRegistry registry_;
+  std::map<std::string, std::shared_ptr<Tracker>> trackers_;
+};
+
 }  // namespace
 
 int run_export(const std::vector<std::string>& inputs, const std::string& format, const std::string& out_dir,
@@ -45,75 +121,22 @@ int run_export(const std::vector<std::string>& inputs, const std::string& format
     return fail("--prefix: '" + prefix + "' is not a C identifier ([A-Za-z_][A-Za-z0-9_]*)");
 
   std::vector<std::string> files;
-  for (const auto& in : inputs) {
-    std::error_code ec;
-    if (fs::is_directory(in, ec)) {
-      std::vector<std::string> found;
-      for (const auto& e : fs::directory_iterator(in, ec))
-        if (e.path().extension() == ".ctrl") found.push_back(e.path().string());
-      if (found.empty()) return fail(in + ": a folder without controller files (*.ctrl)");
-      std::sort(found.begin(), found.end());
-      files.insert(files.end(), found.begin(), found.end());
-    } else if (fs::exists(in, ec)) {
-      files.push_back(in);
-    } else {
-      return fail("cannot open controller file " + in + " (no such file or folder)");
-    }
-  }
+  if (const std::string why = collect_files(inputs, files); !why.empty()) return fail(why);
   if (!prefix.empty() && files.size() > 1)
     return fail("--prefix names one controller's symbols; " + std::to_string(files.size()) + " controllers given");
 
-  PluginRegistry registry;
-  std::map<std::string, std::shared_ptr<Tracker>> trackers;
-  auto created = [&](const std::string& name) -> std::shared_ptr<Tracker> {  // throws for an unknown name
-    if (auto it = trackers.find(name); it != trackers.end()) return it->second;
-    return trackers[name] = registry.create<Tracker>(name);
-  };
-  // The tracker that reads `file`: --tracker, else the one result.json names for it, else abcd
-  // (and, when abcd cannot read the file, the first other tracker that can).
-  auto tracker_for = [&](const std::string& file, std::string* error) -> std::shared_ptr<Tracker> {
-    std::string name = tracker_name;
-    std::string recorded;
-    if (name.empty()) recorded = tracker_from_result(file);
-    if (name.empty()) name = recorded.empty() ? "abcd" : recorded;
-    try {
-      return created(name);
-    } catch (const std::exception&) {
-      std::string names;
-      for (const auto& n : registry.names("tracker")) names += (names.empty() ? "" : ", ") + n;
-      *error = (recorded.empty() ? "--tracker: " : file + ": written by the tracker '" + recorded + "' (result.json); ") +
-               "no tracker plugin named '" + name + "' (found: " + (names.empty() ? "none" : names) + ")";
-      return nullptr;
-    }
-  };
+  Readers readers(tracker_name);
   if (!tracker_name.empty()) {
     std::string error;
-    if (!tracker_for(files.empty() ? std::string() : files.front(), &error)) return fail(error);
+    if (!readers.tracker_for(files.empty() ? std::string() : files.front(), &error)) return fail(error);
   }
   const std::string dir = out_dir.empty() ? "." : out_dir;
   long long total = 0;
   std::set<fs::path> written;
   for (const auto& file : files) {
-    std::shared_ptr<const Controller> ctrl;
     std::string error;
-    const auto tracker = tracker_for(file, &error);
-    if (!tracker) return fail(error);
-    try {
-      ctrl = tracker->read_controller(file);
-    } catch (const std::exception& e) {
-      // A controller written by `marsyn track` has no result.json beside it: the file itself says
-      // which tracker wrote it (each reader checks its own magic), so ask the others.
-      if (tracker_name.empty() && tracker_from_result(file).empty())
-        for (const auto& other : registry.names("tracker")) {
-          if (other == "abcd") continue;
-          try {
-            ctrl = created(other)->read_controller(file);
-            break;
-          } catch (const std::exception&) {  // not this tracker's file either
-          }
-        }
-      if (!ctrl) return fail(e.what());
-    }
+    const std::shared_ptr<const Controller> ctrl = readers.read(file, &error);
+    if (!ctrl) return fail(error);
     ExportRequest req;
     req.format = format;
     req.out_dir = dir;

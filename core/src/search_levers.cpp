@@ -163,47 +163,73 @@ std::vector<LeverChoice> levers_for(const Failure& f, const std::vector<TrackerL
   return out;
 }
 
-Proposal propose(const LeverChoice& lever, const Failure& failure, const Team& team, TrackerInstances& instances,
-                 const AssessRequest& request, int uses) {
-  Proposal p;
-  p.lever = lever;
-  p.agents = team.problem->agents;
-  p.trackers = *team.trackers;
-  p.extra = *team.extra;
-  p.input_share = *team.input_share;
-  p.input_share.resize(p.agents.size(), 1.0);
-  p.min_horizon = *team.min_horizon;
-  // Why each refused change was refused, for the stop message ("a1: eps[theta] 0.156 empties
-  // the goal ..."): the first reason per agent.
-  std::vector<std::string> refused;
-  auto acceptable = [&](const AgentSpec& a) {
+namespace {
+
+// One proposal in the making: the copy it changes, and why each refused change was refused,
+// for the stop message ("a1: eps[theta] 0.156 empties the goal ..."): the first reason per agent.
+class Proposer {
+ public:
+  Proposer(const LeverChoice& lever, const Failure& failure, const Team& team, TrackerInstances& instances,
+           const AssessRequest& request)
+      : lever_(lever), failure_(failure), team_(team), instances_(instances), request_(request) {
+    p_.lever = lever;
+    p_.agents = team.problem->agents;
+    p_.trackers = *team.trackers;
+    p_.extra = *team.extra;
+    p_.input_share = *team.input_share;
+    p_.input_share.resize(p_.agents.size(), 1.0);
+    p_.min_horizon = *team.min_horizon;
+  }
+
+  Proposal run() {
+    switch (lever_.lever) {
+      case Lever::LongerHorizon: longer_horizon(); break;
+      case Lever::ShrinkEps: shrink_eps(); break;
+      case Lever::EnlargeEps:
+        scale_eps(failure_.agents, 1.25, {});
+        if (p_.changed.empty()) p_.why_not = "a wider tube is refused" + refusals();
+        break;
+      case Lever::EpsInCoordinate: eps_in_coordinate(); break;
+      case Lever::TightenInput: tighten_input(); break;
+      case Lever::TrackerLever: tracker_lever(); break;
+      case Lever::FallBack: fall_back(); break;
+      case Lever::MoreClearance: more_clearance(); break;
+    }
+    return p_;
+  }
+
+ private:
+  bool acceptable(const AgentSpec& a) {
     const std::string defect = agent_defect_text(a);
     if (!defect.empty()) {
-      refused.push_back(a.name + ": " + defect);
+      refused_.push_back(a.name + ": " + defect);
       return false;
     }
-    const TrackerAssessment as = assess_tracker(instances, a.tracker, a, request);
-    if (!as.ok) refused.push_back(a.name + ": " + a.tracker.name + " refuses (" + as.message + ")");
+    const TrackerAssessment as = assess_tracker(instances_, a.tracker, a, request_);
+    if (!as.ok) refused_.push_back(a.name + ": " + a.tracker.name + " refuses (" + as.message + ")");
     return as.ok;
-  };
-  auto refusals = [&] {
+  }
+
+  std::string refusals() const {
     std::string out;
-    for (std::size_t r = 0; r < refused.size() && r < 3; ++r) out += (r ? "; " : ": ") + refused[r];
-    if (refused.size() > 3) out += "; and " + std::to_string(refused.size() - 3) + " more";
+    for (std::size_t r = 0; r < refused_.size() && r < 3; ++r) out += (r ? "; " : ": ") + refused_[r];
+    if (refused_.size() > 3) out += "; and " + std::to_string(refused_.size() - 3) + " more";
     return out;
-  };
-  auto consider = [&](int i, const AgentSpec& b) {
+  }
+
+  void consider(int i, const AgentSpec& b) {
     if (!acceptable(b)) return;
-    describe(p.agents[i], b, p.changes);
-    p.agents[i] = b;
-    p.changed.push_back(i);
-  };
+    describe(p_.agents[i], b, p_.changes);
+    p_.agents[i] = b;
+    p_.changed.push_back(i);
+  }
+
   // eps times `factor` for the agents `who` (in coordinate `only`, or all when -1); a smaller
   // tube keeps a grid no coarser than itself.
-  auto scale_eps = [&](const std::vector<int>& who, double factor, const std::vector<int>& only) {
+  void scale_eps(const std::vector<int>& who, double factor, const std::vector<int>& only) {
     for (std::size_t w = 0; w < who.size(); ++w) {
       const int i = who[w];
-      AgentSpec b = p.agents[i];
+      AgentSpec b = p_.agents[i];
       const int c = w < only.size() ? only[w] : -1;
       if (c >= 0 && c < b.n()) b.tube.eps[c] *= factor;
       else if (c < 0) b.tube.eps *= factor;
@@ -211,127 +237,138 @@ Proposal propose(const LeverChoice& lever, const Failure& failure, const Team& t
       if (factor < 1 && b.tube.eta_x.size() == b.tube.eps.size()) b.tube.eta_x = b.tube.eta_x.cwiseMin(b.tube.eps);
       consider(i, b);
     }
-    p.replan = true;
-  };
-  std::vector<int> everyone(p.agents.size());
-  for (std::size_t i = 0; i < everyone.size(); ++i) everyone[i] = static_cast<int>(i);
-  switch (lever.lever) {
-    case Lever::LongerHorizon: {
-      const int from = std::max(failure.longest_horizon, team.problem->horizon);
-      const int to = std::max(from + 1, static_cast<int>(std::ceil(from * 1.25)));
-      if (from <= 0 || to > 100000) {
-        p.why_not = "no horizon to start from";
-        break;
-      }
-      p.min_horizon = to;
-      p.changes.push_back({"", "horizon", std::to_string(from), std::to_string(to)});
-      p.replan = true;
-      break;
+    p_.replan = true;
+  }
+
+  void longer_horizon() {
+    const int from = std::max(failure_.longest_horizon, team_.problem->horizon);
+    const int to = std::max(from + 1, static_cast<int>(std::ceil(from * 1.25)));
+    if (from <= 0 || to > 100000) {
+      p_.why_not = "no horizon to start from";
+      return;
     }
-    case Lever::ShrinkEps: {
-      // 0.8, or further where crowded starts need it (just below the factor that makes step 0 robust).
-      const double start = planning::start_eps_factor(*team.problem);
-      if (start <= 0.05) {
-        p.why_not = "the starts are too close for any tube (eps x " + number_text(start, 3) + ")";
-        break;
-      }
-      scale_eps(everyone, std::min(0.8, 0.95 * start), {});
-      if (p.changed.empty()) p.why_not = "no agent's tracker accepts a smaller eps" + refusals();
-      break;
+    p_.min_horizon = to;
+    p_.changes.push_back({"", "horizon", std::to_string(from), std::to_string(to)});
+    p_.replan = true;
+  }
+
+  // 0.8, or further where crowded starts need it (just below the factor that makes step 0 robust).
+  void shrink_eps() {
+    const double start = planning::start_eps_factor(*team_.problem);
+    if (start <= 0.05) {
+      p_.why_not = "the starts are too close for any tube (eps x " + number_text(start, 3) + ")";
+      return;
     }
-    case Lever::EnlargeEps:
-      scale_eps(failure.agents, 1.25, {});
-      if (p.changed.empty()) p.why_not = "a wider tube is refused" + refusals();
-      break;
-    case Lever::EpsInCoordinate: {
-      std::vector<int> who, coord;
-      for (std::size_t w = 0; w < failure.agents.size() && w < failure.why.size(); ++w)
-        if (failure.why[w].kind == TrackFailureKind::TubeMiss && failure.why[w].coordinate >= 0) {
-          who.push_back(failure.agents[w]);
-          coord.push_back(failure.why[w].coordinate);
-        }
-      if (who.empty()) {
-        p.why_not = "no tracker named the coordinate it missed";
-        break;
+    std::vector<int> everyone(p_.agents.size());
+    for (std::size_t i = 0; i < everyone.size(); ++i) everyone[i] = static_cast<int>(i);
+    scale_eps(everyone, std::min(0.8, 0.95 * start), {});
+    if (p_.changed.empty()) p_.why_not = "no agent's tracker accepts a smaller eps" + refusals();
+  }
+
+  void eps_in_coordinate() {
+    std::vector<int> who, coord;
+    for (std::size_t w = 0; w < failure_.agents.size() && w < failure_.why.size(); ++w)
+      if (failure_.why[w].kind == TrackFailureKind::TubeMiss && failure_.why[w].coordinate >= 0) {
+        who.push_back(failure_.agents[w]);
+        coord.push_back(failure_.why[w].coordinate);
       }
-      scale_eps(who, 1.25, coord);
-      if (p.changed.empty()) p.why_not = "a wider tube in that coordinate is refused" + refusals();
-      break;
+    if (who.empty()) {
+      p_.why_not = "no tracker named the coordinate it missed";
+      return;
     }
-    case Lever::TightenInput: {
-      // Per agent, one level at a time: an agent tightened for the first time starts at the
-      // mild level (80 %), whatever other agents reached before.
-      for (std::size_t w = 0; w < failure.agents.size(); ++w) {
-        const int i = failure.agents[w];
-        const bool pinned = (w < failure.nominal_saturation.size() && failure.nominal_saturation[w] > 0) ||
-                            (w < failure.why.size() && failure.why[w].input_saturation > 0);
-        const double share = next_input_share(p.input_share[i]);
-        if (!pinned || !(share < p.input_share[i])) continue;
-        char from[32], to[32];
-        std::snprintf(from, sizeof from, "%.0f %%", 100 * p.input_share[i]);
-        std::snprintf(to, sizeof to, "%.0f %%", 100 * share);
-        p.changes.push_back({p.agents[i].name, "share of U for the nominal", from, to});
-        p.input_share[i] = share;
-        p.changed.push_back(i);
+    scale_eps(who, 1.25, coord);
+    if (p_.changed.empty()) p_.why_not = "a wider tube in that coordinate is refused" + refusals();
+  }
+
+  // Per agent, one level at a time: an agent tightened for the first time starts at the mild
+  // level (80 %), whatever other agents reached before.
+  void tighten_input() {
+    for (std::size_t w = 0; w < failure_.agents.size(); ++w) {
+      const int i = failure_.agents[w];
+      const bool pinned = (w < failure_.nominal_saturation.size() && failure_.nominal_saturation[w] > 0) ||
+                          (w < failure_.why.size() && failure_.why[w].input_saturation > 0);
+      const double share = next_input_share(p_.input_share[i]);
+      if (!pinned || !(share < p_.input_share[i])) continue;
+      char from[32], to[32];
+      std::snprintf(from, sizeof from, "%.0f %%", 100 * p_.input_share[i]);
+      std::snprintf(to, sizeof to, "%.0f %%", 100 * share);
+      p_.changes.push_back({p_.agents[i].name, "share of U for the nominal", from, to});
+      p_.input_share[i] = share;
+      p_.changed.push_back(i);
+    }
+    if (p_.changes.empty()) p_.why_not = "no failed agent's nominal sits at a bound of U that can still be tightened";
+    p_.replan = true;
+  }
+
+  void tracker_lever() {
+    for (std::size_t w = 0; w < failure_.agents.size(); ++w) {
+      const int i = failure_.agents[w];
+      AgentSpec b = p_.agents[i];
+      const TrackFailure why = w < failure_.why.size() ? failure_.why[w] : TrackFailure{};
+      std::shared_ptr<const Tracker> t;
+      try {
+        t = instances_.get(b.tracker);
+      } catch (const std::exception&) {
+        continue;
       }
-      if (p.changes.empty()) p.why_not = "no failed agent's nominal sits at a bound of U that can still be tightened";
-      p.replan = true;
-      break;
+      if (t->apply_lever(lever_.tracker_lever, why, b)) consider(i, b);
     }
-    case Lever::TrackerLever:
-      for (std::size_t w = 0; w < failure.agents.size(); ++w) {
-        const int i = failure.agents[w];
-        AgentSpec b = p.agents[i];
-        const TrackFailure why = w < failure.why.size() ? failure.why[w] : TrackFailure{};
-        std::shared_ptr<const Tracker> t;
-        try {
-          t = instances.get(b.tracker);
-        } catch (const std::exception&) {
+    if (p_.changed.empty()) p_.why_not = "no failed agent's tracker can turn it further";
+  }
+
+  void fall_back() {
+    for (int i : failure_.agents) {
+      AgentTrackers& choice = p_.trackers[i];
+      while (choice.automatic && !choice.fallbacks.empty()) {
+        AgentSpec b = p_.agents[i];
+        b.tracker = choice.fallbacks.front();
+        choice.fallbacks.erase(choice.fallbacks.begin());
+        const TrackerAssessment as = assess_tracker(instances_, b.tracker, b, request_);
+        if (!as.ok) {
+          refused_.push_back(b.name + ": " + b.tracker.name + " refuses (" + as.message + ")");
           continue;
         }
-        if (t->apply_lever(lever.tracker_lever, why, b)) consider(i, b);
+        choice.assessment = as;
+        describe(p_.agents[i], b, p_.changes);
+        p_.agents[i] = b;
+        p_.changed.push_back(i);
+        break;
       }
-      if (p.changed.empty()) p.why_not = "no failed agent's tracker can turn it further";
-      break;
-    case Lever::FallBack:
-      for (int i : failure.agents) {
-        AgentTrackers& choice = p.trackers[i];
-        while (choice.automatic && !choice.fallbacks.empty()) {
-          AgentSpec b = p.agents[i];
-          b.tracker = choice.fallbacks.front();
-          choice.fallbacks.erase(choice.fallbacks.begin());
-          const TrackerAssessment as = assess_tracker(instances, b.tracker, b, request);
-          if (!as.ok) {
-            refused.push_back(b.name + ": " + b.tracker.name + " refuses (" + as.message + ")");
-            continue;
-          }
-          choice.assessment = as;
-          describe(p.agents[i], b, p.changes);
-          p.agents[i] = b;
-          p.changed.push_back(i);
-          break;
-        }
-      }
-      if (p.changed.empty()) {
-        bool automatic = false;
-        for (int i : failure.agents) automatic = automatic || p.trackers[i].automatic;
-        p.why_not = automatic ? "no other installed tracker accepts the agents" + refusals()
-                              : "the file names the agents' trackers; only tracker: auto falls back";
-      }
-      break;
-    case Lever::MoreClearance:
-      // Remark 2 between the samples: 1.5 times the shortfall, exactly where the period enclosures
-      // came too close.
-      for (const auto& [name, m] : failure.shortfalls) {
-        const double before = p.extra.count(name) ? p.extra.at(name) : 0.0;
-        p.extra[name] = before + 1.5 * -m;
-        p.changes.push_back({"", "clearance of " + name, std::to_string(before), std::to_string(p.extra[name])});
-      }
-      p.replan = true;
-      if (p.changes.empty()) p.why_not = "certification named no requirement to clear";
-      break;
+    }
+    if (p_.changed.empty()) {
+      bool automatic = false;
+      for (int i : failure_.agents) automatic = automatic || p_.trackers[i].automatic;
+      p_.why_not = automatic ? "no other installed tracker accepts the agents" + refusals()
+                             : "the file names the agents' trackers; only tracker: auto falls back";
+    }
   }
-  return p;
+
+  // Remark 2 between the samples: 1.5 times the shortfall, exactly where the period enclosures
+  // came too close.
+  void more_clearance() {
+    for (const auto& [name, m] : failure_.shortfalls) {
+      const double before = p_.extra.count(name) ? p_.extra.at(name) : 0.0;
+      p_.extra[name] = before + 1.5 * -m;
+      p_.changes.push_back({"", "clearance of " + name, std::to_string(before), std::to_string(p_.extra[name])});
+    }
+    p_.replan = true;
+    if (p_.changes.empty()) p_.why_not = "certification named no requirement to clear";
+  }
+
+  const LeverChoice& lever_;
+  const Failure& failure_;
+  const Team& team_;
+  TrackerInstances& instances_;
+  const AssessRequest& request_;
+  Proposal p_;
+  std::vector<std::string> refused_;
+};
+
+}  // namespace
+
+Proposal propose(const LeverChoice& lever, const Failure& failure, const Team& team, TrackerInstances& instances,
+                 const AssessRequest& request, int /*uses*/) {
+  return Proposer(lever, failure, team, instances, request).run();
 }
 
 void apply(const Proposal& p, const Team& team) {

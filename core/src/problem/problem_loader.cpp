@@ -38,23 +38,9 @@ const std::vector<std::string> kAgentKeys = {"name",         "dynamics",    "x0"
                                              "eta_x",        "eta_u",        "workspace",   "tracker",
                                              "stages",       "ltl"};
 
-}  // namespace
-
-LoadedProblem load_problem(const std::string& path, const LoadOptions& options) {
-  const YAML::Node root = yaml::load_file(path);
-  Field top(root, path, "");
-  top.expect_map();
-  top.allow_only(kTopKeys);
-
-  LoadedProblem out;
-  out.memory_budget = options.memory_budget;
-  Problem& pb = out.problem;
-  pb.source = path;
-  pb.name = top.child("name").present() ? top.child("name").text() : name_from_stem(fs::path(path).stem().string());
-  if (top.child("name").present())
-    if (const std::string why = name_defect(pb.name); !why.empty()) top.child("name").fail(why);
-
-  // Plugins first: the dynamics decide every dimension checked below.
+// plugin_paths (relative to the file's folder) and the registry they open; a library that failed
+// to load is an error at its entry.
+void read_plugin_paths(const Field& top, const std::string& path, LoadedProblem& out) {
   const fs::path base = fs::path(path).parent_path();
   std::vector<std::string> plugin_paths;
   if (Field pp = top.child("plugin_paths"); pp.present()) {
@@ -64,7 +50,7 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
       plugin_paths.push_back(p.lexically_normal().string());
     }
   }
-  pb.plugin_paths = plugin_paths;
+  out.problem.plugin_paths = plugin_paths;
   out.registry = std::make_shared<PluginRegistry>(plugin_paths);
   for (const auto& prob : out.registry->problems()) {
     if (!prob.explicit_path) continue;
@@ -73,7 +59,11 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
       if (prob.library_path.rfind(plugin_paths[i], 0) == 0) pp[i].fail("plugin library " + prob.library_path + " " + prob.reason);
     pp.fail("plugin library " + prob.library_path + " " + prob.reason);
   }
+}
 
+// tau, search, horizon, rk4_substeps, delta, delta_norm, pairwise_collision, guarantee.
+void read_timing_and_norms(const Field& top, LoadedProblem& out) {
+  Problem& pb = out.problem;
   pb.tau = top.required("tau").positive();
   if (Field search = top.child("search"); search.present()) {
     search.expect_map();
@@ -97,6 +87,160 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
     else if (s == "sampled") pb.guarantee = Guarantee::Sampled;
     else f.fail("expected 'continuous' (safe for every t, the default) or 'sampled' (only at t = k tau, the paper's semantics), got '" + s + "'");
   }
+}
+
+// What reading the agents one by one carries from one to the next and on to the checks after.
+struct AgentsRead {
+  const Field& defaults;
+  const Field& regions;
+  bool spatial;  // obstacles, collisions or a formation: every agent needs a workspace point
+  const TrackerRequest& top_tracker;
+  TrackerInstances& tracker_instances;
+  std::map<std::string, std::size_t> seen;  // names so far, with their index
+  std::vector<Field> x0_fields, stage_fields, ltl_fields;
+  std::vector<std::vector<LtlAvoid>> ltl_avoid;
+};
+
+// A plugin name, or equations written in the file (core/src/problem/equations, issue 15).
+void read_dynamics(const Field& af, const Field& defaults, const PluginRegistry& registry, AgentSpec& a) {
+  const Field dyn_field = agent_required(af, defaults, "dynamics");
+  if (equations::is_equation_model(dyn_field, defaults.child("dynamics"))) {
+    a.dynamics = equations::load_equation_dynamics(dyn_field, defaults.child("dynamics"));
+    a.dynamics_type = a.dynamics->type();
+  } else {
+    const PluginField dyn = read_plugin_field(dyn_field, "type");
+    a.dynamics_type = dyn.name;
+    a.dynamics = create_plugin<Dynamics>(registry, dyn).first;
+  }
+}
+
+// The mission, as `stages` or as `ltl` (docs/tasks.md): the agent's own field before the
+// defaults' one; both in one block is an error.
+void read_mission(const Field& af, const Problem& pb, AgentSpec& a, AgentsRead& r) {
+  for (const Field& block : {af, r.defaults})
+    if (block.child("stages").present() && block.child("ltl").present())
+      block.child("ltl").fail("give the mission either as 'stages' or as 'ltl', not both");
+  const bool own = af.child("stages").present() || af.child("ltl").present();
+  const Field& mission_block = own ? af : r.defaults;
+  r.stage_fields.push_back(mission_block.child("stages"));
+  r.ltl_fields.push_back(mission_block.child("ltl"));
+  r.ltl_avoid.emplace_back();
+  if (r.stage_fields.back().present()) a.stages = read_stages(r.stage_fields.back(), a, pb.tau, pb.horizon);
+  if (r.ltl_fields.back().present()) {
+    LtlMission m = read_ltl(r.ltl_fields.back(), r.regions, a, pb.horizon);
+    a.stages = std::move(m.stages);
+    r.ltl_avoid.back() = std::move(m.avoid);
+  }
+}
+
+void read_agent(const Field& af, std::size_t idx, LoadedProblem& out, AgentsRead& r) {
+  Problem& pb = out.problem;
+  const Field& defaults = r.defaults;
+  af.expect_map();
+  af.allow_only(kAgentKeys);
+  AgentSpec a;
+  Field name = af.required("name");
+  a.name = name.text();
+  if (const std::string why = name_defect(a.name); !why.empty()) name.fail(why);
+  if (auto it = r.seen.find(a.name); it != r.seen.end())
+    name.fail("duplicate agent name '" + a.name + "' (also agents[" + std::to_string(it->second) + "])");
+  r.seen[a.name] = idx;
+
+  read_dynamics(af, defaults, *out.registry, a);
+  const int n = a.dynamics->state_dim(), m = a.dynamics->input_dim();
+  const std::string sn = "the dynamics '" + a.dynamics_type + "' has " + std::to_string(n) + " states";
+  const std::string sm = "the dynamics '" + a.dynamics_type + "' has " + std::to_string(m) + " inputs";
+
+  Field x0f = af.required("x0");
+  a.x0 = x0f.vector(n, sn);
+  Field goalf = agent_required(af, defaults, "goal");
+  a.goal = read_box(goalf, n, sn);
+  a.state_bounds = read_box(agent_required(af, defaults, "state_bounds"), n, sn);
+  a.input_bounds = read_box(agent_required(af, defaults, "input_bounds"), m, sm);
+  a.tube.w = agent_required(af, defaults, "disturbance").non_negative_vector(n, sn);
+  // eps and the grids: numbers, or `auto` (auto_tube.hpp; an absent eps is auto, and so are
+  // then absent grids).
+  const AutoTube at = read_tube(af, defaults, pb.tau, a, sn, sm);
+  out.auto_tube.push_back(at);
+  if (Field ws = agent_field(af, defaults, "workspace"); ws.present()) {
+    a.workspace = read_workspace(ws, *a.dynamics);
+  } else if (r.spatial) {
+    af.fail("missing required field 'workspace' (the problem has obstacles, collisions or a formation, so "
+            "each agent needs a point in the plane: {position: [i, j]} or {footprint: name})");
+  } else {
+    a.workspace.index = {0, n > 1 ? 1 : -1};
+  }
+  validate_agent(a, x0f, goalf);
+  read_mission(af, pb, a, r);
+  // The agent's own tracker, else the default's, else the top level's (Fields are never
+  // assigned: a YAML::Node assignment would write into the document).
+  const Field tf = agent_field(af, defaults, "tracker");
+  const TrackerRequest req = tf.present() ? read_tracker_request(tf, *out.registry) : r.top_tracker;
+  out.trackers.push_back(resolve_tracker(a, req, r.tracker_instances, *out.registry, pb, out.memory_budget, af, defaults));
+  r.x0_fields.push_back(x0f);
+  pb.agents.push_back(std::move(a));
+}
+
+// The planner's memory against the budget: the horizon is blamed when a horizon of 1000 steps
+// would fit, the agent count otherwise.
+void check_planning_memory(const Field& top, const LoadedProblem& out) {
+  const Problem& pb = out.problem;
+  const double budget = out.memory_budget.bytes;
+  const std::string& source = out.memory_budget.source;
+  const MemoryEstimate e = planner_memory(pb);
+  if (!(e.bytes <= budget)) {
+    const bool pairs = e.bytes / (pb.horizon + 1.0) * 1001 > budget;
+    (pairs ? top.child("agents") : top.child("horizon"))
+        .fail("planning would need about " + format_bytes(e.bytes) + " (" + e.detail + "), more than the memory budget of " +
+              format_bytes(budget) + " (" + source + "); " +
+              (pairs ? "use fewer agents" : "shorten the horizon"));
+  }
+}
+
+// Planner: the default when absent; always checked against the installed plugins so that a
+// typo fails here rather than after minutes of work. (Trackers: per agent.) Then
+// planner.warm_start: a planner whose plan starts the main one (docs/planning.md, chains).
+void read_planners(const Field& top, const std::string& path, LoadedProblem& out) {
+  Problem& pb = out.problem;
+  {
+    Field f = top.child("planner");
+    if (!f.present() && !out.registry->find("planner", kDefaultPlanner))
+      throw ConfigError(path, 0, 0, "planner",
+                        std::string("no planner given and the default '") + kDefaultPlanner +
+                            "' is not installed; available: " + join(out.registry->names("planner")));
+    PluginField pf = f.present() ? read_plugin_field(f, "name", "warm_start")
+                                 : PluginField{kDefaultPlanner, Field(YAML::Node(kDefaultPlanner), path, "planner"),
+                                               Field(YAML::Node(), path, "planner.params")};
+    pb.planner.name = pf.name;
+    pb.planner.params = create_plugin<Planner>(*out.registry, pf).second;
+  }
+  if (Field p = top.child("planner"); p.present() && !p.is_scalar())
+    if (Field w = p.child("warm_start"); w.present()) {
+      const PluginField wf = read_plugin_field(w, "name");
+      pb.warm_start_planner.name = wf.name;
+      pb.warm_start_planner.params = create_plugin<Planner>(*out.registry, wf).second;
+    }
+}
+
+}  // namespace
+
+LoadedProblem load_problem(const std::string& path, const LoadOptions& options) {
+  const YAML::Node root = yaml::load_file(path);
+  Field top(root, path, "");
+  top.expect_map();
+  top.allow_only(kTopKeys);
+
+  LoadedProblem out;
+  out.memory_budget = options.memory_budget;
+  Problem& pb = out.problem;
+  pb.source = path;
+  pb.name = top.child("name").present() ? top.child("name").text() : name_from_stem(fs::path(path).stem().string());
+  if (top.child("name").present())
+    if (const std::string why = name_defect(pb.name); !why.empty()) top.child("name").fail(why);
+
+  // Plugins first: the dynamics decide every dimension checked below.
+  read_plugin_paths(top, path, out);
+  read_timing_and_norms(top, out);
 
   const Field defaults = top.child("defaults");
   if (defaults.present()) {
@@ -113,129 +257,25 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
     agents.fail("expected at most " + std::to_string(kMaxAgents) + " agents, got " + std::to_string(agent_fields.size()));
   const bool spatial = has_obstacles || top.child("formation").present() ||
                        (pb.pairwise_collision && agent_fields.size() > 1);
-  std::map<std::string, std::size_t> seen;
-  std::vector<Field> x0_fields, stage_fields, ltl_fields;
-  std::vector<std::vector<LtlAvoid>> ltl_avoid;
   const Field regions = top.child("regions");
   check_regions(regions);
   // The top-level tracker (default of every agent without its own): a name, a block, or auto.
   const TrackerRequest top_tracker = read_tracker_request(top.child("tracker"), *out.registry);
   pb.tracker = top_tracker.automatic ? PluginChoice{kAutoTracker, {}} : top_tracker.choice;
   TrackerInstances tracker_instances(out.registry);
-  for (std::size_t idx = 0; idx < agent_fields.size(); ++idx) {
-    const Field& af = agent_fields[idx];
-    af.expect_map();
-    af.allow_only(kAgentKeys);
-    AgentSpec a;
-    Field name = af.required("name");
-    a.name = name.text();
-    if (const std::string why = name_defect(a.name); !why.empty()) name.fail(why);
-    if (auto it = seen.find(a.name); it != seen.end())
-      name.fail("duplicate agent name '" + a.name + "' (also agents[" + std::to_string(it->second) + "])");
-    seen[a.name] = idx;
-
-    // A plugin name, or equations written in the file (core/src/problem/equations, issue 15).
-    const Field dyn_field = agent_required(af, defaults, "dynamics");
-    if (equations::is_equation_model(dyn_field, defaults.child("dynamics"))) {
-      a.dynamics = equations::load_equation_dynamics(dyn_field, defaults.child("dynamics"));
-      a.dynamics_type = a.dynamics->type();
-    } else {
-      const PluginField dyn = read_plugin_field(dyn_field, "type");
-      a.dynamics_type = dyn.name;
-      a.dynamics = create_plugin<Dynamics>(*out.registry, dyn).first;
-    }
-    const int n = a.dynamics->state_dim(), m = a.dynamics->input_dim();
-    const std::string sn = "the dynamics '" + a.dynamics_type + "' has " + std::to_string(n) + " states";
-    const std::string sm = "the dynamics '" + a.dynamics_type + "' has " + std::to_string(m) + " inputs";
-
-    Field x0f = af.required("x0");
-    a.x0 = x0f.vector(n, sn);
-    Field goalf = agent_required(af, defaults, "goal");
-    a.goal = read_box(goalf, n, sn);
-    a.state_bounds = read_box(agent_required(af, defaults, "state_bounds"), n, sn);
-    a.input_bounds = read_box(agent_required(af, defaults, "input_bounds"), m, sm);
-    a.tube.w = agent_required(af, defaults, "disturbance").non_negative_vector(n, sn);
-    // eps and the grids: numbers, or `auto` (auto_tube.hpp; an absent eps is auto, and so are
-    // then absent grids).
-    const AutoTube at = read_tube(af, defaults, pb.tau, a, sn, sm);
-    out.auto_tube.push_back(at);
-    if (Field ws = agent_field(af, defaults, "workspace"); ws.present()) {
-      a.workspace = read_workspace(ws, *a.dynamics);
-    } else if (spatial) {
-      af.fail("missing required field 'workspace' (the problem has obstacles, collisions or a formation, so "
-              "each agent needs a point in the plane: {position: [i, j]} or {footprint: name})");
-    } else {
-      a.workspace.index = {0, n > 1 ? 1 : -1};
-    }
-    validate_agent(a, x0f, goalf);
-    // The mission, as `stages` or as `ltl` (docs/tasks.md): the agent's own field before the
-    // defaults' one; both in one block is an error.
-    for (const Field& block : {af, defaults})
-      if (block.child("stages").present() && block.child("ltl").present())
-        block.child("ltl").fail("give the mission either as 'stages' or as 'ltl', not both");
-    const bool own = af.child("stages").present() || af.child("ltl").present();
-    const Field& mission_block = own ? af : defaults;
-    stage_fields.push_back(mission_block.child("stages"));
-    ltl_fields.push_back(mission_block.child("ltl"));
-    ltl_avoid.emplace_back();
-    if (stage_fields.back().present()) a.stages = read_stages(stage_fields.back(), a, pb.tau, pb.horizon);
-    if (ltl_fields.back().present()) {
-      LtlMission m = read_ltl(ltl_fields.back(), regions, a, pb.horizon);
-      a.stages = std::move(m.stages);
-      ltl_avoid.back() = std::move(m.avoid);
-    }
-    // The agent's own tracker, else the default's, else the top level's (Fields are never
-    // assigned: a YAML::Node assignment would write into the document).
-    const Field tf = agent_field(af, defaults, "tracker");
-    const TrackerRequest req = tf.present() ? read_tracker_request(tf, *out.registry) : top_tracker;
-    out.trackers.push_back(resolve_tracker(a, req, tracker_instances, *out.registry, pb, out.memory_budget, af, defaults));
-    x0_fields.push_back(x0f);
-    pb.agents.push_back(std::move(a));
-  }
+  AgentsRead r{defaults, regions, spatial, top_tracker, tracker_instances, {}, {}, {}, {}, {}};
+  for (std::size_t idx = 0; idx < agent_fields.size(); ++idx) read_agent(agent_fields[idx], idx, out, r);
 
   if (has_obstacles) {
     const auto obs = top.child("obstacles").items();
     for (std::size_t i = 0; i < obs.size(); ++i) pb.obstacles.push_back(read_obstacle(obs[i], i));
   }
-  for (std::size_t i = 0; i < ltl_fields.size(); ++i) check_ltl_avoid(ltl_fields[i], ltl_avoid[i], pb.obstacles);
+  for (std::size_t i = 0; i < r.ltl_fields.size(); ++i) check_ltl_avoid(r.ltl_fields[i], r.ltl_avoid[i], pb.obstacles);
   if (Field f = top.child("formation"); f.present()) read_formation(f, pb);
-  check_teams(pb, stage_fields);
-  check_start_geometry(pb, x0_fields);
-  {
-    const double budget = out.memory_budget.bytes;
-    const std::string& source = out.memory_budget.source;
-    const MemoryEstimate e = planner_memory(pb);
-    if (!(e.bytes <= budget)) {
-      // Blame the horizon when a horizon of 1000 steps would fit, the agent count otherwise.
-      const bool pairs = e.bytes / (pb.horizon + 1.0) * 1001 > budget;
-      (pairs ? top.child("agents") : top.child("horizon"))
-          .fail("planning would need about " + format_bytes(e.bytes) + " (" + e.detail + "), more than the memory budget of " +
-                format_bytes(budget) + " (" + source + "); " +
-                (pairs ? "use fewer agents" : "shorten the horizon"));
-    }
-  }
-
-  // Planner: the default when absent; always checked against the installed plugins so that a
-  // typo fails here rather than after minutes of work. (Trackers: per agent, above.)
-  {
-    Field f = top.child("planner");
-    if (!f.present() && !out.registry->find("planner", kDefaultPlanner))
-      throw ConfigError(path, 0, 0, "planner",
-                        std::string("no planner given and the default '") + kDefaultPlanner +
-                            "' is not installed; available: " + join(out.registry->names("planner")));
-    PluginField pf = f.present() ? read_plugin_field(f, "name", "warm_start")
-                                 : PluginField{kDefaultPlanner, Field(YAML::Node(kDefaultPlanner), path, "planner"),
-                                               Field(YAML::Node(), path, "planner.params")};
-    pb.planner.name = pf.name;
-    pb.planner.params = create_plugin<Planner>(*out.registry, pf).second;
-  }
-  // planner.warm_start: a planner whose plan starts the main one (docs/planning.md, chains).
-  if (Field p = top.child("planner"); p.present() && !p.is_scalar())
-    if (Field w = p.child("warm_start"); w.present()) {
-      const PluginField wf = read_plugin_field(w, "name");
-      pb.warm_start_planner.name = wf.name;
-      pb.warm_start_planner.params = create_plugin<Planner>(*out.registry, wf).second;
-    }
+  check_teams(pb, r.stage_fields);
+  check_start_geometry(pb, r.x0_fields);
+  check_planning_memory(top, out);
+  read_planners(top, path, out);
   if (Field f = top.child("collision"); f.present()) read_collision(f, out);
   return out;
 }

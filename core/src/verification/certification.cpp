@@ -34,29 +34,31 @@ std::string fmt(double v) {
   return os.str();
 }
 
-}  // namespace
+// Per agent and step: its enclosures in time order.
+using ByStep = std::vector<std::vector<std::vector<const PeriodEnclosure*>>>;
 
-CertificationReport certify(const Problem& pb, const std::vector<std::shared_ptr<const Controller>>& ctrls) {
-  const Stopwatch clock;
-  CertificationReport r;
+// A margin below 0 fails its agents.
+void note(std::set<int>& failing, double margin, std::initializer_list<int> agents) {
+  if (!(margin >= 0))
+    for (int a : agents) failing.insert(a);
+}
+
+// Indexes every controller's enclosures by step (into by_step, the horizon into T); false, with
+// r.message (and the agent at fault), when the controllers give no continuous-time guarantee
+// this check can read.
+bool index_enclosures(const Problem& pb, const std::vector<std::shared_ptr<const Controller>>& ctrls, ByStep& by_step,
+                      int& T, CertificationReport& r) {
   const int N = static_cast<int>(pb.agents.size());
-  if (static_cast<int>(ctrls.size()) != N) {
-    r.message = "not certified: one controller per agent is needed";
-    return r;
-  }
-  // Per agent and step: the indices of its enclosures, and how many parts the period has.
-  int T = -1;
-  std::vector<std::vector<std::vector<const PeriodEnclosure*>>> by_step(N);
   for (int i = 0; i < N; ++i) {
     if (!ctrls[i]) {
       r.message = "not certified: agent " + pb.agents[i].name + " has no controller";
-      return r;
+      return false;
     }
     const int Ti = ctrls[i]->horizon();
     if (T < 0) T = Ti;
     if (Ti != T || Ti < 0) {
       r.message = "not certified: the agents' controllers have different horizons";
-      return r;
+      return false;
     }
     by_step[i].assign(static_cast<size_t>(T), {});
     for (const PeriodEnclosure& e : ctrls[i]->period_enclosures())
@@ -68,7 +70,7 @@ CertificationReport certify(const Problem& pb, const std::vector<std::shared_ptr
                     std::to_string(k) + " and " + std::to_string(k + 1) +
                     " (the tracker gives no continuous-time guarantee)";
         r.failing_agents.push_back(i);
-        return r;
+        return false;
       }
       std::sort(v.begin(), v.end(), [](const PeriodEnclosure* a, const PeriodEnclosure* b) { return a->t0 < b->t0; });
       // Parts are compared by index below, which needs the tracker's split of the period into
@@ -81,94 +83,121 @@ CertificationReport certify(const Problem& pb, const std::vector<std::shared_ptr
                       std::to_string(k) + " and " + std::to_string(k + 1) +
                       " do not split the period into equal parts covering it";
           r.failing_agents.push_back(i);
-          return r;
+          return false;
         }
       }
       r.enclosures += static_cast<long long>(v.size());
     }
   }
-  std::set<int> failing;
-  auto note = [&](double margin, std::initializer_list<int> agents) {
-    if (!(margin >= 0))
-      for (int a : agents) failing.insert(a);
-  };
-  for (int i = 0; i < N; ++i) {
+  return true;
+}
+
+// Each agent alone: its state bounds and the obstacles.
+void certify_agents(const Problem& pb, const ByStep& by_step, int T, CertificationReport& r, std::set<int>& failing) {
+  for (int i = 0; i < static_cast<int>(pb.agents.size()); ++i) {
     const auto& a = pb.agents[i];
     for (int k = 0; k < T; ++k)
       for (const PeriodEnclosure* e : by_step[i][static_cast<size_t>(k)]) {
         for (int c = 0; c < a.state_bounds.dim(); ++c) {
           const double mb = planning::box_inside_margin(e->state, a.state_bounds, c);
           record(r.state_bounds, mb, k, [&] { return planning::state_bound_name(a, c); }, r.shortfalls);
-          note(mb, {i});
+          note(failing, mb, {i});
         }
         for (size_t o = 0; o < pb.obstacles.size(); ++o) {
           const double mo = planning::box_obstacle_margin(e->workspace, pb.obstacles[o].vertices, pb.delta, pb.delta_norm);
           record(r.obstacle, mo, k, [&] { return planning::obstacle_name(pb, static_cast<int>(o), a); }, r.shortfalls);
-          note(mo, {i});
+          note(failing, mo, {i});
         }
       }
   }
-  // Part p of n parts covers [p/n, (p+1)/n] of the period (the trackers split it evenly, in real
-  // arithmetic); two parts are compared when their open time intervals meet: at any t some
-  // such pair holds both agents' states.
-  auto overlapping = [&](int i, int j, int k, const std::function<void(const PeriodEnclosure&, const PeriodEnclosure&)>& fn) {
-    const auto& A = by_step[i][static_cast<size_t>(k)];
-    const auto& B = by_step[j][static_cast<size_t>(k)];
-    const long long na = static_cast<long long>(A.size()), nb = static_cast<long long>(B.size());
-    for (long long p = 0; p < na; ++p)
-      for (long long q = 0; q < nb; ++q)
-        if (p * nb < (q + 1) * na && q * na < (p + 1) * nb) fn(*A[static_cast<size_t>(p)], *B[static_cast<size_t>(q)]);
-  };
+}
+
+// Part p of n parts covers [p/n, (p+1)/n] of the period (the trackers split it evenly, in real
+// arithmetic); two parts are compared when their open time intervals meet: at any t some
+// such pair holds both agents' states.
+void overlapping(const ByStep& by_step, int i, int j, int k,
+                 const std::function<void(const PeriodEnclosure&, const PeriodEnclosure&)>& fn) {
+  const auto& A = by_step[i][static_cast<size_t>(k)];
+  const auto& B = by_step[j][static_cast<size_t>(k)];
+  const long long na = static_cast<long long>(A.size()), nb = static_cast<long long>(B.size());
+  for (long long p = 0; p < na; ++p)
+    for (long long q = 0; q < nb; ++q)
+      if (p * nb < (q + 1) * na && q * na < (p + 1) * nb) fn(*A[static_cast<size_t>(p)], *B[static_cast<size_t>(q)]);
+}
+
+// Pairs of agents: collisions and the formation.
+void certify_pairs(const Problem& pb, const ByStep& by_step, int T, CertificationReport& r, std::set<int>& failing) {
+  const int N = static_cast<int>(pb.agents.size());
   if (pb.pairwise_collision)
     for (int i = 0; i < N; ++i)
       for (int j = i + 1; j < N; ++j)
         for (int k = 0; k < T; ++k)
-          overlapping(i, j, k, [&](const PeriodEnclosure& ea, const PeriodEnclosure& eb) {
+          overlapping(by_step, i, j, k, [&](const PeriodEnclosure& ea, const PeriodEnclosure& eb) {
             const double m = planning::box_pair_margin(ea.workspace, eb.workspace, pb.delta, pb.delta_norm);
             record(r.collision, m, k, [&] { return planning::collision_name(pb.agents[i], pb.agents[j]); },
                    r.shortfalls);
-            note(m, {i, j});
+            note(failing, m, {i, j});
           });
   for (const auto& f : pb.formation)
     for (int k = 0; k < T; ++k)
-      overlapping(f.i, f.j, k, [&](const PeriodEnclosure& ea, const PeriodEnclosure& eb) {
+      overlapping(by_step, f.i, f.j, k, [&](const PeriodEnclosure& ea, const PeriodEnclosure& eb) {
         const double m = planning::box_formation_margin(ea.workspace, eb.workspace, f.lambda, f.mu);
         record(r.formation, m, k, [&] { return planning::formation_name(pb.agents[f.i], pb.agents[f.j]); },
                r.shortfalls);
-        note(m, {f.i, f.j});
+        note(failing, m, {f.i, f.j});
       });
+}
 
-  // Mission stages: the state at knot k lies in the part starting at k tau and in the part
-  // ending there; their intersection encloses it.
-  if (std::any_of(pb.agents.begin(), pb.agents.end(), [](const AgentSpec& a) { return !a.stages.empty(); })) {
-    const planning::MissionSchedule sched = planning::schedule_missions(pb, T);
-    if (!sched.feasible)
-      record(r.stage, -std::numeric_limits<double>::infinity(), T, [&] { return "mission schedule: " + sched.why; },
-             r.shortfalls);
-    r.stages = planning::stage_visits(pb, T);
-    for (auto& v : r.stages) {
-      const auto& a = pb.agents[v.agent];
-      const auto& st = a.stages[v.stage];
-      const auto& steps = by_step[v.agent];
-      v.sampled_margin = std::numeric_limits<double>::infinity();
-      for (int k = v.step; k <= std::min(T, v.step + v.dwell); ++k) {
-        const PeriodEnclosure* after = k < T ? steps[static_cast<size_t>(k)].front() : nullptr;
-        const PeriodEnclosure* before = k > 0 ? steps[static_cast<size_t>(k - 1)].back() : nullptr;
-        Box state = (after ? after : before)->state, ws = (after ? after : before)->workspace;
-        if (after && before) {
-          state = {state.lo.cwiseMax(before->state.lo), state.hi.cwiseMin(before->state.hi)};
-          ws = {ws.lo.cwiseMax(before->workspace.lo), ws.hi.cwiseMin(before->workspace.hi)};
-        }
-        v.sampled_margin = std::min(v.sampled_margin, planning::stage_margin(st, state, ws));
+// Mission stages: the state at knot k lies in the part starting at k tau and in the part
+// ending there; their intersection encloses it.
+void certify_stages(const Problem& pb, const ByStep& by_step, int T, CertificationReport& r, std::set<int>& failing) {
+  const planning::MissionSchedule sched = planning::schedule_missions(pb, T);
+  if (!sched.feasible)
+    record(r.stage, -std::numeric_limits<double>::infinity(), T, [&] { return "mission schedule: " + sched.why; },
+           r.shortfalls);
+  r.stages = planning::stage_visits(pb, T);
+  for (auto& v : r.stages) {
+    const auto& a = pb.agents[v.agent];
+    const auto& st = a.stages[v.stage];
+    const auto& steps = by_step[v.agent];
+    v.sampled_margin = std::numeric_limits<double>::infinity();
+    for (int k = v.step; k <= std::min(T, v.step + v.dwell); ++k) {
+      const PeriodEnclosure* after = k < T ? steps[static_cast<size_t>(k)].front() : nullptr;
+      const PeriodEnclosure* before = k > 0 ? steps[static_cast<size_t>(k - 1)].back() : nullptr;
+      Box state = (after ? after : before)->state, ws = (after ? after : before)->workspace;
+      if (after && before) {
+        state = {state.lo.cwiseMax(before->state.lo), state.hi.cwiseMin(before->state.hi)};
+        ws = {ws.lo.cwiseMax(before->workspace.lo), ws.hi.cwiseMin(before->workspace.hi)};
       }
-      for (int k = v.step; k < std::min(T, v.step + v.dwell); ++k)
-        for (const PeriodEnclosure* e : steps[static_cast<size_t>(k)])
-          v.between_margin = std::min(v.between_margin, planning::stage_margin(st, e->state, e->workspace));
-      v.margin = std::min(v.sampled_margin, v.between_margin);
-      record(r.stage, v.margin, v.step, [&] { return v.name; }, r.shortfalls);
-      note(v.margin, {v.agent});
+      v.sampled_margin = std::min(v.sampled_margin, planning::stage_margin(st, state, ws));
     }
+    for (int k = v.step; k < std::min(T, v.step + v.dwell); ++k)
+      for (const PeriodEnclosure* e : steps[static_cast<size_t>(k)])
+        v.between_margin = std::min(v.between_margin, planning::stage_margin(st, e->state, e->workspace));
+    v.margin = std::min(v.sampled_margin, v.between_margin);
+    record(r.stage, v.margin, v.step, [&] { return v.name; }, r.shortfalls);
+    note(failing, v.margin, {v.agent});
   }
+}
+
+}  // namespace
+
+CertificationReport certify(const Problem& pb, const std::vector<std::shared_ptr<const Controller>>& ctrls) {
+  const Stopwatch clock;
+  CertificationReport r;
+  const int N = static_cast<int>(pb.agents.size());
+  if (static_cast<int>(ctrls.size()) != N) {
+    r.message = "not certified: one controller per agent is needed";
+    return r;
+  }
+  int T = -1;
+  ByStep by_step(N);
+  if (!index_enclosures(pb, ctrls, by_step, T, r)) return r;
+  std::set<int> failing;
+  certify_agents(pb, by_step, T, r, failing);
+  certify_pairs(pb, by_step, T, r, failing);
+  if (std::any_of(pb.agents.begin(), pb.agents.end(), [](const AgentSpec& a) { return !a.stages.empty(); }))
+    certify_stages(pb, by_step, T, r, failing);
 
   const CertifiedPart* worst = nullptr;
   for (const CertifiedPart* p : {&r.state_bounds, &r.obstacle, &r.collision, &r.formation, &r.stage})

@@ -140,60 +140,95 @@ struct Lane {
 
 }  // namespace
 
-std::vector<ClosedLoopRun> simulate(const SimulationSetup& s, std::span<const Scenario> scenarios) {
-  const Problem& pb = *s.problem;
-  const int N = static_cast<int>(pb.agents.size());
-  if (static_cast<int>(s.nominal.size()) != N) throw std::invalid_argument("simulate: one nominal trajectory per agent");
-  if (s.fine_substeps < 1) throw std::invalid_argument("simulate: fine_substeps must be positive");
-  if (scenarios.empty() || scenarios.size() > static_cast<size_t>(Lanes::kWidth))
-    throw std::invalid_argument("simulate: 1 to " + std::to_string(Lanes::kWidth) + " scenarios at once");
-  const bool closed = !s.controllers.empty();
-  const int T = static_cast<int>(s.nominal.front().u.size());
-  const int S = s.fine_substeps;
-  const int L = static_cast<int>(scenarios.size());
+namespace {
 
-  std::vector<Lane> lanes;
-  lanes.reserve(static_cast<size_t>(L));
-  for (const Scenario& sc : scenarios) lanes.emplace_back(pb, sc);
-  const bool any_adversary = std::any_of(lanes.begin(), lanes.end(), [](const Lane& r) { return r.adversary; });
-  const bool track_points = s.between || any_adversary || s.keep_dense;
-
-  // The integrator's view: per agent, its state, input and disturbance as Lanes (one lane per
-  // run; lanes past L repeat run 0 so that they compute ordinary numbers, which are dropped).
-  std::vector<std::vector<Lanes>> X(N), U(N), W(N), next(N);
-  for (int i = 0; i < N; ++i) {
-    X[i].resize(static_cast<size_t>(pb.agents[i].n()));
-    next[i].resize(X[i].size());
-    U[i].resize(static_cast<size_t>(pb.agents[i].m()));
-    W[i].resize(static_cast<size_t>(pb.agents[i].tube.w.size()));
+// A batch of runs, stepped together: the runs' Lanes and the integrator's view of them.
+class Batch {
+ public:
+  Batch(const SimulationSetup& s, std::span<const Scenario> scenarios)
+      : s_(s), pb_(*s.problem), N_(static_cast<int>(pb_.agents.size())), S_(s.fine_substeps),
+        L_(static_cast<int>(scenarios.size())), closed_(!s.controllers.empty()) {
+    lanes_.reserve(static_cast<size_t>(L_));
+    for (const Scenario& sc : scenarios) lanes_.emplace_back(pb_, sc);
+    any_adversary_ = std::any_of(lanes_.begin(), lanes_.end(), [](const Lane& r) { return r.adversary; });
+    track_points_ = s.between || any_adversary_ || s.keep_dense;
+    // The integrator's view: per agent, its state, input and disturbance as Lanes (one lane per
+    // run; lanes past L repeat run 0 so that they compute ordinary numbers, which are dropped).
+    X_.resize(N_);
+    U_.resize(N_);
+    W_.resize(N_);
+    next_.resize(N_);
+    for (int i = 0; i < N_; ++i) {
+      X_[i].resize(static_cast<size_t>(pb_.agents[i].n()));
+      next_[i].resize(X_[i].size());
+      U_[i].resize(static_cast<size_t>(pb_.agents[i].m()));
+      W_[i].resize(static_cast<size_t>(pb_.agents[i].tube.w.size()));
+    }
+    for (int i = 0; i < N_; ++i) pack(X_[i], &Lane::x, i);
   }
-  auto run_of = [&](int l) -> Lane& { return lanes[static_cast<size_t>(l < L ? l : 0)]; };
-  auto pack = [&](std::vector<Lanes>& to, auto member, int i) {
+
+  std::vector<ClosedLoopRun> run() {
+    const int T = static_cast<int>(s_.nominal.front().u.size());
+    for (Lane& r : lanes_) {
+      points(r);
+      record(r, 0);
+    }
+    for (int k = 0; k < T; ++k) {
+      hold_inputs(k);
+      for (int i = 0; i < N_; ++i) pack(U_[i], &Lane::u, i);
+      for (int sub = 0; sub < S_; ++sub) {
+        for (Lane& r : lanes_)
+          if (r.adversary) push_adversary(r, sub);
+        integrate(sub);
+        for (Lane& r : lanes_) {
+          points(r);
+          if (sub + 1 < S_) between(r, k, sub);
+        }
+      }
+      for (Lane& r : lanes_) record(r, k + 1);
+    }
+    std::vector<ClosedLoopRun> out;
+    out.reserve(lanes_.size());
+    for (Lane& r : lanes_) {
+      if (s_.between) {
+        s_.between->add_goal(r.prod, r.run.sampled);
+        r.run.sampled.satisfied = r.run.sampled.min_margin >= 0;
+      }
+      out.push_back(std::move(r.run));
+    }
+    return out;
+  }
+
+ private:
+  Lane& run_of(int l) { return lanes_[static_cast<size_t>(l < L_ ? l : 0)]; }
+
+  void pack(std::vector<Lanes>& to, std::vector<Eigen::VectorXd> Lane::*member, int i) {
     for (int l = 0; l < Lanes::kWidth; ++l) {
       const Eigen::VectorXd& v = (run_of(l).*member)[static_cast<size_t>(i)];
       for (Eigen::Index c = 0; c < v.size(); ++c) to[static_cast<size_t>(c)][l] = v[c];
     }
-  };
-  for (int i = 0; i < N; ++i) pack(X[i], &Lane::x, i);
+  }
 
-  auto stack = [&](Lane& r) {
+  void stack(Lane& r) const {
     int off = 0;
-    for (int i = 0; i < N; ++i) {
+    for (int i = 0; i < N_; ++i) {
       r.prod.segment(off, r.x[i].size()) = r.x[i];
       off += static_cast<int>(r.x[i].size());
     }
-  };
-  auto points = [&](Lane& r) {
-    if (!track_points) return;
-    for (int i = 0; i < N; ++i) workspace_point<double>(*pb.agents[i].dynamics, pb.agents[i].workspace, r.x[i].data(), r.pts[i].data());
+  }
+
+  void points(Lane& r) const {
+    if (!track_points_) return;
+    for (int i = 0; i < N_; ++i) workspace_point<double>(*pb_.agents[i].dynamics, pb_.agents[i].workspace, r.x[i].data(), r.pts[i].data());
     r.broad.update(r.pts);
-  };
+  }
+
   // running = min(running, the spec at the current state) part by part; true, with the
   // requirement named, when the smallest part fell.
-  auto fold = [&](Lane& r, StepMargins& running, std::string& name) {
-    if (s.all_pairs) {
+  bool fold(Lane& r, StepMargins& running, std::string& name) const {
+    if (s_.all_pairs) {
       std::string what;
-      const StepMargins m = s.between->step(r.prod, &what);
+      const StepMargins m = s_.between->step(r.prod, &what);
       const double before = running.min();
       running = {std::min(running.obstacle, m.obstacle), std::min(running.collision, m.collision),
                  std::min(running.formation, m.formation), running.stage};
@@ -203,47 +238,50 @@ std::vector<ClosedLoopRun> simulate(const SimulationSetup& s, std::span<const Sc
     }
     planning::Requirement q{planning::Requirement::Obstacle, -1, -1};
     if (!r.broad.accumulate(running, &q)) return false;
-    name = q.name(pb);
+    name = q.name(pb_);
     return true;
-  };
+  }
+
   // The current state's own margins (a fresh fold: step()'s values) for the plots.
-  auto keep_dense = [&](Lane& r, double t) {
+  void keep_dense(Lane& r, double t) const {
     r.run.dense_t.push_back(t);
     r.run.dense_states.push_back(r.prod);
     StepMargins m;
-    if (s.all_pairs && s.between) m = s.between->step(r.prod);
+    if (s_.all_pairs && s_.between) m = s_.between->step(r.prod);
     else r.broad.accumulate(m, nullptr);
     r.run.dense_margins.push_back(m);
-  };
-  auto record = [&](Lane& r, int k) {
+  }
+
+  void record(Lane& r, int k) const {
     stack(r);
-    for (int i = 0; i < N; ++i) {
-      const Eigen::VectorXd& nom = s.nominal[i].x[k];
-      const Eigen::VectorXd& eps = pb.agents[i].tube.eps;
+    for (int i = 0; i < N_; ++i) {
+      const Eigen::VectorXd& nom = s_.nominal[i].x[k];
+      const Eigen::VectorXd& eps = pb_.agents[i].tube.eps;
       for (Eigen::Index c = 0; c < r.x[i].size(); ++c)
         r.run.max_tube_excess = std::max(r.run.max_tube_excess, std::abs(r.x[i][c] - nom[c]) / eps[c]);
     }
-    if (s.keep_states) r.run.states.push_back(r.prod);
-    if (s.keep_dense) keep_dense(r, k * pb.tau);
+    if (s_.keep_states) r.run.states.push_back(r.prod);
+    if (s_.keep_dense) keep_dense(r, k * pb_.tau);
     std::string name;
     // (A stage's margin may already be lower: the smaller one stays.)
-    if (s.between && fold(r, r.at_samples, name) && r.at_samples.min() < r.run.sampled.min_margin) {
+    if (s_.between && fold(r, r.at_samples, name) && r.at_samples.min() < r.run.sampled.min_margin) {
       r.run.sampled.min_margin = r.at_samples.min();
       r.run.sampled.worst = name + " at step " + std::to_string(k);
     }
-    if (s.between) s.between->add_stages(k, r.prod, r.run.sampled);
-  };
+    if (s_.between) s_.between->add_stages(k, r.prod, r.run.sampled);
+  }
+
   // Between samples k and k + 1, after substep sub: the dense check of one run.
-  auto between = [&](Lane& r, int k, int sub) {
-    if (s.keep_dense || s.all_pairs) stack(r);
-    const double t = (k + static_cast<double>(sub + 1) / S) * pb.tau;
-    if (s.keep_dense) keep_dense(r, t);
-    if (s.between && fold(r, r.run.between, r.run.between_worst)) r.run.between_worst_t = t;
+  void between(Lane& r, int k, int sub) const {
+    if (s_.keep_dense || s_.all_pairs) stack(r);
+    const double t = (k + static_cast<double>(sub + 1) / S_) * pb_.tau;
+    if (s_.keep_dense) keep_dense(r, t);
+    if (s_.between && fold(r, r.run.between, r.run.between_worst)) r.run.between_worst_t = t;
     // Mission stages dwelling over this period: the state stays in the region between the samples too.
-    if (s.between && s.between->has_stages()) {
-      if (!(s.keep_dense || s.all_pairs)) stack(r);
+    if (s_.between && s_.between->has_stages()) {
+      if (!(s_.keep_dense || s_.all_pairs)) stack(r);
       std::string what;
-      const double m = s.between->stage_between(k, r.prod, &what);
+      const double m = s_.between->stage_between(k, r.prod, &what);
       if (m < r.run.between.stage) {
         const bool lowest = m < r.run.between.min();
         r.run.between.stage = m;
@@ -253,19 +291,15 @@ std::vector<ClosedLoopRun> simulate(const SimulationSetup& s, std::span<const Sc
         }
       }
     }
-  };
-
-  for (Lane& r : lanes) {
-    points(r);
-    record(r, 0);
   }
-  for (int k = 0; k < T; ++k) {
-    // Zero-order hold: every agent's input is fixed at the sample from its own state.
-    for (Lane& r : lanes)
-      for (int i = 0; i < N; ++i) {
-        r.u[i] = s.nominal[i].u[k];
-        if (closed) {
-          const ControlStatus st = s.controllers[i]->input(r.x[i].data(), k, r.uc[i].data());
+
+  // Zero-order hold: every agent's input is fixed at the sample from its own state.
+  void hold_inputs(int k) {
+    for (Lane& r : lanes_)
+      for (int i = 0; i < N_; ++i) {
+        r.u[i] = s_.nominal[i].u[k];
+        if (closed_) {
+          const ControlStatus st = s_.controllers[i]->input(r.x[i].data(), k, r.uc[i].data());
           if (st == ControlStatus::Ok) {
             r.u[i] = r.uc[i];
           } else if (r.run.outside_domain_agent < 0) {
@@ -275,45 +309,50 @@ std::vector<ClosedLoopRun> simulate(const SimulationSetup& s, std::span<const Sc
         }
         r.dist[i].next(r.w[i]);
       }
-    for (int i = 0; i < N; ++i) pack(U[i], &Lane::u, i);
-    for (int sub = 0; sub < S; ++sub) {
-      for (Lane& r : lanes) {
-        if (!r.adversary) continue;
-        for (int i = 0; i < N; ++i) {
-          const AgentSpec& a = pb.agents[i];
-          if (sub > 0) r.dist[i].next(r.w[i]);
-          if (!a.workspace.linear()) continue;
-          Eigen::Vector2d target;
-          if (s.all_pairs ? nearest_by_search(pb, i, r.pts, target) : r.broad.nearest_target(i, target))
-            push_toward(a, r.pts[i], target, r.w[i]);
-        }
-      }
-      for (int i = 0; i < N; ++i) {
-        // One substep of h = tau / S for every run at once: lane by lane the arithmetic of
-        // rk4_step over tau with S substeps.
-        if (sub == 0 || any_adversary) pack(W[i], &Lane::w, i);
-        rk4_step_lanes(*pb.agents[i].dynamics, X[i].data(), U[i].data(), W[i].data(), pb.tau, S, next[i].data(), 1);
-        X[i].swap(next[i]);
-        for (int l = 0; l < L; ++l)
-          for (std::size_t c = 0; c < X[i].size(); ++c) lanes[static_cast<size_t>(l)].x[i][static_cast<Eigen::Index>(c)] = X[i][c][l];
-      }
-      for (Lane& r : lanes) {
-        points(r);
-        if (sub + 1 < S) between(r, k, sub);
-      }
-    }
-    for (Lane& r : lanes) record(r, k + 1);
   }
-  std::vector<ClosedLoopRun> out;
-  out.reserve(lanes.size());
-  for (Lane& r : lanes) {
-    if (s.between) {
-      s.between->add_goal(r.prod, r.run.sampled);
-      r.run.sampled.satisfied = r.run.sampled.min_margin >= 0;
+
+  // The adversary's disturbance for substep sub: toward the nearest obstacle or agent.
+  void push_adversary(Lane& r, int sub) const {
+    for (int i = 0; i < N_; ++i) {
+      const AgentSpec& a = pb_.agents[i];
+      if (sub > 0) r.dist[i].next(r.w[i]);
+      if (!a.workspace.linear()) continue;
+      Eigen::Vector2d target;
+      if (s_.all_pairs ? nearest_by_search(pb_, i, r.pts, target) : r.broad.nearest_target(i, target))
+        push_toward(a, r.pts[i], target, r.w[i]);
     }
-    out.push_back(std::move(r.run));
   }
-  return out;
+
+  // One substep of h = tau / S for every run at once: lane by lane the arithmetic of rk4_step
+  // over tau with S substeps.
+  void integrate(int sub) {
+    for (int i = 0; i < N_; ++i) {
+      if (sub == 0 || any_adversary_) pack(W_[i], &Lane::w, i);
+      rk4_step_lanes(*pb_.agents[i].dynamics, X_[i].data(), U_[i].data(), W_[i].data(), pb_.tau, S_, next_[i].data(), 1);
+      X_[i].swap(next_[i]);
+      for (int l = 0; l < L_; ++l)
+        for (std::size_t c = 0; c < X_[i].size(); ++c) lanes_[static_cast<size_t>(l)].x[i][static_cast<Eigen::Index>(c)] = X_[i][c][l];
+    }
+  }
+
+  const SimulationSetup& s_;
+  const Problem& pb_;
+  const int N_, S_, L_;
+  const bool closed_;
+  std::vector<Lane> lanes_;
+  bool any_adversary_ = false, track_points_ = false;
+  std::vector<std::vector<Lanes>> X_, U_, W_, next_;
+};
+
+}  // namespace
+
+std::vector<ClosedLoopRun> simulate(const SimulationSetup& s, std::span<const Scenario> scenarios) {
+  const int N = static_cast<int>(s.problem->agents.size());
+  if (static_cast<int>(s.nominal.size()) != N) throw std::invalid_argument("simulate: one nominal trajectory per agent");
+  if (s.fine_substeps < 1) throw std::invalid_argument("simulate: fine_substeps must be positive");
+  if (scenarios.empty() || scenarios.size() > static_cast<size_t>(Lanes::kWidth))
+    throw std::invalid_argument("simulate: 1 to " + std::to_string(Lanes::kWidth) + " scenarios at once");
+  return Batch(s, scenarios).run();
 }
 
 ClosedLoopRun simulate(const SimulationSetup& s, const Scenario& scenario) {

@@ -36,6 +36,82 @@ KeptRun keep(const SpecMonitor& monitor, std::string label, const ClosedLoopRun&
   return KeptRun{std::move(label), run.states, monitor.evaluate(run.states, true), run.dense_t, run.dense_margins};
 }
 
+// One verification run as the report counts it.
+RunSummary summarize_run(const Problem& problem, bool continuous, const Scenario& scenario, const ClosedLoopRun& run) {
+  const SpecEvaluation& ev = run.sampled;
+  RunSummary s;
+  s.scenario = scenario;
+  s.between = run.between;
+  s.satisfied = ev.satisfied && run.outside_domain_agent < 0;
+  s.min_margin = s.sampled_margin = ev.min_margin;
+  s.worst = ev.worst;
+  if (continuous && run.between.min() < s.min_margin) {
+    s.min_margin = run.between.min();
+    s.worst = run.between_worst + " at t = " + std::to_string(run.between_worst_t) + " s (between samples)";
+  }
+  if (continuous && run.between.min() < 0) s.satisfied = false;
+  // A tiny tolerance only for the ratio's own rounding; the tube is closed.
+  s.left_tube = run.max_tube_excess > 1.0 + 1e-12;
+  s.outside_domain = run.outside_domain_agent >= 0;
+  if (s.outside_domain)
+    s.worst = "controller of " + problem.agents[run.outside_domain_agent].name + " had no input at step " +
+              std::to_string(run.outside_domain_step);
+  return s;
+}
+
+// The runs' counts and smallest margins into the report; returns the worst run.
+int tally(const std::vector<RunSummary>& results, VerificationReport& rep) {
+  rep.runs = static_cast<int>(results.size());
+  int worst_run = 0;
+  for (std::size_t r = 0; r < results.size(); ++r) {
+    const RunSummary& s = results[r];
+    if (!s.satisfied) ++rep.violations;
+    if (s.left_tube) ++rep.tube_violations;
+    if (s.outside_domain) ++rep.outside_domain;
+    if (s.between.min() < 0) ++rep.between_violations;
+    rep.sampled_min_margin = std::min(rep.sampled_min_margin, s.sampled_margin);
+    for (auto [v, part] : {std::pair{s.between.obstacle, &rep.between.obstacle},
+                           std::pair{s.between.collision, &rep.between.collision},
+                           std::pair{s.between.formation, &rep.between.formation},
+                           std::pair{s.between.stage, &rep.between.stage}})
+      if (v < *part) {
+        *part = v;
+        if (v <= rep.between.min()) rep.between_worst = "run " + std::to_string(r) + " (" + to_string(s.scenario.mode) + ")";
+      }
+    if (s.min_margin < rep.min_margin) {
+      rep.min_margin = s.min_margin;
+      rep.worst = s.worst + " (" + to_string(s.scenario.mode) + " disturbance, run " + std::to_string(r) + ")";
+      worst_run = static_cast<int>(r);
+    }
+  }
+  return worst_run;
+}
+
+// Open loop under the paper's constant disturbance `v`: what fails without feedback.
+void add_open_loop(const SpecMonitor& monitor, int v, const ClosedLoopRun& o, VerificationReport& rep) {
+  SpecEvaluation ev = monitor.evaluate(o.states, true);
+  ++rep.open_loop_runs;
+  if (!ev.satisfied) ++rep.open_loop_violations;
+  if (ev.min_margin < rep.open_loop_min_margin) {
+    rep.open_loop_min_margin = ev.min_margin;
+    rep.open_loop_worst = ev.worst + " (" + paper_label(v) + ")";
+  }
+  OpenLoopRun run;
+  run.label = paper_label(v);
+  run.satisfied = ev.satisfied;
+  run.goal = ev.goal_margin;
+  for (int k = 0; k < static_cast<int>(ev.per_step.size()); ++k) {
+    const StepMargins& m = ev.per_step[k];
+    for (auto [value, part] : {std::pair{m.obstacle, &run.obstacle}, std::pair{m.collision, &run.collision},
+                               std::pair{m.formation, &run.formation}})
+      if (value < part->margin) *part = {value, k};
+  }
+  rep.open_loop.push_back(run);
+  KeptRun kept = keep(monitor, "open loop, constant disturbance " + paper_label(v), o);
+  kept.spec = std::move(ev);
+  rep.kept.push_back(std::move(kept));
+}
+
 }  // namespace
 
 VerificationReport verify(const Problem& problem, const std::vector<NominalTrajectory>& nominal,
@@ -76,26 +152,6 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
   const Stopwatch runs_clock;
   std::atomic<int> next{0}, done{0};
   std::mutex progress_mutex;
-  auto summarize = [&](int r, const ClosedLoopRun& run) {
-    const SpecEvaluation& ev = run.sampled;
-    RunSummary& s = results[r];
-    s.scenario = scenarios[r];
-    s.between = run.between;
-    s.satisfied = ev.satisfied && run.outside_domain_agent < 0;
-    s.min_margin = s.sampled_margin = ev.min_margin;
-    s.worst = ev.worst;
-    if (rep.continuous && run.between.min() < s.min_margin) {
-      s.min_margin = run.between.min();
-      s.worst = run.between_worst + " at t = " + std::to_string(run.between_worst_t) + " s (between samples)";
-    }
-    if (rep.continuous && run.between.min() < 0) s.satisfied = false;
-    // A tiny tolerance only for the ratio's own rounding; the tube is closed.
-    s.left_tube = run.max_tube_excess > 1.0 + 1e-12;
-    s.outside_domain = run.outside_domain_agent >= 0;
-    if (s.outside_domain)
-      s.worst = "controller of " + problem.agents[run.outside_domain_agent].name + " had no input at step " +
-                std::to_string(run.outside_domain_step);
-  };
   auto worker = [&] {
     for (int task = next++; task < n_kept + batches; task = next++) {
       if (task < n_kept) {
@@ -109,7 +165,10 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
       std::vector<Scenario> batch;
       for (int b = 0; b < count; ++b) batch.push_back(scenarios[owned[first + b]]);
       const std::vector<ClosedLoopRun> runs = simulate(closed, batch);
-      for (int b = 0; b < count; ++b) summarize(owned[first + b], runs[b]);
+      for (int b = 0; b < count; ++b) {
+        const int r = owned[first + b];
+        results[r] = summarize_run(problem, rep.continuous, scenarios[r], runs[b]);
+      }
       // All ranks: about as far as this one.
       const int d = (done += count) * (opt.collective ? opt.collective->size() : 1);
       if (opt.progress) {
@@ -125,59 +184,14 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
   if (opt.collective) mpi::exchange_runs(*opt.collective, results);
   rep.runs_time_s = runs_clock.seconds();
 
-  rep.runs = static_cast<int>(results.size());
-  int worst_run = 0;
-  for (std::size_t r = 0; r < results.size(); ++r) {
-    const RunSummary& s = results[r];
-    if (!s.satisfied) ++rep.violations;
-    if (s.left_tube) ++rep.tube_violations;
-    if (s.outside_domain) ++rep.outside_domain;
-    if (s.between.min() < 0) ++rep.between_violations;
-    rep.sampled_min_margin = std::min(rep.sampled_min_margin, s.sampled_margin);
-    for (auto [v, part] : {std::pair{s.between.obstacle, &rep.between.obstacle},
-                           std::pair{s.between.collision, &rep.between.collision},
-                           std::pair{s.between.formation, &rep.between.formation},
-                           std::pair{s.between.stage, &rep.between.stage}})
-      if (v < *part) {
-        *part = v;
-        if (v <= rep.between.min()) rep.between_worst = "run " + std::to_string(r) + " (" + to_string(s.scenario.mode) + ")";
-      }
-    if (s.min_margin < rep.min_margin) {
-      rep.min_margin = s.min_margin;
-      rep.worst = s.worst + " (" + to_string(s.scenario.mode) + " disturbance, run " + std::to_string(r) + ")";
-      worst_run = static_cast<int>(r);
-    }
-  }
+  const int worst_run = tally(results, rep);
   rep.kept.push_back(keep(monitor, "nominal (no disturbance, open loop)", kept[0].run));
   for (int v = 0; v < 4; ++v)
     rep.kept.push_back(keep(monitor, "feedback, constant disturbance " + paper_label(v), kept[static_cast<size_t>(1 + v)].run));
   rep.kept.push_back(keep(monitor, std::string("feedback, worst run (") + to_string(scenarios[worst_run].mode) + ")",
                           simulate(closed_dense, scenarios[worst_run])));
   // Open loop under the paper's constant disturbances: what fails without feedback.
-  for (int v = 0; v < 4; ++v) {
-    const ClosedLoopRun& o = kept[static_cast<size_t>(5 + v)].run;
-    SpecEvaluation ev = monitor.evaluate(o.states, true);
-    ++rep.open_loop_runs;
-    if (!ev.satisfied) ++rep.open_loop_violations;
-    if (ev.min_margin < rep.open_loop_min_margin) {
-      rep.open_loop_min_margin = ev.min_margin;
-      rep.open_loop_worst = ev.worst + " (" + paper_label(v) + ")";
-    }
-    OpenLoopRun run;
-    run.label = paper_label(v);
-    run.satisfied = ev.satisfied;
-    run.goal = ev.goal_margin;
-    for (int k = 0; k < static_cast<int>(ev.per_step.size()); ++k) {
-      const StepMargins& m = ev.per_step[k];
-      for (auto [value, part] : {std::pair{m.obstacle, &run.obstacle}, std::pair{m.collision, &run.collision},
-                                 std::pair{m.formation, &run.formation}})
-        if (value < part->margin) *part = {value, k};
-    }
-    rep.open_loop.push_back(run);
-    KeptRun kept = keep(monitor, "open loop, constant disturbance " + paper_label(v), o);
-    kept.spec = std::move(ev);
-    rep.kept.push_back(std::move(kept));
-  }
+  for (int v = 0; v < 4; ++v) add_open_loop(monitor, v, kept[static_cast<size_t>(5 + v)].run, rep);
   rep.time_s = clock.seconds();
   return rep;
 }

@@ -143,27 +143,13 @@ bool hold_in_goal(const planner_support::ProductModel& M, const Options& o, std:
   return true;
 }
 
-std::once_flag seed_once;
-
-}  // namespace
-
-PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Options& o) {
-  const Stopwatch clock;
-  PlanResult res;
-  if (!pp.problem || pp.horizon <= 0) {
-    res.status = PlannerStatus::InvalidInput;
-    res.message = "no problem or a non-positive horizon";
-    return res;
-  }
-  if (o.seed >= 0) std::call_once(seed_once, [&] { ompl::RNG::setSeed(static_cast<std::uint_fast32_t>(o.seed)); });
-  ompl::msg::setLogLevel(ompl::msg::LOG_ERROR);
-  planner_support::ProductModel M(pp);
+// The product system as OMPL's control problem: state (x, scaled elapsed time) in the sampling
+// box, controls in U, propagation by whole steps, validity by the path rows.
+oc::SpaceInformationPtr space_information(const planner_support::ProductModel& M, const PlanningProblem& pp,
+                                          const Options& o, const Vec& lo, const Vec& hi) {
   const int n = M.n, m = M.m;
   const double t_max = M.T * M.tau;
-
   auto space = std::make_shared<ob::RealVectorStateSpace>(n + 1);
-  Vec lo, hi;
-  finite_box(M, lo, hi);
   ob::RealVectorBounds sb(n + 1);
   // The sampling box also holds x0, which may lie outside the shrunk bounds (OMPL refuses a
   // start outside the space); the shrunk bounds themselves are validity rows.
@@ -214,9 +200,102 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
   si->setPropagationStepSize(tau);
   si->setMinMaxControlDuration(1, o.max_control_steps);
   si->setup();
+  return si;
+}
+
+ob::PlannerPtr make_planner(const oc::SpaceInformationPtr& si, const Options& o) {
+  if (o.planner == "rrt") {
+    auto p = std::make_shared<oc::RRT>(si);
+    p->setGoalBias(o.goal_bias);
+    return p;
+  }
+  if (o.planner == "kpiece1") {
+    auto p = std::make_shared<oc::KPIECE1>(si);
+    p->setGoalBias(o.goal_bias);
+    return p;
+  }
+  auto p = std::make_shared<oc::SST>(si);
+  p->setGoalBias(o.goal_bias);
+  p->setSelectionRadius(o.selection_radius);
+  p->setPruningRadius(o.pruning_radius);
+  return p;
+}
+
+// What a solve that found no exact solution reports.
+PlannerStatus failure_status(const ob::PlannerStatus& st) {
+  switch (ob::PlannerStatus::StatusType(st)) {
+    case ob::PlannerStatus::INVALID_START:
+    case ob::PlannerStatus::INVALID_GOAL:
+    case ob::PlannerStatus::UNRECOGNIZED_GOAL_TYPE: return PlannerStatus::InvalidInput;
+    case ob::PlannerStatus::CRASH:
+    case ob::PlannerStatus::ABORT: return PlannerStatus::Crash;
+    default: return PlannerStatus::Timeout;  // time ran out (with or without an approximation)
+  }
+}
+
+// The exact solution path as the plan: its controls step by step, then held in the goal until
+// T; the message goes on in `msg`.
+void plan_from_path(const planner_support::ProductModel& M, const Options& o, const oc::PathControl& path,
+                    std::ostringstream& msg, PlanResult& res) {
+  std::vector<Vec> U;
+  for (size_t i = 0; i < path.getControlCount(); ++i) {
+    const double* u = path.getControl(i)->as<oc::RealVectorControlSpace::ControlType>()->values;
+    const int steps = std::max(1, static_cast<int>(std::lround(path.getControlDuration(i) / M.tau)));
+    for (int k = 0; k < steps; ++k) U.push_back(Eigen::Map<const Vec>(u, M.m));
+  }
+  const int reached = static_cast<int>(U.size());
+  std::vector<Vec> X = M.rollout(U);
+  std::string why;
+  if (reached > M.T) {
+    res.status = PlannerStatus::ApproximateSolution;
+    msg << "; the path needs " << reached << " steps, more than T = " << M.T;
+    res.message = msg.str();
+    return;
+  }
+  const bool held = hold_in_goal(M, o, U, X, why);
+  res.plan.tau = M.tau;
+  res.plan.u = U;
+  res.plan.x = M.rollout(U);
+  std::string worst;
+  res.max_violation = held ? M.violation(res.plan.x, U, &worst) : INFINITY;
+  for (const auto& u : U) res.cost += 0.5 * u.squaredNorm();
+  msg << "; goal reached after " << reached << " of " << M.T << " steps";
+  if (held && res.max_violation <= o.feasibility_tolerance) {
+    res.status = PlannerStatus::ExactSolution;
+  } else {
+    res.status = PlannerStatus::ApproximateSolution;
+    msg << "; " << (held ? "worst: " + worst : why);
+    if (!held) {
+      // The path is still returned, padded with zeros, for inspection (core's exact check decides).
+      while (static_cast<int>(res.plan.u.size()) < M.T) res.plan.u.push_back(Vec::Zero(M.m));
+      res.plan.x = M.rollout(res.plan.u);
+    }
+  }
+  res.message = msg.str();
+}
+
+std::once_flag seed_once;
+
+}  // namespace
+
+PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Options& o) {
+  const Stopwatch clock;
+  PlanResult res;
+  if (!pp.problem || pp.horizon <= 0) {
+    res.status = PlannerStatus::InvalidInput;
+    res.message = "no problem or a non-positive horizon";
+    return res;
+  }
+  if (o.seed >= 0) std::call_once(seed_once, [&] { ompl::RNG::setSeed(static_cast<std::uint_fast32_t>(o.seed)); });
+  ompl::msg::setLogLevel(ompl::msg::LOG_ERROR);
+  planner_support::ProductModel M(pp);
+  const int n = M.n;
+  Vec lo, hi;
+  finite_box(M, lo, hi);
+  const oc::SpaceInformationPtr si = space_information(M, pp, o, lo, hi);
 
   auto pdef = std::make_shared<ob::ProblemDefinition>(si);
-  ob::ScopedState<> start(space);
+  ob::ScopedState<> start(si->getStateSpace());
   for (int i = 0; i < n; ++i) start[i] = pp.x0[i];
   start[n] = 0.0;
   pdef->addStartState(start);
@@ -225,25 +304,10 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
     glo[i] = std::isfinite(pp.goal.lo[i]) ? std::max(pp.goal.lo[i], lo[i]) : lo[i];
     ghi[i] = std::isfinite(pp.goal.hi[i]) ? std::min(pp.goal.hi[i], hi[i]) : hi[i];
   }
-  auto goal = std::make_shared<GoalBox>(si, M, glo, ghi, tw * t_max);
+  auto goal = std::make_shared<GoalBox>(si, M, glo, ghi, o.time_weight * (M.T * M.tau));
   pdef->setGoal(goal);
 
-  ob::PlannerPtr planner;
-  if (o.planner == "rrt") {
-    auto p = std::make_shared<oc::RRT>(si);
-    p->setGoalBias(o.goal_bias);
-    planner = p;
-  } else if (o.planner == "kpiece1") {
-    auto p = std::make_shared<oc::KPIECE1>(si);
-    p->setGoalBias(o.goal_bias);
-    planner = p;
-  } else {
-    auto p = std::make_shared<oc::SST>(si);
-    p->setGoalBias(o.goal_bias);
-    p->setSelectionRadius(o.selection_radius);
-    p->setPruningRadius(o.pruning_radius);
-    planner = p;
-  }
+  ob::PlannerPtr planner = make_planner(si, o);
   planner->setProblemDefinition(pdef);
   planner->setup();
   const double limit = std::min(o.time_limit_s, run.time_limit_s);
@@ -266,55 +330,13 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
   msg << o.planner << ": " << st.asString() << ", " << data.numVertices() << " tree vertices";
   const bool exact = st == ob::PlannerStatus::EXACT_SOLUTION && pdef->hasExactSolution() && !pdef->hasApproximateSolution();
   if (!exact) {
-    switch (ob::PlannerStatus::StatusType(st)) {
-      case ob::PlannerStatus::INVALID_START:
-      case ob::PlannerStatus::INVALID_GOAL:
-      case ob::PlannerStatus::UNRECOGNIZED_GOAL_TYPE: res.status = PlannerStatus::InvalidInput; break;
-      case ob::PlannerStatus::CRASH:
-      case ob::PlannerStatus::ABORT: res.status = PlannerStatus::Crash; break;
-      default: res.status = PlannerStatus::Timeout;  // time ran out (with or without an approximation)
-    }
+    res.status = failure_status(st);
     msg << "; no exact solution within " << limit << " s";
     if (pdef->hasApproximateSolution()) msg << " (nearest miss " << pdef->getSolutionDifference() << " from the goal)";
     res.message = msg.str();
     return res;
   }
-  auto* path = pdef->getSolutionPath()->as<oc::PathControl>();
-  std::vector<Vec> U;
-  for (size_t i = 0; i < path->getControlCount(); ++i) {
-    const double* u = path->getControl(i)->as<oc::RealVectorControlSpace::ControlType>()->values;
-    const int steps = std::max(1, static_cast<int>(std::lround(path->getControlDuration(i) / tau)));
-    for (int k = 0; k < steps; ++k) U.push_back(Eigen::Map<const Vec>(u, m));
-  }
-  const int reached = static_cast<int>(U.size());
-  std::vector<Vec> X = M.rollout(U);
-  std::string why;
-  if (reached > M.T) {
-    res.status = PlannerStatus::ApproximateSolution;
-    msg << "; the path needs " << reached << " steps, more than T = " << M.T;
-    res.message = msg.str();
-    return res;
-  }
-  const bool held = hold_in_goal(M, o, U, X, why);
-  res.plan.tau = tau;
-  res.plan.u = U;
-  res.plan.x = M.rollout(U);
-  std::string worst;
-  res.max_violation = held ? M.violation(res.plan.x, U, &worst) : INFINITY;
-  for (const auto& u : U) res.cost += 0.5 * u.squaredNorm();
-  msg << "; goal reached after " << reached << " of " << M.T << " steps";
-  if (held && res.max_violation <= o.feasibility_tolerance) {
-    res.status = PlannerStatus::ExactSolution;
-  } else {
-    res.status = PlannerStatus::ApproximateSolution;
-    msg << "; " << (held ? "worst: " + worst : why);
-    if (!held) {
-      // The path is still returned, padded with zeros, for inspection (core's exact check decides).
-      while (static_cast<int>(res.plan.u.size()) < M.T) res.plan.u.push_back(Vec::Zero(m));
-      res.plan.x = M.rollout(res.plan.u);
-    }
-  }
-  res.message = msg.str();
+  plan_from_path(M, o, *pdef->getSolutionPath()->as<oc::PathControl>(), msg, res);
   return res;
 }
 

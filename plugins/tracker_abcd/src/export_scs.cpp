@@ -37,25 +37,14 @@ void grid_block(std::ostream& o, const char* text, const std::vector<double>& et
   vector_block(o, "UPPER_RIGHT", upper_right);
 }
 
-}  // namespace
-
-ExportResult export_scs(const GridController& ctrl, const ExportRequest& req) {
-  ExportResult r;
-  const ControllerData& d = ctrl.data();
-  const std::string stem = req.prefix.empty() ? default_prefix(d.agent) : req.prefix;
-  if (!is_c_identifier(stem)) {
-    r.message = "prefix '" + stem + "' is not a C identifier ([A-Za-z_][A-Za-z0-9_]*)";
-    return r;
-  }
-  const int n = d.n, m = d.m, steps = d.tables();
-  const bool timed = !d.time_invariant;
-  // Bounding box of the steps with inputs.
-  std::int64_t lo[kMaxDim], hi[kMaxDim];
+// The bounding box of the steps with inputs; a one-point grid when there are no cells at all.
+void bounding_box(const ControllerData& d, std::int64_t* lo, std::int64_t* hi) {
+  const int n = d.n;
   for (int i = 0; i < n; ++i) {
     lo[i] = std::numeric_limits<std::int64_t>::max();
     hi[i] = std::numeric_limits<std::int64_t>::min();
   }
-  for (int k = 0; k < steps; ++k) {
+  for (int k = 0; k < d.tables(); ++k) {
     const IndexBox& b = d.boxes[static_cast<size_t>(k)];
     if (b.empty()) continue;
     for (int i = 0; i < n; ++i) {
@@ -64,22 +53,30 @@ ExportResult export_scs(const GridController& ctrl, const ExportRequest& req) {
     }
   }
   if (lo[0] > hi[0])
-    for (int i = 0; i < n; ++i) lo[i] = hi[i] = 0;  // no cells at all: a one-point grid
+    for (int i = 0; i < n; ++i) lo[i] = hi[i] = 0;
+}
 
-  // SCOTS' abs_type is uint32: every grid point id must fit.
-  const int dims = n + (timed ? 1 : 0);
-  std::vector<std::uint64_t> nn(static_cast<size_t>(dims));
-  std::uint64_t total = 1;
+// SCOTS' strides of the state grid (first coordinate fastest, the step last when timed) into
+// nn, its number of points into total; false when an id would not fit SCOTS' abs_type, uint32.
+bool state_strides(const ControllerData& d, const std::int64_t* lo, const std::int64_t* hi, int dims,
+                   std::vector<std::uint64_t>& nn, std::uint64_t& total) {
+  nn.assign(static_cast<size_t>(dims), 0);
+  total = 1;
   for (int i = 0; i < dims; ++i) {
     nn[static_cast<size_t>(i)] = total;
-    const std::uint64_t count = i < n ? static_cast<std::uint64_t>(hi[i] - lo[i] + 1) : static_cast<std::uint64_t>(steps);
-    if (count == 0 || total > 0xFFFFFFFFull / count) {
-      r.message = "the SCOTS grid (tube bounding box x steps) has more than 2^32 - 1 points, SCOTS' abs_type";
-      return r;
-    }
+    const std::uint64_t count = i < d.n ? static_cast<std::uint64_t>(hi[i] - lo[i] + 1) : static_cast<std::uint64_t>(d.tables());
+    if (count == 0 || total > 0xFFFFFFFFull / count) return false;
     total *= count;
   }
-  InputGrid ug(d.u_lo, d.u_hi, d.eta_u);
+  return true;
+}
+
+// (state id, input id) of every winning (cell, k), sorted by state id as SCOTS writes them.
+std::vector<std::pair<std::uint32_t, std::uint32_t>> winning_pairs(const ControllerData& d, const InputGrid& ug,
+                                                                   const std::int64_t* lo,
+                                                                   const std::vector<std::uint64_t>& nn) {
+  const int n = d.n, m = d.m;
+  const bool timed = !d.time_invariant;
   std::vector<std::uint64_t> unn(static_cast<size_t>(m));
   {
     std::uint64_t t = 1;
@@ -88,11 +85,9 @@ ExportResult export_scs(const GridController& ctrl, const ExportRequest& req) {
       t *= ug.count()[static_cast<size_t>(j)];
     }
   }
-
-  // (state id, input id) of every winning (cell, k), sorted by state id as SCOTS writes them.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   std::int64_t idx[kMaxDim];
-  for (int k = 0; k < steps; ++k) {
+  for (int k = 0; k < d.tables(); ++k) {
     const IndexBox& b = d.boxes[static_cast<size_t>(k)];
     const std::int64_t cells = b.size(), off = d.offsets[static_cast<size_t>(k)];
     for (std::int64_t c = 0; c < cells; ++c) {
@@ -112,9 +107,17 @@ ExportResult export_scs(const GridController& ctrl, const ExportRequest& req) {
     }
   }
   std::sort(pairs.begin(), pairs.end());
+  return pairs;
+}
 
+// The file's text: the state grid (cell centres of the bounding box, and k), the input grid and
+// the winning domain. `aligned`: whether the centres are integer multiples of eta.
+std::string scots_text(const ControllerData& d, const InputGrid& ug, const std::int64_t* lo, const std::int64_t* hi,
+                       std::uint64_t total, const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs,
+                       bool& aligned) {
+  const int n = d.n, m = d.m;
   std::vector<double> eta(d.eta_x), ll(static_cast<size_t>(n)), ur(static_cast<size_t>(n));
-  bool aligned = true;
+  aligned = true;
   for (int i = 0; i < n; ++i) {
     const size_t s = static_cast<size_t>(i);
     ll[s] = d.origin[s] + (static_cast<double>(lo[i]) + 0.5) * d.eta_x[s];  // centre of the first cell
@@ -122,10 +125,10 @@ ExportResult export_scs(const GridController& ctrl, const ExportRequest& req) {
     const double q = ll[s] / d.eta_x[s];
     if (std::abs(q - std::round(q)) > 1e-6) aligned = false;
   }
-  if (timed) {
+  if (!d.time_invariant) {
     eta.push_back(1.0);
     ll.push_back(0.0);
-    ur.push_back(static_cast<double>(steps - 1));
+    ur.push_back(static_cast<double>(d.tables() - 1));
   }
   std::vector<double> ueta(d.eta_u), ull(d.u_lo), uur(static_cast<size_t>(m));
   for (int j = 0; j < m; ++j)
@@ -140,16 +143,47 @@ ExportResult export_scs(const GridController& ctrl, const ExportRequest& req) {
   o << "#TYPE:WINNINGDOMAIN\n#SCOTS:i (state) j_0 ... j_n (valid inputs)\n#MATRIX:DATA\n#BEGIN:" << total << " 1\n";
   for (const auto& [i, j] : pairs) o << i << " " << j << "\n";
   o << "#END\n";
+  return o.str();
+}
 
+// Writes <dir>/<stem>.scs; its path, or throws.
+std::string write_file(const std::string& out_dir, const std::string& stem, const std::string& text) {
+  const fs::path dir(out_dir.empty() ? "." : out_dir);
+  fs::create_directories(dir);
+  const fs::path file = dir / (stem + ".scs");
+  std::ofstream out(file, std::ios::binary | std::ios::trunc);
+  if (!out) throw std::runtime_error("cannot open " + file.string() + " for writing");
+  out << text;
+  if (!out) throw std::runtime_error("write to " + file.string() + " failed");
+  return file.string();
+}
+
+}  // namespace
+
+ExportResult export_scs(const GridController& ctrl, const ExportRequest& req) {
+  ExportResult r;
+  const ControllerData& d = ctrl.data();
+  const std::string stem = req.prefix.empty() ? default_prefix(d.agent) : req.prefix;
+  if (!is_c_identifier(stem)) {
+    r.message = "prefix '" + stem + "' is not a C identifier ([A-Za-z_][A-Za-z0-9_]*)";
+    return r;
+  }
+  const bool timed = !d.time_invariant;
+  std::int64_t lo[kMaxDim], hi[kMaxDim];
+  bounding_box(d, lo, hi);
+  const int dims = d.n + (timed ? 1 : 0);
+  std::vector<std::uint64_t> nn;
+  std::uint64_t total = 1;
+  if (!state_strides(d, lo, hi, dims, nn, total)) {
+    r.message = "the SCOTS grid (tube bounding box x steps) has more than 2^32 - 1 points, SCOTS' abs_type";
+    return r;
+  }
+  InputGrid ug(d.u_lo, d.u_hi, d.eta_u);
+  const auto pairs = winning_pairs(d, ug, lo, nn);
+  bool aligned = true;
+  const std::string text = scots_text(d, ug, lo, hi, total, pairs, aligned);
   try {
-    const fs::path dir(req.out_dir.empty() ? "." : req.out_dir);
-    fs::create_directories(dir);
-    const fs::path file = dir / (stem + ".scs");
-    std::ofstream out(file, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot open " + file.string() + " for writing");
-    out << o.str();
-    if (!out) throw std::runtime_error("write to " + file.string() + " failed");
-    r.files = {file.string()};
+    r.files = {write_file(req.out_dir, stem, text)};
   } catch (const std::exception& e) {
     r.message = e.what();
     return r;

@@ -6,22 +6,15 @@
 #include <cmath>
 #include <memory>
 #include <numeric>
-#include <thread>
 
 #include "marsyn/stopwatch.hpp"
 #include "period_enclosure.hpp"
 #include "split_sweep.hpp"
-#include "successor_cache.hpp"
+#include "synthesis_setup.hpp"
 #include "tube.hpp"
 
 namespace marsyn::abcd {
 namespace {
-
-std::vector<bool> invariant_coords(const Dynamics& f) {
-  auto inv = f.field_independent_of();
-  if (static_cast<int>(inv.size()) != f.state_dim()) inv.assign(static_cast<size_t>(f.state_dim()), false);
-  return inv;
-}
 
 // Narrows R (rows, invariant coordinates free) to the rows whose cover of the entry range
 // [lo, hi] lies inside the next tube box; false if the non-invariant cover already leaves it or
@@ -40,98 +33,30 @@ bool rows_inside(const std::vector<bool>& inv, const std::int64_t* cidx, const s
   return true;
 }
 
-template <class Fn>
-void run_threads(int threads, Fn fn) {
-  if (threads <= 1) {
-    fn(0);
-    return;
-  }
-  std::vector<std::thread> pool;
-  for (int t = 0; t < threads; ++t) pool.emplace_back(fn, t);
-  for (auto& th : pool) th.join();
-}
-
-// Which thread owns a column: a function of the column's absolute indices only, so a column
-// keeps its owner (and its cached boxes) from one step to the next; the sum of the indices
-// modulo the thread count alternates between neighbouring columns, which balances the load.
-int owner(const std::int64_t* idx, const std::vector<bool>& inv, int threads) {
-  std::int64_t sum = 0;
-  for (size_t i = 0; i < inv.size(); ++i)
-    if (!inv[i]) sum += idx[i];
-  const std::int64_t r = sum % threads;
-  return static_cast<int>(r < 0 ? r + threads : r);
-}
-
-std::string check_vector(const Eigen::VectorXd& v, int size, const char* name, bool positive) {
-  if (v.size() != size) return std::string(name) + " has " + std::to_string(v.size()) + " entries, expected " + std::to_string(size);
-  for (int i = 0; i < size; ++i) {
-    if (!std::isfinite(v[i])) return std::string(name) + " is not finite";
-    if (positive ? !(v[i] > 0) : !(v[i] >= 0)) return std::string(name) + (positive ? " must be positive" : " must be non-negative");
-  }
-  return {};
-}
-
-std::vector<double> to_std(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
-
-}  // namespace
-
-long long peak_rss_bytes() {
-  rusage ru{};
-  getrusage(RUSAGE_SELF, &ru);
-  return static_cast<long long>(ru.ru_maxrss) * 1024;
-}
-
-TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o) {
-  const Stopwatch clock;
-  TrackResult r;
-  auto invalid = [&](const std::string& why) {
-    r.status = TrackerStatus::InvalidInput;
-    r.message = "agent " + p.agent + ": " + why;
-    return r;
-  };
-  if (!p.dynamics) return invalid("no dynamics");
-  const Dynamics& f = *p.dynamics;
-  const int n = f.state_dim(), m = f.input_dim();
-  if (n < 1 || n > kMaxDim || m < 1 || m > kMaxDim) return invalid("unsupported dimensions");
-  if (p.nominal.x.size() < 2) return invalid("the nominal trajectory needs at least two states");
+// "" or why the problem is not one this synthesis takes; builds the grids.
+std::string check_track(const TrackingProblem& p, UniformGrid& g, InputGrid& ug) {
+  if (std::string e = check_dynamics(p.dynamics.get()); !e.empty()) return e;
+  const int n = p.dynamics->state_dim(), m = p.dynamics->input_dim();
+  if (p.nominal.x.size() < 2) return "the nominal trajectory needs at least two states";
   for (const auto& x : p.nominal.x)
-    if (x.size() != n || !x.allFinite()) return invalid("a nominal state has the wrong dimension or is not finite");
-  for (auto [v, sz, name, pos] : {std::tuple{&p.tube.eps, n, "eps", true}, {&p.tube.eta_x, n, "eta_x", true},
-                                  {&p.tube.w, n, "W", false}, {&p.tube.eta_u, m, "eta_u", true}}) {
-    const std::string e = check_vector(*v, sz, name, pos);
-    if (!e.empty()) return invalid(e);
-  }
-  if (p.state_bounds.lo.size() != n) return invalid("state bounds have the wrong dimension");
-  if (p.input_bounds.lo.size() != m || p.input_bounds.hi.size() != m) return invalid("input bounds have the wrong dimension");
-  if (!(p.tau > 0)) return invalid("tau must be positive");
+    if (x.size() != n || !x.allFinite()) return "a nominal state has the wrong dimension or is not finite";
+  if (std::string e = check_vectors({{&p.tube.eps, n, "eps", true},
+                                     {&p.tube.eta_x, n, "eta_x", true},
+                                     {&p.tube.w, n, "W", false},
+                                     {&p.tube.eta_u, m, "eta_u", true}});
+      !e.empty())
+    return e;
+  if (p.state_bounds.lo.size() != n) return "state bounds have the wrong dimension";
+  if (p.input_bounds.lo.size() != m || p.input_bounds.hi.size() != m) return "input bounds have the wrong dimension";
+  if (!(p.tau > 0)) return "tau must be positive";
+  return make_grids(p.state_bounds.lo, p.tube.eta_x, p.input_bounds, p.tube.eta_u, g, ug);
+}
 
+// The tube's boxes for steps 0..T and the tables' offsets for steps 0..T-1, with their counts;
+// returns the number of table entries.
+std::int64_t lay_out_tube(const TrackingProblem& p, const UniformGrid& g, const InputGrid& ug, ControllerData& d,
+                          TrackerStats& st) {
   const int T = static_cast<int>(p.nominal.x.size()) - 1;
-  UniformGrid g;
-  InputGrid ug;
-  try {
-    g = UniformGrid(to_std(p.state_bounds.lo), to_std(p.tube.eta_x));
-    ug = InputGrid(to_std(p.input_bounds.lo), to_std(p.input_bounds.hi), to_std(p.tube.eta_u));
-  } catch (const std::exception& e) {
-    return invalid(e.what());
-  }
-  if (ug.size() >= kTarget) return invalid("more than 65533 grid inputs");
-  std::vector<bool> inv = invariant_coords(f);
-
-  ControllerData d;
-  d.dynamics_type = f.type();
-  d.agent = p.agent;
-  d.n = n;
-  d.m = m;
-  d.tau = p.tau;
-  d.origin = g.origin();
-  d.eta_x = g.eta();
-  d.eps = to_std(p.tube.eps);
-  d.w = to_std(p.tube.w);
-  d.u_lo = ug.lo();
-  d.u_hi = ug.hi();
-  d.eta_u = ug.eta();
-
-  TrackerStats& st = r.stats;
   std::int64_t total = 0;
   for (int k = 0; k <= T; ++k) {
     d.boxes.push_back(tube_box(g, p.nominal.x[k].data(), p.tube.eps.data()));
@@ -143,34 +68,165 @@ TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o
       st.state_input_pairs += static_cast<double>(cells) * static_cast<double>(ug.size());
     }
   }
-  st.winning_cells_per_step.assign(static_cast<size_t>(T + 1), 0);
-  for (int k = 0; k <= T; ++k) {
-    if (d.boxes[k].empty()) {
-      r.status = TrackerStatus::NoController;
-      r.message = "agent " + p.agent + ": the eps box of step " + std::to_string(k) + " contains no whole grid cell";
-      st.peak_memory_bytes = peak_rss_bytes();
-      return r;
+  return total;
+}
+
+// Inputs by closeness to the nominal input of step k (in units of eta_u), ties by index.
+void order_inputs(const TrackingProblem& p, int k, const InputGrid& ug, const std::vector<double>& uval,
+                  std::vector<double>& dist, std::vector<std::int64_t>& order) {
+  const int m = static_cast<int>(ug.lo().size());
+  const bool has_nominal = static_cast<int>(p.nominal.u.size()) > k && p.nominal.u[k].size() == m;
+  for (std::int64_t j = 0; j < ug.size(); ++j) {
+    double s = 0;
+    for (int c = 0; c < m; ++c) {
+      const double ref = has_nominal ? p.nominal.u[k][c] : 0.5 * (ug.lo()[c] + ug.hi()[c]);
+      const double z = (uval[static_cast<size_t>(j * m + c)] - ref) / ug.eta()[c];
+      s += z * z;
+    }
+    dist[static_cast<size_t>(j)] = s;
+  }
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](std::int64_t a, std::int64_t b) {
+    return dist[static_cast<size_t>(a)] < dist[static_cast<size_t>(b)];
+  });
+}
+
+// One backward step, as every thread reads it. Columns: fixed non-invariant indices; rows: the
+// invariant indices. All cells of a column share one relative successor box per input, and its
+// cover is the row's index plus a constant offset, so the rows whose cover stays inside the
+// next tube form a box.
+struct Step {
+  int n;
+  const std::vector<bool>& inv;
+  const IndexBox& bk;  // this step's tube box
+  const IndexBox& bn;  // the next step's
+  const WinningSet& ws;
+  IndexBox colbox, rowbox;
+  std::int64_t columns, rows;
+  std::int64_t off;  // this step's table in ControllerData::inputs
+  bool keep_rejects;
+  bool prefilter;
+
+  Step(const std::vector<bool>& inv_, const IndexBox& bk_, const IndexBox& bn_, const WinningSet& ws_, std::int64_t off_,
+       std::int64_t inputs, bool prefilter_)
+      : n(bk_.n), inv(inv_), bk(bk_), bn(bn_), ws(ws_), colbox(bk_), rowbox(bk_), off(off_), prefilter(prefilter_) {
+    for (int i = 0; i < n; ++i) {
+      if (inv[i]) colbox.hi[i] = colbox.lo[i];
+      else rowbox.lo[i] = rowbox.hi[i] = bk.lo[i];
+    }
+    columns = colbox.size();
+    rows = rowbox.size();
+    // Keeping rejected centre probes in the cache pays when the (column, input) pairs are few
+    // (they recur every step); with many, the memory is not worth it.
+    keep_rejects = static_cast<double>(columns) * static_cast<double>(inputs) <= 262144.0;
+  }
+
+  bool in_box(const IndexBox& R, const std::int64_t* ri) const {
+    for (int i = 0; i < n; ++i)
+      if (inv[i] && (ri[i] < R.lo[i] || ri[i] > R.hi[i])) return false;
+    return true;
+  }
+};
+
+// One column of a step: its indices and its pending rows, as row index boxes' multi-indices
+// (compacted as rows are won).
+struct Column {
+  std::int64_t cidx[kMaxDim];
+  std::vector<std::int64_t> pend;
+  std::vector<std::int64_t> pidx;  // rows x n multi-indices
+
+  void reset(const Step& s) {
+    pend.resize(static_cast<size_t>(s.rows));
+    pidx.resize(static_cast<size_t>(s.rows * s.n));
+    for (std::int64_t row = 0; row < s.rows; ++row) {
+      pend[static_cast<size_t>(row)] = row;
+      s.rowbox.unlinear(row, &pidx[static_cast<size_t>(row * s.n)]);
+      for (int i = 0; i < s.n; ++i)
+        if (!s.inv[i]) pidx[static_cast<size_t>(row * s.n + i)] = cidx[i];
     }
   }
-  if (static_cast<double>(total) * 2.0 > o.memory_budget_bytes) {
-    r.status = TrackerStatus::ResourceLimit;
-    r.message = "agent " + p.agent + ": the tube's controller table exceeds the memory budget";
-    return r;
+  const std::int64_t* row(size_t q, int n) const { return &pidx[static_cast<size_t>(pend[q] * n)]; }
+};
+
+// Whether the probes reject input j for the column: the rows R narrowed by the probe hull's
+// cover leave no pending row whose whole hull cover is winning. A larger hull only narrows R
+// and grows the covers, so a rejection by part of the probes is a rejection by all of them.
+// `ep` may move from `fresh` into the table.
+bool prefilter_rejects(const Step& s, SuccessorTable& tab, const Column& c, std::int64_t j, RelBox*& ep, RelBox& fresh,
+                       IndexBox& R) {
+  auto rejects = [&](const RelBox& e, IndexBox& Rr) {
+    if (!rows_inside(s.inv, c.cidx, e.hlo, e.hhi, s.bn, Rr)) return true;
+    IndexBox cov;
+    for (size_t q = 0; q < c.pend.size(); ++q) {
+      const std::int64_t* ri = c.row(q, s.n);
+      if (!s.in_box(Rr, ri)) continue;
+      tab.cover(e.hlo, e.hhi, ri, cov);
+      if (s.ws.all_winning(cov)) return false;
+    }
+    return true;
+  };
+  // Stage 1: the centre alone (cheap rejection).
+  tab.probe(*ep, c.cidx, j, 1);
+  if (ep->has_hull && rejects(*ep, R)) return true;
+  // Stage 2: the corners. Entries are stored once the centre probe passes (or always,
+  // keep_rejects). Partial hulls (after 2, 4, 8 corners) are tried on a copy of R, so only a
+  // rejection can end the stage early; the decision to go on to the box is always taken with
+  // the full hull, exactly as without the early exit.
+  if (ep == &fresh) ep = &tab.insert(c.cidx, j, fresh);
+  RelBox& e = *ep;
+  const int total = tab.total_probes();
+  for (int upto : {3, 5, 9}) {
+    if (upto >= total || e.probed >= upto) continue;
+    tab.probe(e, c.cidx, j, upto);
+    IndexBox Rt = R;
+    if (e.has_hull && rejects(e, Rt)) return true;
   }
-  d.inputs.assign(static_cast<size_t>(total), kLosing);
-  // The whole-cell shift needs moderate indices (successor_cache.hpp); beyond them a coordinate
-  // simply is not reused.
-  for (const IndexBox& b : d.boxes)
-    for (int i = 0; i < n; ++i)
-      if (inv[i] && (!SuccessorTable::shift_valid(g, i, b.lo[i] - 1000) || !SuccessorTable::shift_valid(g, i, b.hi[i] + 1000)))
-        inv[i] = false;
+  tab.probe(e, c.cidx, j, total);
+  return e.has_hull && rejects(e, R);
+}
 
-  SuccessorBox sb(f, d.w, o.successor, o.hook);
-  const int threads = std::max(1, o.threads);
-  const SweepSplit split(o.collective, threads, inv);  // which rank and thread owns each column
-  std::vector<std::unique_ptr<SuccessorTable>> tables;
-  for (int t = 0; t < threads; ++t) tables.push_back(std::make_unique<SuccessorTable>(sb, g, ug, inv, o.prefilter_substeps));
+// Gives the column's pending rows the first input, in `order`, whose successor box's cover is
+// winning; the rows no input wins stay kLosing.
+void sweep_column(const Step& s, SuccessorTable& tab, Column& c, const std::vector<std::int64_t>& order,
+                  std::vector<std::uint16_t>& inputs) {
+  for (std::int64_t j : order) {
+    if (c.pend.empty()) break;
+    RelBox fresh;
+    RelBox* ep = s.keep_rejects ? &tab.entry(c.cidx, j) : tab.find(c.cidx, j);
+    if (!ep) ep = &fresh;
+    IndexBox R = s.rowbox;  // rows that may still win with input j
+    if (s.prefilter && prefilter_rejects(s, tab, c, j, ep, fresh, R)) continue;
+    if (ep == &fresh) ep = &tab.insert(c.cidx, j, fresh);
+    RelBox& e = *ep;
+    tab.box(e, c.cidx, j);
+    if (!e.ok) continue;
+    if (!rows_inside(s.inv, c.cidx, e.lo, e.hi, s.bn, R)) continue;
+    IndexBox cov;
+    size_t keep = 0;
+    for (size_t q = 0; q < c.pend.size(); ++q) {
+      const std::int64_t* ri = c.row(q, s.n);
+      bool won = false;
+      if (s.in_box(R, ri)) {
+        tab.cover(e, ri, cov);
+        if (s.ws.all_winning(cov)) {
+          inputs[static_cast<size_t>(s.off + s.bk.linear(ri))] = static_cast<std::uint16_t>(j);
+          won = true;
+        }
+      }
+      if (!won) c.pend[keep++] = c.pend[q];
+    }
+    c.pend.resize(keep);
+  }
+}
 
+// The backward sweep from step T-1; returns the last step swept: -1 when complete, else the
+// step whose winning set is empty.
+int backward_sweep(const TrackingProblem& p, const SynthesisOptions& o, const InputGrid& ug,
+                   const std::vector<bool>& inv, const SweepSplit& split,
+                   std::vector<std::unique_ptr<SuccessorTable>>& tables, ControllerData& d, TrackerStats& st) {
+  const int T = static_cast<int>(p.nominal.x.size()) - 1;
+  const int m = static_cast<int>(ug.lo().size());
+  const int threads = static_cast<int>(tables.size());
   std::vector<std::uint8_t> win(static_cast<size_t>(d.boxes[T].size()), 1);
   st.winning_cells_per_step[T] = d.boxes[T].size();
   std::vector<double> uval(static_cast<size_t>(ug.size() * m));
@@ -180,139 +236,23 @@ TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o
 
   int k = T - 1;
   for (; k >= 0; --k) {
-    const IndexBox& bk = d.boxes[k];
-    const IndexBox& bn = d.boxes[k + 1];
-    const WinningSet ws(bn, win);
-
-    // Inputs by closeness to the nominal input (in units of eta_u), ties by index.
-    const bool has_nominal = static_cast<int>(p.nominal.u.size()) > k && p.nominal.u[k].size() == m;
-    for (std::int64_t j = 0; j < ug.size(); ++j) {
-      double s = 0;
-      for (int c = 0; c < m; ++c) {
-        const double ref = has_nominal ? p.nominal.u[k][c] : 0.5 * (ug.lo()[c] + ug.hi()[c]);
-        const double z = (uval[static_cast<size_t>(j * m + c)] - ref) / ug.eta()[c];
-        s += z * z;
-      }
-      dist[static_cast<size_t>(j)] = s;
-    }
-    std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(), [&](std::int64_t a, std::int64_t b) {
-      return dist[static_cast<size_t>(a)] < dist[static_cast<size_t>(b)];
-    });
-
-    // Columns: fixed non-invariant indices; rows: the invariant indices. All cells of a column
-    // share one relative successor box per input, and its cover is the row's index plus a
-    // constant offset, so the rows whose cover stays inside the next tube form a box.
-    IndexBox colbox = bk, rowbox = bk;
-    for (int i = 0; i < n; ++i) {
-      if (inv[i]) colbox.hi[i] = colbox.lo[i];
-      else rowbox.lo[i] = rowbox.hi[i] = bk.lo[i];
-    }
-    const std::int64_t columns = colbox.size(), rows = rowbox.size();
-    const std::int64_t off = d.offsets[k];
-
-    // Keeping rejected centre probes in the cache pays when the (column, input) pairs are few
-    // (they recur every step); with many, the memory is not worth it.
-    const bool keep_rejects = static_cast<double>(columns) * static_cast<double>(ug.size()) <= 262144.0;
-
+    const WinningSet ws(d.boxes[k + 1], win);
+    order_inputs(p, k, ug, uval, dist, order);
+    const Step s(inv, d.boxes[k], d.boxes[k + 1], ws, d.offsets[k], ug.size(), o.prefilter);
     run_threads(threads, [&](int t) {
       SuccessorTable& tab = *tables[static_cast<size_t>(t)];
-      // Pending rows of the current column, as row index boxes' multi-indices (compacted as
-      // rows are won).
-      std::vector<std::int64_t> pend;
-      std::vector<std::int64_t> pidx;  // rows x n multi-indices
-      std::int64_t cidx[kMaxDim];
-      auto in_box = [&](const IndexBox& R, const std::int64_t* ri) {
-        for (int i = 0; i < n; ++i)
-          if (inv[i] && (ri[i] < R.lo[i] || ri[i] > R.hi[i])) return false;
-        return true;
-      };
-      for (std::int64_t col = 0; col < columns; ++col) {
-        colbox.unlinear(col, cidx);
-        if ((threads > 1 || split.split()) && !split.owns(cidx, t)) continue;
-        pend.resize(static_cast<size_t>(rows));
-        pidx.resize(static_cast<size_t>(rows * n));
-        for (std::int64_t row = 0; row < rows; ++row) {
-          pend[static_cast<size_t>(row)] = row;
-          rowbox.unlinear(row, &pidx[static_cast<size_t>(row * n)]);
-          for (int i = 0; i < n; ++i)
-            if (!inv[i]) pidx[static_cast<size_t>(row * n + i)] = cidx[i];
-        }
-        for (std::int64_t j : order) {
-          if (pend.empty()) break;
-          RelBox fresh;
-          RelBox* ep = keep_rejects ? &tab.entry(cidx, j) : tab.find(cidx, j);
-          if (!ep) ep = &fresh;
-          IndexBox R = rowbox;  // rows that may still win with input j
-          if (o.prefilter) {
-            // Rejected when the rows R narrowed by the probe hull's cover leave no pending row
-            // whose whole hull cover is winning. A larger hull only narrows R and grows the
-            // covers, so a rejection by part of the probes is a rejection by all of them.
-            auto rejects = [&](const RelBox& e, IndexBox& Rr) {
-              if (!rows_inside(inv, cidx, e.hlo, e.hhi, bn, Rr)) return true;
-              IndexBox cov;
-              for (size_t q = 0; q < pend.size(); ++q) {
-                const std::int64_t* ri = &pidx[static_cast<size_t>(pend[q] * n)];
-                if (!in_box(Rr, ri)) continue;
-                tab.cover(e.hlo, e.hhi, ri, cov);
-                if (ws.all_winning(cov)) return false;
-              }
-              return true;
-            };
-            // Stage 1: the centre alone (cheap rejection).
-            tab.probe(*ep, cidx, j, 1);
-            bool rejected = ep->has_hull && rejects(*ep, R);
-            if (!rejected) {
-              // Stage 2: the corners. Entries are stored once the centre probe passes (or
-              // always, keep_rejects). Partial hulls (after 2, 4, 8 corners) are tried on a copy
-              // of R, so only a rejection can end the stage early; the decision to go on to
-              // the box is always taken with the full hull, exactly as without the early exit.
-              if (ep == &fresh) ep = &tab.insert(cidx, j, fresh);
-              RelBox& e = *ep;
-              const int total = tab.total_probes();
-              for (int upto : {3, 5, 9}) {
-                if (upto >= total || e.probed >= upto) continue;
-                tab.probe(e, cidx, j, upto);
-                IndexBox Rt = R;
-                if (e.has_hull && rejects(e, Rt)) {
-                  rejected = true;
-                  break;
-                }
-              }
-              if (!rejected) {
-                tab.probe(e, cidx, j, total);
-                rejected = e.has_hull && rejects(e, R);
-              }
-            }
-            if (rejected) continue;
-          }
-          if (ep == &fresh) ep = &tab.insert(cidx, j, fresh);
-          RelBox& e = *ep;
-          tab.box(e, cidx, j);
-          if (!e.ok) continue;
-          if (!rows_inside(inv, cidx, e.lo, e.hi, bn, R)) continue;
-          IndexBox cov;
-          size_t keep = 0;
-          for (size_t q = 0; q < pend.size(); ++q) {
-            const std::int64_t* ri = &pidx[static_cast<size_t>(pend[q] * n)];
-            bool won = false;
-            if (in_box(R, ri)) {
-              tab.cover(e, ri, cov);
-              if (ws.all_winning(cov)) {
-                d.inputs[static_cast<size_t>(off + bk.linear(ri))] = static_cast<std::uint16_t>(j);
-                won = true;
-              }
-            }
-            if (!won) pend[keep++] = pend[q];
-          }
-          pend.resize(keep);
-        }
+      Column c;
+      for (std::int64_t col = 0; col < s.columns; ++col) {
+        s.colbox.unlinear(col, c.cidx);
+        if ((threads > 1 || split.split()) && !split.owns(c.cidx, t)) continue;
+        c.reset(s);
+        sweep_column(s, tab, c, order, d.inputs);
       }
     });
     for (auto& tab : tables) tab->next_generation();
 
     // Step k's winning set, this rank's cells and (split) the others' bits.
-    split.exchange_winning(bk, &d.inputs[static_cast<size_t>(off)], kLosing, win);
+    split.exchange_winning(d.boxes[k], &d.inputs[static_cast<size_t>(s.off)], kLosing, win);
     std::int64_t count = 0;
     for (const std::uint8_t w : win) count += w;
     st.winning_cells_per_step[k] = count;
@@ -321,30 +261,14 @@ TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o
   }
   // Every rank's inputs of the swept steps, so that each holds the whole controller.
   split.exchange_inputs(d.boxes, d.offsets, std::max(k, 0), T - 1, d.inputs);
+  return k;
+}
 
-  double box_seconds = 0;
-  for (auto& tab : tables) {
-    st.boxes_computed += tab->computed();
-    box_seconds += tab->seconds();
-  }
-  st.boxes_computed = split.sum(st.boxes_computed);  // over the ranks: the same figure as one process's
-  st.abstraction_time_s = box_seconds / threads;
-  st.synthesis_time_s = std::max(0.0, clock.seconds() - st.abstraction_time_s);
-
-  // Between the samples: only for a complete sweep (the controller is used from step 0).
-  std::string enclosure_failure;
-  if (k < 0) {
-    const Stopwatch enclosure_clock;
-    EnclosureOptions eo;
-    eo.substeps = o.enclosure_substeps;
-    eo.block = o.enclosure_block;
-    eo.threads = threads;
-    eo.collective = split.split() ? o.collective : nullptr;
-    if (!compute_period_enclosures(p, inv, sb, eo, d, enclosure_failure)) d.enclosures.clear();
-    st.enclosure_time_s = enclosure_clock.seconds();
-    st.enclosure_substeps = o.enclosure_substeps;
-  }
-
+// The result once the sweep ended at step k (-1: complete): the controller when x_0's cell is
+// winning and, between the samples, its period enclosures hold.
+TrackResult finish_track(const TrackingProblem& p, int k, ControllerData d, const std::string& enclosure_failure,
+                         TrackResult r) {
+  TrackerStats& st = r.stats;
   GridController ctl(std::move(d));
   st.initial_state_winning = k < 0 && ctl.winning(p.nominal.x[0].data(), 0);
   if (st.initial_state_winning && !enclosure_failure.empty()) {
@@ -370,150 +294,74 @@ TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o
   return r;
 }
 
-TrackResult synthesize_reach_avoid(const ReachAvoidProblem& p, const SynthesisOptions& o) {
+}  // namespace
+
+long long peak_rss_bytes() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return static_cast<long long>(ru.ru_maxrss) * 1024;
+}
+
+TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o) {
   const Stopwatch clock;
   TrackResult r;
-  auto invalid = [&](const std::string& why) {
-    r.status = TrackerStatus::InvalidInput;
-    r.message = "reach-avoid: " + why;
-    return r;
-  };
-  if (!p.dynamics) return invalid("no dynamics");
-  const Dynamics& f = *p.dynamics;
-  const int n = f.state_dim(), m = f.input_dim();
-  if (n < 1 || n > kMaxDim || m < 1 || m > kMaxDim) return invalid("unsupported dimensions");
-  for (auto [v, sz, name, pos] :
-       {std::tuple{&p.eta_x, n, "eta_x", true}, {&p.w, n, "W", false}, {&p.eta_u, m, "eta_u", true}}) {
-    const std::string e = check_vector(*v, sz, name, pos);
-    if (!e.empty()) return invalid(e);
-  }
-  for (const Box* b : {&p.domain, &p.safe, &p.target})
-    if (b->lo.size() != n || b->hi.size() != n) return invalid("a box has the wrong dimension");
-  if (!(p.tau > 0)) return invalid("tau must be positive");
   UniformGrid g;
   InputGrid ug;
-  try {
-    g = UniformGrid(to_std(p.domain.lo), to_std(p.eta_x));
-    ug = InputGrid(to_std(p.input_bounds.lo), to_std(p.input_bounds.hi), to_std(p.eta_u));
-  } catch (const std::exception& e) {
-    return invalid(e.what());
-  }
-  if (ug.size() >= kTarget) return invalid("more than 65533 grid inputs");
-  auto inner = [&](const Box& b) {
-    IndexBox ib;
-    ib.n = n;
-    for (int i = 0; i < n; ++i) g.inner_range(i, Interval(b.lo[i]), Interval(b.hi[i]), ib.lo[i], ib.hi[i]);
-    return ib;
-  };
-  const IndexBox dom = inner(p.domain), safe = inner(p.safe), target = inner(p.target);
-  const std::int64_t cells = dom.size();
-  if (static_cast<double>(cells) * 3.0 > o.memory_budget_bytes) {
-    r.status = TrackerStatus::ResourceLimit;
-    r.message = "reach-avoid: the domain grid exceeds the memory budget";
+  if (const std::string e = check_track(p, g, ug); !e.empty()) {
+    r.status = TrackerStatus::InvalidInput;
+    r.message = "agent " + p.agent + ": " + e;
     return r;
   }
-  ControllerData d;
-  d.dynamics_type = f.type();
-  d.agent = "";
-  d.n = n;
-  d.m = m;
-  d.time_invariant = true;
-  d.tau = p.tau;
-  d.origin = g.origin();
-  d.eta_x = g.eta();
-  d.eps.assign(static_cast<size_t>(n), 0.0);
-  d.w = to_std(p.w);
-  d.u_lo = ug.lo();
-  d.u_hi = ug.hi();
-  d.eta_u = ug.eta();
-  d.boxes = {dom};
-  d.offsets = {0};
-  d.inputs.assign(static_cast<size_t>(cells), kLosing);
-  TrackerStats& st = r.stats;
-  st.tube_cells = cells;
-  st.state_input_pairs = static_cast<double>(cells) * static_cast<double>(ug.size());
+  const Dynamics& f = *p.dynamics;
+  const int T = static_cast<int>(p.nominal.x.size()) - 1;
+  std::vector<bool> inv = invariant_coords(f);
+  ControllerData d = controller_header(f, p.agent, p.tau, g, ug, p.tube.w);
+  d.eps = to_std(p.tube.eps);
 
-  std::vector<std::uint8_t> win(static_cast<size_t>(cells), 0), candidate(static_cast<size_t>(cells), 0);
-  std::int64_t idx[kMaxDim];
-  for (std::int64_t l = 0; l < cells; ++l) {
-    dom.unlinear(l, idx);
-    if (target.contains(idx)) {
-      win[static_cast<size_t>(l)] = 1;
-      d.inputs[static_cast<size_t>(l)] = kTarget;
-    } else if (safe.contains(idx)) {
-      bool ok = true;
-      if (p.unsafe) {
-        double lo[kMaxDim], hi[kMaxDim];
-        for (int i = 0; i < n; ++i) {
-          const Interval c = g.cell(i, idx[i]);  // outward-rounded cell bounds
-          lo[i] = c.lower();
-          hi[i] = c.upper();
-        }
-        ok = !p.unsafe(lo, hi);
-      }
-      candidate[static_cast<size_t>(l)] = ok ? 1 : 0;
+  TrackerStats& st = r.stats;
+  const std::int64_t total = lay_out_tube(p, g, ug, d, st);
+  st.winning_cells_per_step.assign(static_cast<size_t>(T + 1), 0);
+  for (int k = 0; k <= T; ++k) {
+    if (d.boxes[k].empty()) {
+      r.status = TrackerStatus::NoController;
+      r.message = "agent " + p.agent + ": the eps box of step " + std::to_string(k) + " contains no whole grid cell";
+      st.peak_memory_bytes = peak_rss_bytes();
+      return r;
     }
   }
+  if (static_cast<double>(total) * 2.0 > o.memory_budget_bytes) {
+    r.status = TrackerStatus::ResourceLimit;
+    r.message = "agent " + p.agent + ": the tube's controller table exceeds the memory budget";
+    return r;
+  }
+  d.inputs.assign(static_cast<size_t>(total), kLosing);
+  for (const IndexBox& b : d.boxes) drop_unshiftable(g, b, inv);
+
   SuccessorBox sb(f, d.w, o.successor, o.hook);
   const int threads = std::max(1, o.threads);
-  std::vector<bool> inv = invariant_coords(f);
-  for (int i = 0; i < n; ++i)
-    if (inv[i] && (!SuccessorTable::shift_valid(g, i, dom.lo[i] - 1000) || !SuccessorTable::shift_valid(g, i, dom.hi[i] + 1000)))
-      inv[i] = false;
-  std::vector<std::unique_ptr<SuccessorTable>> tables;
-  for (int t = 0; t < threads; ++t) tables.push_back(std::make_unique<SuccessorTable>(sb, g, ug, inv, o.prefilter_substeps));
-  // Jacobi iteration: round r admits cells whose successor lies in round r-1's winning set, so
-  // the stored input decreases a ranking (the round) and the controller reaches the target.
-  for (;;) {
-    const WinningSet ws(dom, win);
-    std::vector<std::vector<std::pair<std::int64_t, std::uint16_t>>> found(static_cast<size_t>(threads));
-    run_threads(threads, [&](int t) {
-      SuccessorTable& tab = *tables[static_cast<size_t>(t)];
-      std::int64_t cidx[kMaxDim];
-      for (std::int64_t l = 0; l < cells; ++l) {
-        if (!candidate[static_cast<size_t>(l)] || win[static_cast<size_t>(l)]) continue;
-        dom.unlinear(l, cidx);
-        if (threads > 1 && owner(cidx, inv, threads) != t) continue;
-        for (std::int64_t j = 0; j < ug.size(); ++j) {
-          RelBox& e = tab.entry(cidx, j);
-          tab.box(e, cidx, j);
-          IndexBox cov;
-          if (tab.cover(e, cidx, cov) && dom.contains(cov) && ws.all_winning(cov)) {
-            found[static_cast<size_t>(t)].emplace_back(l, static_cast<std::uint16_t>(j));
-            break;
-          }
-        }
-      }
-    });
-    bool changed = false;
-    for (const auto& v : found)
-      for (auto [l, j] : v) {
-        d.inputs[static_cast<size_t>(l)] = j;
-        win[static_cast<size_t>(l)] = 1;
-        changed = true;
-      }
-    if (!changed) break;
-  }
-  double box_seconds = 0;
-  for (auto& tab : tables) {
-    st.boxes_computed += tab->computed();
-    box_seconds += tab->seconds();
-  }
-  std::int64_t count = 0;
-  for (auto v : win) count += v;
-  st.winning_cells_per_step = {count};
+  const SweepSplit split(o.collective, threads, inv);  // which rank and thread owns each column
+  auto tables = make_tables(threads, sb, g, ug, inv, o.prefilter_substeps);
+  const int k = backward_sweep(p, o, ug, inv, split, tables, d, st);
+
+  const double box_seconds = sum_tables(tables, st.boxes_computed);
+  st.boxes_computed = split.sum(st.boxes_computed);  // over the ranks: the same figure as one process's
   st.abstraction_time_s = box_seconds / threads;
   st.synthesis_time_s = std::max(0.0, clock.seconds() - st.abstraction_time_s);
-  st.peak_memory_bytes = peak_rss_bytes();
-  if (count > 0) {
-    r.status = TrackerStatus::ControllerFound;
-    r.controller = std::make_shared<GridController>(std::move(d));
-    r.message = "reach-avoid: " + std::to_string(count) + " winning cells";
-  } else {
-    r.status = TrackerStatus::NoController;
-    r.message = "reach-avoid: no winning cell";
+
+  // Between the samples: only for a complete sweep (the controller is used from step 0).
+  std::string enclosure_failure;
+  if (k < 0) {
+    const Stopwatch enclosure_clock;
+    EnclosureOptions eo;
+    eo.substeps = o.enclosure_substeps;
+    eo.block = o.enclosure_block;
+    eo.threads = threads;
+    eo.collective = split.split() ? o.collective : nullptr;
+    if (!compute_period_enclosures(p, inv, sb, eo, d, enclosure_failure)) d.enclosures.clear();
+    st.enclosure_time_s = enclosure_clock.seconds();
+    st.enclosure_substeps = o.enclosure_substeps;
   }
-  return r;
+  return finish_track(p, k, std::move(d), enclosure_failure, std::move(r));
 }
 
 }  // namespace marsyn::abcd

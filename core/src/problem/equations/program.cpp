@@ -35,6 +35,30 @@ Program::Code binary_code(Op op, bool a_const, bool b_const) {
     default: throw std::logic_error("not a binary node");
   }
 }
+// The instruction computing node nd (its destination still to choose): a constant operand
+// folds into the instruction, the others are read from their slots.
+template <class SlotOf>
+Program::Instr operation(const Graph& g, const Node& nd, const SlotOf& slot_of) {
+  Program::Instr in{Program::Code::Copy, 0, -1, -1, 0, 0.0};
+  if (nd.b >= 0) {
+    const bool ac = g[nd.a].op == Op::Const, bc = g[nd.b].op == Op::Const;
+    in.code = binary_code(nd.op, ac, bc);
+    if (ac) {
+      in.c = g[nd.a].value;
+      in.a = slot_of(nd.b);
+    } else {
+      in.a = slot_of(nd.a);
+      if (bc) in.c = g[nd.b].value;
+      else in.b = slot_of(nd.b);
+    }
+  } else {
+    in.code = unary_code(nd.op);
+    in.a = slot_of(nd.a);
+    in.k = nd.k;
+  }
+  return in;
+}
+
 }  // namespace
 
 Program::Program(const Graph& g, const std::vector<int>& roots, int n, int m)
@@ -82,23 +106,7 @@ Program::Program(const Graph& g, const std::vector<int>& roots, int n, int m)
   for (std::size_t i = 0; i < order.size(); ++i) {
     const int id = order[i];
     const Node& nd = g[id];
-    Instr in{Code::Copy, 0, -1, -1, 0, 0.0};
-    if (nd.b >= 0) {
-      const bool ac = g[nd.a].op == Op::Const, bc = g[nd.b].op == Op::Const;
-      in.code = binary_code(nd.op, ac, bc);
-      if (ac) {
-        in.c = g[nd.a].value;
-        in.a = slot_of(nd.b);
-      } else {
-        in.a = slot_of(nd.a);
-        if (bc) in.c = g[nd.b].value;
-        else in.b = slot_of(nd.b);
-      }
-    } else {
-      in.code = unary_code(nd.op);
-      in.a = slot_of(nd.a);
-      in.k = nd.k;
-    }
+    Instr in = operation(g, nd, slot_of);
     // The destination is chosen before the operands' registers are released, so an instruction
     // never writes over its own operands (the dual operators build their result in place).
     if (const int o = direct_output(id); o >= 0) {
