@@ -10,8 +10,10 @@
 #include <Eigen/QR>
 #include <Eigen/SVD>
 
+#include "allowances.hpp"
 #include "marsyn/interval.hpp"
 #include "membership.hpp"
+#include "period_law.hpp"
 
 namespace marsyn::funnel {
 namespace {
@@ -21,10 +23,6 @@ using fast_detail::mul_up;
 using fast_detail::sub_up;
 
 FastInterval fi(double v) { return FastInterval(v); }
-
-// Absolute allowance for products that underflow (gamma bounds relative errors of normal
-// numbers only): far above (n + 2) 2^-1074, far below anything a state or input measures.
-constexpr double kTiny = 1e-300;
 
 std::string num(double v) {
   std::ostringstream s;
@@ -44,12 +42,6 @@ void eps_box(const Eigen::VectorXd& xk, const Eigen::VectorXd& eps, std::vector<
   }
 }
 
-// A real state is measured as the nearest double (docs/soundness.md section 3): over [lo, hi]
-// the two differ by at most this per coordinate.
-double measured(double lo, double hi) { return mul_up(0x1p-53, std::max(std::fabs(lo), std::fabs(hi))); }
-
-// Upper bound of max |x_j - ref_j| over the box [lo, hi].
-double reach(double lo, double hi, double ref) { return std::max(std::fabs(sub_up(hi, ref)), std::fabs(sub_up(ref, lo))); }
 
 struct Fit {
   bool ok = false;
@@ -209,22 +201,11 @@ Fit verified_set(const Zonotope& zend, const std::vector<double>& lo, const std:
   return certify_zonotope(zend, order);
 }
 
-}  // namespace
-
-double rounding_factor(int terms) {
-  // gamma_{terms + 2} = (terms + 2) u / (1 - (terms + 2) u), u = 2^-53, rounded up generously.
-  return (terms + 3) * 0x1p-52;
-}
-
-VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::MatrixXd>& K,
-                            const std::vector<Eigen::MatrixXd>& closed, const VerifyOptions& o,
-                            const std::vector<Eigen::MatrixXd>& cost) {
-  const RoundToNearestScope nearest;
-  VerifyOutcome out;
+// The law's data as the controller file stores it: the problem's numbers, the nominal and K.
+void describe_law(const TrackingProblem& p, const std::vector<Eigen::MatrixXd>& K, FunnelData& d) {
   const Dynamics& f = *p.dynamics;
-  const int n = f.state_dim(), m = f.input_dim(), N = n + m;
+  const int n = f.state_dim(), m = f.input_dim();
   const int T = static_cast<int>(p.nominal.u.size());
-  FunnelData& d = out.data;
   d.dynamics_type = f.type();
   d.agent = p.agent;
   d.n = n;
@@ -242,31 +223,105 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
       for (int j = 0; j < n; ++j) row[static_cast<std::size_t>(i) * n + j] = K[k](i, j);
     d.K.push_back(std::move(row));
   }
-  d.sets.resize(static_cast<std::size_t>(T) + 1);
+}
 
-  // V_0: the initial box, stored as it is tested (plain comparisons, no rounding).
+// V_0, the initial box x_0 +- radius, stored as it is tested (plain comparisons, no rounding),
+// and the zonotope the first period starts from; false (and why) when the box leaves the eps-box.
+bool initial_set(const TrackingProblem& p, const Eigen::VectorXd& radius, StepSet& s0, Zonotope& zx, std::string& why) {
+  const int n = p.dynamics->state_dim();
   std::vector<double> elo, ehi;
   eps_box(p.nominal.x[0], p.tube.eps, elo, ehi);
-  StepSet& s0 = d.sets[0];
   s0.lo.resize(n);
   s0.hi.resize(n);
   for (int i = 0; i < n; ++i) {
-    s0.lo[i] = (fi(p.nominal.x[0][i]) - fi(o.initial_radius[i])).lower();
-    s0.hi[i] = (fi(p.nominal.x[0][i]) + fi(o.initial_radius[i])).upper();
+    s0.lo[i] = (fi(p.nominal.x[0][i]) - fi(radius[i])).lower();
+    s0.hi[i] = (fi(p.nominal.x[0][i]) + fi(radius[i])).upper();
     if (s0.lo[i] < elo[i] || s0.hi[i] > ehi[i]) {
-      out.why = "the initial box (radius " + num(o.initial_radius[i]) + " along " + f.state_names()[i] +
-                ") is not inside the eps-box (eps " + num(p.tube.eps[i]) + ")";
-      return out;
+      why = "the initial box (radius " + num(radius[i]) + " along " + p.dynamics->state_names()[i] +
+            ") is not inside the eps-box (eps " + num(p.tube.eps[i]) + ")";
+      return false;
     }
   }
-  Zonotope zx;
-  {
-    IVector c(n);
-    for (int i = 0; i < n; ++i) c[i] = FastInterval(s0.lo[i], s0.hi[i]);
-    std::vector<double> meas(n);
-    for (int i = 0; i < n; ++i) meas[i] = measured(s0.lo[i], s0.hi[i]);
-    zx = from_intervals(c, IMatrix(n, 0), meas);
+  IVector c(n);
+  for (int i = 0; i < n; ++i) c[i] = FastInterval(s0.lo[i], s0.hi[i]);
+  std::vector<double> meas(n);
+  for (int i = 0; i < n; ++i) meas[i] = measured(s0.lo[i], s0.hi[i]);
+  zx = from_intervals(c, IMatrix(n, 0), meas);
+  return true;
+}
+
+// Between the samples of step k: the a priori boxes of the period, hulled part by part, with
+// their workspace footprint.
+void append_period_enclosures(const FlowResult& fr, const TrackingProblem& p, int k, int parts, int spp,
+                              std::vector<PeriodEnclosure>& out) {
+  const int n = p.dynamics->state_dim();
+  for (int part = 0; part < parts; ++part) {
+    PeriodEnclosure e;
+    e.step = k;
+    e.t0 = p.tau * (k + static_cast<double>(part) / parts);
+    e.t1 = p.tau * (k + static_cast<double>(part + 1) / parts);
+    e.state.lo.resize(n);
+    e.state.hi.resize(n);
+    std::vector<Interval> xi(n);
+    for (int i = 0; i < n; ++i) {
+      FastInterval b = fr.boxes[static_cast<std::size_t>(part * spp) * n + i];
+      for (int s = part * spp + 1; s < (part + 1) * spp; ++s) b = marsyn::hull(b, fr.boxes[static_cast<std::size_t>(s) * n + i]);
+      e.state.lo[i] = b.lower();
+      e.state.hi[i] = b.upper();
+      xi[i] = Interval(b.lower(), b.upper());
+    }
+    Interval pw[2];
+    workspace_point(*p.dynamics, p.workspace, xi.data(), pw);
+    e.workspace.lo = Eigen::Vector2d(pw[0].lower(), pw[1].lower());
+    e.workspace.hi = Eigen::Vector2d(pw[0].upper(), pw[1].upper());
+    out.push_back(std::move(e));
   }
+}
+
+// Whether the end enclosure of step k leaves box_{k+1}; if so, out says where, by how much and
+// whether the enclosure is off the nominal rather than wide.
+bool leaves_tube(const Zonotope& zend, const StepSet& next, const TrackingProblem& p, int k, VerifyOutcome& out) {
+  const int n = zend.dim(), T = static_cast<int>(p.nominal.u.size());
+  for (int i = 0; i < n; ++i) {
+    const FastInterval h = zend.hull(i);
+    if (h.lower() < next.lo[i] || h.upper() > next.hi[i]) {
+      const double over = std::max(next.lo[i] - h.lower(), h.upper() - next.hi[i]);
+      const double offset = std::fabs(zend.c[i] - p.nominal.x[k + 1][i]);
+      out.miss_off_centre = offset > zend.radius(i);
+      out.why = "at step " + std::to_string(k + 1) + " of " + std::to_string(T) + ", " + p.dynamics->state_names()[i] +
+                " can leave the eps-tube by " + num(over) + " (enclosure half-width " + num(zend.radius(i)) +
+                " vs eps " + num(p.tube.eps[i]) + (out.miss_off_centre ? ", its centre " + num(offset) + " off the nominal" : "") +
+                (out.saturated_steps ? "; some inputs saturated" : "") + ")";
+      out.reached_step = k;
+      out.miss_coordinate = i;
+      out.miss_amount = over;
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+double rounding_factor(int terms) {
+  // gamma_{terms + 2} = (terms + 2) u / (1 - (terms + 2) u), u = 2^-53, rounded up generously.
+  return (terms + 3) * 0x1p-52;
+}
+
+VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::MatrixXd>& K,
+                            const std::vector<Eigen::MatrixXd>& closed, const VerifyOptions& o,
+                            const std::vector<Eigen::MatrixXd>& cost) {
+  const RoundToNearestScope nearest;
+  VerifyOutcome out;
+  const Dynamics& f = *p.dynamics;
+  const int n = f.state_dim(), m = f.input_dim(), N = n + m;
+  const int T = static_cast<int>(p.nominal.u.size());
+  FunnelData& d = out.data;
+  describe_law(p, K, d);
+  d.sets.resize(static_cast<std::size_t>(T) + 1);
+
+  Zonotope zx;
+  if (!initial_set(p, o.initial_radius, d.sets[0], zx, out.why)) return out;
   if (o.keep_reach) out.reach.push_back(zx);
   FlowOptions flow = o.flow;
   flow.tau = p.tau;
@@ -280,7 +335,6 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
     return out;
   }
   const int spp = flow.substeps / o.parts;
-  const double kappa = rounding_factor(n + 1);
   double fill_sum = 0.0;
   int fill_count = 0;
   // How much of the eps-box a verified set spans: its hull, which its box also bounds.
@@ -304,115 +358,9 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
   };
   record_fill(zx, d.sets[0], 0);
 
-  // The closed loop's start at step k over (x, u): u = u_k + K_k (x - x_k) is affine in the
-  // generators; the controller's rounding adds at most kappa (|u_k| + |K| |x - x_k|) per input.
-  // `u` is the law's u_k as the controller will store it: the nominal's input, or (shift) that
-  // input moved by the least amount that keeps the row's hull inside U (docs/funnel.md, "Inputs
-  // at a bound of U").
-  struct Period {
-    FlowResult fr;
-    bool saturated = false;  // some row enclosed as sat_U of its hull (a box)
-    bool shifted = false;    // some row's u_k moved inside U instead
-    std::vector<double> u;
-  };
-  auto period = [&](const Zonotope& zx, int k, bool shift) {
-    const StepSet& sk = d.sets[k];
-    const auto& xk = p.nominal.x[k];
-    const int pg = zx.generators();
-    IVector center(N);
-    IMatrix gens(N, pg);
-    std::vector<double> extra(N, 0.0);
-    for (int i = 0; i < n; ++i) {
-      center[i] = fi(zx.c[i]);
-      for (int l = 0; l < pg; ++l) gens(i, l) = fi(zx.G(i, l));
-    }
-    Period out_p;
-    out_p.u.assign(p.nominal.u[k].data(), p.nominal.u[k].data() + m);
-    for (int i = 0; i < m; ++i) {
-      // The feedback part K (x - x_k) over the set: centre, generators and rounding, which do not
-      // depend on u_k but for |u_k| in the rounding allowance.
-      FastInterval fb(0.0);
-      double round = 0.0, meas = 0.0;
-      for (int j = 0; j < n; ++j) {
-        fb += fi(K[k](i, j)) * (fi(zx.c[j]) - fi(xk[j]));
-        round = add_up(round, mul_up(std::fabs(K[k](i, j)), reach(sk.lo[j], sk.hi[j], xk[j])));
-        // The controller sees the measured (double) state, not the real one.
-        meas = add_up(meas, mul_up(std::fabs(K[k](i, j)), measured(sk.lo[j], sk.hi[j])));
-      }
-      double spread = 0.0;
-      for (int l = 0; l < pg; ++l) {
-        FastInterval g(0.0);
-        for (int j = 0; j < n; ++j) g += fi(K[k](i, j)) * fi(zx.G(j, l));
-        gens(n + i, l) = g;
-        spread = add_up(spread, mag(g));
-      }
-      // The row for the law's input ui: its centre, rounding allowance and hull.
-      auto row = [&](double ui, FastInterval& c, double& delta) {
-        c = fi(ui) + fb;
-        delta = add_up(add_up(mul_up(kappa, add_up(std::fabs(ui), round)), kTiny), meas);
-        return c + FastInterval(-add_up(spread, delta), add_up(spread, delta));
-      };
-      FastInterval c;
-      double delta;
-      FastInterval hull = row(out_p.u[i], c, delta);
-      const double lo = d.u_lo[i], hi = d.u_hi[i];
-      if (shift && !(hull.lower() >= lo && hull.upper() <= hi) && hull.upper() - hull.lower() < hi - lo) {
-        // Move u_k by the overshoot (and a hair, for the rounding of the move itself) when the
-        // hull is narrower than U: the row stays affine in the generators (no saturation), at
-        // the price of pulling the closed loop off the nominal by the move.
-        const double over = hull.upper() > hi ? hull.upper() - hi : hull.lower() - lo;
-        const double moved = out_p.u[i] - over - std::copysign(1e-9 * (hi - lo), over);
-        FastInterval c2;
-        double delta2;
-        const FastInterval hull2 = row(moved, c2, delta2);
-        if (std::isfinite(moved) && hull2.lower() >= lo && hull2.upper() <= hi) {
-          out_p.u[i] = moved;
-          out_p.shifted = true;
-          c = c2;
-          delta = delta2;
-          hull = hull2;
-        }
-      }
-      if (hull.lower() >= lo && hull.upper() <= hi) {
-        center[n + i] = c;
-        extra[n + i] = delta;
-      } else {
-        // Saturation: sat_U maps the hull's values into [sat(lo), sat(hi)]; the row keeps that
-        // interval and loses its correlation with the state (sound, less tight).
-        out_p.saturated = true;
-        const double a = std::clamp(hull.lower(), lo, hi);
-        const double b = std::clamp(hull.upper(), lo, hi);
-        center[n + i] = FastInterval(a, b);
-        for (int l = 0; l < pg; ++l) gens(n + i, l) = FastInterval(0.0);
-      }
-    }
-    const Zonotope za = from_intervals(center, gens, extra);
-    out_p.fr = enclose_period(f, za, d.w, 0, flow);
-    return out_p;
-  };
-  // How far the period's end reaches from x_{k+1} relative to eps (centre offset + radius), the
-  // score that decides between saturating and shifting: a shift pays with the offset.
-  auto end_reach = [&](const FlowResult& fr, int k1) {
-    if (!fr.ok) return std::numeric_limits<double>::infinity();
-    double worst = 0.0;
-    for (int i = 0; i < n; ++i) {
-      double r = std::fabs(fr.end.c[i] - p.nominal.x[k1][i]);
-      for (Eigen::Index j = 0; j < fr.end.G.cols(); ++j) r += std::fabs(fr.end.G(i, j));
-      worst = std::max(worst, r / p.tube.eps[i]);
-    }
-    return worst;
-  };
-  // The period of step k from zx: with saturated rows as boxes, or, when some row saturates and
-  // shifting is allowed, the shifted law if its end reaches less far out of the tube.
-  auto best_period = [&](const Zonotope& zx, int k) {
-    Period a = period(zx, k, false);
-    if (!a.saturated || !o.shift_inputs) return a;
-    Period b = period(zx, k, true);
-    if (!b.shifted) return a;
-    return end_reach(b.fr, k + 1) < end_reach(a.fr, k + 1) ? b : a;
-  };
+  const PeriodLaw law(p, K, d, flow, o.shift_inputs);
   for (int k = 0; k < T; ++k) {
-    const Period cur = best_period(zx, k);
+    const Period cur = law.best(zx, k);
     const FlowResult& fr = cur.fr;
     const bool saturated = cur.saturated;
     d.u_nom[k] = cur.u;  // the law's u_k (moved inside U where that was verified)
@@ -425,28 +373,7 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
       out.reached_step = k;
       return out;
     }
-    // Between the samples: the a priori boxes, hulled part by part.
-    for (int part = 0; part < o.parts; ++part) {
-      PeriodEnclosure e;
-      e.step = k;
-      e.t0 = p.tau * (k + static_cast<double>(part) / o.parts);
-      e.t1 = p.tau * (k + static_cast<double>(part + 1) / o.parts);
-      e.state.lo.resize(n);
-      e.state.hi.resize(n);
-      std::vector<Interval> xi(n);
-      for (int i = 0; i < n; ++i) {
-        FastInterval b = fr.boxes[static_cast<std::size_t>(part * spp) * n + i];
-        for (int s = part * spp + 1; s < (part + 1) * spp; ++s) b = marsyn::hull(b, fr.boxes[static_cast<std::size_t>(s) * n + i]);
-        e.state.lo[i] = b.lower();
-        e.state.hi[i] = b.upper();
-        xi[i] = Interval(b.lower(), b.upper());
-      }
-      Interval pw[2];
-      workspace_point(f, p.workspace, xi.data(), pw);
-      e.workspace.lo = Eigen::Vector2d(pw[0].lower(), pw[1].lower());
-      e.workspace.hi = Eigen::Vector2d(pw[0].upper(), pw[1].upper());
-      d.enclosures.push_back(std::move(e));
-    }
+    append_period_enclosures(fr, p, k, o.parts, spp, d.enclosures);
     // The states at the next sample must lie in the eps-box of x_{k+1}.
     Zonotope zend;
     zend.c = fr.end.c.head(n);
@@ -454,22 +381,7 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
     drop_zero_generators(zend);
     StepSet& next = d.sets[k + 1];
     eps_box(p.nominal.x[k + 1], p.tube.eps, next.lo, next.hi);
-    for (int i = 0; i < n; ++i) {
-      const FastInterval h = zend.hull(i);
-      if (h.lower() < next.lo[i] || h.upper() > next.hi[i]) {
-        const double over = std::max(next.lo[i] - h.lower(), h.upper() - next.hi[i]);
-        const double offset = std::fabs(zend.c[i] - p.nominal.x[k + 1][i]);
-        out.miss_off_centre = offset > zend.radius(i);
-        out.why = "at step " + std::to_string(k + 1) + " of " + std::to_string(T) + ", " + f.state_names()[i] +
-                  " can leave the eps-tube by " + num(over) + " (enclosure half-width " + num(zend.radius(i)) +
-                  " vs eps " + num(p.tube.eps[i]) + (out.miss_off_centre ? ", its centre " + num(offset) + " off the nominal" : "") +
-                  (out.saturated_steps ? "; some inputs saturated" : "") + ")";
-        out.reached_step = k;
-        out.miss_coordinate = i;
-        out.miss_amount = over;
-        return out;
-      }
-    }
+    if (leaves_tube(zend, next, p, k, out)) return out;
     // The stored set V_{k+1} only has to contain zend; the next period starts from zend itself.
     Fit fit = verified_set(zend, next.lo, next.hi, k + 1 < static_cast<int>(closed.size()) ? &closed[k + 1] : nullptr,
                            k + 1 < static_cast<int>(cost.size()) ? &cost[k + 1] : nullptr, o);

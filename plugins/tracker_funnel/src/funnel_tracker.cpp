@@ -208,28 +208,7 @@ bool FunnelTracker::apply_lever(const std::string& name, const TrackFailure& fai
   return name == "refine" && refine(a);
 }
 
-TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) const {
-  TrackResult res;
-  const auto t0 = Clock::now();
-  if (!p.dynamics) {
-    res.message = "no dynamics";
-    return res;
-  }
-  const int n = p.dynamics->state_dim(), m = p.dynamics->input_dim();
-  const int T = static_cast<int>(p.nominal.u.size());
-  if (n + m > kMaxDual) {
-    res.message = "the funnel tracker handles agents with states + inputs <= " + std::to_string(kMaxDual);
-    return res;
-  }
-  if (T < 1 || static_cast<int>(p.nominal.x.size()) != T + 1 || p.tube.eps.size() != n || p.tube.w.size() != n ||
-      p.input_bounds.dim() != m) {
-    res.message = "inconsistent tracking problem (nominal length, eps, w or input bounds)";
-    return res;
-  }
-  if (!s_.initial_radius.empty() && static_cast<int>(s_.initial_radius.size()) != n) {
-    res.message = "initial_radius: expected " + std::to_string(n) + " numbers, got " + std::to_string(s_.initial_radius.size());
-    return res;
-  }
+VerifyOptions FunnelTracker::verify_options(const Eigen::VectorXd& eps) const {
   VerifyOptions vo;
   vo.flow.substeps = s_.substeps;
   vo.flow.picard_iterations = s_.picard_iterations;
@@ -243,9 +222,22 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
   vo.keep_reach = reach_out_ != nullptr;
   vo.shift_inputs = s_.shift_inputs;
   vo.flow.box_substeps = static_cast<int>(s_.box_substeps);
-  vo.initial_radius.resize(n);
-  for (int i = 0; i < n; ++i)
-    vo.initial_radius[i] = s_.initial_radius.empty() ? s_.initial_fraction * p.tube.eps[i] : s_.initial_radius[i];
+  vo.initial_radius.resize(eps.size());
+  for (Eigen::Index i = 0; i < eps.size(); ++i)
+    vo.initial_radius[i] = s_.initial_radius.empty() ? s_.initial_fraction * eps[i] : s_.initial_radius[static_cast<std::size_t>(i)];
+  return vo;
+}
+
+// The gains and the verification: the input weights of the ladder in turn, each with the cheap
+// pass first; the first verified funnel, or the one that got furthest.
+FunnelTracker::Search FunnelTracker::search(const TrackingProblem& p) const {
+  VerifyOptions vo = verify_options(p.tube.eps);
+  const int n = p.dynamics->state_dim(), m = p.dynamics->input_dim();
+  Search out;
+  VerifyOutcome& best = out.best;
+  double& gain_time = out.gain_time;
+  double& verify_time = out.verify_time;
+  int& attempts = out.attempts;
 
   LqrWeights wt;
   wt.q.resize(n);
@@ -253,17 +245,16 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
   for (int i = 0; i < n; ++i) wt.q[i] = s_.state_weight / (p.tube.eps[i] * p.tube.eps[i]);
   wt.terminal = s_.terminal_weight;
   const int tries = s_.weight_search ? static_cast<int>(std::size(kInputWeightLadder)) : 1;
-  VerifyOutcome best;
   best.reached_step = -1;
-  double gain_time = 0, verify_time = 0;
-  int attempts = 0;
   // A cheap pass first: carried at order kFirstReachOrder the enclosure verifies most agents of
   // large teams (the circle swaps' unicycles fill 14% of eps either way) at about half the cost.
   // Where it misses, or its sets fill more than kRoomyFill of eps, the same gains again at
   // reach_order. An explicit max_generators keeps one pass.
   std::vector<int> orders{static_cast<int>(s_.reach_order)};
   if (s_.reach_order > kFirstReachOrder && s_.max_generators == 0) orders.insert(orders.begin(), kFirstReachOrder);
-  int best_order = orders.back(), weight_choices = 0;
+  int& best_order = out.order;
+  int& weight_choices = out.weight_choices;
+  best_order = orders.back();
   VerifyOutcome cheap;
   for (int t = 0; t < tries; ++t) {
     for (int j = 0; j < m; ++j) {
@@ -300,6 +291,36 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
       break;
     }
   }
+  return out;
+}
+
+TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) const {
+  TrackResult res;
+  const auto t0 = Clock::now();
+  if (!p.dynamics) {
+    res.message = "no dynamics";
+    return res;
+  }
+  const int n = p.dynamics->state_dim(), m = p.dynamics->input_dim();
+  const int T = static_cast<int>(p.nominal.u.size());
+  if (n + m > kMaxDual) {
+    res.message = "the funnel tracker handles agents with states + inputs <= " + std::to_string(kMaxDual);
+    return res;
+  }
+  if (T < 1 || static_cast<int>(p.nominal.x.size()) != T + 1 || p.tube.eps.size() != n || p.tube.w.size() != n ||
+      p.input_bounds.dim() != m) {
+    res.message = "inconsistent tracking problem (nominal length, eps, w or input bounds)";
+    return res;
+  }
+  if (!s_.initial_radius.empty() && static_cast<int>(s_.initial_radius.size()) != n) {
+    res.message = "initial_radius: expected " + std::to_string(n) + " numbers, got " + std::to_string(s_.initial_radius.size());
+    return res;
+  }
+  const Search found = search(p);
+  const VerifyOutcome& best = found.best;
+  const int best_order = found.order, weight_choices = found.weight_choices;
+  const double gain_time = found.gain_time, verify_time = found.verify_time;
+  const int attempts = found.attempts;
   res.stats.abstraction_time_s = gain_time;
   res.stats.synthesis_time_s = verify_time;
   res.stats.boxes_computed = static_cast<long long>(attempts) * T * s_.substeps;

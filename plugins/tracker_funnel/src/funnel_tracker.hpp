@@ -56,6 +56,15 @@ class FunnelTracker : public marsyn::Tracker {
   void keep_reach_sets_for_tests(std::vector<Zonotope>* out) { reach_out_ = out; }
 
  private:
+  // The verification's options from the settings (initial box from eps where not configured).
+  VerifyOptions verify_options(const Eigen::VectorXd& eps) const;
+  struct Search {
+    VerifyOutcome best;
+    int order = 0, weight_choices = 0, attempts = 0;  // the kept pass's reach order; LQR runs; verifications
+    double gain_time = 0, verify_time = 0;
+  };
+  Search search(const TrackingProblem& p) const;
+
   FunnelSettings s_;
   double remainder_scale_ = 1.0;
   std::vector<Zonotope>* reach_out_ = nullptr;
