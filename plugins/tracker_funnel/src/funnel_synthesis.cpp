@@ -7,7 +7,6 @@
 
 #include <Eigen/LU>
 #include <Eigen/Eigenvalues>
-#include <Eigen/QR>
 #include <Eigen/SVD>
 
 #include "allowances.hpp"
@@ -20,7 +19,6 @@ namespace {
 
 using fast_detail::add_up;
 using fast_detail::mul_up;
-using fast_detail::sub_up;
 
 FastInterval fi(double v) { return FastInterval(v); }
 
@@ -50,7 +48,6 @@ struct Fit {
   int generators = 0;
   std::vector<double> tol;
   double volume = 0.0;    // parallelotope: |det S^-1|, up to the common factor 2^n
-  std::vector<double> center;  // zonotope only (a parallelotope is centred on the enclosure's)
 };
 
 // V = {x in box : the solver's xi leaves |fl(G xi - (x - c))| <= tol} for the reduction c + G xi
@@ -76,7 +73,6 @@ Fit certify_zonotope(const Zonotope& zend, int order) {
   }
   f.generators = p;
   f.S.assign(z.G.data(), z.G.data() + static_cast<std::size_t>(n) * p);
-  f.center.assign(z.c.data(), z.c.data() + n);
   f.ok = true;
   return f;
 }
@@ -396,8 +392,7 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
       return out;
     }
     next.kind = fit.kind;
-    next.c.assign(zend.c.data(), zend.c.data() + n);
-    if (fit.kind == kZonotope) next.c.assign(fit.center.begin(), fit.center.end());
+    next.c.assign(zend.c.data(), zend.c.data() + n);  // every kind: a reduction keeps the centre
     next.S = std::move(fit.S);
     next.generators = fit.generators;
     next.tol = std::move(fit.tol);
