@@ -2,12 +2,14 @@
 # Issue 26: missions end to end. examples/warehouse.yaml (four robots, pickup -> drop-off ->
 # dock) and examples/rendezvous.yaml (a team stage) must verify; result.json lists every stage
 # with its visit step inside its window, after the previous stage's dwell, team stages at one
-# step, and non-negative plan and certified margins.
+# step, and non-negative plan and certified margins. examples/door_and_walkway.yaml (obstacles
+# of one stage) must verify with each staged obstacle binding its agent from the right knots, and
+# r2's plan crossing the walkway outside its window (else the scope would not matter).
 # Usage: missions.sh MARSYN_EXE SOURCE_DIR SCRATCH
 set -u
 exe="$1"; src="$2"; scratch="$3"
 rm -rf "$scratch"; mkdir -p "$scratch"
-for name in warehouse rendezvous; do
+for name in warehouse rendezvous door_and_walkway; do
   "$exe" solve "$src/examples/$name.yaml" --out "$scratch/$name" > "$scratch/$name.txt" 2>&1
   code=$?
   [ "$code" -eq 0 ] || { echo "$name: should verify (exit $code):"; cat "$scratch/$name.txt"; exit 1; }
@@ -32,6 +34,18 @@ for s in stages:
         assert s["visit_step"] > last[a], (s, last[a])
     last[a] = s["visit_step"] + s["dwell"]
     assert last[a] < r["plan"]["horizon"], s
+staged = {(w["obstacle"], w["agent"]): w["steps"] for w in r["mission"]["staged_obstacles"]}
+visit = {(s["agent"], s["stage"]): s["visit_step"] + s["dwell"] for s in stages}
+T = r["plan"]["horizon"]
+if r["problem"] == "door-and-walkway":
+    assert staged == {("door", "r1"): "steps %d-%d" % (visit[("r1", "through")], T),
+                      ("walkway", "r2"): "steps %d-%d" % (visit[("r2", "pickup")], visit[("r2", "dropoff")])}, staged
+    plan = json.load(open(sys.argv[1].replace("result.json", "plan.json")))
+    r2 = next(a for a in plan["agents"] if a["name"] == "r2")
+    on = [k for k, x in enumerate(r2["states"]) if 2.0 <= x[0] <= 2.6]  # on the walkway itself
+    assert on and all(k < visit[("r2", "pickup")] or k > visit[("r2", "dropoff")] for k in on), on
+    assert any(k < visit[("r2", "pickup")] for k in on) and any(k > visit[("r2", "dropoff")] for k in on), on
+    print("staged obstacles bind", staged)
 print(len(stages), "stages in order, in their windows, certified")
 PY
   grep -q "Mission: stages in order" "$scratch/$name/report.html" || { echo "$name: report.html lacks the mission table"; exit 1; }

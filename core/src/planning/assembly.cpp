@@ -58,6 +58,7 @@ PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOpti
   }
   const double delta = problem.delta;
   const bool inf = problem.delta_norm == Norm::Inf;
+  const ObstacleWindows windows(problem, horizon);
   // The requirements once; `clear[i]` is agent i's clearance beyond the buffer (0 at the knots).
   auto requirements = [&](const std::vector<double>& clear, std::vector<std::shared_ptr<const Constraint>>& out) {
     // The larger of the two, not the sum: the relative motion reaches the sum only when both
@@ -67,10 +68,22 @@ PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOpti
       const auto& a = problem.agents[i];
       for (size_t o = 0; o < problem.obstacles.size(); ++o) {
         const auto& obs = problem.obstacles[o];
+        // A staged obstacle binds at its window's knots only. Between them the planners, whose
+        // interior points apply at every period, do not see it: the exact check holds the
+        // continuous nominal to it and a shortfall comes back as clearance by name (as for a
+        // dwell), so its knots keep the clearance between the samples would need.
+        std::vector<int> steps;
+        if (obs.staged) {
+          if (&out == &pp.between) continue;
+          steps = windows.knots(i, static_cast<int>(o));
+          if (steps.empty()) continue;
+        }
         const std::string name = obstacle_name(problem, static_cast<int>(o), a);
-        out.push_back(std::make_shared<ObstacleConstraint>(name, a, xo[i], obs.vertices, margin[i], inf ? delta : 0.0,
-                                                           (inf ? 0.0 : delta) + opt.buffer + clear[i] + more(name),
-                                                           problem.distance_model));
+        auto c = std::make_shared<ObstacleConstraint>(name, a, xo[i], obs.vertices, margin[i], inf ? delta : 0.0,
+                                                      (inf ? 0.0 : delta) + opt.buffer + clear[i] + more(name),
+                                                      problem.distance_model);
+        if (obs.staged) c->bind_only_at(std::move(steps));
+        out.push_back(std::move(c));
       }
     }
     if (problem.pairwise_collision)

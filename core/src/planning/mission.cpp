@@ -242,4 +242,57 @@ std::vector<StageVisit> stage_visits(const Problem& problem, int horizon) {
   return out;
 }
 
+ObstacleWindows::ObstacleWindows(const Problem& problem, int horizon) {
+  const bool staged = std::any_of(problem.obstacles.begin(), problem.obstacles.end(), [](const Obstacle& o) { return o.staged; });
+  if (!staged || horizon <= 0) return;
+  const int N = static_cast<int>(problem.agents.size());
+  obstacles_ = static_cast<int>(problem.obstacles.size());
+  knots_.assign(static_cast<std::size_t>(N * obstacles_), {});
+  const MissionSchedule sched = schedule_missions(problem, horizon);
+  for (int i = 0; i < N; ++i) {
+    const AgentSpec& a = problem.agents[i];
+    for (int o = 0; o < obstacles_; ++o)
+      if (problem.obstacles[o].staged) knots_[static_cast<std::size_t>(i * obstacles_ + o)].assign(horizon + 1, 0);
+    auto mark = [&](const std::vector<int>& obs, int from, int to) {
+      for (int o : obs) {
+        if (o < 0 || o >= obstacles_ || !problem.obstacles[o].staged) continue;
+        auto& on = knots_[static_cast<std::size_t>(i * obstacles_ + o)];
+        for (int k = std::max(0, from); k <= std::min(horizon, to); ++k) on[static_cast<std::size_t>(k)] = 1;
+      }
+    };
+    int start = 0;
+    for (int s = 0; s < static_cast<int>(a.stages.size()); ++s) {
+      const MissionStage& st = a.stages[s];
+      const int end = std::min(horizon, sched.visit[i][s] + st.dwell);
+      mark(st.avoid, start, end);
+      mark(st.avoid_after, end, horizon);
+      start = end;
+    }
+  }
+}
+
+std::vector<int> ObstacleWindows::knots(int agent, int obstacle) const {
+  std::vector<int> out;
+  if (knots_.empty()) return out;
+  const auto& on = knots_[static_cast<std::size_t>(agent * obstacles_ + obstacle)];
+  for (std::size_t k = 1; k < on.size(); ++k)
+    if (on[k]) out.push_back(static_cast<int>(k));
+  return out;
+}
+
+std::string ObstacleWindows::describe(int agent, int obstacle) const {
+  std::string out;
+  if (knots_.empty()) return out;
+  const auto& on = knots_[static_cast<std::size_t>(agent * obstacles_ + obstacle)];
+  const int T = static_cast<int>(on.size()) - 1;
+  for (int k = 0; k <= T; ++k) {
+    if (!on[static_cast<std::size_t>(k)]) continue;
+    int e = k;
+    while (e < T && on[static_cast<std::size_t>(e + 1)]) ++e;
+    out += (out.empty() ? "steps " : ", ") + std::to_string(k) + (e > k ? "-" + std::to_string(e) : "");
+    k = e;
+  }
+  return out;
+}
+
 }  // namespace marsyn::planning

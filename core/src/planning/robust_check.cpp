@@ -84,7 +84,8 @@ class NamedTally : public Tally {
 // against bounds, obstacles, the other agents in the same part of the period, and formation.
 // Returns false when a part has no enclosure (recorded as -inf).
 bool check_period(const Problem& problem, const ProductLayout& at, const std::vector<Eigen::VectorXd>& x,
-                  const std::vector<Eigen::VectorXd>& u, int k, int parts, NamedTally& t) {
+                  const std::vector<Eigen::VectorXd>& u, int k, int parts, const ObstacleWindows& windows,
+                  NamedTally& t) {
   const auto &xo = at.state, &uo = at.input;
   const int N = static_cast<int>(problem.agents.size());
   const int P = parts;
@@ -154,7 +155,7 @@ bool check_period(const Problem& problem, const ProductLayout& at, const std::ve
     return q.kind == Requirement::Collision ? size(d) : d.norm();
   };
   for (int s = 0; s < P; ++s)
-    for_each_requirement(problem, [&](const Requirement& q) {
+    for_each_requirement(problem, windows, Moment{k, true}, [&](const Requirement& q) {
       t.record(box_requirement_margin(problem, q, ws[s]), k, [&] { return q.name(problem); }, motion(q));
     });
   return true;
@@ -168,14 +169,15 @@ void check_between_samples(const Problem& problem, const std::vector<Eigen::Vect
                            const std::vector<Eigen::VectorXd>& u, NamedTally& t) {
   const int T = static_cast<int>(u.size());
   const ProductLayout at(problem);
+  const ObstacleWindows windows(problem, T);
   for (int k = 0; k < T; ++k) {
     NamedTally period;
     int parts = kFlowParts;
-    bool enclosed = check_period(problem, at, x, u, k, parts, period);
+    bool enclosed = check_period(problem, at, x, u, k, parts, windows, period);
     while (enclosed && !(period.min_ >= 0) && parts * kFlowRefinement <= kFlowMaxParts) {
       parts *= kFlowRefinement;
       period = NamedTally();
-      enclosed = check_period(problem, at, x, u, k, parts, period);
+      enclosed = check_period(problem, at, x, u, k, parts, windows, period);
     }
     t.merge(period);
     if (!enclosed) return;
@@ -271,6 +273,7 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan) {
   Tally t, tu;
   std::vector<Eigen::Vector2d> p(N);
   std::vector<WorkspaceMargin> m(N);
+  const ObstacleWindows windows(problem, T);
   for (int k = 0; k <= T; ++k) {
     for (int i = 0; i < N; ++i) {
       const auto& a = problem.agents[i];
@@ -291,7 +294,7 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan) {
           t.record(inside_margin(G, c, xi[c]), k, [&] { return "goal " + a.dynamics->state_names()[c] + " of " + a.name; });
       }
     }
-    for_each_requirement(problem, [&](const Requirement& q) {
+    for_each_requirement(problem, windows, Moment{k, false}, [&](const Requirement& q) {
       t.record(requirement_margin(problem, q, p, &m), k, [&] { return q.name(problem); });
     });
   }

@@ -105,7 +105,8 @@ std::vector<Waypoint> route_waypoints(const Problem& problem, int horizon) {
     const WorkspaceMargin m = global_margin(a, a.state_bounds.shrunk(a.tube.eps), 16);
     const double gx = 1.1 * (problem.delta + (inf ? m.x : m.two())), gy = 1.1 * (problem.delta + (inf ? m.y : m.two()));
     std::vector<Polygon> grown;
-    for (const auto& o : problem.obstacles) grown.push_back(grow_by_box(o.vertices, gx, gy));
+    for (const auto& o : problem.obstacles)
+      if (!o.staged) grown.push_back(grow_by_box(o.vertices, gx, gy));  // staged ones bind on some legs only
     const auto corners = shortest_route(grown, from, to);
     if (corners.empty()) continue;
     std::vector<double> along{0.0};

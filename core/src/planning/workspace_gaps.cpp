@@ -57,8 +57,10 @@ std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
   std::vector<size_t> everyone(problem.agents.size());
   for (size_t i = 0; i < everyone.size(); ++i) everyone[i] = i;
   const auto& obs = problem.obstacles;
+  // Staged obstacles (scope: stages) are left out: they close a gap only on some stages' way.
   for (size_t p = 0; p < obs.size(); ++p)
     for (size_t q = p + 1; q < obs.size(); ++q) {
+      if (obs[p].staged || obs[q].staged) continue;
       const double w = polygon_distance(obs[p].vertices, obs[q].vertices, problem.delta_norm);
       if (w > 0) closed("obstacle " + obs[p].name, "obstacle " + obs[q].name, w, everyone);
     }
@@ -83,6 +85,7 @@ std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
     }
     for (const auto& o : obs)
       for (const auto& e : edges) {
+        if (o.staged) continue;
         double lo = std::numeric_limits<double>::infinity(), hi = -lo;
         for (const auto& v : o.vertices) lo = std::min(lo, v[e.axis]), hi = std::max(hi, v[e.axis]);
         const double w = e.low ? lo - e.at : e.at - hi;
@@ -123,8 +126,10 @@ std::vector<CrowdedStart> all_crowded_starts(const Problem& problem) {
     c.eps_factor = g0 > 0 ? g0 / (g0 - g1) : 0.0;
     out.push_back(std::move(c));
   };
+  const ObstacleWindows windows(problem, problem.horizon);
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t o = 0; o < problem.obstacles.size(); ++o) {
+      if (!windows.binds(static_cast<int>(i), static_cast<int>(o), {0, false})) continue;
       const Polygon& poly = problem.obstacles[o].vertices;
       const double g0 = obstacle_margin(poly, p[i], {}, problem.delta, problem.delta_norm);
       const double g1 = obstacle_margin(poly, p[i], m[i], problem.delta, problem.delta_norm);

@@ -296,8 +296,13 @@ void check_ltl_avoid(const Field& f, const std::vector<LtlAvoid>& avoid, const s
   for (const auto& o : obstacles) names.push_back(o.name);
   for (const auto& g : avoid) {
     if (g.name == "obstacles") continue;
-    bool found = false;
-    for (const auto& n : names) found = found || n == g.name;
+    bool found = false, staged = false;
+    for (const auto& o : obstacles)
+      if (o.name == g.name) found = true, staged = o.staged;
+    if (staged)
+      f.fail("G !" + g.name + " at column " + std::to_string(g.column) + " of the formula \"" + f.text() +
+             "\" names obstacle '" + g.name + "', which has 'scope: stages': the LTL form has no stages to bind it to; "
+             "write this mission as 'stages' with 'avoid' or 'avoid_after'");
     if (found) continue;
     std::string msg = "G !" + g.name + " at column " + std::to_string(g.column) + " of the formula \"" + f.text() +
                       "\" names no obstacle";

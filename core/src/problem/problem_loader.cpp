@@ -273,6 +273,7 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
   for (std::size_t i = 0; i < r.ltl_fields.size(); ++i) check_ltl_avoid(r.ltl_fields[i], r.ltl_avoid[i], pb.obstacles);
   if (Field f = top.child("formation"); f.present()) read_formation(f, pb);
   check_teams(pb, r.stage_fields);
+  read_stage_obstacles(pb, r.stage_fields, top.child("obstacles"));
   check_start_geometry(pb, r.x0_fields);
   check_planning_memory(top, out);
   read_planners(top, path, out);

@@ -27,7 +27,12 @@ void check_start_geometry(const Problem& pb, const std::vector<Field>& x0_fields
   }
   for (std::size_t i = 0; i < pb.agents.size(); ++i) {
     const AgentSpec& a = pb.agents[i];
-    for (const auto& o : pb.obstacles) {
+    for (std::size_t oi = 0; oi < pb.obstacles.size(); ++oi) {
+      const Obstacle& o = pb.obstacles[oi];
+      // A staged obstacle binds at step 0 only on the first stage's way (its `avoid`).
+      if (o.staged && (a.stages.empty() || std::find(a.stages[0].avoid.begin(), a.stages[0].avoid.end(),
+                                                     static_cast<int>(oi)) == a.stages[0].avoid.end()))
+        continue;
       // The real specification's own margins (spec_margins.hpp), with no tube around x0.
       const double depth = planning::obstacle_margin(o.vertices, p[i], {}, 0.0, Norm::Two);
       const double margin = planning::obstacle_margin(o.vertices, p[i], {}, pb.delta, pb.delta_norm);
@@ -79,9 +84,15 @@ std::vector<Eigen::Vector2d> read_convex_polygon(const Field& p) {
 
 Obstacle read_obstacle(const Field& f, std::size_t index) {
   f.expect_map();
-  f.allow_only({"name", "box", "polygon"});
+  f.allow_only({"name", "box", "polygon", "scope"});
   Obstacle o;
   o.name = f.child("name").present() ? f.child("name").text() : "obstacle" + std::to_string(index);
+  if (Field sf = f.child("scope"); sf.present()) {
+    if (!sf.is_scalar() || (sf.text() != "always" && sf.text() != "stages"))
+      sf.fail("expected 'always' (every agent at every step, the default) or 'stages' (only on the mission stages "
+              "that name it in 'avoid' or 'avoid_after')");
+    o.staged = sf.text() == "stages";
+  }
   if (f.child("name").present())
     if (const std::string why = name_defect(o.name); !why.empty()) f.child("name").fail(why);
   const bool has_box = f.child("box").present(), has_poly = f.child("polygon").present();

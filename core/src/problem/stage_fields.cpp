@@ -99,7 +99,7 @@ int shortest_mission(const AgentSpec& a, std::string* why) {
 
 MissionStage read_stage(const Field& f, std::size_t index, const AgentSpec& a, double tau) {
   f.expect_map();
-  f.allow_only({"name", "region", "not_before", "by", "dwell", "team"});
+  f.allow_only({"name", "region", "not_before", "by", "dwell", "team", "avoid", "avoid_after"});
   MissionStage st;
   st.name = "stage" + std::to_string(index + 1);
   if (Field nf = f.child("name"); nf.present()) {
@@ -210,6 +210,61 @@ void check_teams(const Problem& pb, const std::vector<Field>& stage_fields) {
           "team '" + t + "' has only one member (agent '" + pb.agents[i].name +
           "'); a team stage (rendezvous) names stages of at least two agents");
     }
+}
+
+namespace {
+
+// A stage's `avoid` or `avoid_after`: names of obstacles declared with `scope: stages`.
+std::vector<int> read_obstacle_names(const Field& f, const std::vector<Obstacle>& obstacles) {
+  std::vector<std::string> names, staged;
+  for (const auto& o : obstacles) {
+    names.push_back(o.name);
+    if (o.staged) staged.push_back(o.name);
+  }
+  if (!f.is_sequence()) f.fail("expected a list of obstacle names declared with 'scope: stages', e.g. [door]");
+  std::vector<int> out;
+  for (const Field& item : f.items()) {
+    if (!item.is_scalar()) item.fail("expected an obstacle name");
+    const std::string name = item.text();
+    const auto it = std::find(names.begin(), names.end(), name);
+    if (it == names.end()) {
+      const std::string near = yaml::nearest(name, names);
+      item.fail("unknown obstacle '" + name + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+                (names.empty() ? "; the problem has no obstacles" : "; obstacles: " + join(names)));
+    }
+    const int o = static_cast<int>(it - names.begin());
+    if (!obstacles[static_cast<std::size_t>(o)].staged)
+      item.fail("obstacle '" + name + "' binds every agent at every step already; declare it with 'scope: stages' to have "
+                "it bind only on the stages that name it" +
+                (staged.empty() ? std::string() : " (obstacles with 'scope: stages': " + join(staged) + ")"));
+    if (std::find(out.begin(), out.end(), o) != out.end()) item.fail("obstacle '" + name + "' is listed twice");
+    out.push_back(o);
+  }
+  return out;
+}
+
+}  // namespace
+
+void read_stage_obstacles(Problem& pb, const std::vector<Field>& stage_fields, const Field& obstacles_field) {
+  std::vector<bool> named(pb.obstacles.size(), false);
+  for (std::size_t i = 0; i < pb.agents.size() && i < stage_fields.size(); ++i) {
+    if (!stage_fields[i].present()) continue;
+    const auto items = stage_fields[i].items();
+    auto& stages = pb.agents[i].stages;
+    for (std::size_t s = 0; s < stages.size() && s < items.size(); ++s) {
+      if (Field f = items[s].child("avoid"); f.present()) stages[s].avoid = read_obstacle_names(f, pb.obstacles);
+      if (Field f = items[s].child("avoid_after"); f.present()) stages[s].avoid_after = read_obstacle_names(f, pb.obstacles);
+      for (int o : stages[s].avoid) named[static_cast<std::size_t>(o)] = true;
+      for (int o : stages[s].avoid_after) named[static_cast<std::size_t>(o)] = true;
+    }
+  }
+  if (!obstacles_field.present()) return;
+  const auto items = obstacles_field.items();
+  for (std::size_t o = 0; o < pb.obstacles.size() && o < items.size(); ++o)
+    if (pb.obstacles[o].staged && !named[o])
+      items[o].child("scope").fail("obstacle '" + pb.obstacles[o].name + "' has 'scope: stages' but no stage names it "
+                                   "in 'avoid' or 'avoid_after', so it would bind nobody: name it in a stage, or remove "
+                                   "the scope to have it bind every agent");
 }
 
 }  // namespace marsyn::loader

@@ -24,6 +24,10 @@ void read_stage_region(const Field& rf, const AgentSpec& a, MissionStage& st);
 // else a located error at f.
 void check_mission_horizon(const Field& f, const AgentSpec& a, const std::vector<MissionStage>& stages, int horizon);
 
+// The stages' `avoid` and `avoid_after` (obstacle names; the obstacles already read): each names
+// an obstacle declared with `scope: stages`, and each such obstacle is named by some stage.
+void read_stage_obstacles(Problem& pb, const std::vector<Field>& stage_fields, const Field& obstacles_field);
+
 // Team labels (rendezvous): each names stages of at least two agents, at most one per agent.
 void check_teams(const Problem& pb, const std::vector<Field>& stage_fields);
 

@@ -38,7 +38,7 @@ canvas{width:100%;border:1px solid #dae1e7;border-radius:4px;background:#fff}
 <div class="controls"><button id="play">pause</button><input id="k" type="range" min="0" value="0">
 <span id="kt"></span></div>
 <div class="controls"><label>run <select id="run"></select></label></div>
-<div class="muted">Filled boxes: each agent's eps-tube at the current sample (workspace projection, sound); outlined boxes: the certified enclosures of the closed loop between this sample and the next (continuous time); dots: the selected simulated run; thin lines: nominal plan; green dashed: goals; grey: obstacles; dashed in an agent's colour: its mission stages, "order: name @visit step", filled while it is due inside.</div>
+<div class="muted">Filled boxes: each agent's eps-tube at the current sample (workspace projection, sound); outlined boxes: the certified enclosures of the closed loop between this sample and the next (continuous time); dots: the selected simulated run; thin lines: nominal plan; green dashed: goals; grey: obstacles (dotted: an obstacle of one stage while it binds nobody, labelled with the agents and steps it binds); dashed in an agent's colour: its mission stages, "order: name @visit step", filled while it is due inside.</div>
 </section>
 <section><h2>Per-stage figures (paper Table 2 row)</h2><table id="t2"></table>
 <h2 style="margin-top:16px">Agents</h2><table id="ag"></table>
@@ -99,7 +99,9 @@ if (R.mission) {
   $('missionbox').style.display = '';
   const ms = R.mission.stages || [];
   table($('mission'), ['agent', '#', 'stage', 'visit k (t [s])', 'dwell', 'window', 'plan margin', 'certified margin'],
-    ms.map(m => [esc(m.agent), m.order, esc(m.stage) + (m.team ? ' <span class="muted">team ' + esc(m.team) + '</span>' : ''),
+    ms.map(m => [esc(m.agent), m.order, esc(m.stage) + (m.team ? ' <span class="muted">team ' + esc(m.team) + '</span>' : '') +
+      ((m.avoid || []).length ? ' <span class="muted">avoids ' + esc(m.avoid.join(', ')) + ' on the way</span>' : '') +
+      ((m.avoid_after || []).length ? ' <span class="muted">avoids ' + esc(m.avoid_after.join(', ')) + ' after</span>' : ''),
       m.visit_step + ' (' + fmt(m.visit_time_s, 2) + ')', m.dwell, '[' + m.not_before + ', ' + (m.by === null ? 'T' : m.by) + ']',
       mark(m.plan_margin, fmt(m.plan_margin)), m.certified ? mark(m.certified.margin, fmt(m.certified.margin)) : '-']));
 }
@@ -134,7 +136,14 @@ if (fb >= 0) $('run').value = fb;
 function draw(k) {
   ctx.clearRect(0, 0, cv.width, cv.height);
   ctx.fillStyle = '#cbd2d9';
-  S.obstacles.forEach(o => { ctx.beginPath(); o.vertices.forEach((p, i) => i ? ctx.lineTo(X(p[0]), Y(p[1])) : ctx.moveTo(X(p[0]), Y(p[1]))); ctx.closePath(); ctx.fill(); });
+  S.obstacles.forEach(o => { ctx.beginPath(); o.vertices.forEach((p, i) => i ? ctx.lineTo(X(p[0]), Y(p[1])) : ctx.moveTo(X(p[0]), Y(p[1]))); ctx.closePath();
+    if (!o.binds) { ctx.fill(); return; }
+    // A staged obstacle (scope: stages): solid while it binds some agent, dashed and labelled with who and when otherwise.
+    const now = o.binds.filter(b => k >= b.from && k <= b.to);
+    if (now.length) { ctx.fill(); } else { ctx.save(); ctx.setLineDash([2, 3]); ctx.strokeStyle = '#7b8794'; ctx.stroke(); ctx.restore(); }
+    const cx = o.vertices.reduce((s, p) => s + p[0], 0) / o.vertices.length, cy = o.vertices.reduce((s, p) => s + p[1], 0) / o.vertices.length;
+    ctx.save(); ctx.fillStyle = '#52606d'; ctx.font = '10px system-ui';
+    ctx.fillText(o.name + ': ' + (o.binds.map(b => b.agent + ' ' + b.from + '-' + b.to).join(', ') || 'binds nobody'), X(cx) - 20, Y(cy) + 3); ctx.restore(); ctx.fillStyle = '#cbd2d9'; });
   ctx.setLineDash([5, 4]); ctx.strokeStyle = '#1f9d55'; ctx.lineWidth = 1.5;
   S.agents.forEach(a => ctx.strokeRect(X(a.goal[0]), Y(a.goal[3]), (a.goal[2] - a.goal[0]) * scale, (a.goal[3] - a.goal[1]) * scale));
   // Mission stages: each region dashed in its agent's colour, numbered in visiting order, filled

@@ -27,10 +27,27 @@ nlohmann::json report_scene(const Problem& pb, const std::vector<NominalTrajecto
   scene["tau"] = pb.tau;
   scene["delta"] = pb.delta;
   json obstacles = json::array();
-  for (const auto& o : pb.obstacles) {
+  const int horizon = !nominal.empty() && !nominal.front().u.empty() ? static_cast<int>(nominal.front().u.size()) : pb.horizon;
+  const planning::ObstacleWindows windows(pb, horizon);
+  for (std::size_t oi = 0; oi < pb.obstacles.size(); ++oi) {
+    const Obstacle& o = pb.obstacles[oi];
     json v = json::array();
     for (const auto& p : o.vertices) v.push_back({p.x(), p.y()});
-    obstacles.push_back({{"name", o.name}, {"vertices", v}});
+    json ob = {{"name", o.name}, {"vertices", v}};
+    if (o.staged) {
+      // [from, to] knot ranges where it binds some agent: drawn solid there, outlined elsewhere.
+      json binds = json::array();
+      for (std::size_t i = 0; i < pb.agents.size(); ++i)
+        for (int k = 0; k <= horizon; ++k) {
+          if (!windows.binds(static_cast<int>(i), static_cast<int>(oi), {k, false})) continue;
+          int e = k;
+          while (e < horizon && windows.binds(static_cast<int>(i), static_cast<int>(oi), {e + 1, false})) ++e;
+          binds.push_back({{"agent", pb.agents[i].name}, {"from", k}, {"to", e}});
+          k = e;
+        }
+      ob["binds"] = binds;
+    }
+    obstacles.push_back(ob);
   }
   scene["obstacles"] = obstacles;
   json agents = json::array();

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "marsyn/core/planning/mission.hpp"
+
 namespace marsyn {
 namespace {
 
@@ -182,6 +184,11 @@ nlohmann::json result_json(const SolveOutcome& o) {
     for (const auto& p : o.plan.check.stages) {
       const AgentSpec& a = o.problem.agents[static_cast<std::size_t>(p.agent)];
       const MissionStage& st = a.stages[static_cast<std::size_t>(p.stage)];
+      auto names = [&](const std::vector<int>& obs) {
+        json n = json::array();
+        for (int ob : obs) n.push_back(o.problem.obstacles[static_cast<std::size_t>(ob)].name);
+        return n;
+      };
       json cert = nullptr;
       for (const auto& q : c.stages)
         if (q.agent == p.agent && q.stage == p.stage && o.certification_ran)
@@ -196,12 +203,27 @@ nlohmann::json result_json(const SolveOutcome& o) {
                         {"dwell", p.dwell},
                         {"not_before", st.not_before},
                         {"by", st.by >= 0 ? json(st.by) : json(nullptr)},
+                        {"avoid", names(st.avoid)},
+                        {"avoid_after", names(st.avoid_after)},
                         {"plan_margin", p.margin},
                         {"plan_margin_at_samples", p.sampled_margin},
                         {"plan_margin_between_samples", margin(p.between_margin)},
                         {"certified", cert}});
     }
+    // Staged obstacles: where each binds each agent, at the plan's horizon.
+    json staged = json::array();
+    const planning::ObstacleWindows windows(o.problem, o.plan.horizon > 0 ? o.plan.horizon : o.problem.horizon);
+    for (std::size_t ob = 0; ob < o.problem.obstacles.size(); ++ob)
+      if (o.problem.obstacles[ob].staged)
+        for (std::size_t i = 0; i < o.problem.agents.size(); ++i) {
+          const std::vector<int> k = windows.knots(static_cast<int>(i), static_cast<int>(ob));
+          if (k.empty()) continue;
+          staged.push_back({{"obstacle", o.problem.obstacles[ob].name},
+                            {"agent", o.problem.agents[i].name},
+                            {"steps", windows.describe(static_cast<int>(i), static_cast<int>(ob))}});
+        }
     j["mission"] = {{"stages", stages},
+                    {"staged_obstacles", staged},
                     {"certification", o.certification_ran && std::isfinite(c.stage.margin) ? part(c.stage) : json(nullptr)},
                     {"verification_between_samples", margin(v.between.stage)}};
   }

@@ -79,7 +79,7 @@ long BroadPhase::rank(const Requirement& q) const {
   return n * obstacles + pairs + q.index;
 }
 
-bool BroadPhase::accumulate(StepMargins& run, Requirement* worst) const {
+bool BroadPhase::accumulate(StepMargins& run, Requirement* worst, planning::Moment when) const {
   const std::vector<Eigen::Vector2d>& p = *pts_;
   const int n = static_cast<int>(p.size());
   // The lexicographically smallest (margin, rank) evaluated below the minimum before this state:
@@ -97,8 +97,10 @@ bool BroadPhase::accumulate(StepMargins& run, Requirement* worst) const {
   };
   const bool inf = pb_.delta_norm == Norm::Inf;
   const double delta = pb_.delta;
+  const bool windowed = when.k >= 0 && windows_ && windows_->any();
   for (int i = 0; i < n; ++i)
     for (int o = 0; o < static_cast<int>(bbox_.size()); ++o) {
+      if (windowed && !windows_->binds(i, o, when)) continue;
       // Outside its bounding box, a point is at least as far from the obstacle as from the box.
       const Eigen::Vector2d g = outside(bbox_[static_cast<size_t>(o)], p[static_cast<size_t>(i)]);
       const double lb = (inf ? g.maxCoeff() : g.norm()) - delta;  // no bound inside the box

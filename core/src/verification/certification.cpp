@@ -94,6 +94,7 @@ bool index_enclosures(const Problem& pb, const std::vector<std::shared_ptr<const
 
 // Each agent alone: its state bounds and the obstacles.
 void certify_agents(const Problem& pb, const ByStep& by_step, int T, CertificationReport& r, std::set<int>& failing) {
+  const planning::ObstacleWindows windows(pb, T);
   for (int i = 0; i < static_cast<int>(pb.agents.size()); ++i) {
     const auto& a = pb.agents[i];
     for (int k = 0; k < T; ++k)
@@ -104,6 +105,7 @@ void certify_agents(const Problem& pb, const ByStep& by_step, int T, Certificati
           note(failing, mb, {i});
         }
         for (size_t o = 0; o < pb.obstacles.size(); ++o) {
+          if (!windows.binds(i, static_cast<int>(o), {k, true})) continue;
           const double mo = planning::box_obstacle_margin(e->workspace, pb.obstacles[o].vertices, pb.delta, pb.delta_norm);
           record(r.obstacle, mo, k, [&] { return planning::obstacle_name(pb, static_cast<int>(o), a); }, r.shortfalls);
           note(failing, mo, {i});

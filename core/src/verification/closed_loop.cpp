@@ -150,6 +150,8 @@ class Batch {
         L_(static_cast<int>(scenarios.size())), closed_(!s.controllers.empty()) {
     lanes_.reserve(static_cast<size_t>(L_));
     for (const Scenario& sc : scenarios) lanes_.emplace_back(pb_, sc);
+    if (s.between)
+      for (Lane& r : lanes_) r.broad.windows(&s.between->windows());
     any_adversary_ = std::any_of(lanes_.begin(), lanes_.end(), [](const Lane& r) { return r.adversary; });
     track_points_ = s.between || any_adversary_ || s.keep_dense;
     // The integrator's view: per agent, its state, input and disturbance as Lanes (one lane per
@@ -225,10 +227,10 @@ class Batch {
 
   // running = min(running, the spec at the current state) part by part; true, with the
   // requirement named, when the smallest part fell.
-  bool fold(Lane& r, StepMargins& running, std::string& name) const {
+  bool fold(Lane& r, StepMargins& running, std::string& name, planning::Moment when) const {
     if (s_.all_pairs) {
       std::string what;
-      const StepMargins m = s_.between->step(r.prod, &what);
+      const StepMargins m = s_.between->step(r.prod, &what, when);
       const double before = running.min();
       running = {std::min(running.obstacle, m.obstacle), std::min(running.collision, m.collision),
                  std::min(running.formation, m.formation), running.stage};
@@ -237,18 +239,18 @@ class Batch {
       return true;
     }
     planning::Requirement q{planning::Requirement::Obstacle, -1, -1};
-    if (!r.broad.accumulate(running, &q)) return false;
+    if (!r.broad.accumulate(running, &q, when)) return false;
     name = q.name(pb_);
     return true;
   }
 
   // The current state's own margins (a fresh fold: step()'s values) for the plots.
-  void keep_dense(Lane& r, double t) const {
+  void keep_dense(Lane& r, double t, planning::Moment when) const {
     r.run.dense_t.push_back(t);
     r.run.dense_states.push_back(r.prod);
     StepMargins m;
-    if (s_.all_pairs && s_.between) m = s_.between->step(r.prod);
-    else r.broad.accumulate(m, nullptr);
+    if (s_.all_pairs && s_.between) m = s_.between->step(r.prod, nullptr, when);
+    else r.broad.accumulate(m, nullptr, when);
     r.run.dense_margins.push_back(m);
   }
 
@@ -261,10 +263,10 @@ class Batch {
         r.run.max_tube_excess = std::max(r.run.max_tube_excess, std::abs(r.x[i][c] - nom[c]) / eps[c]);
     }
     if (s_.keep_states) r.run.states.push_back(r.prod);
-    if (s_.keep_dense) keep_dense(r, k * pb_.tau);
+    if (s_.keep_dense) keep_dense(r, k * pb_.tau, {k, false});
     std::string name;
     // (A stage's margin may already be lower: the smaller one stays.)
-    if (s_.between && fold(r, r.at_samples, name) && r.at_samples.min() < r.run.sampled.min_margin) {
+    if (s_.between && fold(r, r.at_samples, name, {k, false}) && r.at_samples.min() < r.run.sampled.min_margin) {
       r.run.sampled.min_margin = r.at_samples.min();
       r.run.sampled.worst = name + " at step " + std::to_string(k);
     }
@@ -275,8 +277,8 @@ class Batch {
   void between(Lane& r, int k, int sub) const {
     if (s_.keep_dense || s_.all_pairs) stack(r);
     const double t = (k + static_cast<double>(sub + 1) / S_) * pb_.tau;
-    if (s_.keep_dense) keep_dense(r, t);
-    if (s_.between && fold(r, r.run.between, r.run.between_worst)) r.run.between_worst_t = t;
+    if (s_.keep_dense) keep_dense(r, t, {k, true});
+    if (s_.between && fold(r, r.run.between, r.run.between_worst, {k, true})) r.run.between_worst_t = t;
     // Mission stages dwelling over this period: the state stays in the region between the samples too.
     if (s_.between && s_.between->has_stages()) {
       if (!(s_.keep_dense || s_.all_pairs)) stack(r);

@@ -10,7 +10,10 @@ namespace marsyn {
 SpecMonitor::SpecMonitor(const Problem& problem, int horizon) : problem_(problem) {
   const ProductLayout layout(problem);
   offset_.assign(layout.state.begin(), layout.state.end() - 1);
-  if (horizon > 0) visits_ = planning::stage_visits(problem, horizon);
+  if (horizon > 0) {
+    visits_ = planning::stage_visits(problem, horizon);
+    windows_ = planning::ObstacleWindows(problem, horizon);
+  }
 }
 
 double SpecMonitor::stage_depth(const planning::StageVisit& v, const Eigen::VectorXd& x) const {
@@ -66,7 +69,7 @@ void SpecMonitor::points(const Eigen::VectorXd& x, std::vector<Eigen::Vector2d>&
   }
 }
 
-StepMargins SpecMonitor::step(const Eigen::VectorXd& x, std::string* worst) const {
+StepMargins SpecMonitor::step(const Eigen::VectorXd& x, std::string* worst, planning::Moment when) const {
   StepMargins m;
   std::vector<Eigen::Vector2d> pts;
   points(x, pts);
@@ -74,7 +77,8 @@ StepMargins SpecMonitor::step(const Eigen::VectorXd& x, std::string* worst) cons
   // substep of every verification run.
   double best = 1e300;
   planning::Requirement at{planning::Requirement::Obstacle, -1, -1};
-  planning::for_each_requirement(problem_, [&](const planning::Requirement& q) {
+  static const planning::ObstacleWindows always;
+  planning::for_each_requirement(problem_, when.k >= 0 ? windows_ : always, when, [&](const planning::Requirement& q) {
     const double v = planning::requirement_margin(problem_, q, pts);
     double& slot = part(m, q.kind);
     slot = std::min(slot, v);
@@ -89,9 +93,11 @@ StepMargins SpecMonitor::step(const Eigen::VectorXd& x, std::string* worst) cons
 
 SpecEvaluation SpecMonitor::evaluate(const std::vector<Eigen::VectorXd>& states, bool keep_per_step) const {
   SpecEvaluation ev;
+  // The staged obstacles' windows and the stages' knots at these states' horizon.
+  const SpecMonitor at(problem_, static_cast<int>(states.size()) - 1);
   for (std::size_t k = 0; k < states.size(); ++k) {
     std::string what;
-    const StepMargins m = step(states[k], &what);
+    const StepMargins m = at.step(states[k], &what, {static_cast<int>(k), false});
     if (keep_per_step) ev.per_step.push_back(m);
     if (m.min() < ev.min_margin) {
       ev.min_margin = m.min();
@@ -99,8 +105,7 @@ SpecEvaluation SpecMonitor::evaluate(const std::vector<Eigen::VectorXd>& states,
     }
   }
   if (!states.empty()) add_goal(states.back(), ev);
-  if (states.size() > 1 && std::any_of(problem_.agents.begin(), problem_.agents.end(), [](const AgentSpec& a) { return !a.stages.empty(); })) {
-    const SpecMonitor at(problem_, static_cast<int>(states.size()) - 1);
+  if (states.size() > 1 && at.has_stages()) {
     for (std::size_t k = 0; k < states.size(); ++k) at.add_stages(static_cast<int>(k), states[k], ev);
   }
   ev.satisfied = ev.min_margin >= 0;

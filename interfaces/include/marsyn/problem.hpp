@@ -64,6 +64,10 @@ struct MissionStage {
   int by = -1;                            // latest visit knot; -1: none
   int dwell = 0;                          // further knots spent inside after the visit
   std::string team;                       // stages sharing a team label are visited at one knot (rendezvous)
+  // Obstacles (indices into Problem::obstacles, each with `staged` set) the agent avoids only on
+  // the way to this stage (from the previous stage's last dwell knot, or step 0, to this one's),
+  // and from this stage's last dwell knot to the horizon (a door that closes behind it).
+  std::vector<int> avoid, avoid_after;
 
   bool is_polygon() const { return !polygon.empty(); }
 };
@@ -94,6 +98,9 @@ struct Obstacle {
   // Convex polygon, counter-clockwise; an axis-aligned box is stored as its 4 corners.
   std::vector<Eigen::Vector2d> vertices;
   bool is_box = false;
+  // `scope: stages`: binds an agent only where one of its mission stages names it
+  // (MissionStage::avoid, avoid_after); otherwise every agent at every time.
+  bool staged = false;
 };
 
 struct FormationPair {

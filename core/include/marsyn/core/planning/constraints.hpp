@@ -59,15 +59,23 @@ class ObstacleConstraint final : public Constraint {
                      std::shared_ptr<const MarginTable> margins, double grow, double clearance,
                      const DistanceModelFactory& distance = {});
   bool uses_distance_model() const { return distance_ != nullptr; }
+  // A staged obstacle (ObstacleWindows): the knots where it binds, instead of every knot.
+  void bind_only_at(std::vector<int> steps) {
+    steps_ = std::move(steps);
+    only_at_ = true;
+  }
   std::string name() const override { return name_; }
   int size() const override { return 1; }
-  ConstraintStage stage() const override { return ConstraintStage::AllSteps; }
+  ConstraintStage stage() const override { return only_at_ ? ConstraintStage::AtSteps : ConstraintStage::AllSteps; }
   const std::vector<int>& support() const override { return support_; }
+  const std::vector<int>& steps() const override { return steps_; }
   void evaluate(const double* x, double* g, double* jac) const override;
   bool hessian(const double* x, const double* w, double* H) const override;
 
  private:
   std::string name_;
+  std::vector<int> steps_;
+  bool only_at_ = false;
   const AgentSpec* agent_;
   std::vector<int> support_;
   Polygon obstacle_, grown_;  // grown_: precomputed for a constant margin

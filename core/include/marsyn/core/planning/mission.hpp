@@ -79,6 +79,43 @@ struct StageVisit {
   double between_margin = 1e300;  // between them (continuous guarantee, dwell > 0); 1e300: not checked
 };
 
+// When a requirement is judged: at knot k, or over the period [k tau, (k + 1) tau] between it and
+// the next knot (between the samples).
+struct Moment {
+  int k = 0;
+  bool between = false;
+};
+
+// Staged obstacles (Obstacle::staged, docs/tasks.md "Obstacles of one stage"): for every agent and
+// obstacle, the knots where the obstacle binds the agent, from the stages that name it and their
+// scheduled knots at one horizon. Stage s's leg runs from the previous stage's last dwell knot (or
+// step 0) to its own last dwell knot; `avoid` binds there, `avoid_after` from that last knot to T.
+// Over a period the obstacle binds when it binds at both of its knots. An obstacle without
+// `scope: stages` binds every agent at every moment. The assembly, the robust check, the
+// certifier and the spec monitor all read this one object, so they judge the same windows.
+class ObstacleWindows {
+ public:
+  ObstacleWindows() = default;  // no staged obstacle: everything binds always
+  ObstacleWindows(const Problem& problem, int horizon);
+  bool any() const { return !knots_.empty(); }
+  bool binds(int agent, int obstacle, Moment m) const {
+    if (knots_.empty()) return true;
+    const std::vector<char>& on = knots_[static_cast<std::size_t>(agent * obstacles_ + obstacle)];
+    if (on.empty()) return true;  // not staged
+    const int T = static_cast<int>(on.size()) - 1;
+    if (m.k < 0 || m.k > T || !on[static_cast<std::size_t>(m.k)]) return false;
+    return !m.between || (m.k < T && on[static_cast<std::size_t>(m.k + 1)]);
+  }
+  // The knots 1..T where a staged obstacle binds the agent (the planning constraint's AtSteps).
+  std::vector<int> knots(int agent, int obstacle) const;
+  // "steps 12-40, 55-80" (empty when it never binds), for messages and the report.
+  std::string describe(int agent, int obstacle) const;
+
+ private:
+  int obstacles_ = 0;
+  std::vector<std::vector<char>> knots_;  // [agent * obstacles + o]: per knot 0..T; empty: not staged
+};
+
 // Every stage of every agent with its scheduled knot (schedule_missions at horizon T), margins
 // not yet set.
 std::vector<StageVisit> stage_visits(const Problem& problem, int horizon);

@@ -17,6 +17,7 @@
 
 #include "marsyn/core/planning/geometry.hpp"
 #include "marsyn/core/planning/margins.hpp"
+#include "marsyn/core/planning/mission.hpp"
 #include "marsyn/problem.hpp"
 
 namespace marsyn::planning {
@@ -49,6 +50,14 @@ void for_each_requirement(const Problem& problem, Visit&& visit) {
       for (int j = i + 1; j < n; ++j) visit(Requirement{Requirement::Collision, i, j});
   for (int q = 0; q < static_cast<int>(problem.formation.size()); ++q)
     visit(Requirement{Requirement::Formation, problem.formation[q].i, problem.formation[q].j, q});
+}
+
+// The requirements that bind at one moment: the staged obstacles only inside their windows.
+template <class Visit>
+void for_each_requirement(const Problem& problem, const ObstacleWindows& windows, Moment when, Visit&& visit) {
+  for_each_requirement(problem, [&](const Requirement& q) {
+    if (q.kind != Requirement::Obstacle || windows.binds(q.a, q.b, when)) visit(q);
+  });
 }
 
 // d(P grown by the box (m.x, m.y), p) - delta in the problem's norm, signed (negative inside):

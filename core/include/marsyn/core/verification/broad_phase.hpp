@@ -30,7 +30,10 @@ class BroadPhase {
   void update(const std::vector<Eigen::Vector2d>& points);
   // running = min(running, SpecMonitor::step at the points) part by part. Returns true when the
   // smallest of the parts fell; *worst is then the requirement step() would name.
-  bool accumulate(StepMargins& running, planning::Requirement* worst) const;
+  // `when` (k >= 0) applies the staged obstacles' windows set by windows(), as step() does.
+  bool accumulate(StepMargins& running, planning::Requirement* worst, planning::Moment when = {-1, false}) const;
+  // The staged obstacles' windows (SpecMonitor::windows(), kept by pointer); none: all bind.
+  void windows(const planning::ObstacleWindows* w) { windows_ = w; }
   // The adversary's target for agent i: the nearest obstacle boundary point, or the nearest other
   // agent when strictly nearer (pairwise collision on); ties as a scan in index order breaks
   // them. False when there is neither.
@@ -41,6 +44,7 @@ class BroadPhase {
   long rank(const planning::Requirement& q) const;
   const Problem& pb_;
   const std::vector<Eigen::Vector2d>* pts_ = nullptr;
+  const planning::ObstacleWindows* windows_ = nullptr;
   std::vector<Eigen::Vector4d> bbox_;  // per obstacle: x_lo, y_lo, x_hi, y_hi
   double scale_ = 0;                   // largest obstacle coordinate: the slack's scale
   std::vector<int> order_;             // agents by increasing x

@@ -42,7 +42,10 @@ class SpecMonitor {
   explicit SpecMonitor(const Problem& problem, int horizon = -1);
   // states[k] is the product state at step k (agents stacked in problem order).
   SpecEvaluation evaluate(const std::vector<Eigen::VectorXd>& states, bool keep_per_step = false) const;
-  StepMargins step(const Eigen::VectorXd& x, std::string* worst = nullptr) const;
+  // The requirements at one product state. `when` (k >= 0) applies the staged obstacles' windows
+  // (planning::ObstacleWindows at this monitor's horizon): at knot k, or between k and k + 1;
+  // k < 0: every obstacle binds (a state without a time).
+  StepMargins step(const Eigen::VectorXd& x, std::string* worst = nullptr, planning::Moment when = {-1, false}) const;
   // evaluate()'s goal part: the final state x's goal margins folded into ev (min_margin, worst,
   // goal_margin), for a caller that checked the samples as they came.
   void add_goal(const Eigen::VectorXd& x, SpecEvaluation& ev) const;
@@ -53,6 +56,7 @@ class SpecMonitor {
   // Returns the smallest depth (1e300: none dwells) and names the stage.
   double stage_between(int k, const Eigen::VectorXd& x, std::string* name) const;
   bool has_stages() const { return !visits_.empty(); }
+  const planning::ObstacleWindows& windows() const { return windows_; }
 
  private:
   void points(const Eigen::VectorXd& x, std::vector<Eigen::Vector2d>& p) const;  // the agents' workspace points
@@ -60,6 +64,7 @@ class SpecMonitor {
   const Problem& problem_;
   std::vector<int> offset_;
   std::vector<planning::StageVisit> visits_;
+  planning::ObstacleWindows windows_;
 };
 
 }  // namespace marsyn
