@@ -28,31 +28,27 @@
 #include <deque>
 #include <functional>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "marsyn/error.hpp"
+#include "marsyn/number_text.hpp"
 #include "marsyn/params.hpp"
 
 namespace marsyn {
 
 // How a number's default is written in the listing. Both exist so that existing listings stay
 // byte-identical: Shortest is the shortest text that reads back to the same double, exponent
-// without '+' or leading zeros ("1e-6", "2e7", "0.01"); Stream is `std::ostream << v` (six
-// significant digits, "1e-06", "1e+08").
+// without '+' or leading zeros ("1e-6", "2e7", "0.01"); Stream is number_text (number_text.hpp:
+// six significant digits as `std::ostream << v` prints them, "1e-06", "1e+08").
 enum class NumberText { Shortest, Stream };
 
 namespace detail {
 
 inline std::string number_text(double v, NumberText style) {
-  if (style == NumberText::Stream) {
-    std::ostringstream os;
-    os << v;
-    return os.str();
-  }
+  if (style == NumberText::Stream) return marsyn::number_text(v);
   char buf[64];
   const auto r = std::to_chars(buf, buf + sizeof buf, v);
   std::string s(buf, r.ptr);
