@@ -29,6 +29,7 @@
 #include "marsyn/core/planning/plan.hpp"
 #include "marsyn/core/problem/problem_loader.hpp"
 #include "marsyn/core/verification/spec_monitor.hpp"
+#include "marsyn/number_text.hpp"
 #include "marsyn/stopwatch.hpp"
 
 namespace fs = std::filesystem;
@@ -293,15 +294,7 @@ void print_auto_values(const SolveOutcome& out) {
     const AutoTube& at = out.auto_tube[i];
     if (!at.any()) continue;
     const AgentSpec& a = out.problem.agents[i];
-    auto text = [](const Eigen::VectorXd& v) {
-      std::string s = "(";
-      for (Eigen::Index k = 0; k < v.size(); ++k) {
-        char b[32];
-        std::snprintf(b, sizeof b, "%s%.4g", k ? "," : "", v[k]);
-        s += b;
-      }
-      return s + ")";
-    };
+    auto text = [](const Eigen::VectorXd& v) { return list_text(v, "(", ")", ",", 4); };
     std::string vals = at.eps ? "eps " + text(a.tube.eps) : "";
     if (at.eta_x) vals += (vals.empty() ? "" : ", ") + std::string("eta_x ") + text(a.tube.eta_x);
     if (at.eta_u) vals += (vals.empty() ? "" : ", ") + std::string("eta_u ") + text(a.tube.eta_u);

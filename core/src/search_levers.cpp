@@ -11,12 +11,7 @@
 #include "marsyn/number_text.hpp"
 
 namespace marsyn::search {
-std::string vector_text(const Eigen::VectorXd& v) {
-  std::ostringstream s;
-  s << "(";
-  for (Eigen::Index i = 0; i < v.size(); ++i) s << (i ? "," : "") << v[i];
-  return s.str() + ")";
-}
+std::string vector_text(const Eigen::VectorXd& v) { return list_text(v, "(", ")", ","); }
 
 std::string params_text(const Params& p) {
   std::ostringstream s;

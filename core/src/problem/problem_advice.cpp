@@ -10,7 +10,9 @@ namespace marsyn {
 
 namespace {
 
-std::string seconds(double s) {
+// "42.5 s", above a minute "2.5 min": how long a tracker expects to take (4 digits; the search
+// prints its own times as "%.3g s").
+std::string seconds_or_minutes(double s) {
   if (s >= 60) return number_text(s / 60, 4) + " min";
   return number_text(s, 4) + " s";
 }
@@ -86,7 +88,8 @@ Advice advise(const LoadedProblem& lp) {
       for (const auto& t : ad.trackers)
         if (t.tracker == order[o] && t.assessment.ok && t.assessment.work_s >= kSlowTrackerSeconds)
           out.warnings.push_back(who + (o == 0 ? "its tracker " : "the fallback ") + t.tracker + " is estimated at " +
-                                 seconds(t.assessment.work_s) + " of one core and " + format_bytes(t.assessment.memory_bytes) +
+                                 seconds_or_minutes(t.assessment.work_s) + " of one core and " +
+                                 format_bytes(t.assessment.memory_bytes) +
                                  (o == 0 ? "" : " (it runs when " + order[o - 1] + " finds no controller)") +
                                  "; coarser grids or another tracker would be faster");
     out.agents.push_back(std::move(ad));
@@ -122,7 +125,8 @@ std::string to_text(const Advice& adv) {
     for (const auto& t : a.trackers) {
       s << "    " << t.tracker << ": ";
       if (t.assessment.ok)
-        s << "accepts, about " << seconds(t.assessment.work_s) << ", " << format_bytes(t.assessment.memory_bytes)
+        s << "accepts, about " << seconds_or_minutes(t.assessment.work_s) << ", "
+          << format_bytes(t.assessment.memory_bytes)
           << (t.assessment.summary.empty() ? "" : "; " + t.assessment.summary);
       else
         s << "refuses" << (t.assessment.field.empty() ? "" : " (" + t.assessment.field + ")") << ": " << t.assessment.message;

@@ -11,7 +11,7 @@
 
 namespace marsyn::loader {
 
-std::string point(const Eigen::Vector2d& p) { return "(" + number_text(p.x()) + ", " + number_text(p.y()) + ")"; }
+std::string point(const Eigen::Vector2d& p) { return list_text(p); }
 
 // The real specification at k = 0, with the exact geometry of the robustness check
 // (planning/spec_margins.hpp): each agent's workspace point at x0 keeps delta from every obstacle and

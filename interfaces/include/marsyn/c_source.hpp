@@ -4,7 +4,6 @@
 // layout (dimensions, status codes, `<prefix>_input` and the runtime monitor `<prefix>_inside`)
 // and write their constants the same exact way. Header-only, for tracker plugins.
 #include <cctype>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <ostream>
@@ -13,6 +12,7 @@
 #include <string>
 
 #include "marsyn/controller_export.hpp"
+#include "marsyn/number_text.hpp"
 
 namespace marsyn::c_source {
 
@@ -35,11 +35,7 @@ inline std::string default_prefix(const std::string& agent) {
 }
 
 // A hexadecimal floating literal: C99 reads it back as the very same double.
-inline std::string hex_double(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%a", v);
-  return buf;
-}
+using marsyn::hex_double;
 
 inline std::string upper(std::string s) {
   for (auto& ch : s) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));

@@ -14,10 +14,19 @@ inline std::string number_text(double v, int digits = 6) {
   return buf;
 }
 
-// "(a, b, c)", each coordinate by number_text; `open` and `close` give other brackets.
-inline std::string list_text(const Eigen::VectorXd& v, const char* open = "(", const char* close = ")") {
+// printf's %a, "0x1.999999999999ap-4": the very same double, as C99 and strtod read it back.
+inline std::string hex_double(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%a", v);
+  return buf;
+}
+
+// "(a, b, c)", each coordinate by number_text with `digits`; `open`, `close` and `sep` give other
+// brackets and separators ("(a,b,c)": one token in a key=value log line).
+inline std::string list_text(const Eigen::VectorXd& v, const char* open = "(", const char* close = ")",
+                             const char* sep = ", ", int digits = 6) {
   std::string s = open;
-  for (Eigen::Index i = 0; i < v.size(); ++i) s += (i ? ", " : "") + number_text(v[i]);
+  for (Eigen::Index i = 0; i < v.size(); ++i) s += (i ? sep : "") + number_text(v[i], digits);
   return s + close;
 }
 

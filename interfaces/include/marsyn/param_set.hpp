@@ -9,6 +9,8 @@
 //     cross-parameter rules, or a rule reported after the other parameters' rules);
 //   - listed_as: the default's text in the listing where the member's value does not say it.
 // The type comes from the member (bool, int, long, double, std::string, std::vector<double>).
+// A member of a member (`&Options::successor, &SuccessorOptions::substeps`) binds a parameter
+// kept in a nested struct, so that the struct the plugin's code reads is the one declared.
 // Integer ranges are also enforced by the loader from the declared range text (problem_loader).
 //
 //   struct Options { double r_input = 0.01; std::string mode = "fast"; int steps = 10; ... };
@@ -28,31 +30,27 @@
 #include <deque>
 #include <functional>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "marsyn/error.hpp"
+#include "marsyn/number_text.hpp"
 #include "marsyn/params.hpp"
 
 namespace marsyn {
 
 // How a number's default is written in the listing. Both exist so that existing listings stay
 // byte-identical: Shortest is the shortest text that reads back to the same double, exponent
-// without '+' or leading zeros ("1e-6", "2e7", "0.01"); Stream is `std::ostream << v` (six
-// significant digits, "1e-06", "1e+08").
+// without '+' or leading zeros ("1e-6", "2e7", "0.01"); Stream is number_text (number_text.hpp:
+// six significant digits as `std::ostream << v` prints them, "1e-06", "1e+08").
 enum class NumberText { Shortest, Stream };
 
 namespace detail {
 
 inline std::string number_text(double v, NumberText style) {
-  if (style == NumberText::Stream) {
-    std::ostringstream os;
-    os << v;
-    return os.str();
-  }
+  if (style == NumberText::Stream) return marsyn::number_text(v);
   char buf[64];
   const auto r = std::to_chars(buf, buf + sizeof buf, v);
   std::string s(buf, r.ptr);
@@ -109,7 +107,8 @@ class ParamSet {
   template <class T>
   class Declared {
    public:
-    Declared(Declaration& d, T Options::*member) : d_(d), member_(member) {}
+    using Get = std::function<const T&(const Options&)>;
+    Declared(Declaration& d, Get get) : d_(d), get_(std::move(get)) {}
     // Refused with ParamError(name, rule.message) right after the value is read.
     Declared& require(Rule<T> rule) {
       d_.now.push_back(refuse_unless(std::move(rule)));
@@ -146,23 +145,24 @@ class ParamSet {
    private:
     Check refuse_unless(Rule<T> rule) const { return refuse_unless(std::move(rule), d_.spec.name); }
     Check refuse_unless(Rule<T> rule, std::string field) const {
-      return [field = std::move(field), member = member_, rule = std::move(rule)](const Options& o) {
-        if (!rule.ok(o.*member)) throw ParamError(field, rule.message);
+      return [field = std::move(field), get = get_, rule = std::move(rule)](const Options& o) {
+        if (!rule.ok(get(o))) throw ParamError(field, rule.message);
       };
     }
     Declaration& d_;
-    T Options::*member_;
+    Get get_;
   };
 
   explicit ParamSet(NumberText numbers = NumberText::Shortest) : numbers_(numbers) {}
 
   template <class T>
   Declared<T> add(std::string name, T Options::*member, std::string range, std::string doc) {
-    Declaration& d = decls_.emplace_back();
-    d.spec = {name, detail::param_type_of<T>(), "", std::move(range), std::move(doc)};
-    d.read = [name, member](const Params& p, Options& o) { o.*member = read_value(p, name, o.*member); };
-    d.text = [member](const Options& o, NumberText style) { return value_text(o.*member, style); };
-    return Declared<T>(d, member);
+    return bind<T>(std::move(name), [member](auto& o) -> auto& { return o.*member; }, std::move(range), std::move(doc));
+  }
+  template <class Part, class T>
+  Declared<T> add(std::string name, Part Options::*part, T Part::*member, std::string range, std::string doc) {
+    return bind<T>(std::move(name), [part, member](auto& o) -> auto& { return (o.*part).*member; }, std::move(range),
+                   std::move(doc));
   }
 
   // A string parameter with a closed set of values: range "a|b|c"; any other value is refused
@@ -210,6 +210,16 @@ class ParamSet {
   }
 
  private:
+  // `at(options)` is the member, const or not.
+  template <class T, class At>
+  Declared<T> bind(std::string name, At at, std::string range, std::string doc) {
+    Declaration& d = decls_.emplace_back();
+    d.spec = {name, detail::param_type_of<T>(), "", std::move(range), std::move(doc)};
+    d.read = [name, at](const Params& p, Options& o) { at(o) = read_value(p, name, at(o)); };
+    d.text = [at](const Options& o, NumberText style) { return value_text(at(o), style); };
+    return Declared<T>(d, [at](const Options& o) -> const T& { return at(o); });
+  }
+
   static bool read_value(const Params& p, const std::string& n, bool v) { return p.boolean(n, v); }
   static int read_value(const Params& p, const std::string& n, int v) { return static_cast<int>(p.integer(n, v)); }
   static long read_value(const Params& p, const std::string& n, long v) { return p.integer(n, v); }

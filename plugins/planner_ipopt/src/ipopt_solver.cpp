@@ -5,6 +5,7 @@
 #include <mutex>
 #include <sstream>
 
+#include "marsyn/planner_support/invalid_input.hpp"
 #include "marsyn/stopwatch.hpp"
 #include "shooting_nlp.hpp"
 
@@ -22,12 +23,8 @@ std::mutex& ipopt_mutex() {
 PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Options& o,
                  std::vector<SecondOrderField> fields) {
   const Stopwatch clock;
+  if (auto refused = planner_support::invalid_input(pp)) return *refused;
   PlanResult res;
-  if (!pp.problem || pp.horizon <= 0) {
-    res.status = PlannerStatus::InvalidInput;
-    res.message = "no problem or a non-positive horizon";
-    return res;
-  }
   planner_support::ProductModel model(pp);
   Ipopt::SmartPtr<ShootingNlp> nlp = new ShootingNlp(model, o, run, clock, std::move(fields));
   Ipopt::ApplicationReturnStatus st;

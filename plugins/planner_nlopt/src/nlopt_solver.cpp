@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "marsyn/stopwatch.hpp"
+#include "marsyn/planner_support/invalid_input.hpp"
 #include "marsyn/planner_support/product_model.hpp"
 
 namespace marsyn::nlopt_planner {
@@ -161,12 +162,8 @@ void constraints_cb(unsigned, double* c, unsigned, const double* z, double* grad
 
 PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Options& o) {
   const Stopwatch clock;
+  if (auto refused = planner_support::invalid_input(pp)) return *refused;
   PlanResult res;
-  if (!pp.problem || pp.horizon <= 0) {
-    res.status = PlannerStatus::InvalidInput;
-    res.message = "no problem or a non-positive horizon";
-    return res;
-  }
   planner_support::ProductModel model(pp);
   Shooting sh(model, o, run);
   if (static_cast<double>(sh.rows()) * sh.variables() > o.max_dense_entries) {

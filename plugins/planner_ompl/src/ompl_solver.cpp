@@ -20,6 +20,7 @@
 #include <ompl/util/RandomNumbers.h>
 
 #include "marsyn/stopwatch.hpp"
+#include "marsyn/planner_support/invalid_input.hpp"
 #include "marsyn/planner_support/product_model.hpp"
 
 namespace marsyn::ompl_planner {
@@ -280,12 +281,8 @@ std::once_flag seed_once;
 
 PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Options& o) {
   const Stopwatch clock;
+  if (auto refused = planner_support::invalid_input(pp)) return *refused;
   PlanResult res;
-  if (!pp.problem || pp.horizon <= 0) {
-    res.status = PlannerStatus::InvalidInput;
-    res.message = "no problem or a non-positive horizon";
-    return res;
-  }
   if (o.seed >= 0) std::call_once(seed_once, [&] { ompl::RNG::setSeed(static_cast<std::uint_fast32_t>(o.seed)); });
   ompl::msg::setLogLevel(ompl::msg::LOG_ERROR);
   planner_support::ProductModel M(pp);

@@ -130,3 +130,45 @@ TEST(ParamSet, ChecksRightAfterReadingComeBeforeTheLastOnes) {
     EXPECT_STREQ(e.what(), "must be positive");
   }
 }
+
+namespace {
+
+struct Inner {
+  int substeps = 2;
+};
+struct Outer {
+  Inner inner;
+  bool fit = true;
+};
+
+}  // namespace
+
+TEST(ParamSet, BindsAMemberOfAMember) {
+  // abcd declares its enclosure's substeps on SynthesisOptions::successor: listed, read and
+  // checked where the tracker's code reads it, with no copy.
+  ParamSet<Outer> s;
+  s.add("substeps", &Outer::inner, &Inner::substeps, "[1, 10]", "substeps").require({[](const int& v) {
+    return v >= 1 && v <= 10;
+  }, "expected an integer in [1, 10]"});
+  s.add("fit", &Outer::fit, "true|false", "a switch");
+  const auto specs = s.specs();
+  ASSERT_EQ(specs.size(), 2u);
+  EXPECT_EQ(specs[0].name, "substeps");
+  EXPECT_EQ(specs[0].type, ParamType::Int);
+  EXPECT_EQ(specs[0].default_value, "2");
+  Params p;
+  p.set("substeps", 7L);
+  const Outer o = s.parse(p);
+  EXPECT_EQ(o.inner.substeps, 7);
+  EXPECT_TRUE(o.fit);
+  EXPECT_EQ(s.parse(Params{}).inner.substeps, 2);
+  Params bad;
+  bad.set("substeps", 11L);
+  try {
+    s.parse(bad);
+    FAIL() << "accepted substeps: 11";
+  } catch (const ParamError& e) {
+    EXPECT_EQ(e.field(), "substeps");
+    EXPECT_STREQ(e.what(), "expected an integer in [1, 10]");
+  }
+}

@@ -17,64 +17,58 @@ namespace {
 // When a range is checked: as soon as its value is read, or after every value is read.
 enum class Checked { on_read, last };
 
-// An integer parameter in [lo, hi]: the listed range "[lo, hi]" and the message "expected an
-// integer in [lo, hi]" come from the one pair.
-void integer_in(ParamSet<AbcdOptions>& s, std::string name, int AbcdOptions::*member, int lo, int hi, std::string doc,
-                Checked when) {
+// An int parameter in [lo, hi], the listed range "[lo, hi]" and the message "expected an integer
+// in [lo, hi]" (which, unlike the funnel's integer_in, does not repeat the value) from the one
+// pair; `member` is a member of SynthesisOptions or of one of its parts.
+template <class... Member>
+void int_in_range(ParamSet<SynthesisOptions>& s, std::string name, int lo, int hi, std::string doc, Checked when,
+                  Member... member) {
   const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
-  auto d = s.add(std::move(name), member, range, std::move(doc));
+  auto d = s.add(std::move(name), member..., range, std::move(doc));
   const Rule<int> within{[lo, hi](const int& v) { return v >= lo && v <= hi; }, "expected an integer in " + range};
   if (when == Checked::last) d.require_last(within);
   else d.require(within);
 }
 
-ParamSet<AbcdOptions> declare() {
-  using O = AbcdOptions;
+ParamSet<SynthesisOptions> declare() {
+  using O = SynthesisOptions;
+  using S = SuccessorOptions;
   // The enclosure's two ranges are checked as soon as each is read, the others after every
   // value is read: the order the messages have always come in.
   constexpr Checked on_read = Checked::on_read, last = Checked::last;
   ParamSet<O> s;
-  integer_in(s, "substeps", &O::substeps, 1, 1000,
-             "substeps of the sound enclosure over one sampling period (more: tighter boxes, slower)", last);
-  integer_in(s, "taylor_terms", &O::taylor_terms, 4, 16, "matrix-exponential series terms before the rigorous tail bound",
-             last);
-  integer_in(s, "picard_iterations", &O::picard_iterations, 1, 100,
-             "a priori enclosure attempts before an input is dropped", last);
+  int_in_range(s, "substeps", 1, 1000,
+               "substeps of the sound enclosure over one sampling period (more: tighter boxes, slower)", last,
+               &O::successor, &S::substeps);
+  int_in_range(s, "taylor_terms", 4, 16, "matrix-exponential series terms before the rigorous tail bound", last,
+               &O::successor, &S::taylor_terms);
+  int_in_range(s, "picard_iterations", 1, 100, "a priori enclosure attempts before an input is dropped", last,
+               &O::successor, &S::picard_iterations);
   s.add("prefilter", &O::prefilter, "true|false",
         "skip inputs whose RK4 centre image leaves the next tube before computing their box (work only)");
-  integer_in(s, "prefilter_substeps", &O::prefilter_substeps, 1, 1000, "RK4 substeps of the prefilter's centre image",
-             last);
-  integer_in(s, "threads", &O::threads, 0, 256, "worker threads; 0: the run's thread option", last);
-  integer_in(s, "enclosure_substeps", &O::enclosure_substeps, 1, SuccessorBox::kMaxEncloseSubsteps,
-             "boxes per sampling period enclosing the closed loop between samples (continuous-time guarantee; more: "
-             "tighter)",
-             on_read);
-  integer_in(s, "enclosure_block", &O::enclosure_block, 1, 64,
-             "cells per block enclosed together between samples, along coordinates the field reads (fewer: tighter, "
-             "slower)",
-             on_read);
+  int_in_range(s, "prefilter_substeps", 1, 1000, "RK4 substeps of the prefilter's centre image", last,
+               &O::prefilter_substeps);
+  int_in_range(s, "threads", 0, 256, "worker threads; 0: the run's thread option", last, &O::threads);
+  int_in_range(s, "enclosure_substeps", 1, SuccessorBox::kMaxEncloseSubsteps,
+               "boxes per sampling period enclosing the closed loop between samples (continuous-time guarantee; "
+               "more: tighter)",
+               on_read, &O::enclosure_substeps);
+  int_in_range(s, "enclosure_block", 1, 64,
+               "cells per block enclosed together between samples, along coordinates the field reads (fewer: "
+               "tighter, slower)",
+               on_read, &O::enclosure_block);
   return s;
 }
 
 }  // namespace
 
-AbcdTracker::AbcdTracker(const Params& p) {
-  const AbcdOptions o = declared_once<declare>().parse(p);
-  base_.successor.substeps = o.substeps;
-  base_.successor.taylor_terms = o.taylor_terms;
-  base_.successor.picard_iterations = o.picard_iterations;
-  base_.prefilter = o.prefilter;
-  base_.prefilter_substeps = o.prefilter_substeps;
-  threads_ = o.threads;
-  base_.enclosure_substeps = o.enclosure_substeps;
-  base_.enclosure_block = o.enclosure_block;
-}
+AbcdTracker::AbcdTracker(const Params& p) : base_(declared_once<declare>().parse(p)) {}
 
 std::vector<ParamSpec> AbcdTracker::param_specs() { return declared_once<declare>().specs(); }
 
 SynthesisOptions AbcdTracker::options_for(const TrackOptions& o) const {
   SynthesisOptions s = base_;
-  int t = threads_ > 0 ? threads_ : o.threads;
+  int t = base_.threads > 0 ? base_.threads : o.threads;
   if (t <= 0) t = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   s.threads = t;
   s.memory_budget_bytes = o.memory_budget_bytes;

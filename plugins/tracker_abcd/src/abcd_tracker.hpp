@@ -28,19 +28,6 @@ inline CellBounds x0_cell(const AgentSpec& a, int i) {
   return {cell_lo, cell_lo + a.tube.eta_x[i]};
 }
 
-// The tracker's parameters with their defaults, each declared once in abcd_tracker.cpp
-// (marsyn/param_set.hpp): the listing, the parsing and the range checks read that declaration.
-struct AbcdOptions {
-  int substeps = 2;
-  int taylor_terms = 10;
-  int picard_iterations = 12;
-  bool prefilter = true;
-  int prefilter_substeps = 2;
-  int threads = 0;  // 0: TrackOptions::threads decides
-  int enclosure_substeps = 8;
-  int enclosure_block = 4;
-};
-
 class AbcdTracker : public marsyn::Tracker {
  public:
   explicit AbcdTracker(const Params& p = {});
@@ -65,12 +52,12 @@ class AbcdTracker : public marsyn::Tracker {
   std::vector<TrackerLever> levers(const AgentSpec& agent) const override;
   bool apply_lever(const std::string& name, const TrackFailure& failure, AgentSpec& agent) const override;
 
-  // Tests and benchmarks set these directly.
+  // The parameters with the run's threads, memory budget, ranks and progress: what the sweep
+  // reads. Tests and benchmarks set these directly.
   SynthesisOptions options_for(const TrackOptions& o) const;
 
  private:
-  SynthesisOptions base_;
-  int threads_;  // AbcdOptions::threads
+  SynthesisOptions base_;  // the parameters, as abcd_tracker.cpp declares them
 };
 
 }  // namespace marsyn::abcd

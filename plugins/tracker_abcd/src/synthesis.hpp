@@ -10,8 +10,13 @@
 
 namespace marsyn::abcd {
 
+// The tracker's parameters are members of these options (and of `successor`), each declared
+// once in abcd_tracker.cpp (marsyn/param_set.hpp): the default is the member's initializer here,
+// and the listing, the parsing and the range checks read that one declaration.
 struct SynthesisOptions {
-  int threads = 1;
+  // Worker threads (the parameter `threads`; 0: AbcdTracker::options_for takes the run's
+  // TrackOptions::threads, else the machine's). The sweep runs at least one.
+  int threads = 0;
   SuccessorOptions successor;
   // Skip an input from a column when the RK4 image of the column's centre (w = 0) lands outside
   // the next tube, before computing its box: the exact centre image lies in every sound

@@ -6,6 +6,7 @@
 #include <map>
 
 #include "marsyn/dual.hpp"
+#include "marsyn/number_text.hpp"
 
 namespace marsyn::equations {
 
@@ -26,11 +27,7 @@ std::string type_name(const EquationSpec& spec) {
   };
   for (const auto& s : spec.states) add("s:" + s);
   for (const auto& s : spec.inputs) add("u:" + s);
-  for (const auto& [name, v] : spec.constants) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%a", v);
-    add("c:" + name + "=" + buf);
-  }
+  for (const auto& [name, v] : spec.constants) add("c:" + name + "=" + hex_double(v));
   for (const auto& d : spec.definitions) add("d:" + d.name + "=" + d.text);
   for (const auto& f : spec.field) add("f:" + f.name + "=" + f.text);
   for (const auto& f : spec.footprints) add("p:" + f.name + "=" + f.text[0] + "," + f.text[1]);

@@ -3,11 +3,12 @@
 // with an estimate of the time left from the steps so far. On a terminal (`live` set) a bar
 // redrawn in place at every step; otherwise a plain line through `log` at most every 10 s and
 // at the end, so that a log file shows a 50 s crane advancing.
-#include <chrono>
 #include <cstdio>
 #include <functional>
 #include <mutex>
 #include <string>
+
+#include "marsyn/stopwatch.hpp"
 
 namespace marsyn {
 
@@ -19,7 +20,7 @@ class SweepProgress {
   // Thread-safe: agents tracked side by side report from their own threads.
   void operator()(int done, int total) {
     const std::lock_guard<std::mutex> lock(m_);
-    const double t = std::chrono::duration<double>(Clock::now() - t0_).count();
+    const double t = clock_.seconds();
     const double left = done > 0 ? t / done * (total - done) : 0.0;
     char eta[64];
     std::snprintf(eta, sizeof eta, "%.0f s, about %.0f s left", t, left);
@@ -41,10 +42,9 @@ class SweepProgress {
   }
 
  private:
-  using Clock = std::chrono::steady_clock;
   std::string what_;
   Sink log_, live_;
-  Clock::time_point t0_ = Clock::now();
+  Stopwatch clock_;
   double last_ = 0.0;
   bool printed_ = false;
   std::mutex m_;
