@@ -180,7 +180,7 @@ std::vector<TrackerLever> FunnelTracker::levers(const AgentSpec& a) const {
   std::vector<TrackerLever> out;
   const std::vector<TrackFailureKind> kinds{TrackFailureKind::TubeMiss, TrackFailureKind::Unknown};
   for (const auto& [name, cost] : {std::pair{"more enclosure generators", 2.0}, std::pair{"more enclosure substeps", 2.0},
-                                    std::pair{"stiffer feedback", 1.0}, std::pair{"deeper splits", 2.0}}) {
+                                    std::pair{"stiffer feedback", 1.0}}) {
     AgentSpec b = a;
     if (apply_lever(name, {}, b)) out.push_back({name, kinds, cost});
   }
@@ -206,12 +206,6 @@ bool FunnelTracker::apply_lever(const std::string& name, const TrackFailure& fai
     const double q = p.real("state_weight", s_.state_weight);
     if (q * 4 > 1e4) return false;
     p.set("state_weight", q * 4);
-    return true;
-  }
-  if (name == "deeper splits") {
-    const long depth = p.integer("split_depth", s_.split_depth);
-    if (depth >= 8) return false;
-    p.set("split_depth", std::min<long>(8, depth + 2));
     return true;
   }
   return name == "refine" && refine(a);

@@ -45,8 +45,9 @@ class FunnelTracker : public marsyn::Tracker {
   bool refine(AgentSpec& agent) const override;
   // The outer search's knobs (docs/search.md), for a tube miss: "more enclosure generators"
   // (reach_order x 2, up to 64) and "more enclosure substeps" (substeps x 2, up to 256): the
-  // verification's own error; "stiffer feedback" (state_weight x 4, up to 1e4); "deeper
-  // splits" (split_depth + 2, up to 8).
+  // verification's own error; "stiffer feedback" (state_weight x 4, up to 1e4). No lever for
+  // split_depth: on tests/problems/15 "deeper splits" (5, 7, 8) took 18 s of rounds and got the
+  // boat no controller (docs/funnel.md, "Splitting").
   std::vector<TrackerLever> levers(const AgentSpec& agent) const override;
   bool apply_lever(const std::string& name, const TrackFailure& failure, AgentSpec& agent) const override;
   std::shared_ptr<const Controller> read_controller(const std::string& path) const override;
