@@ -25,6 +25,17 @@ struct VerifyOptions {
   // the law with u_k moved inside U (no saturation, an offset), and keep whichever period ends
   // closer inside the tube.
   bool shift_inputs = true;
+  // A part of the carried set whose period leaves the tube (or whose flow has no enclosure) is
+  // split in two along its widest generator and each half verified under the same law, at most
+  // split_depth times along any line of splits (at most 2^split_depth parts); 0: never.
+  int split_depth = 3;
+  // When splitting at the miss does not get the parts inside, every part of the set carried into
+  // the step split_lookback steps before it is split (at most split_depth times in a run), and
+  // the verification resumes there: the parts' smaller remainders add up over those periods.
+  int split_lookback = 8;
+  // Splitting stops (the next miss fails) once split_work T periods are enclosed in the run (a
+  // run without splits encloses T): a failing agent pays at most that many passes' worth.
+  int split_work = 8;
   Eigen::VectorXd initial_radius;  // half-widths of the initial box around x_0
 };
 
@@ -44,9 +55,12 @@ struct VerifyOutcome {
   // figure's verified side, tightness.hpp).
   std::vector<std::vector<double>> half_width;
   long rows = 0, second_order_rows = 0;  // of the chosen periods' enclosures (FlowResult)
-  // With keep_reach: per step k, a zonotope containing every state the closed loop reaches at
-  // sample k from the initial box (V_k contains it).
-  std::vector<Zonotope> reach;
+  int splits = 0;     // parts split in two (split_depth)
+  int max_parts = 1;  // the most parts carried at once
+  long periods = 0;   // periods enclosed, parts and verifications again from an earlier step included
+  // With keep_reach: per step k, parts whose union contains every state the closed loop reaches
+  // at sample k from the initial box (V_k contains each).
+  std::vector<std::vector<Zonotope>> reach;
 };
 
 // K: the gains; closed (may be empty): the closed loop's linearization per step, whose real

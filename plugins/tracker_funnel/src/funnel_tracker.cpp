@@ -96,6 +96,9 @@ ParamSet<FunnelSettings> declare() {
   s.add("shift_inputs", &O::shift_inputs, "true|false",
         "where u_k + K (x - x_k) leaves U over the verified set but fits in it, also try the law with u_k moved "
         "inside U (an offset instead of saturation) and keep the period that ends closer inside the tube");
+  integer_in(s, "split_depth", &O::split_depth, 0, 8,
+             "times a part of the carried set that misses the tube may be split in two along its widest generator "
+             "and verified again (at most 2^split_depth parts; the controller is unchanged); 0: never");
   integer_in(s, "tightness_runs", &O::tightness_runs, 0, 100000,
              "sampled closed-loop runs measuring verified half-width / largest deviation seen (a statistic; 0: off)");
   return s;
@@ -222,6 +225,7 @@ VerifyOptions FunnelTracker::verify_options(const Eigen::VectorXd& eps) const {
   vo.keep_reach = reach_out_ != nullptr;
   vo.shift_inputs = s_.shift_inputs;
   vo.flow.box_substeps = static_cast<int>(s_.box_substeps);
+  vo.split_depth = static_cast<int>(s_.split_depth);
   vo.initial_radius.resize(eps.size());
   for (Eigen::Index i = 0; i < eps.size(); ++i)
     vo.initial_radius[i] = s_.initial_radius.empty() ? s_.initial_fraction * eps[i] : s_.initial_radius[static_cast<std::size_t>(i)];
@@ -256,16 +260,23 @@ FunnelTracker::Search FunnelTracker::search(const TrackingProblem& p) const {
   int& weight_choices = out.weight_choices;
   best_order = orders.back();
   VerifyOutcome cheap;
+  // Splitting (split_depth) is a second chance: the ladder runs without it, so that what verifies
+  // without splits costs what it did; then the gains that got furthest are verified again with
+  // splits, once.
+  const int split_depth = vo.split_depth;
+  vo.split_depth = 0;
+  LqrGains furthest;
   for (int t = 0; t < tries; ++t) {
     for (int j = 0; j < m; ++j) {
       const double half = 0.5 * (p.input_bounds.hi[j] - p.input_bounds.lo[j]);
       wt.r[j] = s_.input_weight * kInputWeightLadder[t] / (half > 0 ? half * half : 1.0);
     }
     const auto tg = Clock::now();
-    const LqrGains g = lqr_gains(*p.dynamics, p.nominal, p.tau, s_.rk4_substeps, wt);
+    LqrGains g = lqr_gains(*p.dynamics, p.nominal, p.tau, s_.rk4_substeps, wt);
     gain_time += since(tg);
     if (!g.ok()) continue;
     ++weight_choices;
+    bool further = false;
     for (const int order : orders) {
       vo.reach_order = order;
       const auto tv = Clock::now();
@@ -281,14 +292,31 @@ FunnelTracker::Search FunnelTracker::search(const TrackingProblem& p) const {
       if (v.ok || v.reached_step > best.reached_step) {
         best = std::move(v);
         best_order = order;
+        further = true;
       }
       if (best.ok) break;
+    }
+    if (further && !best.ok) {
+      furthest = std::move(g);
     }
     if (best.ok) break;
     if (cheap.ok) {
       best = std::move(cheap);
       best_order = kFirstReachOrder;
       break;
+    }
+  }
+  if (!best.ok && split_depth > 0 && furthest.ok()) {
+    vo.split_depth = split_depth;
+    vo.reach_order = orders.back();  // the tighter pass: splits pay only where the rest is tight
+    const auto tv = Clock::now();
+    VerifyOutcome v = verify_funnel(p, furthest.K, furthest.closed, vo, furthest.cost);
+    verify_time += since(tv);
+    ++attempts;
+    out.split_tried = true;
+    if (v.ok || v.reached_step > best.reached_step) {
+      best = std::move(v);
+      best_order = orders.back();
     }
   }
   return out;
@@ -328,7 +356,11 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
   if (!best.ok) {
     res.status = TrackerStatus::NoController;
     res.message = best.reached_step < 0 ? "the LQR recursion broke down (non-finite gains)"
-                                        : "no verified funnel (" + std::to_string(weight_choices) + " weight choice(s)): " + best.why;
+                                        : "no verified funnel (" + std::to_string(weight_choices) + " weight choice(s)" +
+                                              (found.split_tried ? ", the furthest again with splits up to depth " +
+                                                                       std::to_string(s_.split_depth)
+                                                                 : std::string()) +
+                                              "): " + best.why;
     if (best.miss_coordinate >= 0) {
       res.failure.kind = TrackFailureKind::TubeMiss;
       res.failure.coordinate = best.miss_coordinate;
@@ -350,6 +382,9 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
   msg << ", enclosure carried with " << best_order << " n generators";
   if (best.saturated_steps) msg << ", inputs saturate on " << best.saturated_steps << " step(s)";
   if (best.shifted_steps) msg << ", u_k moved inside U on " << best.shifted_steps << " step(s)";
+  if (best.splits)
+    msg << ", " << best.splits << " split(s), up to " << best.max_parts << " parts carried (" << best.periods
+        << " periods enclosed for " << T << " steps)";
   auto controller = std::make_shared<FunnelController>(best.data);
   if (s_.tightness_runs > 0) {
     const Tightness t = measure_tightness(*p.dynamics, *controller, best.half_width, static_cast<int>(s_.tightness_runs), 1);

@@ -25,12 +25,13 @@ struct FunnelSettings {
   bool weight_search = true;
   long rk4_substeps = 4;
   std::string enclosure = "second_order";  // or "mean_value" (the first-order form, for comparison)
-  long tightness_runs = 32;
+  long tightness_runs = 32;  // sampled runs of the tightness figure; 0: none
   long reach_order = 24;
   std::string verified_set = "parallelotope";  // or "zonotope"
   long set_order = 8;
   bool shift_inputs = true;  // VerifyOptions::shift_inputs
-  long box_substeps = 0;                // sampled runs of the tightness figure; 0: none
+  long box_substeps = 0;
+  long split_depth = 3;  // VerifyOptions::split_depth
 };
 
 class FunnelTracker : public marsyn::Tracker {
@@ -44,7 +45,9 @@ class FunnelTracker : public marsyn::Tracker {
   bool refine(AgentSpec& agent) const override;
   // The outer search's knobs (docs/search.md), for a tube miss: "more enclosure generators"
   // (reach_order x 2, up to 64) and "more enclosure substeps" (substeps x 2, up to 256): the
-  // verification's own error; "stiffer feedback" (state_weight x 4, up to 1e4).
+  // verification's own error; "stiffer feedback" (state_weight x 4, up to 1e4). No lever for
+  // split_depth: on tests/problems/15 "deeper splits" (5, 7, 8) took 18 s of rounds and got the
+  // boat no controller (docs/funnel.md, "Splitting").
   std::vector<TrackerLever> levers(const AgentSpec& agent) const override;
   bool apply_lever(const std::string& name, const TrackFailure& failure, AgentSpec& agent) const override;
   std::shared_ptr<const Controller> read_controller(const std::string& path) const override;
@@ -53,7 +56,7 @@ class FunnelTracker : public marsyn::Tracker {
   // Test hook: scales the second-order remainder (docs/soundness.md section 11); 1 is sound.
   void scale_remainder_for_tests(double scale) { remainder_scale_ = scale; }
   // Test hook: the verified run's reachable-set enclosures (VerifyOutcome::reach) go to *out.
-  void keep_reach_sets_for_tests(std::vector<Zonotope>* out) { reach_out_ = out; }
+  void keep_reach_sets_for_tests(std::vector<std::vector<Zonotope>>* out) { reach_out_ = out; }
 
  private:
   // The verification's options from the settings (initial box from eps where not configured).
@@ -62,12 +65,13 @@ class FunnelTracker : public marsyn::Tracker {
     VerifyOutcome best;
     int order = 0, weight_choices = 0, attempts = 0;  // the kept pass's reach order; LQR runs; verifications
     double gain_time = 0, verify_time = 0;
+    bool split_tried = false;  // the furthest gains verified again with splits
   };
   Search search(const TrackingProblem& p) const;
 
   FunnelSettings s_;
   double remainder_scale_ = 1.0;
-  std::vector<Zonotope>* reach_out_ = nullptr;
+  std::vector<std::vector<Zonotope>>* reach_out_ = nullptr;
 };
 
 }  // namespace marsyn::funnel

@@ -120,4 +120,18 @@ void reduce_order(Zonotope& z, int keep, int max_generators) {
   drop_zero_generators(z);
 }
 
+std::pair<Zonotope, Zonotope> split(const Zonotope& z, int j) {
+  const int n = z.dim(), p = z.generators();
+  IMatrix gens(n, p);
+  for (int i = 0; i < n; ++i)
+    for (int l = 0; l < p; ++l) gens(i, l) = l == j ? FastInterval(z.G(i, l)) * FastInterval(0.5) : FastInterval(z.G(i, l));
+  IVector lo(n), hi(n);
+  for (int i = 0; i < n; ++i) {
+    const FastInterval half = FastInterval(z.G(i, j)) * FastInterval(0.5);
+    lo[i] = FastInterval(z.c[i]) - half;
+    hi[i] = FastInterval(z.c[i]) + half;
+  }
+  return {from_intervals(lo, gens, {}), from_intervals(hi, gens, {})};
+}
+
 }  // namespace marsyn::funnel

@@ -3,6 +3,7 @@
 // data: every rounding error of a computation is moved into axis-aligned generators, so the
 // stored (c, G) contains every point the exact real computation could produce. A zonotope
 // carries a linear map without the wrapping effect of boxes (docs/soundness.md section 11).
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -58,5 +59,10 @@ void reduce_order(Zonotope& z, int keep, int max_generators);
 
 // Drops generators that are zero in every coordinate (exact, so sound).
 void drop_zero_generators(Zonotope& z);
+
+// The two halves of z along generator j: c +- g_j / 2 with g_j halved (xi_j in [0, 1] is
+// 1/2 + eta / 2, eta in [-1, 1]), so their union is z. Halving is exact; the rounding of
+// c +- g_j / 2 becomes a box (from_intervals), so each double half contains its exact one.
+std::pair<Zonotope, Zonotope> split(const Zonotope& z, int j);
 
 }  // namespace marsyn::funnel
