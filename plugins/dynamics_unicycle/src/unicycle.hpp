@@ -31,9 +31,7 @@ class Unicycle : public DynamicsModel<Unicycle> {
   // The planner's Jacobians evaluate this once per RK4 stage and agent: one sine and cosine and
   // no dual temporaries, with the arithmetic of the generic form above (same values bit for bit).
   void vector_field(const DualD* x, const DualD* u, DualD* dx) const {
-    double s, c;
-    ::sincos(x[2].v, &s, &c);  // glibc: the values of sin and cos (DualFieldEqualsTheGenericForm)
-    const double ms = -s;
+    const double c = std::cos(x[2].v), s = std::sin(x[2].v), ms = -s;
     const int n = std::max(u[0].n, x[2].n);
     dx[0] = DualD(u[0].v * c);
     dx[1] = DualD(u[0].v * s);
