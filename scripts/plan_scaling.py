@@ -6,6 +6,11 @@ ratio holds on a loaded machine. Prints a table (solves, iterations, CPU seconds
 iteration, constraint rows per step) and writes an SVG plot of CPU seconds against N.
 
     python3 scripts/plan_scaling.py --marsyn build/bin/marsyn --agents 10 20 50 --out /tmp/scaling
+    python3 scripts/plan_scaling.py --agents 50 100 --scaled --threads 1 --only continuous
+
+--scaled keeps the 50-agent swap's density and speed past 50 agents (radius 12 N / 50, horizon
+160 N / 50; at radius 12, 100 agents start too close for any eps-robust plan). --threads sets the
+altro planner's `threads` (CPU seconds of one thread compare across loads better than wall time).
 """
 import argparse
 import json
@@ -53,15 +58,28 @@ def main():
     p.add_argument("--agents", type=int, nargs="+", default=[10, 20, 50])
     p.add_argument("--horizon", type=int, default=160)
     p.add_argument("--out", default="/tmp/marsyn-plan-scaling")
+    p.add_argument("--scaled", action="store_true", help="past 50 agents: radius 12 N / 50, horizon 160 N / 50")
+    p.add_argument("--threads", type=int, help="altro's threads (default: the planner's own default)")
+    p.add_argument("--only", choices=["continuous", "sampled"], help="plan one guarantee only")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
     rows = []
     for n in a.agents:
         r = {"agents": n}
+        radius, horizon = 12.0, a.horizon
+        if a.scaled and n > 50:
+            radius, horizon = 12.0 * n / 50, round(a.horizon * n / 50)
         for mode in ("continuous", "sampled"):
+            if a.only and mode != a.only:
+                continue
             problem = os.path.join(a.out, f"swap{n}-{mode}.yaml")
-            subprocess.run([sys.executable, os.path.join(HERE, "circle_swap.py"), str(n), "--horizon", str(a.horizon),
-                            "--guarantee", mode, "--out", problem], check=True)
+            subprocess.run([sys.executable, os.path.join(HERE, "circle_swap.py"), str(n), "--horizon", str(horizon),
+                            "--radius", str(radius), "--guarantee", mode, "--out", problem], check=True)
+            if a.threads is not None:
+                with open(problem) as f:
+                    text = f.read()
+                with open(problem, "w") as f:
+                    f.write(text.replace("planner: altro\n", f"planner: {{name: altro, params: {{threads: {a.threads}}}}}\n"))
             d, cpu = plan(a.marsyn, problem, os.path.join(a.out, f"plan{n}-{mode}"))
             key = "cont" if mode == "continuous" else "samp"
             its = sum(t["iterations"] for t in d["attempts"])
@@ -75,10 +93,14 @@ def main():
     print("|---|---|---|---|---|---|---|---|")
     for r in rows:
         for key, name in (("cont", "continuous"), ("samp", "sampled")):
+            if key + "_its" not in r:
+                continue
             its = max(1, r[key + "_its"])
             print(f"| {r['agents']} | {name} | {'yes' if r[key + '_ok'] else 'no'} | {r[key + '_solves']} | "
                   f"{r[key + '_its']} | {r[key + '_cpu']:.2f} | {1000 * r[key + '_cpu'] / its:.1f} | "
                   f"{rows_per_step(r['agents'], key == 'cont')} |")
+    if a.only:
+        return
     print("\nratio continuous / sampled (CPU): " +
           ", ".join(f"N = {r['agents']}: {r['cont_cpu'] / max(r['samp_cpu'], 1e-9):.2f}" for r in rows))
     plot = os.path.join(a.out, "plan_scaling.svg")

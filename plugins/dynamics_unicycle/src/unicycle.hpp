@@ -1,4 +1,7 @@
 #pragma once
+#include <algorithm>
+#include <cmath>
+
 #include "marsyn/dynamics.hpp"
 #include "marsyn/params.hpp"
 
@@ -23,6 +26,21 @@ class Unicycle : public DynamicsModel<Unicycle> {
     using std::sin;
     dx[0] = u[0] * cos(x[2]);
     dx[1] = u[0] * sin(x[2]);
+    dx[2] = u[1];
+  }
+  // The planner's Jacobians evaluate this once per RK4 stage and agent: one sine and cosine and
+  // no dual temporaries, with the arithmetic of the generic form above (same values bit for bit).
+  void vector_field(const DualD* x, const DualD* u, DualD* dx) const {
+    const double c = std::cos(x[2].v), s = std::sin(x[2].v), ms = -s;
+    const int n = std::max(u[0].n, x[2].n);
+    dx[0] = DualD(u[0].v * c);
+    dx[1] = DualD(u[0].v * s);
+    dx[0].n = dx[1].n = n;
+    for (int i = 0; i < n; ++i) {
+      const double du = u[0].derivative(i), dth = x[2].derivative(i);
+      dx[0].d[i] = du * c + u[0].v * (ms * dth);
+      dx[1].d[i] = du * s + u[0].v * (c * dth);
+    }
     dx[2] = u[1];
   }
 };

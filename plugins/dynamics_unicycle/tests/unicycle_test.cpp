@@ -66,3 +66,23 @@ TEST(Unicycle, DiscreteJacobianMatchesFiniteDifferences) {
     }
   }
 }
+
+// The dual overload (one sine and cosine, no temporaries) must give what the generic template
+// gives: the planner's Jacobians and every tracker's read it.
+TEST(Unicycle, DualFieldEqualsTheGenericForm) {
+  Unicycle f;
+  for (int t = 0; t < 200; ++t) {
+    const double th = -7.0 + 14.0 * t / 199.0, v = -2.4 + 4.8 * ((t * 37) % 199) / 198.0, w = 0.3 - 0.01 * t;
+    marsyn::DualD x[3], u[2], fast[3], generic[3];
+    const double vals[5] = {0.5 * t, -0.25 * t, th, v, w};
+    for (int i = 0; i < 3; ++i) x[i] = marsyn::DualD::variable(vals[i], i, 5);
+    for (int j = 0; j < 2; ++j) u[j] = marsyn::DualD::variable(vals[3 + j], 3 + j, 5);
+    f.vector_field(x, u, fast);
+    f.vector_field<marsyn::DualD>(x, u, generic);
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_EQ(fast[i].v, generic[i].v);
+      EXPECT_EQ(fast[i].n, generic[i].n);
+      for (int j = 0; j < 5; ++j) EXPECT_EQ(fast[i].derivative(j), generic[i].derivative(j)) << i << " " << j;
+    }
+  }
+}

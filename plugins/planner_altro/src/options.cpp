@@ -75,7 +75,7 @@ ParamSet<Options> declare() {
   s.add("polish_max_violation", &O::polish_max_violation, "(0, inf)", "the projection runs only below this violation")
       .require(number_above(0));
   s.add("polish_max_work", &O::polish_max_work, "(0, inf)",
-        "skip the projection when rows^2 x T x m exceeds this (dense least squares)")
+        "skip the projection when the sum over agents of rows_a^2 x T x m_a exceeds this (rows_a: the active rows reading agent a)")
       .require(number_above(0));
   s.choice("coupling", &O::coupling, {"exact", "block", "auto"},
            "backward pass: one group (exact Gauss-Newton) or one group per agent (majorizer)");

@@ -9,9 +9,20 @@ namespace {
 
 template <int NX, int W>
 void staged_impl(const Dynamics& f, const double* x, const double* u, double tau, int substeps, double* A,
-                 double* B) {
+                 double* B, unsigned reads) {
   const int n = NX > 0 ? NX : f.state_dim(), w = W > 0 ? W : f.state_dim() + f.input_dim(), m = w - n;
-  DualD yd[kMaxDual], ud[kMaxDual], kd[kMaxDual];
+  // The state coordinates the field reads: f_x is zero in every other column, and two stage
+  // points equal in these coordinates have the same field value and Jacobian (RK4 stages 2 and 3
+  // of a field that ignores the coordinates its own rate moves, e.g. a unicycle's position).
+  int dep[kMaxDual], nd = 0;
+  for (int l = 0; l < n; ++l)
+    if (reads >> l & 1u) dep[nd++] = l;
+  double last[kMaxDual], last_k[kMaxDual];  // the last evaluated point and its field value
+  bool have_last = false;
+  // Sized to the model when it is known at compile time: a DualD zeroes all its kMaxDual slots
+  // on construction, which for kMaxDual-long arrays cost more than the field itself.
+  constexpr int kN = NX > 0 ? NX : kMaxDual, kM = W > 0 ? (W - NX > 0 ? W - NX : 1) : kMaxDual;
+  DualD yd[kN], ud[kM], kd[kN];
   double xs[kMaxDual], y[kMaxDual], kv[4][kMaxDual];
   // S = d xs / d(x0, u): n x w; dk[s] = d k_s / d(x0, u); Jf = [f_x f_u] at the stage point.
   double S[kMaxDual * kMaxDual], Y[kMaxDual * kMaxDual], dk[4][kMaxDual * kMaxDual], Jf[kMaxDual * kMaxDual];
@@ -22,17 +33,26 @@ void staged_impl(const Dynamics& f, const double* x, const double* u, double tau
   for (int j = 0; j < m; ++j) ud[j] = DualD::variable(u[j], n + j, w);
   const double h = tau / substeps;
   auto stage = [&](const double* pt, const double* dpt, int s) {
-    for (int i = 0; i < n; ++i) yd[i] = DualD::variable(pt[i], i, w);
-    f.field(yd, ud, kd);
-    for (int i = 0; i < n; ++i) {
-      kv[s][i] = kd[i].v;
-      for (int j = 0; j < w; ++j) Jf[i * w + j] = kd[i].d[j];  // slots >= kd[i].n are zero
+    bool same = have_last;
+    for (int t = 0; t < nd && same; ++t) same = pt[dep[t]] == last[dep[t]];
+    if (same) {
+      for (int i = 0; i < n; ++i) kv[s][i] = last_k[i];  // and Jf is still that point's
+    } else {
+      for (int i = 0; i < n; ++i) yd[i] = DualD::variable(pt[i], i, w);
+      f.field(yd, ud, kd);
+      for (int i = 0; i < n; ++i) {
+        kv[s][i] = kd[i].v;
+        for (int j = 0; j < w; ++j) Jf[i * w + j] = kd[i].d[j];  // slots >= kd[i].n are zero
+      }
+      for (int t = 0; t < nd; ++t) last[dep[t]] = pt[dep[t]];
+      for (int i = 0; i < n; ++i) last_k[i] = kv[s][i];
+      have_last = true;
     }
     // dk = f_x * dpt + [0 f_u]
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < w; ++j) {
         double acc = j >= n ? Jf[i * w + j] : 0.0;
-        for (int l = 0; l < n; ++l) acc += Jf[i * w + l] * dpt[l * w + j];
+        for (int t = 0; t < nd; ++t) acc += Jf[i * w + dep[t]] * dpt[dep[t] * w + j];
         dk[s][i * w + j] = acc;
       }
   };
@@ -63,12 +83,20 @@ void staged_impl(const Dynamics& f, const double* x, const double* u, double tau
 // small dense products. Same derivative as marsyn::rk4_jacobians, without dual arithmetic in the
 // stage combinations (which dominated the profile).
 void rk4_jacobians_staged(const Dynamics& f, const double* x, const double* u, double tau, int substeps,
-                          double* A, double* B) {
+                          double* A, double* B, unsigned reads) {
   const int n = f.state_dim(), m = f.input_dim();
-  if (n == 3 && m == 2) return staged_impl<3, 5>(f, x, u, tau, substeps, A, B);
-  if (n == 2 && m == 1) return staged_impl<2, 3>(f, x, u, tau, substeps, A, B);
-  if (n == 4 && m == 1) return staged_impl<4, 5>(f, x, u, tau, substeps, A, B);
-  staged_impl<0, 0>(f, x, u, tau, substeps, A, B);
+  if (n == 3 && m == 2) return staged_impl<3, 5>(f, x, u, tau, substeps, A, B, reads);
+  if (n == 2 && m == 1) return staged_impl<2, 3>(f, x, u, tau, substeps, A, B, reads);
+  if (n == 4 && m == 1) return staged_impl<4, 5>(f, x, u, tau, substeps, A, B, reads);
+  staged_impl<0, 0>(f, x, u, tau, substeps, A, B, reads);
+}
+
+unsigned field_reads(const Dynamics& f) {
+  const std::vector<bool> ignored = f.field_independent_of();
+  unsigned reads = 0;
+  for (int l = 0; l < f.state_dim() && l < kMaxDual; ++l)
+    if (l >= static_cast<int>(ignored.size()) || !ignored[l]) reads |= 1u << l;
+  return reads;
 }
 
 }  // namespace marsyn::altro

@@ -18,11 +18,14 @@ namespace marsyn::altro::detail {
 
 using Mat = Eigen::MatrixXd;
 using Vec = Eigen::VectorXd;
+// The row-major Jacobians rk4_jacobians_staged writes, read in place.
+using RowMap = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 struct AgentBlock {
   const Dynamics* dyn;
   int xo, uo, n, m, group;
+  unsigned reads = ~0u;  // the state coordinates the field reads (rk4_jacobians_staged)
 };
 
 struct Group {

@@ -97,11 +97,11 @@ void Solver::between_gradients(int k, int j, const ConstraintRef& r, const doubl
     const int ai = agent_of_[sup[e]];
     const auto& a = agents_[ai];
     if (!s.have_jac[ai]) {
-      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> Ar(a.n, a.n), Br(a.n, a.m);
-      rk4_jacobians_staged(*a.dyn, X_[k].data() + a.xo, U_[k].data() + a.uo, step.h, step.substeps, Ar.data(),
-                           Br.data());
-      s.Az[ai] = Ar;
-      s.Bz[ai] = Br;
+      double Ar[kMaxDual * kMaxDual], Br[kMaxDual * kMaxDual];
+      rk4_jacobians_staged(*a.dyn, X_[k].data() + a.xo, U_[k].data() + a.uo, step.h, step.substeps, Ar, Br,
+                           a.reads);
+      s.Az[ai] = RowMap(Ar, a.n, a.n);
+      s.Bz[ai] = RowMap(Br, a.n, a.m);
       s.have_jac[ai] = 1;
     }
     auto it = std::find_if(out.begin(), out.end(), [&](const AgentGradient& g) { return g.agent == ai; });

@@ -22,11 +22,11 @@ void Solver::linearize() {
         Mat& A = A_[k * N + i];
         Mat& B = B_[k * N + i];
         // rk4_jacobians writes row-major; Eigen's default is column-major.
-        Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> Ar(a.n, a.n), Br(a.n, a.m);
+        double Ar[kMaxDual * kMaxDual], Br[kMaxDual * kMaxDual];
         rk4_jacobians_staged(*a.dyn, X_[k].data() + a.xo, U_[k].data() + a.uo, prob_.tau, prob_.rk4_substeps,
-                             Ar.data(), Br.data());
-        A = Ar;
-        B = Br;
+                             Ar, Br, a.reads);
+        A = RowMap(Ar, a.n, a.n);
+        B = RowMap(Br, a.n, a.m);
       }
   });
 }

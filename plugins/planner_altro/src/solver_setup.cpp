@@ -13,7 +13,8 @@ void Solver::layout() {
   const auto& ag = prob_.agents;
   const ProductLayout at(prob_);
   for (std::size_t i = 0; i < ag.size(); ++i)
-    agents_.push_back({ag[i].dynamics.get(), at.state[i], at.input[i], ag[i].n(), ag[i].m(), 0});
+    agents_.push_back({ag[i].dynamics.get(), at.state[i], at.input[i], ag[i].n(), ag[i].m(), 0,
+                       field_reads(*ag[i].dynamics)});
   n_ = at.state_dim();
   m_ = at.input_dim();
   const bool exact = opt_.coupling == "exact" || (opt_.coupling == "auto" && n_ <= opt_.exact_max_states);

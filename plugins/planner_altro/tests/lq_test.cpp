@@ -101,3 +101,23 @@ TEST(Jacobians, StagedRk4DerivativeEqualsForwardAd) {
     for (int i = 0; i < n * m; ++i) EXPECT_NEAR(B1[i], B2[i], 1e-12) << dyn->type() << " B " << i;
   }
 }
+
+// With the mask of the coordinates the field reads (the unicycle ignores its position, so RK4's
+// stages 2 and 3 share one evaluation), the derivative is the same, bit for bit.
+TEST(Jacobians, StagedRk4WithTheFieldsReadsIsTheSame) {
+  const models::CartPole crane;
+  const models::Unicycle uni;
+  EXPECT_EQ(altro::field_reads(uni), 4u);
+  const std::vector<std::pair<const Dynamics*, std::vector<double>>> cases = {
+      {&crane, {0.3, -0.7, 2.9, 1.3, 4.2}}, {&uni, {1.0, -2.0, 0.7, 1.5, -0.8}}, {&uni, {3.0, 0.5, -2.1, -0.4, 2.2}}};
+  for (const auto& [dyn, xu] : cases)
+    for (int substeps : {1, 4}) {
+      const int n = dyn->state_dim(), m = dyn->input_dim();
+      std::vector<double> A1(n * n), B1(n * m), A2(n * n), B2(n * m);
+      altro::rk4_jacobians_staged(*dyn, xu.data(), xu.data() + n, 0.1, substeps, A1.data(), B1.data());
+      altro::rk4_jacobians_staged(*dyn, xu.data(), xu.data() + n, 0.1, substeps, A2.data(), B2.data(),
+                                  altro::field_reads(*dyn));
+      for (int i = 0; i < n * n; ++i) EXPECT_EQ(A1[i], A2[i]) << dyn->type() << " A " << i;
+      for (int i = 0; i < n * m; ++i) EXPECT_EQ(B1[i], B2[i]) << dyn->type() << " B " << i;
+    }
+}
