@@ -113,6 +113,26 @@ void validate_agent(const AgentSpec& a, const Field& x0f, const Field& goalf) {
   }
 }
 
+void check_field_finite(const AgentSpec& a, const Field& dynamics) {
+  const int n = a.n();
+  const Eigen::VectorXd u = a.input_bounds.center();
+  const auto names = a.dynamics->state_names();
+  const std::pair<const char*, Eigen::VectorXd> points[] = {{"x0", a.x0}, {"the goal's centre", a.goal.center()}};
+  for (const auto& [where, x] : points) {
+    Eigen::VectorXd dx = Eigen::VectorXd::Zero(n);
+    a.dynamics->field(x.data(), u.data(), dx.data());
+    for (int i = 0; i < n; ++i) {
+      if (std::isfinite(dx[i])) continue;
+      const std::string name = i < static_cast<int>(names.size()) ? names[i] : std::to_string(i);
+      const std::string why = "the vector field is not finite at " + std::string(where) + " " + list_text(x) +
+                              " with the input at the centre of U " + list_text(u) + ": d" + name + "/dt = " +
+                              number_text(dx[i]) + " (a division by zero, or log or sqrt of a negative number?)";
+      if (dynamics.is_map() && dynamics.child("field").child(name).present()) dynamics.child("field").child(name).fail(why);
+      dynamics.fail(why);
+    }
+  }
+}
+
 TrackerRequest read_tracker_request(const Field& f, const PluginRegistry& reg) {
   TrackerRequest r{true, {}, f};
   if (!f.present()) return r;

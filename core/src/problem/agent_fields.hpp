@@ -19,6 +19,12 @@ Box read_box(const Field& f, int n, const std::string& why);
 Workspace read_workspace(const Field& f, const Dynamics& dyn);
 void validate_agent(const AgentSpec& a, const Field& x0f, const Field& goalf);
 
+// The vector field at x0 and at the goal's centre, with the input at U's centre: a division by
+// zero or a log of a negative number there would otherwise send every planner and enclosure to
+// inf or NaN and the search into rounds that cannot help. Located at the equation of the first
+// coordinate that is not finite when the model is written as equations.
+void check_field_finite(const AgentSpec& a, const Field& dynamics);
+
 // `tracker` as written: a tracker's name or block ({name, params}), or `auto` (also when absent).
 struct TrackerRequest {
   bool automatic = true;

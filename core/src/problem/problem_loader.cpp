@@ -171,6 +171,7 @@ void read_agent(const Field& af, std::size_t idx, LoadedProblem& out, AgentsRead
     a.workspace.index = {0, n > 1 ? 1 : -1};
   }
   validate_agent(a, x0f, goalf);
+  check_field_finite(a, agent_field(af, defaults, "dynamics"));
   read_mission(af, pb, a, r);
   // The agent's own tracker, else the default's, else the top level's (Fields are never
   // assigned: a YAML::Node assignment would write into the document).
