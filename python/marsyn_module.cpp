@@ -29,6 +29,7 @@
 #include "numpy_arrays.hpp"
 #include "result_arrays.hpp"
 #ifdef MARSYN_HAVE_PLANNING
+#include "marsyn/core/report/output_folder.hpp"
 #include "marsyn/core/report/result_json.hpp"
 #include "marsyn/core/report/solve_outputs.hpp"
 #include "marsyn/core/planning/plan.hpp"
@@ -546,16 +547,19 @@ void bind_solve(py::module_& m) {
         so.global_memory_budget_bytes = global_budget;
         so.log = progress(log);
         SolveOutcome outcome;
+        std::string dir;
+        if (!out.is_none()) {  // the folder before the work: a bad `out` fails now, not after the solve
+          dir = py::str(py::module_::import("os").attr("fspath")(out)).cast<std::string>();
+          (void)OutputFolder(dir);
+        }
         {
           py::gil_scoped_release release;
           outcome = Setup(p.lp).solve(so);
           so.log = nullptr;
         }
         py::list files;
-        if (!out.is_none()) {
-          const std::string dir = py::str(py::module_::import("os").attr("fspath")(out)).cast<std::string>();
+        if (!out.is_none())
           for (const auto& f : write_solve_outputs(dir, outcome)) files.append(f);
-        }
         py::dict d = json_to_python(result_json(outcome)).cast<py::dict>();
         d["verified"] = outcome.verified;
         d["files"] = files;

@@ -159,10 +159,12 @@ bool failure_is_shared() { return g_failure_shared; }
 int run_plan(const std::string& config, const std::string& out_requested, const LoadOptions& load) {
   Setup setup(load_problem(config, load));
   const Problem& pb = setup.problem();
+  // The folder before the work: an --out that cannot be a folder is a bad input, found in a
+  // second, not after the plan.
+  const OutputFolder folder(out_dir_for(out_requested, pb));
   const planning::PlanOutcome out = setup.plan(plan_options());
   // Output rule (docs/problem-format.md): plan.json always (feasible or not, with the reason);
   // the per-agent CSVs only for a feasible plan.
-  const OutputFolder folder(out_dir_for(out_requested, pb));
   const std::string plan_json = folder.path("plan.json");
   planning::write_plan_json(plan_json, pb, out);
   std::size_t csvs = 0;
@@ -182,6 +184,7 @@ int run_track(const std::string& config, const std::string& agent, const std::st
   const Problem& pb = setup.problem();
   int index = -1;
   const AgentSpec& a = find_agent(pb, agent, &index);
+  if (root) (void)OutputFolder(out_dir_for(out_requested, pb));  // a bad --out fails before the synthesis
   // Over MPI: rank 0 plans (or reads the plan), the others receive the nominal trajectories.
   planning::PlanOutcome planned;
   if (root) planned.nominal = nominal_for(setup, plan_file);
@@ -339,6 +342,8 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
   const bool root = !cluster || cluster->rank() == 0;
   Setup setup(load_on_every_rank(config, load, cluster));
   const LoadedProblem& lp = setup.loaded();
+  const std::string dir = out_dir_for(out_requested, lp.problem);
+  if (root) (void)OutputFolder(dir);  // an --out that cannot be a folder fails now, not after the solve
   SolveOptions so;
   if (lp.search_time_limit_s) so.time_limit_s = *lp.search_time_limit_s;
   if (time_limit_s) so.time_limit_s = *time_limit_s;  // the command line over the file
@@ -354,7 +359,6 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
              trackers_text(lp.problem) + (cluster ? ", " + std::to_string(cluster->size()) + " MPI ranks" : ""));
   SolveOutcome out = setup.solve(so);
   if (!root) return out.verified ? 0 : 1;  // rank 0 writes the output folder and prints the summary
-  const std::string dir = out_dir_for(out_requested, lp.problem);
   const std::vector<std::string> written = write_solve_outputs(dir, out);
   print_search_summary(out);
   print_auto_values(out);

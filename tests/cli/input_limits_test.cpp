@@ -144,4 +144,23 @@ TEST(OutputFolder, PlanWritesOnlyInsideTheFolder) {
   fs::remove_all(scratch);
 }
 
+// An --out that cannot be a folder (a file is in the way) is refused before any work: no
+// planning, no synthesis, nothing written, for each command that writes a folder.
+TEST(OutputFolder, FileInTheWayFailsBeforeTheWork) {
+  const fs::path scratch = fs::temp_directory_path() / ("marsyn_inway_" + std::to_string(::getpid()));
+  fs::remove_all(scratch);
+  fs::create_directories(scratch);
+  std::ofstream(scratch / "taken") << "a file, not a folder\n";
+  const std::string problem = kSource + "/examples/pendulum.yaml";
+  for (const std::string cmd : {"solve " + problem, "plan " + problem, "track " + problem + " --agent pendulum"}) {
+    const auto r = run_marsyn(cmd + " --out " + (scratch / "taken").string());
+    EXPECT_EQ(r.code, 2) << cmd << ": " << r.err;
+    EXPECT_NE(r.err.find("cannot create the output folder"), std::string::npos) << cmd << ": " << r.err;
+    EXPECT_EQ(r.err.find("[plan]"), std::string::npos) << cmd << ": planned before refusing --out:\n" << r.err;
+    EXPECT_EQ(r.err.find("[track"), std::string::npos) << cmd << ": tracked before refusing --out:\n" << r.err;
+  }
+  EXPECT_EQ(files_under(scratch), (std::set<std::string>{"taken"}));
+  fs::remove_all(scratch);
+}
+
 }  // namespace
