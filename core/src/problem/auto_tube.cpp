@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+
+#include "marsyn/number_text.hpp"
 
 namespace marsyn {
 
@@ -21,6 +24,26 @@ Eigen::VectorXd first_auto_eps(const AgentSpec& a, double tau, std::string* why)
   if (why)
     *why = "first value: half the goal's half-width per coordinate, at least 2 w tau, at most 0.9 of the room around x0";
   return eps;
+}
+
+double formation_tolerance(const Problem& problem, int i) {
+  double mu = std::numeric_limits<double>::infinity();
+  for (const auto& f : problem.formation)
+    if (f.i == i || f.j == i) mu = std::min(mu, f.mu);
+  return mu;
+}
+
+bool cap_auto_eps_for_formation(AgentSpec& a, double mu, std::string* why) {
+  if (!std::isfinite(mu) || !a.workspace.linear()) return false;
+  const double cap = kFormationEpsShare * mu / (2 * std::sqrt(2.0));
+  bool changed = false;
+  for (int i : a.workspace.index)
+    if (i >= 0 && i < a.tube.eps.size() && a.tube.eps[i] > cap) a.tube.eps[i] = cap, changed = true;
+  if (why && changed)
+    *why = "position coordinates at most " + std::to_string(static_cast<int>(100 * kFormationEpsShare)) +
+           " % of mu / (2 sqrt 2) = " + number_text(cap, 4) + " for the formation (mu " + number_text(mu, 4) +
+           "), so that the two tubes leave the plan room";
+  return changed;
 }
 
 void auto_grid(AgentSpec& a, const AutoTube& which, std::string* why) {

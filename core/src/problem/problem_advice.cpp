@@ -59,7 +59,9 @@ Advice advise(const LoadedProblem& lp) {
       const AutoTube& at = lp.auto_tube[i];
       AgentSpec first = a;
       std::string eps_rule, grid_rule;
-      first_auto_eps(first, pb.tau, &eps_rule);
+      first.tube.eps = first_auto_eps(first, pb.tau, &eps_rule);
+      if (std::string cap; cap_auto_eps_for_formation(first, formation_tolerance(pb, static_cast<int>(i)), &cap))
+        eps_rule += "; " + cap;
       auto_grid(first, {false, at.eta_x, at.eta_u}, &grid_rule);
       std::string v;
       for (Eigen::Index k = 0; k < a.tube.eps.size(); ++k) v += (k ? ", " : "") + number_text(a.tube.eps[k], 4);

@@ -98,6 +98,8 @@ struct AgentsRead {
   TrackerInstances& tracker_instances;
   std::map<std::string, std::size_t> seen;  // names so far, with their index
   std::vector<Field> x0_fields, stage_fields, ltl_fields;
+  std::vector<Field> agent_fields;           // per agent: its own mapping (for a second look at its tracker)
+  std::vector<TrackerRequest> tracker_requests;
   std::vector<std::vector<LtlAvoid>> ltl_avoid;
 };
 
@@ -179,6 +181,8 @@ void read_agent(const Field& af, std::size_t idx, LoadedProblem& out, AgentsRead
   const TrackerRequest req = tf.present() ? read_tracker_request(tf, *out.registry) : r.top_tracker;
   out.trackers.push_back(resolve_tracker(a, req, r.tracker_instances, *out.registry, pb, out.memory_budget, af, defaults));
   r.x0_fields.push_back(x0f);
+  r.agent_fields.push_back(af);
+  r.tracker_requests.push_back(req);
   pb.agents.push_back(std::move(a));
 }
 
@@ -264,7 +268,7 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
   const TrackerRequest top_tracker = read_tracker_request(top.child("tracker"), *out.registry);
   pb.tracker = top_tracker.automatic ? PluginChoice{kAutoTracker, {}} : top_tracker.choice;
   TrackerInstances tracker_instances(out.registry);
-  AgentsRead r{defaults, regions, spatial, top_tracker, tracker_instances, {}, {}, {}, {}, {}};
+  AgentsRead r{defaults, regions, spatial, top_tracker, tracker_instances, {}, {}, {}, {}, {}, {}, {}};
   for (std::size_t idx = 0; idx < agent_fields.size(); ++idx) read_agent(agent_fields[idx], idx, out, r);
 
   if (has_obstacles) {
@@ -272,7 +276,18 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
     for (std::size_t i = 0; i < obs.size(); ++i) pb.obstacles.push_back(read_obstacle(obs[i], i));
   }
   for (std::size_t i = 0; i < r.ltl_fields.size(); ++i) check_ltl_avoid(r.ltl_fields[i], r.ltl_avoid[i], pb.obstacles);
-  if (Field f = top.child("formation"); f.present()) read_formation(f, pb);
+  if (Field f = top.child("formation"); f.present()) {
+    read_formation(f, pb);
+    // An auto eps is a first value for the search; inside a formation it starts where the pair's
+    // tolerance leaves a robust plan (the trackers judged again on the narrower tube).
+    for (std::size_t i = 0; i < pb.agents.size(); ++i) {
+      AgentSpec& a = pb.agents[i];
+      if (!out.auto_tube[i].eps || !cap_auto_eps_for_formation(a, formation_tolerance(pb, static_cast<int>(i)))) continue;
+      auto_grid(a, out.auto_tube[i]);
+      out.trackers[i] = resolve_tracker(a, r.tracker_requests[i], r.tracker_instances, *out.registry, pb, out.memory_budget,
+                                        r.agent_fields[i], defaults);
+    }
+  }
   check_teams(pb, r.stage_fields);
   read_stage_obstacles(pb, r.stage_fields, top.child("obstacles"));
   check_start_geometry(pb, r.x0_fields);

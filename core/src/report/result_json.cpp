@@ -38,7 +38,9 @@ nlohmann::json auto_json(const SolveOutcome& o, std::size_t i) {
   if (at.eta_u) fields.push_back("eta_u");
   AgentSpec first = o.problem.agents[i];
   std::string eps_rule, grid_rule;
-  first_auto_eps(first, o.problem.tau, &eps_rule);
+  first.tube.eps = first_auto_eps(first, o.problem.tau, &eps_rule);
+  if (std::string cap; cap_auto_eps_for_formation(first, formation_tolerance(o.problem, static_cast<int>(i)), &cap))
+    eps_rule += "; " + cap;
   auto_grid(first, {false, at.eta_x, at.eta_u}, &grid_rule);
   nlohmann::json j{{"fields", fields}};
   if (at.eps) j["eps_rule"] = eps_rule + "; then the tube the controller kept at the samples + " +

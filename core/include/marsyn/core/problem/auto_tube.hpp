@@ -28,6 +28,19 @@ inline constexpr int kAutoEpsIterations = 3;
 // push (w tau, times 2). `why` (may be null) receives the rule as text.
 Eigen::VectorXd first_auto_eps(const AgentSpec& agent, double tau, std::string* why = nullptr);
 
+// Two agents' tubes can change their workspace distance by up to sqrt(2) (eps_i + eps_j) (a
+// box's diagonal each), so a formation with tolerance mu needs that below mu with room left for
+// the plan: an auto eps keeps each agent's position coordinates at most this share of
+// mu / (2 sqrt 2), the pair's change then at most this share of mu.
+inline constexpr double kFormationEpsShare = 0.7;
+
+// The smallest formation tolerance mu among the pairs agent `i` belongs to; infinity when none.
+double formation_tolerance(const Problem& problem, int i);
+
+// Caps the position coordinates (a linear workspace's indices) of an auto eps for a formation of
+// tolerance `mu` (above). Returns whether eps changed; `why` (may be null) receives the rule.
+bool cap_auto_eps_for_formation(AgentSpec& agent, double mu, std::string* why = nullptr);
+
 // Fills the agent's auto grids from its eps (and U): eta_x = 2 eps / c with c cells per
 // coordinate (16, fewer above 4 states so the tube stays near 2e5 cells per step), eta_u = the
 // input range / k with k points per input (20, fewer above 2 inputs). `why` receives the rule.
