@@ -109,7 +109,7 @@ std::vector<LeverChoice> levers_for(const Failure& f, const std::vector<TrackerL
     // The planning stage lengthened the horizon already: longer still, then a narrower tube.
     // Starts too crowded for the tubes (planning/workspace_gaps.hpp): no horizon can help.
     case Failure::Plan:
-      if (f.start_eps_factor < 1) return {{Lever::ShrinkEps, ""}};
+      if (f.start_eps_factor < 1 || f.formation_eps_factor < 1) return {{Lever::ShrinkEps, ""}};
       return {{Lever::LongerHorizon, ""}, {Lever::ShrinkEps, ""}};
     case Failure::Certification: return {{Lever::MoreClearance, ""}};
     case Failure::NoController: break;
@@ -247,16 +247,23 @@ class Proposer {
     p_.replan = true;
   }
 
-  // 0.8, or further where crowded starts need it (just below the factor that makes step 0 robust).
+  // 0.8, or further where crowded starts need it (just below the factor that makes step 0 robust)
+  // or a formation's tolerance does (planning::formation_eps_factor).
   void shrink_eps() {
     const double start = planning::start_eps_factor(*team_.problem);
+    const double formation = planning::formation_eps_factor(*team_.problem);
     if (start <= 0.05) {
       p_.why_not = "the starts are too close for any tube (eps x " + number_text(start, 3) + ")";
       return;
     }
     std::vector<int> everyone(p_.agents.size());
     for (std::size_t i = 0; i < everyone.size(); ++i) everyone[i] = static_cast<int>(i);
-    scale_eps(everyone, std::min(0.8, 0.95 * start), {});
+    const double factor = std::min({0.8, 0.95 * start, formation});
+    scale_eps(everyone, factor, {});
+    if (factor < 0.8 && !p_.changed.empty())  // the lever's name says 0.8: say why this round went further
+      p_.changes.push_back({"", "eps factor", "0.8",
+                            number_text(factor, 3) + (formation < 0.95 * start ? " (what the formation's tolerance needs)"
+                                                                                : " (what the crowded starts need)")});
     if (p_.changed.empty()) p_.why_not = "no agent's tracker accepts a smaller eps" + refusals();
   }
 

@@ -191,6 +191,7 @@ Failure Search::plan(SearchRound& round, double time_left) {
     Failure f{Failure::Plan, "planning failed: " + out_.plan.check.message, {}, {}};
     for (const auto& pa : out_.plan.attempts) f.longest_horizon = std::max(f.longest_horizon, pa.horizon);
     if (out_.plan.attempts.empty()) f.start_eps_factor = planning::start_eps_factor(pb_);
+    f.formation_eps_factor = planning::formation_eps_factor(pb_);
     return f;
   }
   if (!out_.plan.nominal.empty()) pb_.horizon = out_.plan.horizon;

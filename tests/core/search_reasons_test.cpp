@@ -243,6 +243,44 @@ TEST(SearchReasons, CrowdedStartsShrinkEpsAsFarAsTheyNeedWithoutTryingHorizons) 
   EXPECT_EQ(o.search.rounds[1].horizon, 40);
 }
 
+// Three hovercraft in a triangle, tolerance mu 0.35, written eps 0.25 in position: two tubes can
+// change a pair's distance by 0.71 > mu. A longer horizon cannot help; the search shrinks eps at
+// once to where the formation leaves room (0.7 mu), instead of horizons and then x 0.8 four
+// times (69 s before).
+TEST(SearchReasons, ATightFormationShrinksEpsAsFarAsItNeedsWithoutTryingHorizons) {
+  Failure f{Failure::Plan, "planning failed", {}, {}};
+  f.formation_eps_factor = 0.5;
+  EXPECT_EQ(marsyn::search::levers_for(f, kDeclared), (std::vector<LeverChoice>{{Lever::ShrinkEps, ""}}));
+
+  const std::string path = testing::TempDir() + "/tight_formation.yaml";
+  std::ofstream(path) << "tau: 0.2\nhorizon: 60\ndelta: 0.2\n"
+                         "defaults:\n"
+                         "  dynamics: {states: [x, y, vx, vy], inputs: [ax, ay], field: {x: vx, y: vy, vx: ax, vy: ay}}\n"
+                         "  state_bounds: {lo: [-1, -3, -1, -1], hi: [12, 3, 1, 1]}\n"
+                         "  input_bounds: {lo: [-0.5, -0.5], hi: [0.5, 0.5]}\n"
+                         "  disturbance: [0, 0, 0.02, 0.02]\n"
+                         "  eps: [0.25, 0.25, 0.15, 0.15]\n"
+                         "  workspace: {position: [0, 1]}\n"
+                         "formation: {mu: 0.35, offsets: {h1: [0, 0], h2: [1, 0], h3: [0.5, 0.866]}}\n"
+                         "agents:\n"
+                         "  - {name: h1, x0: [0, 0, 0, 0], goal: {center: [10, 0, 0, 0], radius: [0.5, 0.5, 0.3, 0.3]}}\n"
+                         "  - {name: h2, x0: [1, 0, 0, 0], goal: {center: [11, 0, 0, 0], radius: [0.5, 0.5, 0.3, 0.3]}}\n"
+                         "  - {name: h3, x0: [0.5, 0.866, 0, 0], goal: {center: [10.5, 0.866, 0, 0], radius: [0.5, 0.5, 0.3, 0.3]}}\n";
+  const auto lp = marsyn::load_problem(path);
+  const marsyn::SolveOutcome o = marsyn::solve(lp, quick());
+  EXPECT_TRUE(o.verified) << o.search.message();
+  ASSERT_GE(o.search.rounds.size(), 2u);
+  EXPECT_EQ(actions(o)[1], "shrink eps by 0.8 and re-plan");
+  const auto& ch = o.search.rounds[1].changes;
+  ASSERT_FALSE(ch.empty());
+  EXPECT_EQ(ch[0].what, "eps");
+  // 0.7 x 0.35 / (sqrt(2) x 0.5) = 0.3465 on every coordinate.
+  EXPECT_EQ(ch[0].to, "(0.0866206,0.0866206,0.0519723,0.0519723)");
+  EXPECT_EQ(ch.back().what, "eps factor");
+  for (const auto& r : o.search.rounds)
+    for (const auto& c : r.changes) EXPECT_NE(c.what, "horizon") << o.search.message();
+}
+
 }  // namespace
 
 namespace {

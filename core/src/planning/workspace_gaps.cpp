@@ -165,6 +165,23 @@ double start_eps_factor(const Problem& problem) {
   return f;
 }
 
+double formation_eps_factor(const Problem& problem) {
+  auto position_eps = [&](const AgentSpec& a) {
+    double e = 0;
+    for (int i : a.workspace.index)
+      if (i >= 0 && i < a.tube.eps.size()) e = std::max(e, a.tube.eps[i]);
+    return e;
+  };
+  double f = 1.0;
+  for (const auto& p : problem.formation) {
+    const AgentSpec &a = problem.agents[p.i], &b = problem.agents[p.j];
+    if (!a.workspace.linear() || !b.workspace.linear()) continue;
+    const double change = std::sqrt(2.0) * (position_eps(a) + position_eps(b));
+    if (change >= p.mu && change > 0) f = std::min(f, 0.7 * p.mu / change);
+  }
+  return f;
+}
+
 std::string describe(const CrowdedStart& c, const Problem& problem) {
   std::ostringstream os;
   const std::string norm = problem.delta_norm == Norm::Inf ? "inf-norm" : "Euclidean";

@@ -65,6 +65,9 @@ struct Failure {
   // Plan: below 1 when the starts are too crowded for the tubes at any horizon
   // (planning::start_eps_factor): only a narrower tube helps then.
   double start_eps_factor = 1.0;
+  // Plan: below 1 when a formation's tolerance is within what the tubes alone can change
+  // (planning::formation_eps_factor): a longer horizon cannot help either.
+  double formation_eps_factor = 1.0;
 };
 
 // The share (0..1) of the steps on which some input of `u` lies within 1e-6 of U's range of a bound.

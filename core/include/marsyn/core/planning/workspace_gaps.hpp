@@ -52,4 +52,10 @@ std::string describe(const CrowdedStart& c, const Problem& problem);
 // CrowdedStart::eps_factor), or 1 when no start is crowded.
 double start_eps_factor(const Problem& problem);
 
+// Two tubes can change a formation pair's distance by up to sqrt(2) (eps_i + eps_j) in position
+// (each agent's larger position eps, a box's diagonal each; linear workspaces only). The factor on
+// every eps that brings that to 0.7 mu for every pair, when some pair is at or above mu (a
+// longer horizon cannot widen the tolerance; only narrower tubes help); 1 otherwise.
+double formation_eps_factor(const Problem& problem);
+
 }  // namespace marsyn::planning
