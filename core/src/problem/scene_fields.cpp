@@ -71,6 +71,9 @@ std::vector<Eigen::Vector2d> read_convex_polygon(const Field& p) {
     const auto& b = vertices[(i + 1) % k];
     area += a.x() * b.y() - b.x() * a.y();
   }
+  for (std::size_t i = 0; i < k; ++i)  // a zero-length edge has no outward normal
+    if (vertices[i] == vertices[(i + 1) % k])
+      items[(i + 1) % k].fail("this vertex repeats the one before it; list each corner once");
   if (std::abs(area) < 1e-12) p.fail("the polygon has no area");
   if (area < 0) std::reverse(vertices.begin(), vertices.end());  // store counter-clockwise
   for (std::size_t i = 0; i < k; ++i) {
@@ -82,9 +85,29 @@ std::vector<Eigen::Vector2d> read_convex_polygon(const Field& p) {
   return vertices;
 }
 
+// A disk {center: [x, y], radius: r} as the regular polygon around it: its inscribed circle is
+// the disk (grown by a relative 1e-9, more than the rounding of the vertices' sin and cos), so a
+// plan that keeps clear of the polygon keeps clear of the disk. 16 sides: at most 2 % wider
+// than the disk, at the corners only; every stage (planners, checks, certificate) sees a polygon.
+std::vector<Eigen::Vector2d> circumscribed_polygon(const Field& f) {
+  f.expect_map();
+  f.allow_only({"center", "radius"});
+  const Eigen::VectorXd c = f.required("center").vector(2, "a point in the plane");
+  const double r = f.required("radius").positive();
+  constexpr int kSides = 16;
+  const double pi = std::acos(-1.0);
+  const double corner = r / std::cos(pi / kSides) * (1 + 1e-9) + 1e-12 * (1 + std::abs(c[0]) + std::abs(c[1]));
+  std::vector<Eigen::Vector2d> v;
+  for (int i = 0; i < kSides; ++i) {
+    const double a = 2 * pi * (i + 0.5) / kSides;
+    v.emplace_back(c[0] + corner * std::cos(a), c[1] + corner * std::sin(a));
+  }
+  return v;
+}
+
 Obstacle read_obstacle(const Field& f, std::size_t index) {
   f.expect_map();
-  f.allow_only({"name", "box", "polygon", "scope"});
+  f.allow_only({"name", "box", "polygon", "circle", "scope"});
   Obstacle o;
   o.name = f.child("name").present() ? f.child("name").text() : "obstacle" + std::to_string(index);
   if (Field sf = f.child("scope"); sf.present()) {
@@ -95,8 +118,13 @@ Obstacle read_obstacle(const Field& f, std::size_t index) {
   }
   if (f.child("name").present())
     if (const std::string why = name_defect(o.name); !why.empty()) f.child("name").fail(why);
-  const bool has_box = f.child("box").present(), has_poly = f.child("polygon").present();
-  if (has_box == has_poly) f.fail("expected exactly one of 'box' or 'polygon'");
+  const bool has_box = f.child("box").present(), has_poly = f.child("polygon").present(),
+             has_circle = f.child("circle").present();
+  if (int{has_box} + int{has_poly} + int{has_circle} != 1) f.fail("expected exactly one of 'box', 'polygon' or 'circle'");
+  if (has_circle) {
+    o.vertices = circumscribed_polygon(f.child("circle"));
+    return o;
+  }
   if (has_box) {
     const Box b = read_box(f.child("box"), 2, "a box in the plane");
     o.is_box = true;
