@@ -145,6 +145,9 @@ int agent_index(const Problem& pb, const Field& f) {
 }
 
 void read_formation(const Field& f, Problem& pb) {
+  if (f.is_sequence())  // a natural first guess: a list of pairs
+    f.fail("expected a mapping {mu: tolerance, offsets: {agent: [x, y], ...}} and/or pairs: [{agents: [a, b], lambda: "
+           "distance, mu: tolerance}, ...], not a list");
   f.expect_map();
   f.allow_only({"mu", "offsets", "pairs"});
   const double mu = f.required("mu").positive();
