@@ -12,6 +12,7 @@
 #include "marsyn/core/report/result_json.hpp"
 #include "marsyn/core/search_auto.hpp"
 #include "marsyn/core/solve.hpp"
+#include "hovercraft_triangle.hpp"
 #include "pendulum_variant.hpp"
 
 namespace {
@@ -90,26 +91,8 @@ TEST(AutoTube, WrittenAutoAndItsFirstValue) {
 // position) lets two tubes change a pair's distance by 0.71 > mu, so no robust plan would
 // exist and the search shrank eps blind for a minute. An auto eps starts inside what the
 // formation allows; a written eps is the user's and stays (the check warns instead).
-std::string hovercraft_triangle(const std::string& eps_line) {
-  const std::string path = testing::TempDir() + "/hover_triangle_" + std::to_string(eps_line.size()) + ".yaml";
-  std::ofstream(path) << "tau: 0.2\nhorizon: 60\ndelta: 0.2\n"
-                         "defaults:\n"
-                         "  dynamics: {states: [x, y, vx, vy], inputs: [ax, ay], field: {x: vx, y: vy, vx: ax, vy: ay}}\n"
-                         "  state_bounds: {lo: [-1, -3, -1, -1], hi: [12, 3, 1, 1]}\n"
-                         "  input_bounds: {lo: [-0.5, -0.5], hi: [0.5, 0.5]}\n"
-                         "  disturbance: [0, 0, 0.02, 0.02]\n"
-                         "  workspace: {position: [0, 1]}\n"
-                      << eps_line
-                      << "formation: {mu: 0.35, offsets: {h1: [0, 0], h2: [1, 0], h3: [0.5, 0.866]}}\n"
-                         "agents:\n"
-                         "  - {name: h1, x0: [0, 0, 0, 0], goal: {center: [10, 0, 0, 0], radius: [0.5, 0.5, 0.3, 0.3]}}\n"
-                         "  - {name: h2, x0: [1, 0, 0, 0], goal: {center: [11, 0, 0, 0], radius: [0.5, 0.5, 0.3, 0.3]}}\n"
-                         "  - {name: h3, x0: [0.5, 0.866, 0, 0], goal: {center: [10.5, 0.866, 0, 0], radius: [0.5, 0.5, 0.3, 0.3]}}\n";
-  return path;
-}
-
 TEST(AutoTube, AFormationBoundsTheFirstValue) {
-  const auto lp = marsyn::load_problem(hovercraft_triangle(""));
+  const auto lp = marsyn::load_problem(marsyn::test::hovercraft_triangle("auto_triangle", ""));
   const double cap = marsyn::kFormationEpsShare * 0.35 / (2 * std::sqrt(2.0));
   for (std::size_t i = 0; i < lp.problem.agents.size(); ++i) {
     const auto& a = lp.problem.agents[i];
@@ -120,7 +103,7 @@ TEST(AutoTube, AFormationBoundsTheFirstValue) {
     EXPECT_NEAR(a.tube.eta_x[0], 2 * cap / 16, 1e-12) << a.name;  // the auto grid follows
   }
   for (const auto& w : marsyn::advise(lp).warnings) EXPECT_EQ(w.find("formation"), std::string::npos) << w;
-  const auto written = marsyn::load_problem(hovercraft_triangle("  eps: [0.25, 0.25, 0.15, 0.15]\n"));
+  const auto written = marsyn::load_problem(marsyn::test::hovercraft_triangle("written_triangle", "  eps: [0.25, 0.25, 0.15, 0.15]\n"));
   EXPECT_EQ(written.problem.agents[0].tube.eps[0], 0.25);
   bool warned = false;
   for (const auto& w : marsyn::advise(written).warnings) warned = warned || w.find("formation h1-h2") != std::string::npos;

@@ -15,6 +15,7 @@
 #include "marsyn/core/report/result_json.hpp"
 #include "marsyn/core/search_levers.hpp"
 #include "marsyn/core/solve.hpp"
+#include "hovercraft_triangle.hpp"
 #include "pendulum_variant.hpp"
 #include "quick_solve.hpp"
 
@@ -252,21 +253,7 @@ TEST(SearchReasons, ATightFormationShrinksEpsAsFarAsItNeedsWithoutTryingHorizons
   f.formation_eps_factor = 0.5;
   EXPECT_EQ(marsyn::search::levers_for(f, kDeclared), (std::vector<LeverChoice>{{Lever::ShrinkEps, ""}}));
 
-  const std::string path = testing::TempDir() + "/tight_formation.yaml";
-  std::ofstream(path) << "tau: 0.2\nhorizon: 60\ndelta: 0.2\n"
-                         "defaults:\n"
-                         "  dynamics: {states: [x, y, vx, vy], inputs: [ax, ay], field: {x: vx, y: vy, vx: ax, vy: ay}}\n"
-                         "  state_bounds: {lo: [-1, -3, -1, -1], hi: [12, 3, 1, 1]}\n"
-                         "  input_bounds: {lo: [-0.5, -0.5], hi: [0.5, 0.5]}\n"
-                         "  disturbance: [0, 0, 0.02, 0.02]\n"
-                         "  eps: [0.25, 0.25, 0.15, 0.15]\n"
-                         "  workspace: {position: [0, 1]}\n"
-                         "formation: {mu: 0.35, offsets: {h1: [0, 0], h2: [1, 0], h3: [0.5, 0.866]}}\n"
-                         "agents:\n"
-                         "  - {name: h1, x0: [0, 0, 0, 0], goal: {center: [10, 0, 0, 0], radius: [0.5, 0.5, 0.3, 0.3]}}\n"
-                         "  - {name: h2, x0: [1, 0, 0, 0], goal: {center: [11, 0, 0, 0], radius: [0.5, 0.5, 0.3, 0.3]}}\n"
-                         "  - {name: h3, x0: [0.5, 0.866, 0, 0], goal: {center: [10.5, 0.866, 0, 0], radius: [0.5, 0.5, 0.3, 0.3]}}\n";
-  const auto lp = marsyn::load_problem(path);
+  const auto lp = marsyn::load_problem(marsyn::test::hovercraft_triangle("tight_formation", "  eps: [0.25, 0.25, 0.15, 0.15]\n"));
   const marsyn::SolveOutcome o = marsyn::solve(lp, quick());
   EXPECT_TRUE(o.verified) << o.search.message();
   ASSERT_GE(o.search.rounds.size(), 2u);
