@@ -41,7 +41,7 @@ struct Options {
   // and keep the first without a cut (else the shallowest).
   bool bend_search = true;
   int polish_iterations = 10;         // final projection steps onto the active constraints
-  double polish_start = 1e-2;          // tried before more penalty rounds below this violation
+  double polish_start = 1e-1;          // tried before more penalty rounds below this violation
   double polish_max_violation = 1e-2;  // after the last round, attempted only below this violation
   double polish_max_work = 3e9;        // ... and when J J' (summed agent by agent) is this small
   std::string coupling = "auto";    // exact | block | auto

@@ -276,6 +276,7 @@ PlanResult Solver::run() {
   std::string worst;
   double viol = max_violation(X_, U_, &worst);
   bool timed_out = false, stalled = false, polished = false;
+  double polish_below = opt_.polish_start;
   int outer = 0;
   for (; outer < opt_.max_outer; ++outer) {
     const double tol = viol <= 1e2 * opt_.constraint_tolerance ? opt_.cost_tolerance : opt_.cost_tolerance_intermediate;
@@ -319,10 +320,20 @@ PlanResult Solver::run() {
     viol = max_violation(X_, U_, &worst);
     if (run_.progress) run_.progress({iterations_, cost_, viol});
     if (viol <= opt_.constraint_tolerance || timed_out || iterations_ >= opt_.max_iterations) break;
-    // Close enough for the projection to finish: cheaper than more penalty rounds.
-    if (viol <= opt_.polish_start && polish(viol, worst, clock)) {
-      polished = true;
-      break;
+    // Close enough for the projection to finish: cheaper than more penalty rounds. An attempt
+    // that does not finish leaves the iterate where the penalty rounds had it: its partial steps
+    // ignore the cost, and continuing from them cost crane_vehicle a second solve. After a
+    // failed attempt the next waits for a tenth of its violation.
+    if (viol <= polish_below) {
+      const std::vector<Vec> X = X_, U = U_;
+      const double v = viol;
+      const std::string w = worst;
+      if (polish(viol, worst, clock)) {
+        polished = true;
+        break;
+      }
+      X_ = X, U_ = U, viol = v, worst = w;
+      polish_below = 0.1 * v;
     }
     if (stalled && rho_ >= opt_.penalty_max) break;
     stalled = false;
