@@ -131,11 +131,6 @@ void Solver::initial_guess() {
   rollout_nominal();
 }
 
-namespace {
-// Teams from this size bend their references by a ramp periodic over the agents' indices.
-constexpr int kPeriodicRampAgents = 16;
-}  // namespace
-
 void Solver::reference(double bend) {
   ref_.assign(T_ + 1, Vec(n_));
   for (int k = 0; k <= T_; ++k) {
@@ -182,15 +177,7 @@ void Solver::reference(double bend) {
       const double len = dir.norm();
       if (len < 1e-9) continue;
       const Eigen::Vector2d perp(-dir.y() / len, dir.x() / len);
-      // A ramp over the agents' indices, 1 to 1.2, breaks the symmetry of a crowd (equal bends
-      // on the 50-agent swap: 213 iterations against 84). In a ring of many agents (a swap's
-      // circle, listed in order) the linear ramp's seam between the last agent and the first
-      // crosses their references, and the plan spends hundreds of iterations there (100-agent
-      // swap: 467); a ramp periodic over the indices has no seam (123). Small teams keep the
-      // linear ramp, on which they measured better (warehouse: one solve of 12 iterations
-      // against two solves of 41): docs/benchmarks.md, "Reference bends without a seam".
-      const double ramp = N >= kPeriodicRampAgents ? 0.1 * (1 - std::cos(2 * M_PI * i / N)) : 0.2 * i / std::max(1, N - 1);
-      const double amp = bend * len * (1.0 + ramp);
+      const double amp = bend * len * (1.0 + 0.2 * i / std::max(1, N - 1));
       for (int k = k0; k <= k1; ++k) {
         const double b = amp * std::sin(M_PI * (k - k0) / (k1 - k0));
         ref_[k][ix] += b * perp.x();
