@@ -29,6 +29,7 @@ Eigen::Vector2d region_centre(const AgentSpec& a, const MissionStage& s) {
 // centres, from the start's workspace point to the goal's.
 std::vector<double> straight_fractions(const AgentSpec& a) {
   const int S = static_cast<int>(a.stages.size());
+  if (S == 0) return {};
   Eigen::Vector2d p0, pg;
   workspace_point<double>(*a.dynamics, a.workspace, a.x0.data(), p0.data());
   const Eigen::VectorXd gc = a.goal.center();
@@ -379,14 +380,19 @@ std::vector<StageVisit> stage_visits(const Problem& problem, const MissionSchedu
   return out;
 }
 
+namespace {
+bool any_staged(const Problem& problem) {
+  return std::any_of(problem.obstacles.begin(), problem.obstacles.end(), [](const Obstacle& o) { return o.staged; });
+}
+}  // namespace
+
 ObstacleWindows::ObstacleWindows(const Problem& problem, int horizon)
-    : ObstacleWindows(problem, horizon > 0 ? schedule_missions(problem, horizon) : MissionSchedule{}) {}
+    : ObstacleWindows(problem, horizon > 0 && any_staged(problem) ? schedule_missions(problem, horizon) : MissionSchedule{}) {}
 
 ObstacleWindows::ObstacleWindows(const Problem& problem, const MissionSchedule& visits) {
   const int horizon = visits.horizon;
   const MissionSchedule sched = visits.visit.size() == problem.agents.size() ? visits : schedule_missions(problem, horizon);
-  const bool staged = std::any_of(problem.obstacles.begin(), problem.obstacles.end(), [](const Obstacle& o) { return o.staged; });
-  if (!staged || horizon <= 0) return;
+  if (!any_staged(problem) || horizon <= 0) return;
   const int N = static_cast<int>(problem.agents.size());
   obstacles_ = static_cast<int>(problem.obstacles.size());
   knots_.assign(static_cast<std::size_t>(N * obstacles_), {});
