@@ -103,3 +103,20 @@ TEST(MissionRetime, TheSavedPlanRoundTripsItsKnots) {
   EXPECT_EQ(planning::read_plan_visits(old, pb, 40).visit, planning::schedule_missions(pb, 40).visit);
   std::filesystem::remove_all(std::filesystem::path(path).parent_path());
 }
+
+// A planner chain: the first planner's knots start the main planner with its plan (corridor.yaml,
+// altro warm-starting altro): the main planner's first attempt is at the knots the first one
+// chose, not at the initial guess it already failed at.
+TEST(MissionRetime, TheFirstPlannersKnotsStartTheMainPlanner) {
+  LoadedProblem lp = load_problem(kCorridor);
+  lp.problem.warm_start_planner = {"altro", {}};
+  marsyn::Setup setup(std::move(lp));
+  const planning::PlanOutcome o = setup.plan(search(3, 1));
+  ASSERT_TRUE(o.feasible) << o.check.message;
+  ASSERT_GE(o.attempts.size(), 3u);
+  const auto initial = planning::schedule_missions(setup.problem(), 40).visit;
+  EXPECT_EQ(o.attempts[0].visits.visit, initial);     // the first planner, at the initial guess
+  EXPECT_NE(o.attempts[1].visits.visit, initial);     // re-timed, robust
+  EXPECT_TRUE(o.attempts[1].check.passed);
+  EXPECT_EQ(o.attempts[2].visits.visit, o.attempts[1].visits.visit);  // the main planner starts there
+}

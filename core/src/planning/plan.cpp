@@ -320,7 +320,10 @@ PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearc
                                         : std::string(first.feasible ? "robust" : "best non-robust") + " plan (T = " +
                                               std::to_string(first.horizon) + ") as the warm start"));
   }
-  PlanOutcome best = search(problem, planner, options, warm, clock);
+  // The first planner's knots start the main planner, with its plan.
+  PlanSearchOptions main = options;
+  if (options.warm_start_planner && !first.plan.u.empty()) main.assembly.visits = first.visits;
+  PlanOutcome best = search(problem, planner, main, warm, clock);
   if (options.warm_start_planner) {
     std::vector<PlanAttempt> all = first.attempts;
     all.insert(all.end(), best.attempts.begin(), best.attempts.end());
