@@ -148,6 +148,15 @@ std::vector<NominalTrajectory> nominal_for(Setup& setup, const std::string& plan
   return setup.nominal(plan_options());
 }
 
+// The problem at a saved plan's visit knots (plan.json "visits", docs/tasks.md): its stages and
+// staged obstacles judged where the plan was checked. The straight line (no plan file) keeps the
+// initial schedule.
+Problem at_plan_visits(const Problem& pb, const std::string& plan_file, const std::vector<NominalTrajectory>& nominal) {
+  if (plan_file.empty() || plan_file == "straight-line" || nominal.empty()) return pb;
+  if (std::all_of(pb.agents.begin(), pb.agents.end(), [](const AgentSpec& a) { return a.stages.empty(); })) return pb;
+  return planning::with_visits(pb, planning::read_plan_visits(plan_file, pb, static_cast<int>(nominal.front().u.size())));
+}
+
 }  // namespace
 
 namespace {
@@ -386,9 +395,10 @@ int run_simulate(const std::string& config, const std::string& controllers_dir, 
   const auto nominal = planning::read_plan_json(plan_path, pb);
   // Each agent's controller, read back by the tracker that wrote it.
   const std::vector<std::shared_ptr<const Controller>> ctrls = setup.read_controllers(controllers_dir);
-  // The horizon schedules the mission stages (docs/tasks.md) that the closed loop checks.
-  const SpecMonitor monitor(pb, nominal.empty() ? -1 : static_cast<int>(nominal.front().u.size()));
-  const SimulationSetup loop{&pb, nominal, ctrls, 20, &monitor, true};
+  // The mission stages (docs/tasks.md) that the closed loop checks, at the plan's visit knots.
+  const Problem judged = at_plan_visits(pb, plan_path, nominal);
+  const SpecMonitor monitor(judged, nominal.empty() ? -1 : static_cast<int>(nominal.front().u.size()));
+  const SimulationSetup loop{&judged, nominal, ctrls, 20, &monitor, true};
   const ClosedLoopRun run = simulate(loop, {mode, seed, 0});
   const SpecEvaluation ev = monitor.evaluate(run.states);
   const bool continuous = pb.guarantee == Guarantee::Continuous;
@@ -429,7 +439,8 @@ int run_verify(const std::string& config, const std::string& controllers_dir, co
                int threads, bool all_pairs, const LoadOptions& load) {
   Setup setup(load_problem(config, load));
   const Problem& pb = setup.problem();
-  const auto nominal = nominal_for(setup, plan_file.empty() ? (fs::path(controllers_dir) / "plan.json").string() : plan_file);
+  const std::string plan_path = plan_file.empty() ? (fs::path(controllers_dir) / "plan.json").string() : plan_file;
+  const auto nominal = nominal_for(setup, plan_path);
   const std::vector<std::shared_ptr<const Controller>> ctrls = setup.read_controllers(controllers_dir);
   VerificationOptions vo;
   vo.runs = runs;
@@ -437,7 +448,7 @@ int run_verify(const std::string& config, const std::string& controllers_dir, co
   vo.all_pairs = all_pairs;
   vo.progress = [p = std::make_shared<RunProgress>(log_line, stderr_is_terminal() ? live_line : RunProgress::Sink{})](
                     int done, int total) { (*p)(done, total); };
-  const VerificationReport v = setup.verify(pb, nominal, ctrls, vo);
+  const VerificationReport v = setup.verify(at_plan_visits(pb, plan_path, nominal), nominal, ctrls, vo);
   // Margins to the last bit: the broad phase and --all-pairs must print the same digits.
   std::printf("check         %s\n", all_pairs ? "all pairs (reference)" : "broad phase");
   // Which elementary functions the runs used: figures from machines with and without AVX2 differ.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <map>
 #include <set>
@@ -72,6 +73,8 @@ class Search {
     return b.at(0) != 0;
   }
   bool root() const { return !opt_.cluster || opt_.cluster->rank() == 0; }
+  // Over MPI: rank 0's plan's visit knots to every rank (they judge the stages at them).
+  void broadcast_visits();
   AssessRequest ask() const { return {pb_.horizon, pb_.tau, loaded_.memory_budget}; }
 
   Failure plan(SearchRound& round, double time_left);
@@ -177,12 +180,14 @@ Failure Search::plan(SearchRound& round, double time_left) {
   const Problem& planned = tighten_inputs(tightened) ? tightened : pb_;
   if (warm_from_last_ && out_.plan.feasible && !out_.plan.plan.u.empty()) {
     po.warm_start = clamped_last_plan(planned);
+    po.assembly.visits = out_.plan.visits;  // and its visit knots, the first ones tried
     log("[plan] warm start: the previous plan (T = " + std::to_string(out_.plan.plan.horizon()) + ")");
   }
   warm_from_last_ = false;
   const Stopwatch t;
   if (root()) out_.plan = setup_.plan(planned, std::move(po));
   if (opt_.cluster) mpi::broadcast_plan(*opt_.cluster, out_.plan);  // what the other ranks need of it
+  if (opt_.cluster) broadcast_visits();
   round.planned = true;
   round.plan_time_s = last_plan_s_ = t.seconds();
   record_plan_attempts();
@@ -197,6 +202,41 @@ Failure Search::plan(SearchRound& round, double time_left) {
   if (!out_.plan.nominal.empty()) pb_.horizon = out_.plan.horizon;
   extra_ = out_.plan.extra;  // a later re-plan keeps the clearance this one needed
   return {};
+}
+
+void Search::broadcast_visits() {
+  if (opt_.cluster->size() <= 1) return;
+  std::vector<std::uint8_t> b;
+  auto put = [&](int v) {
+    for (int s = 0; s < 32; s += 8) b.push_back(static_cast<std::uint8_t>((static_cast<unsigned>(v) >> s) & 0xffu));
+  };
+  if (root()) {
+    const planning::MissionSchedule& v = out_.plan.visits;
+    put(v.horizon);
+    put(v.feasible ? 1 : 0);
+    put(static_cast<int>(v.visit.size()));
+    for (const auto& a : v.visit) {
+      put(static_cast<int>(a.size()));
+      for (int k : a) put(k);
+    }
+  }
+  opt_.cluster->broadcast(b, 0);
+  if (root()) return;
+  std::size_t at = 0;
+  auto get = [&] {
+    unsigned v = 0;
+    for (int s = 0; s < 32; s += 8) v |= static_cast<unsigned>(b.at(at++)) << s;
+    return static_cast<int>(v);
+  };
+  planning::MissionSchedule& v = out_.plan.visits;
+  v = {};
+  v.horizon = get();
+  v.feasible = get() != 0;
+  v.visit.resize(static_cast<std::size_t>(get()));
+  for (auto& a : v.visit) {
+    a.resize(static_cast<std::size_t>(get()));
+    for (int& k : a) k = get();
+  }
 }
 
 bool Search::tighten_inputs(Problem& tightened) const {
@@ -315,7 +355,9 @@ Failure Search::tracking_failure(const std::vector<int>& redo) {
 }
 
 Failure Search::certify(SearchRound& round) {
-  out_.certification = setup_.certify(pb_, out_.agents);
+  // The stages at the plan's visit knots (docs/tasks.md): the problem with each stage's window
+  // narrowed to its knot, so the certifier judges exactly the knots the plan was checked at.
+  out_.certification = setup_.certify(planning::with_visits(pb_, out_.plan.visits), out_.agents);
   out_.certification_ran = true;
   round.certify_time_s = last_certify_s_ = out_.certification.time_s;
   log("[certify] " + out_.certification.message);
@@ -615,7 +657,9 @@ void verify_controllers(Setup& setup, const SolveOptions& opt, SolveOutcome& out
   vo.collective = opt.cluster;
   // A live bar on a terminal (runs, runs/s, time left), else a line every quarter.
   vo.progress = [p = std::make_shared<RunProgress>(opt.log, opt.live)](int done, int total) { (*p)(done, total); };
-  out.verification = setup.verify(out.problem, out.plan.nominal, controllers_of(out.agents), vo);
+  // The runs judge the stages (and the staged obstacles' windows) at the plan's visit knots.
+  out.verification = setup.verify(planning::with_visits(out.problem, out.plan.visits), out.plan.nominal,
+                                  controllers_of(out.agents), vo);
   out.verification_ran = true;
   out.attempts.push_back({"verify", std::to_string(out.verification.runs) + " runs",
                           std::to_string(out.verification.violations) + " violations", out.verification.time_s,

@@ -109,3 +109,30 @@ TEST(MissionCertification, LeavingTheRegionBetweenTheSamplesOfTheDwellIsRefused)
   EXPECT_NEAR(w.stages[0].sampled_margin, 0.25, 1e-12);
   EXPECT_LT(w.stages[0].between_margin, 0);
 }
+
+// The certifier judges the stages at the plan's knots (given as the problem at those knots,
+// planning::with_visits, as the search and `marsyn verify` give it): controllers inside the
+// region from knot 5 to 6 are certified at a plan's knot 5, and the same controllers are refused
+// at knot 2 (the initial schedule's), i.e. a plan whose knots were changed after the fact.
+TEST(MissionCertification, TheStagesAreJudgedAtThePlansKnots) {
+  const Problem pb = mission();
+  auto e = parked(2.0, 0.05);
+  for (int k = 4; k <= 6; ++k)
+    for (int p = 0; p < kParts; ++p) {
+      PeriodEnclosure& q = e[static_cast<std::size_t>(k * kParts + p)];
+      q.state.lo[0] = q.workspace.lo[0] = 0.95;
+      q.state.hi[0] = q.workspace.hi[0] = 1.05;
+    }
+  const auto ctrl = std::make_shared<BoxController>(kT, e);
+  const planning::MissionSchedule at5{{{5}}, kT};
+  const auto chosen = certify(planning::with_visits(pb, at5), {ctrl});
+  EXPECT_TRUE(chosen.certified) << chosen.message;
+  ASSERT_EQ(chosen.stages.size(), 1u);
+  EXPECT_EQ(chosen.stages[0].step, 5);
+  EXPECT_NEAR(chosen.stages[0].margin, 0.25, 1e-12);
+  const planning::MissionSchedule at2{{{2}}, kT};
+  const auto moved = certify(planning::with_visits(pb, at2), {ctrl});
+  EXPECT_FALSE(moved.certified);
+  EXPECT_EQ(moved.stages[0].step, 2);
+  EXPECT_EQ(moved.stage.where, "stage pickup of car");
+}

@@ -4,7 +4,10 @@
 # with its visit step inside its window, after the previous stage's dwell, team stages at one
 # step, and non-negative plan and certified margins. examples/door_and_walkway.yaml (obstacles
 # of one stage) must verify with each staged obstacle binding its agent from the right knots, and
-# r2's plan crossing the walkway outside its window (else the scope would not matter).
+# r2's plan crossing the walkway outside its window (else the scope would not matter). The visit
+# knots are the plan's: plan.json lists the knots result.json reports, and `marsyn verify` on the
+# saved plan reads them (door_and_walkway verifies at the saved knots and not at knots moved after
+# the fact).
 # Usage: missions.sh MARSYN_EXE SOURCE_DIR SCRATCH
 set -u
 exe="$1"; src="$2"; scratch="$3"
@@ -36,6 +39,9 @@ for s in stages:
     assert last[a] < r["plan"]["horizon"], s
 staged = {(w["obstacle"], w["agent"]): w["steps"] for w in r["mission"]["staged_obstacles"]}
 visit = {(s["agent"], s["stage"]): s["visit_step"] + s["dwell"] for s in stages}
+saved = json.load(open(sys.argv[1].replace("result.json", "plan.json")))
+knots = {(a["name"], v["stage"]): v["step"] for a in saved["agents"] for v in a.get("visits", [])}
+assert knots == {(s["agent"], s["stage"]): s["visit_step"] for s in stages}, (knots, stages)
 T = r["plan"]["horizon"]
 if r["problem"] == "door-and-walkway":
     assert staged == {("door", "r1"): "steps %d-%d" % (visit[("r1", "through")], T),
@@ -51,3 +57,23 @@ PY
   grep -q "Mission: stages in order" "$scratch/$name/report.html" || { echo "$name: report.html lacks the mission table"; exit 1; }
   echo "$name: VERIFIED"
 done
+# The saved plan's knots are what `marsyn verify` judges: as saved it passes; with r2's drop-off
+# knot moved 25 steps earlier (still in order and in its window) the runs find r2 outside it.
+door="$scratch/door_and_walkway"
+"$exe" verify "$src/examples/door_and_walkway.yaml" --controllers "$door" --runs 20 > "$scratch/door_verify.txt" 2>&1 ||
+  { echo "verify on the saved plan should pass:"; cat "$scratch/door_verify.txt"; exit 1; }
+python3 - "$door/plan.json" "$scratch/moved.json" <<'PY' || exit 1
+import json, sys
+p = json.load(open(sys.argv[1]))
+r2 = next(a for a in p["agents"] if a["name"] == "r2")
+drop = next(v for v in r2["visits"] if v["stage"] == "dropoff")
+drop["step"] -= 25
+json.dump(p, open(sys.argv[2], "w"))
+PY
+if "$exe" verify "$src/examples/door_and_walkway.yaml" --controllers "$door" --plan "$scratch/moved.json" --runs 20 \
+     > "$scratch/moved_verify.txt" 2>&1; then
+  echo "verify at knots moved after the fact should find violations:"; cat "$scratch/moved_verify.txt"; exit 1
+fi
+grep -q "stage dropoff of r2" "$scratch/moved_verify.txt" ||
+  { echo "the moved knot's stage should be the violation:"; cat "$scratch/moved_verify.txt"; exit 1; }
+echo "verify reads the saved plan's knots"

@@ -205,3 +205,73 @@ TEST(Mission, StageMarginOnBoxes) {
   const Box st{Eigen::Vector3d(0.2, 0.3, -0.5), Eigen::Vector3d(0.4, 0.95, 0.5)};
   EXPECT_NEAR(stage_margin(b, st, ws), 0.05, 1e-12);
 }
+
+// Re-timing (docs/tasks.md, "What is planned"): the car at 0.5 m/s passes deepest through a
+// (x = 1) at knot 20, half of its path, so the re-timed knot is 20 (the initial schedule's is 10);
+// a window clamps it, and a knot the user fixed (not_before == by) does not move.
+TEST(Mission, RetimingMovesTheKnotsTheWindowsLeaveFree) {
+  Problem p = drive({square("a", 1, 0, 0.3)});
+  const auto x = rollout(p, at_speed(std::vector<double>(40, 0.5)).u);
+  const MissionSchedule initial = schedule_missions(p, 40);
+  ASSERT_EQ(initial.visit[0][0], 10);
+  MissionSchedule r = retime_missions(p, initial, x);
+  ASSERT_TRUE(r.feasible) << r.why;
+  EXPECT_EQ(r.horizon, 40);
+  EXPECT_EQ(r.visit[0][0], 20);
+  p.agents[0].stages[0].by = 15;
+  EXPECT_EQ(retime_missions(p, initial, x).visit[0][0], 15);
+  p.agents[0].stages[0].not_before = p.agents[0].stages[0].by = 10;
+  EXPECT_EQ(retime_missions(p, initial, x).visit[0][0], 10);
+}
+
+// A team stage: two cars pass their seats at different knots (20 and 10); re-timed, both meet at
+// one knot, the later one.
+TEST(Mission, RetimedTeamStagesShareOneKnot) {
+  Problem p = drive({square("a", 1, 0, 0.3)});
+  p.agents.push_back(car({0, 2, 0}, {4, 2, 0}));
+  p.agents[1].name = "other";
+  p.agents[1].stages = {square("b", 1, 2, 0.3)};
+  p.agents[0].stages[0].team = p.agents[1].stages[0].team = "meet";
+  GlobalPlan plan;
+  for (int k = 0; k < 40; ++k) plan.u.push_back((Eigen::VectorXd(4) << 0.5, 0, 1.0, 0).finished());
+  const MissionSchedule r = retime_missions(p, schedule_missions(p, 40), rollout(p, plan.u));
+  ASSERT_TRUE(r.feasible) << r.why;
+  EXPECT_EQ(r.visit[0][0], 20);
+  EXPECT_EQ(r.visit[1][0], 20);
+  EXPECT_EQ(schedule_error(p, r, 40), "");
+}
+
+// The exact check judges the stages at the knots it is given (the plan's): the car at 0.5 m/s is
+// in a at knot 20, not at the initial schedule's 10; knots outside a window fail by name.
+TEST(Mission, TheCheckJudgesTheStagesAtThePlansKnots) {
+  Problem p = drive({square("a", 1, 0, 0.3)});
+  const GlobalPlan plan = at_speed(std::vector<double>(40, 0.5));
+  const MissionSchedule at20{{{20}}, 40};
+  const auto initial = check_robust(p, plan);
+  EXPECT_EQ(visit(initial, "a").step, 10);
+  EXPECT_LT(visit(initial, "a").margin, 0);
+  const auto chosen = check_robust(p, plan, at20);
+  EXPECT_EQ(visit(chosen, "a").step, 20);
+  EXPECT_NEAR(visit(chosen, "a").margin, 0.2, 1e-9);
+  p.agents[0].stages[0].by = 15;
+  const auto late = check_robust(p, plan, at20);
+  EXPECT_FALSE(late.passed);
+  EXPECT_NE(late.message.find("mission schedule: stage 'a' of car: knot 20 is after by 15"), std::string::npos)
+      << late.message;
+}
+
+// with_visits: the problem whose windows are the knots, so that the initial schedule of it is
+// the plan's (what the certifier and the verification runs are given); the original keeps its
+// windows, and knots that are no schedule leave the problem as it is.
+TEST(Mission, WithVisitsFixesEveryWindowAtItsKnot) {
+  const Problem p = drive({square("a", 1, 0, 0.3), square("b", 3, 0, 0.3)});
+  const MissionSchedule s{{{17, 25}}, 40};
+  const Problem fixed = with_visits(p, s);
+  EXPECT_EQ(schedule_missions(fixed, 40).visit, s.visit);
+  EXPECT_EQ(fixed.agents[0].stages[1].not_before, 25);
+  EXPECT_EQ(fixed.agents[0].stages[1].by, 25);
+  EXPECT_EQ(p.agents[0].stages[1].by, -1);
+  const MissionSchedule disordered{{{25, 17}}, 40};
+  EXPECT_NE(schedule_error(p, disordered, 40), "");
+  EXPECT_EQ(schedule_missions(with_visits(p, disordered), 40).visit, schedule_missions(p, 40).visit);
+}

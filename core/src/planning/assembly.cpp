@@ -58,7 +58,8 @@ PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOpti
   }
   const double delta = problem.delta;
   const bool inf = problem.delta_norm == Norm::Inf;
-  const ObstacleWindows windows(problem, horizon);
+  const MissionSchedule sched = schedule_or_initial(problem, opt.visits, horizon);
+  const ObstacleWindows windows(problem, sched);
   // The requirements once; `clear[i]` is agent i's clearance beyond the buffer (0 at the knots).
   auto requirements = [&](const std::vector<double>& clear, std::vector<std::shared_ptr<const Constraint>>& out) {
     // The larger of the two, not the sum: the relative motion reaches the sum only when both
@@ -105,11 +106,10 @@ PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOpti
     }
   };
   requirements(std::vector<double>(N, 0.0), pp.constraints);
-  // Missions (docs/tasks.md): each stage's region, shrunk by eps, at its scheduled visit knots.
+  // Missions (docs/tasks.md): each stage's region, shrunk by eps, at its visit knots.
   // Between the dwell's knots the exact check holds the continuous nominal to the region, and a
   // shortfall there comes back as clearance for the stage by name (AssemblyOptions::extra).
   if (std::any_of(problem.agents.begin(), problem.agents.end(), [](const AgentSpec& a) { return !a.stages.empty(); })) {
-    const MissionSchedule sched = schedule_missions(problem, horizon);
     for (int i = 0; i < N; ++i) {
       const auto& a = problem.agents[i];
       for (int s = 0; s < static_cast<int>(a.stages.size()); ++s) {

@@ -25,14 +25,11 @@ Eigen::Vector2d region_centre(const AgentSpec& a, const MissionStage& s) {
   return p;
 }
 
-// Places agent a's visits at horizon T: the distance-proportional knots, moved into the windows
-// (fixed[s] >= 0 pins stage s there: a team's knot). Returns false (with why) when some window
-// or the order cannot be met; k then holds the nearest knots found.
-bool place(const AgentSpec& a, int T, const std::vector<int>& fixed, std::vector<int>& k, std::string& why) {
+// The share of the travel done on arriving at each stage: straight lines through the regions'
+// centres, from the start's workspace point to the goal's.
+std::vector<double> straight_fractions(const AgentSpec& a) {
   const int S = static_cast<int>(a.stages.size());
-  k.assign(S, 0);
-  if (S == 0) return true;
-  std::vector<Eigen::Vector2d> pts;
+  if (S == 0) return {};
   Eigen::Vector2d p0, pg;
   workspace_point<double>(*a.dynamics, a.workspace, a.x0.data(), p0.data());
   const Eigen::VectorXd gc = a.goal.center();
@@ -44,6 +41,20 @@ bool place(const AgentSpec& a, int T, const std::vector<int>& fixed, std::vector
     L[s] = (s > 0 ? L[s - 1] : 0.0) + (c - prev).norm();
     prev = c;
   }
+  std::vector<double> f(S);
+  for (int s = 0; s < S; ++s) f[s] = L[S] > 1e-12 ? L[s] / L[S] : (s + 1.0) / (S + 1.0);
+  return f;
+}
+
+// Places agent a's visits at horizon T: stage s at the share f[s] of the travel (the horizon less
+// the dwells), moved into the windows (fixed[s] >= 0 pins stage s there: a team's knot). Returns
+// false (with why) when some window or the order cannot be met; k then holds the nearest knots
+// found.
+bool place(const AgentSpec& a, int T, const std::vector<double>& f, const std::vector<int>& fixed, std::vector<int>& k,
+           std::string& why) {
+  const int S = static_cast<int>(a.stages.size());
+  k.assign(S, 0);
+  if (S == 0) return true;
   int dwell = 0;
   for (const auto& st : a.stages) dwell += st.dwell;
   const double travel = std::max(0, T - dwell);
@@ -61,8 +72,7 @@ bool place(const AgentSpec& a, int T, const std::vector<int>& fixed, std::vector
   int before = 0, end_prev = 0;
   for (int s = 0; s < S; ++s) {
     const auto& st = a.stages[s];
-    const double f = L[S] > 1e-12 ? L[s] / L[S] : (s + 1.0) / (S + 1.0);
-    int ks = before + static_cast<int>(std::lround(travel * f));
+    int ks = before + static_cast<int>(std::lround(travel * f[s]));
     int lo = std::max({1, st.not_before, end_prev + 1});
     int hi = std::min(latest[s], st.by >= 0 ? st.by : kNoLimit);
     if (s < static_cast<int>(fixed.size()) && fixed[s] >= 0) lo = std::max(lo, fixed[s]), hi = std::min(hi, fixed[s]);
@@ -83,6 +93,55 @@ bool place(const AgentSpec& a, int T, const std::vector<int>& fixed, std::vector
   return ok;
 }
 
+// Every agent placed by its fractions, then the teams: every member at the latest of the knots
+// its members chose alone (within all their windows), placed again with that knot fixed.
+MissionSchedule place_all(const Problem& problem, int horizon, const std::vector<std::vector<double>>& f) {
+  MissionSchedule out;
+  out.horizon = horizon;
+  const int N = static_cast<int>(problem.agents.size());
+  out.visit.resize(N);
+  std::vector<std::string> why(N);
+  std::vector<bool> ok(N, true);
+  for (int i = 0; i < N; ++i) ok[i] = place(problem.agents[i], horizon, f[i], {}, out.visit[i], why[i]);
+  struct Team {
+    int knot = 0, lo = 1, hi = kNoLimit;
+  };
+  std::map<std::string, Team> team;
+  for (int i = 0; i < N; ++i)
+    for (std::size_t s = 0; s < problem.agents[i].stages.size(); ++s)
+      if (const auto& st = problem.agents[i].stages[s]; !st.team.empty()) {
+        Team& t = team[st.team];
+        t.knot = std::max(t.knot, out.visit[i][s]);
+        t.lo = std::max(t.lo, st.not_before);
+        if (st.by >= 0) t.hi = std::min(t.hi, st.by);
+      }
+  // A member's own window (a user-fixed knot above all) bounds the common knot: the latest knot
+  // alone would otherwise leave that member no knot at all.
+  for (auto& [name, t] : team)
+    if (t.lo <= t.hi) t.knot = std::clamp(t.knot, t.lo, t.hi);
+  if (!team.empty())
+    for (int i = 0; i < N; ++i) {
+      const auto& a = problem.agents[i];
+      std::vector<int> fixed(a.stages.size(), -1);
+      bool any = false;
+      for (std::size_t s = 0; s < a.stages.size(); ++s)
+        if (!a.stages[s].team.empty()) fixed[s] = team[a.stages[s].team].knot, any = true;
+      if (!any) continue;
+      why[i].clear();
+      ok[i] = place(a, horizon, f[i], fixed, out.visit[i], why[i]);
+    }
+  for (int i = 0; i < N; ++i)
+    if (!ok[i] && out.feasible) out.feasible = false, out.why = why[i];
+  return out;
+}
+
+// How deep agent a's state x lies in stage st's region (no eps): the sound margin of the point.
+double depth(const AgentSpec& a, const MissionStage& st, const Eigen::VectorXd& x) {
+  Eigen::Vector2d p;
+  workspace_point<double>(*a.dynamics, a.workspace, x.data(), p.data());
+  return stage_margin(st, Box{x, x}, Box{p, p});
+}
+
 }  // namespace
 
 std::string stage_name(const AgentSpec& agent, int stage) {
@@ -90,31 +149,107 @@ std::string stage_name(const AgentSpec& agent, int stage) {
 }
 
 MissionSchedule schedule_missions(const Problem& problem, int horizon) {
-  MissionSchedule out;
+  std::vector<std::vector<double>> f;
+  for (const auto& a : problem.agents) f.push_back(straight_fractions(a));
+  return place_all(problem, horizon, f);
+}
+
+MissionSchedule retime_missions(const Problem& problem, const MissionSchedule& current,
+                                const std::vector<Eigen::VectorXd>& x) {
+  const int T = static_cast<int>(x.size()) - 1;
   const int N = static_cast<int>(problem.agents.size());
-  out.visit.resize(N);
-  std::vector<std::string> why(N);
-  std::vector<bool> ok(N, true);
-  for (int i = 0; i < N; ++i) ok[i] = place(problem.agents[i], horizon, {}, out.visit[i], why[i]);
-  // Rendezvous: every member of a team at the latest of the knots its members chose alone.
-  std::map<std::string, int> team;
-  for (int i = 0; i < N; ++i)
-    for (std::size_t s = 0; s < problem.agents[i].stages.size(); ++s)
-      if (const auto& t = problem.agents[i].stages[s].team; !t.empty()) team[t] = std::max(team[t], out.visit[i][s]);
-  if (!team.empty())
-    for (int i = 0; i < N; ++i) {
-      const auto& a = problem.agents[i];
-      std::vector<int> fixed(a.stages.size(), -1);
-      bool any = false;
-      for (std::size_t s = 0; s < a.stages.size(); ++s)
-        if (!a.stages[s].team.empty()) fixed[s] = team[a.stages[s].team], any = true;
-      if (!any) continue;
-      why[i].clear();
-      ok[i] = place(a, horizon, fixed, out.visit[i], why[i]);
+  const ProductLayout at(problem);
+  std::vector<std::vector<double>> f(N);
+  for (int i = 0; i < N; ++i) {
+    const AgentSpec& a = problem.agents[i];
+    const int S = static_cast<int>(a.stages.size());
+    if (S == 0) continue;
+    auto state = [&](int k) -> Eigen::VectorXd { return x[static_cast<std::size_t>(k)].segment(at.state[i], a.n()); };
+    std::vector<double> arc(T + 1, 0.0);
+    Eigen::Vector2d prev;
+    for (int k = 0; k <= T; ++k) {
+      Eigen::Vector2d p;
+      const Eigen::VectorXd xi = state(k);
+      workspace_point<double>(*a.dynamics, a.workspace, xi.data(), p.data());
+      if (k > 0) arc[k] = arc[k - 1] + (p - prev).norm();
+      prev = p;
     }
-  for (int i = 0; i < N; ++i)
-    if (!ok[i] && out.feasible) out.feasible = false, out.why = why[i];
+    const bool known = i < static_cast<int>(current.visit.size()) && static_cast<int>(current.visit[i].size()) == S;
+    int dwell = 0;
+    for (const auto& st : a.stages) dwell += st.dwell;
+    const double travel = std::max(1, T - dwell);
+    if (!(arc[T] > 1e-9)) {  // standing still: the path says nothing about the pace
+      f[i] = straight_fractions(a);
+      if (known)
+        for (int s = 0, before = 0; s < S; before += a.stages[s].dwell, ++s)
+          f[i][s] = std::clamp((current.visit[i][s] - before) / travel, 0.0, 1.0);
+      continue;
+    }
+    // Deepest pass through each region in order, before the next stage's current knot (a path
+    // that passes a region twice, out and back, keeps the pass its plan used); the dwell's knots
+    // count by their worst.
+    f[i].resize(S);
+    int from = 1;
+    for (int s = 0; s < S; ++s) {
+      const MissionStage& st = a.stages[s];
+      const int until = known && s + 1 < S ? current.visit[i][s + 1] - 1 : T;
+      int best = std::min(from, T);
+      double deepest = -std::numeric_limits<double>::infinity();
+      for (int k = from; k + st.dwell <= until; ++k) {
+        double d = std::numeric_limits<double>::infinity();
+        for (int j = k; j <= k + st.dwell; ++j) d = std::min(d, depth(a, st, state(j)));
+        if (d > deepest) deepest = d, best = k;
+      }
+      f[i][s] = arc[best] / arc[T];
+      from = best + st.dwell + 1;
+    }
+  }
+  return place_all(problem, T, f);
+}
+
+std::string schedule_error(const Problem& problem, const MissionSchedule& s, int horizon) {
+  const int N = static_cast<int>(problem.agents.size());
+  if (static_cast<int>(s.visit.size()) != N) return "the schedule has " + std::to_string(s.visit.size()) + " agents, the problem " + std::to_string(N);
+  std::map<std::string, int> team;
+  for (int i = 0; i < N; ++i) {
+    const AgentSpec& a = problem.agents[i];
+    if (s.visit[i].size() != a.stages.size())
+      return a.name + " has " + std::to_string(a.stages.size()) + " stages, the schedule " + std::to_string(s.visit[i].size()) + " knots";
+    int end_prev = 0;
+    for (std::size_t t = 0; t < a.stages.size(); ++t) {
+      const MissionStage& st = a.stages[t];
+      const int k = s.visit[i][t];
+      const std::string at = "stage '" + st.name + "' of " + a.name + ": knot " + std::to_string(k);
+      if (k <= end_prev || k < 1) return at + " is not after the previous stage's last dwell knot " + std::to_string(end_prev);
+      if (k < st.not_before) return at + " is before not_before " + std::to_string(st.not_before);
+      if (st.by >= 0 && k > st.by) return at + " is after by " + std::to_string(st.by);
+      end_prev = k + st.dwell;
+      if (end_prev > horizon - 1) return at + " with dwell " + std::to_string(st.dwell) + " does not end before T = " + std::to_string(horizon);
+      if (!st.team.empty()) {
+        const auto [it, fresh] = team.try_emplace(st.team, k);
+        if (!fresh && it->second != k) return at + " is not its team '" + st.team + "''s knot " + std::to_string(it->second);
+      }
+    }
+  }
+  return {};
+}
+
+Problem with_visits(const Problem& problem, const MissionSchedule& s) {
+  if (std::all_of(problem.agents.begin(), problem.agents.end(), [](const AgentSpec& a) { return a.stages.empty(); }))
+    return problem;
+  if (!schedule_error(problem, s, s.horizon).empty()) return problem;
+  Problem out = problem;
+  for (std::size_t i = 0; i < out.agents.size(); ++i)
+    for (std::size_t t = 0; t < out.agents[i].stages.size(); ++t) {
+      MissionStage& st = out.agents[i].stages[t];
+      st.not_before = st.by = s.visit[i][t];
+    }
   return out;
+}
+
+MissionSchedule schedule_or_initial(const Problem& problem, const MissionSchedule& s, int horizon) {
+  if (!s.empty() && s.horizon == horizon && schedule_error(problem, s, horizon).empty()) return s;
+  return schedule_missions(problem, horizon);
 }
 
 Box linear_workspace_box(const Workspace& ws, const Box& state) {
@@ -225,8 +360,11 @@ Eigen::VectorXd stage_waypoint(const AgentSpec& a, int s, int offset, int n) {
 }
 
 std::vector<StageVisit> stage_visits(const Problem& problem, int horizon) {
+  return stage_visits(problem, schedule_missions(problem, horizon));
+}
+
+std::vector<StageVisit> stage_visits(const Problem& problem, const MissionSchedule& sched) {
   std::vector<StageVisit> out;
-  const MissionSchedule sched = schedule_missions(problem, horizon);
   for (int i = 0; i < static_cast<int>(problem.agents.size()); ++i) {
     const auto& a = problem.agents[i];
     for (int s = 0; s < static_cast<int>(a.stages.size()); ++s) {
@@ -242,13 +380,22 @@ std::vector<StageVisit> stage_visits(const Problem& problem, int horizon) {
   return out;
 }
 
-ObstacleWindows::ObstacleWindows(const Problem& problem, int horizon) {
-  const bool staged = std::any_of(problem.obstacles.begin(), problem.obstacles.end(), [](const Obstacle& o) { return o.staged; });
-  if (!staged || horizon <= 0) return;
+namespace {
+bool any_staged(const Problem& problem) {
+  return std::any_of(problem.obstacles.begin(), problem.obstacles.end(), [](const Obstacle& o) { return o.staged; });
+}
+}  // namespace
+
+ObstacleWindows::ObstacleWindows(const Problem& problem, int horizon)
+    : ObstacleWindows(problem, horizon > 0 && any_staged(problem) ? schedule_missions(problem, horizon) : MissionSchedule{}) {}
+
+ObstacleWindows::ObstacleWindows(const Problem& problem, const MissionSchedule& visits) {
+  const int horizon = visits.horizon;
+  const MissionSchedule sched = visits.visit.size() == problem.agents.size() ? visits : schedule_missions(problem, horizon);
+  if (!any_staged(problem) || horizon <= 0) return;
   const int N = static_cast<int>(problem.agents.size());
   obstacles_ = static_cast<int>(problem.obstacles.size());
   knots_.assign(static_cast<std::size_t>(N * obstacles_), {});
-  const MissionSchedule sched = schedule_missions(problem, horizon);
   for (int i = 0; i < N; ++i) {
     const AgentSpec& a = problem.agents[i];
     for (int o = 0; o < obstacles_; ++o)

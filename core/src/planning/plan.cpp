@@ -49,6 +49,48 @@ double largest_clearance(const Problem& problem, int horizon, const AssemblyOpti
   return c;
 }
 
+bool has_stages(const Problem& problem) {
+  return std::any_of(problem.agents.begin(), problem.agents.end(), [](const AgentSpec& a) { return !a.stages.empty(); });
+}
+
+// A stage of the check short at its knots (a re-timing may find knots the plan can meet).
+bool short_at_a_stage(const RobustCheck& c) {
+  return std::any_of(c.stages.begin(), c.stages.end(), [](const StageVisit& v) { return !(v.sampled_margin >= 0); });
+}
+
+std::string knots_text(const Problem& problem, const MissionSchedule& s) {
+  std::string out;
+  for (std::size_t i = 0; i < problem.agents.size() && i < s.visit.size(); ++i) {
+    if (s.visit[i].empty()) continue;
+    out += (out.empty() ? "" : "; ") + problem.agents[i].name + " ";
+    for (std::size_t t = 0; t < s.visit[i].size(); ++t) out += (t ? "," : "") + std::to_string(s.visit[i][t]);
+  }
+  return out;
+}
+
+// Robust at the samples and on the inputs, short only between the samples.
+bool short_between_only(const RobustCheck& c) {
+  return c.continuous && c.sampled_margin >= 0 && c.min_input_margin >= 0 && c.between_margin < 0 &&
+         std::isfinite(c.between_margin);
+}
+
+// More clearance for exactly the requirements that fell short between the samples: 1.5 times the
+// shortfall, and at least half the knot-to-knot motion involved, since a point between two knots
+// is within half their distance of one of them (any norm), so that much clearance at the knots
+// covers a straight path between them.
+void more_clearance(AssemblyOptions& assembly, const RobustCheck& c) {
+  for (const auto& [name, m] : c.between_shortfalls) assembly.extra[name] += std::max(1.5 * -m.margin, 0.5 * m.motion);
+}
+
+// The largest number of steps any knot moves from a to b.
+int largest_shift(const MissionSchedule& a, const MissionSchedule& b) {
+  int d = 0;
+  for (std::size_t i = 0; i < a.visit.size() && i < b.visit.size(); ++i)
+    for (std::size_t s = 0; s < a.visit[i].size() && s < b.visit[i].size(); ++s)
+      d = std::max(d, std::abs(a.visit[i][s] - b.visit[i][s]));
+  return d;
+}
+
 // The horizon search of one planner: T, then longer horizons, each warm-started from the last.
 PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSearchOptions& options,
                    std::optional<GlobalPlan> warm, const Stopwatch& clock) {
@@ -63,34 +105,47 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
   // more clearance for the requirements that fell short (a small budget per horizon; clearance
   // only grows, so rounds do not undo each other), before a longer horizon is tried.
   AssemblyOptions assembly = options.assembly;
-  int horizons = 0, retries_here = 0;
-  bool clearance_dropped = false, routes = false;
+  const bool mission = has_stages(problem);
+  // The visit knots: the given ones when they are a schedule at the first horizon, else the
+  // initial schedule; re-timed along the plans (retime_missions) at most retime_rounds times per
+  // horizon; a longer horizon starts again from the initial schedule.
+  MissionSchedule visits = schedule_or_initial(problem, options.assembly.visits, horizon);
+  int horizons = 0, retries_here = 0, retimed_here = 0;
+  bool clearance_dropped = false, routes = false, retimed = false;
   constexpr int kRetriesPerHorizon = 2;
-  while (horizons < std::max(1, options.max_attempts)) {
-    const double left = options.time_limit_s - clock.seconds();
-    if (!best.attempts.empty() && left <= 0) {
-      if (options.log) options.log("time limit reached: no further horizons tried");
-      break;
-    }
+  // One solve at `horizon` with `assembly` and `visits`: the attempt, the planner's result and
+  // the clamped, re-simulated plan.
+  struct Solved {
+    PlanAttempt a;
+    PlanResult res;
+    GlobalPlan clean;
+    bool waypoints = false;  // the planner was given waypoints (stages' or routes')
+  };
+  auto solve_once = [&](const std::optional<GlobalPlan>& from, double left) {
+    Solved out;
+    assembly.visits = visits;
     PlanningProblem pp = assemble(problem, horizon, assembly);
-    if (warm) pp.warm_start = extend(problem, *warm, horizon);
+    if (from) pp.warm_start = extend(problem, *from, horizon);
     if (routes) pp.waypoints = route_waypoints(problem, horizon);
+    out.waypoints = !pp.waypoints.empty();
     PlanOptions po;
     po.time_limit_s = std::max(left, 1e-3);
     po.progress = options.progress;
-    PlanResult res = planner.solve(pp, po);
-    PlanAttempt a;
+    out.res = planner.solve(pp, po);
+    PlanAttempt& a = out.a;
     a.planner = planner.name();
     a.horizon = horizon;
-    a.status = res.status;
-    a.iterations = res.iterations;
-    a.solve_time_s = res.solve_time_s;
-    a.max_violation = res.max_violation;
-    a.message = res.message;
-    GlobalPlan clean;
-    if (static_cast<int>(res.plan.u.size()) == horizon) {
-      clean = clamp_and_resimulate(problem, res.plan);
-      a.check = check_robust(problem, clean);
+    a.status = out.res.status;
+    a.iterations = out.res.iterations;
+    a.solve_time_s = out.res.solve_time_s;
+    a.max_violation = out.res.max_violation;
+    a.message = out.res.message;
+    a.visits = visits;
+    a.retimed = retimed;
+    if (static_cast<int>(out.res.plan.u.size()) == horizon) {
+      out.clean = clamp_and_resimulate(problem, out.res.plan);
+      a.check = check_robust(problem, out.clean, visits);
+      a.effort = input_effort(problem, out.clean);
     } else {
       a.check.message = "the planner returned no inputs";
       a.check.min_margin = -std::numeric_limits<double>::infinity();
@@ -98,11 +153,25 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
     if (options.log) {
       std::ostringstream os;
       os << (options.warm_start_planner ? a.planner + " " : std::string()) << "T = " << horizon << ": "
-         << to_string(res.status) << " after " << res.iterations << " iterations, " << res.solve_time_s
-         << " s, violation " << res.max_violation << "; " << a.check.message;
-      if (!res.message.empty()) os << "; planner: " << res.message;
+         << to_string(out.res.status) << " after " << out.res.iterations << " iterations, " << out.res.solve_time_s
+         << " s, violation " << out.res.max_violation << "; " << a.check.message;
+      if (mission) os << "; visits " << knots_text(problem, visits) << ", input effort " << a.effort;
+      if (!out.res.message.empty()) os << "; planner: " << out.res.message;
       options.log(os.str());
     }
+    return out;
+  };
+  while (horizons < std::max(1, options.max_attempts)) {
+    const double left = options.time_limit_s - clock.seconds();
+    if (!best.attempts.empty() && left <= 0) {
+      if (options.log) options.log("time limit reached: no further horizons tried");
+      break;
+    }
+    Solved one = solve_once(warm, left);
+    retimed = false;
+    PlanAttempt& a = one.a;
+    PlanResult& res = one.res;
+    GlobalPlan& clean = one.clean;
     best.attempts.push_back(a);
     const bool better = best.attempts.size() == 1 || a.check.passed || a.check.min_margin > best.check.min_margin;
     if (better && !best.feasible) {
@@ -111,20 +180,14 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
       best.result = std::move(res);
       best.check = a.check;
       best.plan = clean;
+      best.visits = visits;
       best.feasible = a.check.passed;
     }
     if (best.feasible) break;
     if (!clean.u.empty()) warm = clean;
-    const bool between_only = a.check.continuous && a.check.sampled_margin >= 0 && a.check.min_input_margin >= 0 &&
-                              a.check.between_margin < 0 && std::isfinite(a.check.between_margin);
-    if (between_only && retries_here < kRetriesPerHorizon) {
+    if (short_between_only(a.check) && retries_here < kRetriesPerHorizon) {
       ++retries_here;
-      // More clearance for exactly the requirements that fell short: 1.5 times the shortfall, and
-      // at least half the knot-to-knot motion involved, since a point between two knots is
-      // within half their distance of one of them (any norm), so that much clearance at the knots
-      // covers a straight path between them.
-      for (const auto& [name, m] : a.check.between_shortfalls)
-        assembly.extra[name] += std::max(1.5 * -m.margin, 0.5 * m.motion);
+      more_clearance(assembly, a.check);
       if (options.log) {
         std::ostringstream os;
         os << "robust at the samples, short by " << -a.check.between_margin << " between them ("
@@ -135,12 +198,26 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
       }
       continue;
     }
+    // Short at a stage's knots: the knots re-timed along this plan (where it passes deepest
+    // through each region, at an even pace along its path) before anything else is changed.
+    if (mission && retimed_here < options.retime_rounds && !clean.u.empty() && short_at_a_stage(a.check)) {
+      const MissionSchedule next = retime_missions(problem, visits, clean.x);
+      if (next.visit != visits.visit) {
+        ++retimed_here;
+        if (options.log)
+          options.log("short at a stage's knots: re-planning T = " + std::to_string(horizon) + " at knots re-timed along the plan (" +
+                      knots_text(problem, next) + ")");
+        visits = next;
+        retimed = true;
+        continue;
+      }
+    }
     // Short at the samples with agents whose straight way is blocked by obstacles: the local
     // solver may be pressing them into a gap they cannot pass (one too narrow for eps + delta
     // on both sides). The same horizon once more, cold, from routes around the obstacles (the
     // shortest path per agent around the grown obstacles, as waypoints of the reference); later
     // horizons keep the routes.
-    if (!routes && options.routes && a.check.sampled_margin < 0 && pp.waypoints.empty()) {
+    if (!routes && options.routes && a.check.sampled_margin < 0 && !one.waypoints) {
       const auto ways = route_waypoints(problem, horizon);
       if (!ways.empty()) {
         routes = true;
@@ -167,8 +244,48 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
       continue;
     }
     ++horizons;
-    retries_here = 0;
+    retries_here = retimed_here = 0;
     horizon = std::max(horizon + 1, static_cast<int>(std::ceil(horizon * options.horizon_growth)));
+    visits = schedule_missions(problem, horizon);
+  }
+  // A robust plan: its knots re-timed along it and the same horizon solved again from it, kept
+  // only when robust with less input effort (the exact check judges, the effort compares).
+  if (best.feasible && mission) {
+    horizon = best.horizon;
+    double effort = input_effort(problem, best.plan);
+    for (int r = 0; r < options.retime_rounds; ++r) {
+      const double left = options.time_limit_s - clock.seconds();
+      if (left <= 0) break;
+      const MissionSchedule next = retime_missions(problem, best.visits, best.plan.x);
+      // Knots that move a step or two are the plan's own jitter: a re-solve for them costs a
+      // solve and changes the effort by little (warehouse.yaml: docs/benchmarks.md).
+      if (largest_shift(best.visits, next) < std::max(2, horizon / 40)) break;
+      visits = next;
+      retimed = true;
+      assembly.extra = best.extra;
+      Solved one = solve_once(best.plan, left);
+      best.attempts.push_back(one.a);
+      // Short only between the samples: more clearance at the same knots, as in the search.
+      for (int retry = 0; retry < kRetriesPerHorizon && short_between_only(one.a.check) &&
+                          options.time_limit_s - clock.seconds() > 0;
+           ++retry) {
+        more_clearance(assembly, one.a.check);
+        one = solve_once(one.clean, options.time_limit_s - clock.seconds());
+        best.attempts.push_back(one.a);
+      }
+      const bool keep = one.a.check.passed && one.a.effort < effort;
+      if (options.log)
+        options.log(std::string(keep ? "re-timed knots kept" : "re-timed knots not kept") + " (input effort " +
+                    std::to_string(effort) + " -> " + std::to_string(one.a.effort) +
+                    (one.a.check.passed ? "" : ", not robust") + ")");
+      if (!keep) break;
+      effort = one.a.effort;
+      best.extra = assembly.extra;
+      best.result = std::move(one.res);
+      best.check = one.a.check;
+      best.plan = one.clean;
+      best.visits = visits;
+    }
   }
   return best;
 }
@@ -203,7 +320,10 @@ PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearc
                                         : std::string(first.feasible ? "robust" : "best non-robust") + " plan (T = " +
                                               std::to_string(first.horizon) + ") as the warm start"));
   }
-  PlanOutcome best = search(problem, planner, options, warm, clock);
+  // The first planner's knots start the main planner, with its plan.
+  PlanSearchOptions main = options;
+  if (options.warm_start_planner && !first.plan.u.empty()) main.assembly.visits = first.visits;
+  PlanOutcome best = search(problem, planner, main, warm, clock);
   if (options.warm_start_planner) {
     std::vector<PlanAttempt> all = first.attempts;
     all.insert(all.end(), best.attempts.begin(), best.attempts.end());
@@ -225,6 +345,20 @@ PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearc
   return best;
 }
 
+double input_effort(const Problem& problem, const GlobalPlan& plan) {
+  const auto uo = input_offsets(problem);
+  double e = 0.0;
+  for (const auto& u : plan.u)
+    for (std::size_t i = 0; i < problem.agents.size(); ++i) {
+      const Box& U = problem.agents[i].input_bounds;
+      for (int c = 0; c < U.dim(); ++c) {
+        const double scale = std::max(std::abs(U.lo[c]), std::abs(U.hi[c]));
+        if (scale > 0 && std::isfinite(scale)) e += std::pow(u[uo[i] + c] / scale, 2) * problem.tau;
+      }
+    }
+  return e;
+}
+
 std::string summary(const Problem& problem, const PlanOutcome& o) {
   std::ostringstream os;
   os << "problem " << (problem.name.empty() ? "(unnamed)" : problem.name) << ": " << problem.agents.size()
@@ -236,6 +370,9 @@ std::string summary(const Problem& problem, const PlanOutcome& o) {
        << (a.check.passed ? "robust" : "not robust") << " (margin " << a.check.min_margin << ")\n";
   os << (o.feasible ? "FEASIBLE" : "NO FEASIBLE PLAN") << ": horizon " << o.horizon << ", total " << o.total_time_s
      << " s\n  " << o.check.message << "\n";
+  if (has_stages(problem) && !o.visits.empty())
+    os << "  visit knots: " << knots_text(problem, o.visits) << " (initial guess: "
+       << knots_text(problem, schedule_missions(problem, o.visits.horizon)) << ")\n";
   if (!o.feasible)
     for (const auto& gap : narrow_gaps(problem))
       os << "  closed gap: " << describe(gap) << " (a longer horizon cannot open it)\n";

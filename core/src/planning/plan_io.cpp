@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <filesystem>
 #include <iomanip>
 #include <fstream>
@@ -54,13 +55,20 @@ void write_plan_json(const std::string& path, const Problem& problem, const Plan
     agents.push_back({{"name", a.name}, {"dynamics", a.dynamics_type},
                       {"state_names", a.dynamics->state_names()}, {"input_names", a.dynamics->input_names()},
                       {"states", rows(o.nominal[i].x)}, {"inputs", rows(o.nominal[i].u)}});
+    // The stages' visit knots, in order: part of the plan (read back by read_plan_visits).
+    if (!a.stages.empty() && i < o.visits.visit.size() && o.visits.visit[i].size() == a.stages.size()) {
+      auto v = nlohmann::json::array();
+      for (std::size_t s = 0; s < a.stages.size(); ++s) v.push_back({{"stage", a.stages[s].name}, {"step", o.visits.visit[i][s]}});
+      agents.back()["visits"] = v;
+    }
   }
   j["agents"] = agents;
   auto f = open(path);
   f << j.dump(1) << "\n";
 }
 
-std::vector<NominalTrajectory> read_plan_json(const std::string& path, const Problem& pb) {
+namespace {
+nlohmann::json parse_plan(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw ConfigError(path, 0, 0, "", "cannot read the plan file (missing or unreadable)");
   nlohmann::json j;
@@ -69,6 +77,12 @@ std::vector<NominalTrajectory> read_plan_json(const std::string& path, const Pro
   } catch (const nlohmann::json::exception& e) {
     throw ConfigError(path, 0, 0, "", std::string("not a valid JSON plan: ") + e.what());
   }
+  return j;
+}
+}  // namespace
+
+std::vector<NominalTrajectory> read_plan_json(const std::string& path, const Problem& pb) {
+  const nlohmann::json j = parse_plan(path);
   auto fail = [&](const std::string& field, const std::string& msg) -> void {
     throw ConfigError(path, 0, 0, field, msg);
   };
@@ -106,6 +120,40 @@ std::vector<NominalTrajectory> read_plan_json(const std::string& path, const Pro
     out.push_back(std::move(t));
   }
   return out;
+}
+
+MissionSchedule read_plan_visits(const std::string& path, const Problem& pb, int horizon) {
+  const nlohmann::json j = parse_plan(path);
+  auto fail = [&](const std::string& field, const std::string& msg) -> void { throw ConfigError(path, 0, 0, field, msg); };
+  const bool any = std::any_of(pb.agents.begin(), pb.agents.end(), [](const AgentSpec& a) { return !a.stages.empty(); });
+  const nlohmann::json* agents = j.contains("agents") && j["agents"].is_array() ? &j["agents"] : nullptr;
+  bool listed = false;
+  if (agents)
+    for (const auto& e : *agents) listed = listed || (e.is_object() && e.contains("visits"));
+  // A plan written before the knots were part of it was planned at the initial schedule.
+  if (!any || !listed) return schedule_missions(pb, horizon);
+  MissionSchedule s;
+  s.horizon = horizon;
+  s.visit.resize(pb.agents.size());
+  for (std::size_t i = 0; i < pb.agents.size(); ++i) {
+    const AgentSpec& a = pb.agents[i];
+    if (a.stages.empty()) continue;
+    const std::string field = "agents[" + a.name + "].visits";
+    const nlohmann::json* v = nullptr;
+    for (const auto& e : *agents)
+      if (e.is_object() && e.value("name", "") == a.name && e.contains("visits")) v = &e["visits"];
+    if (!v || !v->is_array() || v->size() != a.stages.size())
+      fail(field, "expected the " + std::to_string(a.stages.size()) + " stages' visits of " + a.name + ", in order");
+    for (std::size_t t = 0; t < a.stages.size(); ++t) {
+      const auto& e = (*v)[t];
+      if (!e.is_object() || e.value("stage", "") != a.stages[t].name || !e.contains("step") || !e["step"].is_number_integer())
+        fail(field + "[" + std::to_string(t) + "]",
+             "expected {stage: " + a.stages[t].name + ", step: an integer} (the stages in the problem's order)");
+      s.visit[i].push_back(e["step"].get<int>());
+    }
+  }
+  if (const std::string e = schedule_error(pb, s, horizon); !e.empty()) fail("visits", "not a schedule of the problem's stages at T = " + std::to_string(horizon) + ": " + e);
+  return s;
 }
 
 std::vector<std::string> write_agent_csvs(const std::string& dir, const Problem& problem, const PlanOutcome& o) {

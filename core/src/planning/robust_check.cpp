@@ -166,10 +166,9 @@ bool check_period(const Problem& problem, const ProductLayout& at, const std::ve
 // flow over that part, so the finer verdict is as sound and less pessimistic by the motion over
 // a part that a coarse box adds.
 void check_between_samples(const Problem& problem, const std::vector<Eigen::VectorXd>& x,
-                           const std::vector<Eigen::VectorXd>& u, NamedTally& t) {
+                           const std::vector<Eigen::VectorXd>& u, const ObstacleWindows& windows, NamedTally& t) {
   const int T = static_cast<int>(u.size());
   const ProductLayout at(problem);
-  const ObstacleWindows windows(problem, T);
   for (int k = 0; k < T; ++k) {
     NamedTally period;
     int parts = kFlowParts;
@@ -201,17 +200,17 @@ Box workspace_of(const AgentSpec& a, const Box& state) {
                               : Box{Eigen::VectorXd::Constant(2, -INFINITY), Eigen::VectorXd::Constant(2, INFINITY)};
 }
 
-// Each stage at its scheduled knots, and between them while it dwells (continuous guarantee):
+// Each stage at the plan's knots, and between them while it dwells (continuous guarantee):
 // the sampled margins into t, the between-samples ones into b (by the stage's name, so that a
 // shortfall there becomes clearance for the stage in the next assembly).
 std::vector<StageVisit> check_stages(const Problem& problem, const std::vector<Eigen::VectorXd>& x,
-                                     const std::vector<Eigen::VectorXd>& u, Tally& t, NamedTally* b) {
+                                     const std::vector<Eigen::VectorXd>& u, const MissionSchedule& sched, Tally& t,
+                                     NamedTally* b) {
   const int T = static_cast<int>(u.size());
   const ProductLayout at(problem);
-  const MissionSchedule sched = schedule_missions(problem, T);
   if (!sched.feasible)
     t.record(-std::numeric_limits<double>::infinity(), T, [&] { return "mission schedule: " + sched.why; });
-  std::vector<StageVisit> visits = stage_visits(problem, T);
+  std::vector<StageVisit> visits = stage_visits(problem, sched);
   std::vector<Box> flow;
   for (auto& v : visits) {
     const auto& a = problem.agents[v.agent];
@@ -254,8 +253,24 @@ std::vector<StageVisit> check_stages(const Problem& problem, const std::vector<E
 }  // namespace
 
 RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan) {
+  return check_robust(problem, plan, schedule_missions(problem, plan.horizon()));
+}
+
+RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan, const MissionSchedule& given) {
   RobustCheck r;
   const int T = plan.horizon();
+  // Knots that are no schedule at this horizon fail the check (named); the stages are then
+  // judged at the initial schedule's knots, so that every stage still has a margin.
+  const bool mission = std::any_of(problem.agents.begin(), problem.agents.end(), [](const AgentSpec& a) { return !a.stages.empty(); });
+  MissionSchedule visits = given;
+  const std::string e = mission && given.feasible ? schedule_error(problem, given, T) : std::string();
+  if (!mission) {
+    visits = schedule_missions(problem, T);
+  } else if (given.visit.size() != problem.agents.size() || !e.empty() || given.horizon != T) {
+    visits = schedule_missions(problem, T);
+    visits.feasible = false;
+    visits.why = !e.empty() ? e : !given.why.empty() ? given.why : "the knots are of horizon " + std::to_string(given.horizon) + ", the plan's is " + std::to_string(T);
+  }
   const auto xo = state_offsets(problem), uo = input_offsets(problem);
   for (const auto& u : plan.u)
     if (u.size() != uo.back()) {
@@ -273,7 +288,7 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan) {
   Tally t, tu;
   std::vector<Eigen::Vector2d> p(N);
   std::vector<WorkspaceMargin> m(N);
-  const ObstacleWindows windows(problem, T);
+  const ObstacleWindows windows(problem, visits);
   for (int k = 0; k <= T; ++k) {
     for (int i = 0; i < N; ++i) {
       const auto& a = problem.agents[i];
@@ -298,9 +313,8 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan) {
       t.record(requirement_margin(problem, q, p, &m), k, [&] { return q.name(problem); });
     });
   }
-  const bool mission = std::any_of(problem.agents.begin(), problem.agents.end(), [](const AgentSpec& a) { return !a.stages.empty(); });
   NamedTally b;
-  if (mission) r.stages = check_stages(problem, x, plan.u, t, problem.guarantee == Guarantee::Continuous ? &b : nullptr);
+  if (mission) r.stages = check_stages(problem, x, plan.u, visits, t, problem.guarantee == Guarantee::Continuous ? &b : nullptr);
   r.sampled_margin = t.min_;
   r.min_margin = t.min_;
   r.worst = t.name_;
@@ -309,7 +323,7 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan) {
   r.worst_input = tu.name_;
   if (problem.guarantee == Guarantee::Continuous) {
     r.continuous = true;
-    check_between_samples(problem, x, plan.u, b);
+    check_between_samples(problem, x, plan.u, windows, b);
     r.between_shortfalls = b.negative;
     r.between_margin = b.min_;
     r.worst_between = b.name_;

@@ -67,10 +67,11 @@ std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& track
   s << "constraints over the horizon: " << static_cast<long long>(c.per_step()) * (pb.horizon + 1)
     << " inequalities + " << pb.product_input_dim() * pb.horizon * 2 << " input bounds + "
     << pb.product_state_dim() * 2 << " goal bounds\n";
-  // Missions (docs/tasks.md): each agent's stages in order, with the schedule's knots at T.
+  // Missions (docs/tasks.md): each agent's stages in order, with the initial schedule's knots at
+  // T (before a plan: the plan starts there and may move every knot not fixed by its window).
   if (std::any_of(pb.agents.begin(), pb.agents.end(), [](const AgentSpec& a) { return !a.stages.empty(); })) {
     const planning::MissionSchedule sched = planning::schedule_missions(pb, pb.horizon);
-    s << "mission   stages in order (visit step at T = " << pb.horizon << ")\n";
+    s << "mission   stages in order (initial visit step at T = " << pb.horizon << "; the plan re-times the knots its windows leave free)\n";
     for (std::size_t i = 0; i < pb.agents.size(); ++i) {
       const AgentSpec& a = pb.agents[i];
       if (a.stages.empty()) continue;

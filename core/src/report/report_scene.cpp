@@ -20,6 +20,8 @@ nlohmann::json round4(double v) { return std::round(v * 1e4) / 1e4; }
 
 }  // namespace
 
+// `pb` is the problem at the plan's visit knots (planning::with_visits, solve_outputs.cpp), so the
+// schedule and the staged obstacles' windows computed from it here are the plan's.
 nlohmann::json report_scene(const Problem& pb, const std::vector<NominalTrajectory>& nominal,
                             const VerificationReport* ver, const std::vector<const std::vector<PeriodEnclosure>*>& enc) {
   using nlohmann::json;

@@ -183,6 +183,8 @@ nlohmann::json result_json(const SolveOutcome& o) {
   // the plan (eps-robust) and on the certified enclosures.
   if (std::any_of(o.problem.agents.begin(), o.problem.agents.end(), [](const AgentSpec& a) { return !a.stages.empty(); })) {
     json stages = json::array();
+    const int horizon = o.plan.horizon > 0 ? o.plan.horizon : o.problem.horizon;
+    const planning::MissionSchedule initial = planning::schedule_missions(o.problem, horizon);
     for (const auto& p : o.plan.check.stages) {
       const AgentSpec& a = o.problem.agents[static_cast<std::size_t>(p.agent)];
       const MissionStage& st = a.stages[static_cast<std::size_t>(p.stage)];
@@ -202,6 +204,8 @@ nlohmann::json result_json(const SolveOutcome& o) {
                         {"team", st.team.empty() ? json(nullptr) : json(st.team)},
                         {"visit_step", p.step},
                         {"visit_time_s", p.step * o.problem.tau},
+                        // The distance-proportional first guess the plan started from.
+                        {"initial_visit_step", initial.visit[static_cast<std::size_t>(p.agent)][static_cast<std::size_t>(p.stage)]},
                         {"dwell", p.dwell},
                         {"not_before", st.not_before},
                         {"by", st.by >= 0 ? json(st.by) : json(nullptr)},
@@ -212,9 +216,9 @@ nlohmann::json result_json(const SolveOutcome& o) {
                         {"plan_margin_between_samples", margin(p.between_margin)},
                         {"certified", cert}});
     }
-    // Staged obstacles: where each binds each agent, at the plan's horizon.
+    // Staged obstacles: where each binds each agent, at the plan's visit knots.
     json staged = json::array();
-    const planning::ObstacleWindows windows(o.problem, o.plan.horizon > 0 ? o.plan.horizon : o.problem.horizon);
+    const planning::ObstacleWindows windows(o.problem, planning::schedule_or_initial(o.problem, o.plan.visits, horizon));
     for (std::size_t ob = 0; ob < o.problem.obstacles.size(); ++ob)
       if (o.problem.obstacles[ob].staged)
         for (std::size_t i = 0; i < o.problem.agents.size(); ++i) {

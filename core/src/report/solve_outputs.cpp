@@ -68,7 +68,7 @@ std::vector<std::string> write_into(const std::string& dir, SolveOutcome& o) {
   std::vector<const std::vector<PeriodEnclosure>*> enclosures;
   for (const auto& a : o.agents) enclosures.push_back(a.track.controller ? &a.track.controller->period_enclosures() : nullptr);
   const nlohmann::json scene =
-      report_scene(o.problem, o.plan.nominal, o.verification_ran ? &o.verification : nullptr, enclosures);
+      report_scene(planning::with_visits(o.problem, o.plan.visits), o.plan.nominal, o.verification_ran ? &o.verification : nullptr, enclosures);
   write_report_html((fs::path(dir) / "report.html").string(), result, scene);
   files.push_back("report.html");
   return files;

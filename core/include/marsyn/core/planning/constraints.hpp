@@ -36,6 +36,9 @@ struct AssemblyOptions {
   // <b>", "formation <a> - <b>", "state bound <state name> of <agent>"): where a continuous-time check found
   // the plan (or the trackers' period enclosures) too close between the samples.
   std::map<std::string, double> extra;
+  // The mission stages' visit knots (the plan's, mission.hpp); empty or of another horizon: the
+  // initial schedule at the horizon assembled.
+  MissionSchedule visits;
 };
 
 // The clearance agent `a`'s requirements keep at the interior points beyond the buffer

@@ -15,18 +15,51 @@ namespace marsyn::planning {
 // its key in AssemblyOptions::extra.
 std::string stage_name(const AgentSpec& agent, int stage);
 
-// The visit knot of every stage ([agent][stage]) at horizon T: cumulative straight-line length
-// through the regions' centres (workspace points from x0 to the goal), the horizon less the
-// dwells shared in proportion, then moved into each stage's window, after the previous stage's
-// dwell, before the next stage, and ending by T - 1; team stages (same `team`) take the latest
-// of their members' knots. `feasible` is false (with `why`) when no knots meet every window and
-// the order at this horizon; the knots are then the nearest ones found.
+// The visit knots of a plan ([agent][stage]) at its horizon. They are part of the plan
+// (PlanOutcome::visits, plan.json's "visits"): the assembly, the exact check, the certifier, the
+// spec monitor, the report and result.json all judge the stages at these knots.
 struct MissionSchedule {
   std::vector<std::vector<int>> visit;
+  int horizon = 0;
   bool feasible = true;
   std::string why;
+  bool empty() const { return visit.empty(); }
 };
+
+// The initial guess at horizon T: cumulative straight-line length through the regions' centres
+// (workspace points from x0 to the goal), the horizon less the dwells shared in proportion, then
+// placed (below). `feasible` is false (with `why`) when no knots meet every window and the order
+// at this horizon; the knots are then the nearest ones found.
+//
+// Placing: each knot moved into its stage's window, after the previous stage's dwell, before the
+// next stage, and ending by T - 1; team stages (same `team`) take the latest of their members'
+// knots, within every member's window, and every member is placed again with that knot fixed. A
+// user-fixed knot (not_before == by) therefore never moves, and a team keeps one knot.
 MissionSchedule schedule_missions(const Problem& problem, int horizon);
+
+// The knots re-timed along a trajectory (product states x_0..x_T at horizon T = x.size() - 1):
+// per agent, the knot where the trajectory passes deepest through each stage's region (over the
+// dwell; each stage searched after the previous one's), its arc length along the agent's
+// workspace path as the fraction of the whole, the horizon less the dwells shared by those
+// fractions (the same path at an even pace), then placed as above. An agent that does not move
+// keeps `current`'s knots.
+MissionSchedule retime_missions(const Problem& problem, const MissionSchedule& current,
+                                const std::vector<Eigen::VectorXd>& x);
+
+// Whether `s` can be a plan's schedule at horizon T: one knot per stage, in order after the
+// dwells, in the windows, the last dwell before T, teams at one knot. Empty string: yes;
+// otherwise why not ("stage 'b' of car: knot 12 ...").
+std::string schedule_error(const Problem& problem, const MissionSchedule& s, int horizon);
+
+// The problem with every stage's window narrowed to its knot in `s` (not_before = by = knot), so
+// that schedule_missions of the result at s.horizon is `s` itself: the mission a plan with these
+// knots is tracked, certified and verified against (meeting it meets the original windows).
+// When `s` is no schedule at s.horizon (schedule_error: the knots of a failed plan that met no
+// window, or none at all), and for a problem without stages, the problem as it is.
+Problem with_visits(const Problem& problem, const MissionSchedule& s);
+
+// The schedule a plan of horizon T is judged at: `s` when it is one at T, else the initial one.
+MissionSchedule schedule_or_initial(const Problem& problem, const MissionSchedule& s, int horizon);
 
 // A sound lower bound (rounding included) of how deep every state of the box `state` (whose
 // workspace points lie in `workspace`, 2 coordinates) lies inside the stage's region: >= 0
@@ -96,7 +129,8 @@ struct Moment {
 class ObstacleWindows {
  public:
   ObstacleWindows() = default;  // no staged obstacle: everything binds always
-  ObstacleWindows(const Problem& problem, int horizon);
+  ObstacleWindows(const Problem& problem, int horizon);  // at the initial schedule
+  ObstacleWindows(const Problem& problem, const MissionSchedule& visits);
   bool any() const { return !knots_.empty(); }
   bool binds(int agent, int obstacle, Moment m) const {
     if (knots_.empty()) return true;
@@ -116,8 +150,9 @@ class ObstacleWindows {
   std::vector<std::vector<char>> knots_;  // [agent * obstacles + o]: per knot 0..T; empty: not staged
 };
 
-// Every stage of every agent with its scheduled knot (schedule_missions at horizon T), margins
-// not yet set.
+// Every stage of every agent with its knot in `visits`, margins not yet set.
+std::vector<StageVisit> stage_visits(const Problem& problem, const MissionSchedule& visits);
+// The same at the initial schedule (schedule_missions at horizon T).
 std::vector<StageVisit> stage_visits(const Problem& problem, int horizon);
 
 }  // namespace marsyn::planning

@@ -31,7 +31,17 @@ struct PlanSearchOptions {
   // A plan short at the samples whose agents' straight lines cross obstacles is tried again at
   // the same horizon from routes around them (routes.hpp), once; later horizons keep the routes.
   bool routes = true;
+  // Mission stages (docs/tasks.md "What is planned"): how many times the visit knots are
+  // re-timed along a plan (retime_missions) at one horizon: after a solve short at a stage,
+  // before a longer horizon is tried, and after a robust plan, kept only when the re-solve is
+  // robust and of less input effort. 0: the initial schedule (options.assembly.visits when it is
+  // one at the first horizon, else schedule_missions) at every horizon.
+  int retime_rounds = 3;
 };
+
+// The input effort of a plan: sum over knots, agents and inputs of (u / the bound's magnitude)^2
+// times tau. The measure re-timings are compared by (every planner's cost has it, not the rest).
+double input_effort(const Problem& problem, const GlobalPlan& plan);
 
 struct PlanAttempt {
   std::string planner;  // Planner::name()
@@ -42,6 +52,9 @@ struct PlanAttempt {
   double max_violation = 0.0;
   RobustCheck check;
   std::string message;
+  MissionSchedule visits;  // the knots this attempt was planned and checked at
+  double effort = 0.0;     // input_effort of its clamped plan
+  bool retimed = false;    // its knots were re-timed along the attempt before it
 };
 
 struct PlanOutcome {
@@ -50,6 +63,9 @@ struct PlanOutcome {
   PlanResult result;      // of the returned attempt
   RobustCheck check;      // of the returned plan
   GlobalPlan plan;        // inputs clamped to U, states re-simulated from x0
+  // The mission stages' visit knots of `plan` (mission.hpp): part of the plan, written to
+  // plan.json, and what every later stage judges the stages at. Empty without a plan.
+  MissionSchedule visits;
   std::vector<NominalTrajectory> nominal;  // per agent: the projection of `plan`
   std::vector<PlanAttempt> attempts;  // a warm-start planner's first, then the main planner's
   double total_time_s = 0.0;

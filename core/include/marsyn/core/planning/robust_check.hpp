@@ -44,7 +44,7 @@ struct RobustCheck {
   // Every requirement with a negative margin between the samples, by constraint name (as in
   // AssemblyOptions::extra), with its most negative margin.
   std::map<std::string, BetweenShortfall> between_shortfalls;
-  // Mission stages (docs/tasks.md): each at its scheduled knots, the eps-box of the nominal in
+  // Mission stages (docs/tasks.md): each at the plan's knots, the eps-box of the nominal in
   // the region (and, dwelling under the continuous guarantee, the continuous nominal's
   // eps-boxes between those knots). Their margins are part of min_margin above.
   std::vector<StageVisit> stages;
@@ -60,7 +60,10 @@ inline constexpr int kFlowMaxParts = 128;
 std::vector<Eigen::VectorXd> rollout(const Problem& problem, const std::vector<Eigen::VectorXd>& inputs);
 
 // Re-simulates plan.u and checks the eps-robust spec along the result (plan.x is only compared);
-// under the continuous guarantee also between the samples.
+// under the continuous guarantee also between the samples. The mission stages (and the staged
+// obstacles' windows) are judged at `visits`, the plan's knots; knots that are no schedule at
+// the plan's horizon (schedule_error) fail the check. Without `visits`: the initial schedule.
+RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan, const MissionSchedule& visits);
 RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan);
 
 }  // namespace marsyn::planning

@@ -1,0 +1,122 @@
+// The plan chooses its visit knots (docs/tasks.md, "What is planned"): on a mission whose
+// distance-proportional schedule the robot cannot meet at its horizon, the re-timed knots can; a
+// knot the user fixed stays; the knots are written to plan.json and read back as they were.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "marsyn/core/planning/plan_io.hpp"
+#include "marsyn/core/problem/config_error.hpp"
+#include "marsyn/core/problem/problem_loader.hpp"
+#include "marsyn/core/setup.hpp"
+
+using namespace marsyn;
+
+namespace {
+
+const std::string kCorridor = std::string(MARSYN_SOURCE_DIR) + "/tests/core/mission_retime/corridor.yaml";
+
+planning::PlanSearchOptions search(int retime_rounds, int horizons) {
+  planning::PlanSearchOptions o;
+  o.retime_rounds = retime_rounds;
+  o.max_attempts = horizons;
+  return o;
+}
+
+std::filesystem::path scratch(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("marsyn_mission_retime_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  return dir / name;
+}
+
+}  // namespace
+
+// corridor.yaml: the initial schedule visits the corridor at knot 18 of 40; the robot cannot then
+// reach its dock by T = 40, and with the knots fixed only a longer horizon gives a plan. Re-timed
+// along the failed plan, the visit moves earlier and T = 40 suffices.
+TEST(MissionRetime, ChosenKnotsSolveWhatTheFixedScheduleCannot) {
+  marsyn::Setup setup(load_problem(kCorridor));
+  const Problem& pb = setup.problem();
+  const planning::PlanOutcome fixed = setup.plan(search(0, 1));
+  EXPECT_FALSE(fixed.feasible) << fixed.check.message;
+  EXPECT_EQ(fixed.visits.visit, (std::vector<std::vector<int>>{{18}}));
+  const planning::PlanOutcome longer = setup.plan(search(0, 4));
+  ASSERT_TRUE(longer.feasible) << longer.check.message;
+  EXPECT_GT(longer.horizon, 40);
+  const planning::PlanOutcome chosen = setup.plan(search(3, 1));
+  ASSERT_TRUE(chosen.feasible) << chosen.check.message;
+  EXPECT_EQ(chosen.horizon, 40);
+  EXPECT_EQ(chosen.visits.horizon, 40);
+  EXPECT_LT(chosen.visits.visit[0][0], 18);
+  ASSERT_EQ(chosen.check.stages.size(), 1u);
+  EXPECT_EQ(chosen.check.stages[0].step, chosen.visits.visit[0][0]);
+  EXPECT_TRUE(planning::check_robust(pb, chosen.plan, chosen.visits).passed);
+}
+
+// A knot the user fixed (not_before == by) is never re-timed: the search keeps it at every
+// horizon and lengthens the horizon instead.
+TEST(MissionRetime, AUserFixedKnotNeverMoves) {
+  LoadedProblem lp = load_problem(kCorridor);
+  MissionStage& st = lp.problem.agents[0].stages[0];
+  st.not_before = st.by = 18;
+  marsyn::Setup setup(std::move(lp));
+  const planning::PlanOutcome o = setup.plan(search(3, 4));
+  ASSERT_TRUE(o.feasible) << o.check.message;
+  EXPECT_GT(o.horizon, 40);
+  EXPECT_EQ(o.visits.visit, (std::vector<std::vector<int>>{{18}}));
+  for (const auto& a : o.attempts) EXPECT_EQ(a.visits.visit, (std::vector<std::vector<int>>{{18}})) << a.horizon;
+}
+
+// plan.json carries the knots: read back as written; a plan written without them (before they
+// were part of it) reads as the initial schedule; knots that are no schedule are a located error.
+TEST(MissionRetime, TheSavedPlanRoundTripsItsKnots) {
+  marsyn::Setup setup(load_problem(kCorridor));
+  const Problem& pb = setup.problem();
+  const planning::PlanOutcome chosen = setup.plan(search(3, 1));
+  ASSERT_TRUE(chosen.feasible) << chosen.check.message;
+  ASSERT_NE(chosen.visits.visit, planning::schedule_missions(pb, 40).visit);
+  const std::string path = scratch("plan.json").string();
+  planning::write_plan_json(path, pb, chosen);
+  const planning::MissionSchedule back = planning::read_plan_visits(path, pb, 40);
+  EXPECT_EQ(back.visit, chosen.visits.visit);
+  EXPECT_EQ(back.horizon, 40);
+
+  nlohmann::json j;
+  std::ifstream(path) >> j;
+  j["agents"][0]["visits"][0]["step"] = 40;  // no room left for the goal at T
+  const std::string bad = scratch("bad.json").string();
+  std::ofstream(bad) << j.dump();
+  try {
+    planning::read_plan_visits(bad, pb, 40);
+    ADD_FAILURE() << "a knot at T was read";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("visits"), std::string::npos) << e.what();
+  }
+  j["agents"][0].erase("visits");
+  const std::string old = scratch("old.json").string();
+  std::ofstream(old) << j.dump();
+  EXPECT_EQ(planning::read_plan_visits(old, pb, 40).visit, planning::schedule_missions(pb, 40).visit);
+  std::filesystem::remove_all(std::filesystem::path(path).parent_path());
+}
+
+// A planner chain: the first planner's knots start the main planner with its plan (corridor.yaml,
+// altro warm-starting altro): the main planner's first attempt is at the knots the first one
+// chose, not at the initial guess it already failed at.
+TEST(MissionRetime, TheFirstPlannersKnotsStartTheMainPlanner) {
+  LoadedProblem lp = load_problem(kCorridor);
+  lp.problem.warm_start_planner = {"altro", {}};
+  marsyn::Setup setup(std::move(lp));
+  const planning::PlanOutcome o = setup.plan(search(3, 1));
+  ASSERT_TRUE(o.feasible) << o.check.message;
+  ASSERT_GE(o.attempts.size(), 3u);
+  const auto initial = planning::schedule_missions(setup.problem(), 40).visit;
+  EXPECT_EQ(o.attempts[0].visits.visit, initial);     // the first planner, at the initial guess
+  EXPECT_NE(o.attempts[1].visits.visit, initial);     // re-timed, robust
+  EXPECT_TRUE(o.attempts[1].check.passed);
+  EXPECT_EQ(o.attempts[2].visits.visit, o.attempts[1].visits.visit);  // the main planner starts there
+}
