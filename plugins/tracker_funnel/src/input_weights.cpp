@@ -5,6 +5,17 @@
 
 namespace marsyn::funnel {
 
+bool saturation_matters(const TrackingProblem& p, const VerifyOutcome& v, double share) {
+  for (std::size_t k = 0; k < v.input_boxed.size(); ++k)
+    for (std::size_t i = 0; i < v.input_boxed[k].size(); ++i) {
+      if (!v.input_boxed[k][i]) continue;
+      const double lo = p.input_bounds.lo[i], hi = p.input_bounds.hi[i];
+      const FastInterval& h = v.input_hull[k][i];
+      if (std::max(h.upper() - hi, lo - h.lower()) > share * (hi - lo)) return true;
+    }
+  return false;
+}
+
 InputReweighting input_aware_weights(const TrackingProblem& p, const LqrGains& g, const VerifyOutcome& v,
                                      std::vector<Eigen::VectorXd>& r_steps, double floor, double margin) {
   InputReweighting out;

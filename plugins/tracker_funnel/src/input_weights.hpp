@@ -20,6 +20,10 @@ struct InputReweighting {
   int last_step = -1;
 };
 
+// Whether some row of v that was enclosed as a saturated box left U by more than `share` of U's
+// width: below that, the box is about as narrow as the affine row, and a miss is the enclosure's.
+bool saturation_matters(const TrackingProblem& p, const VerifyOutcome& v, double share = 0.01);
+
 // From the gains g (their R_k and B_k' P_{k+1} B_k) and the verification v of g (its per-step
 // input hulls, with the nominal's u_k, over the carried set): for every step k it reached and
 // every input i whose hull leaves U, the gain scale a in [floor, 1) under which the row's hull,
