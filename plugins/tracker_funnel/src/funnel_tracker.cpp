@@ -101,8 +101,9 @@ ParamSet<FunnelSettings> declare() {
              "times a part of the carried set that misses the tube may be split in two along its widest generator "
              "and verified again (at most 2^split_depth parts; the controller is unchanged); 0: never");
   integer_in(s, "input_rounds", &O::input_rounds, 0, 8,
-             "when the weights give no verified funnel and some input was enclosed saturated, redesign the gains "
-             "this many times with R raised where the input hull left U (input-aware weights); 0: never");
+             "when a weight choice misses with some input enclosed saturated (past U by over 1% of its width), "
+             "redesign its gains (once per agent) up to this many times with R raised where the input hull left U "
+             "(input-aware weights); 0: never");
   integer_in(s, "tightness_runs", &O::tightness_runs, 0, 100000,
              "sampled closed-loop runs measuring verified half-width / largest deviation seen (a statistic; 0: off)");
   return s;
