@@ -58,6 +58,11 @@ struct VerifyOutcome {
   int splits = 0;     // parts split in two (split_depth)
   int max_parts = 1;  // the most parts carried at once
   long periods = 0;   // periods enclosed, parts and verifications again from an earlier step included
+  // Per step k, up to the one that failed, and input i: the law's row over the carried set with
+  // the nominal's u_k (every part's hull), and whether some part's row was enclosed as a
+  // saturated box; what the input-aware weights (input_weights.hpp) and a miss's report read.
+  std::vector<std::vector<FastInterval>> input_hull;
+  std::vector<std::vector<char>> input_boxed;
   // With keep_reach: per step k, parts whose union contains every state the closed loop reaches
   // at sample k from the initial box (V_k contains each).
   std::vector<std::vector<Zonotope>> reach;

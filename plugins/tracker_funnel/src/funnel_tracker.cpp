@@ -5,6 +5,7 @@
 #include <sstream>
 #include <utility>
 
+#include "input_weights.hpp"
 #include "lqr.hpp"
 #include "tightness.hpp"
 #include "marsyn/dual.hpp"
@@ -99,6 +100,10 @@ ParamSet<FunnelSettings> declare() {
   integer_in(s, "split_depth", &O::split_depth, 0, 8,
              "times a part of the carried set that misses the tube may be split in two along its widest generator "
              "and verified again (at most 2^split_depth parts; the controller is unchanged); 0: never");
+  integer_in(s, "input_rounds", &O::input_rounds, 0, 8,
+             "when a weight choice misses with some input enclosed saturated (past U by over 1% of its width), "
+             "redesign its gains (once per agent) up to this many times with R raised where the input hull left U "
+             "(input-aware weights); 0: never");
   integer_in(s, "tightness_runs", &O::tightness_runs, 0, 100000,
              "sampled closed-loop runs measuring verified half-width / largest deviation seen (a statistic; 0: off)");
   return s;
@@ -266,18 +271,15 @@ FunnelTracker::Search FunnelTracker::search(const TrackingProblem& p) const {
   const int split_depth = vo.split_depth;
   vo.split_depth = 0;
   LqrGains furthest;
-  for (int t = 0; t < tries; ++t) {
-    for (int j = 0; j < m; ++j) {
-      const double half = 0.5 * (p.input_bounds.hi[j] - p.input_bounds.lo[j]);
-      wt.r[j] = s_.input_weight * kInputWeightLadder[t] / (half > 0 ? half * half : 1.0);
-    }
-    const auto tg = Clock::now();
-    LqrGains g = lqr_gains(*p.dynamics, p.nominal, p.tau, s_.rk4_substeps, wt);
-    gain_time += since(tg);
-    if (!g.ok()) continue;
-    ++weight_choices;
+  // The gains g through the passes (cheap first); true if some pass got further than best.
+  // `last` receives the furthest pass of g (its input hulls feed the input-aware weights).
+  // A pass that fails replaces best only when `ranked` (the ladder's): the input-aware rounds
+  // are kept when they verify, and a miss is reported as the ladder's, whose reason (a centre
+  // off the nominal, the share of saturated steps) the outer search reacts to.
+  auto verify_gains = [&](const LqrGains& g, VerifyOutcome& last, const std::vector<int>& passes, bool ranked) {
     bool further = false;
-    for (const int order : orders) {
+    last.reached_step = -1;
+    for (const int order : passes) {
       vo.reach_order = order;
       const auto tv = Clock::now();
       VerifyOutcome v = verify_funnel(p, g.K, g.closed, vo, g.cost);
@@ -289,15 +291,57 @@ FunnelTracker::Search FunnelTracker::search(const TrackingProblem& p) const {
         cheap = std::move(v);
         continue;
       }
-      if (v.ok || v.reached_step > best.reached_step) {
+      if (!v.ok && v.reached_step >= last.reached_step) last = v;
+      if (v.ok || (ranked && v.reached_step > best.reached_step)) {
         best = std::move(v);
         best_order = order;
         further = true;
       }
       if (best.ok) break;
     }
-    if (further && !best.ok) {
-      furthest = std::move(g);
+    return further;
+  };
+  auto design = [&](const LqrWeights& w) {
+    const auto tg = Clock::now();
+    LqrGains g = lqr_gains(*p.dynamics, p.nominal, p.tau, s_.rk4_substeps, w);
+    gain_time += since(tg);
+    return g;
+  };
+  // Input-aware rounds go to the first weight choice whose furthest pass enclosed some input as
+  // a saturated box (one agent pays for at most input_rounds more designs).
+  bool rounds_left = s_.input_rounds > 0;
+  for (int t = 0; t < tries; ++t) {
+    for (int j = 0; j < m; ++j) {
+      const double half = 0.5 * (p.input_bounds.hi[j] - p.input_bounds.lo[j]);
+      wt.r[j] = s_.input_weight * kInputWeightLadder[t] / (half > 0 ? half * half : 1.0);
+    }
+    wt.r_steps.clear();
+    LqrGains g = design(wt);
+    if (!g.ok()) continue;
+    ++weight_choices;
+    VerifyOutcome last;
+    if (verify_gains(g, last, orders, true) && !best.ok) furthest = g;
+    if (!best.ok && !cheap.ok && rounds_left && saturation_matters(p, last)) {
+      rounds_left = false;
+      int reached = last.reached_step;
+      for (int round = 0; round < s_.input_rounds && !best.ok && !cheap.ok; ++round) {
+        LqrWeights aware = wt;
+        const InputReweighting rw = input_aware_weights(p, g, last, aware.r_steps);
+        if (rw.rows == 0) break;
+        LqrGains h = design(aware);
+        if (!h.ok()) break;
+        ++out.input_rounds;
+        out.reweighted_rows = rw.rows;
+        verify_gains(h, last, {orders.back()}, false);
+        out.input_reached = std::max(out.input_reached, last.reached_step);
+        if (best.ok) out.input_aware = true;
+        // A redesign that got no further, or left no input saturated by more than 1% of U, ends
+        // the rounds: the miss is then the enclosure's, not the inputs' (on
+        // tests/problems/15 the boat's later rounds missed with r past U by 0.003 or less).
+        if (!saturation_matters(p, last) || last.reached_step <= reached) break;
+        reached = last.reached_step;
+        g = std::move(h);
+      }
     }
     if (best.ok) break;
     if (cheap.ok) {
@@ -357,6 +401,10 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
     res.status = TrackerStatus::NoController;
     res.message = best.reached_step < 0 ? "the LQR recursion broke down (non-finite gains)"
                                         : "no verified funnel (" + std::to_string(weight_choices) + " weight choice(s)" +
+                                              (found.input_rounds ? ", " + std::to_string(found.input_rounds) +
+                                                                        " input-aware redesign(s), the furthest to step " +
+                                                                        std::to_string(found.input_reached + 1)
+                                                                  : std::string()) +
                                               (found.split_tried ? ", the furthest again with splits up to depth " +
                                                                        std::to_string(s_.split_depth)
                                                                  : std::string()) +
@@ -382,6 +430,9 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
   msg << ", enclosure carried with " << best_order << " n generators";
   if (best.saturated_steps) msg << ", inputs saturate on " << best.saturated_steps << " step(s)";
   if (best.shifted_steps) msg << ", u_k moved inside U on " << best.shifted_steps << " step(s)";
+  if (found.input_aware)
+    msg << ", input-aware weights (redesign " << found.input_rounds << ", R raised on " << found.reweighted_rows
+        << " (step, input) row(s) where the input hull left U)";
   if (best.splits)
     msg << ", " << best.splits << " split(s), up to " << best.max_parts << " parts carried (" << best.periods
         << " periods enclosed for " << T << " steps)";

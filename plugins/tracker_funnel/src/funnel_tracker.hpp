@@ -32,6 +32,7 @@ struct FunnelSettings {
   bool shift_inputs = true;  // VerifyOptions::shift_inputs
   long box_substeps = 0;
   long split_depth = 3;  // VerifyOptions::split_depth
+  long input_rounds = 5;  // input-aware redesigns (input_weights.hpp) after a miss with saturated inputs
 };
 
 class FunnelTracker : public marsyn::Tracker {
@@ -66,6 +67,10 @@ class FunnelTracker : public marsyn::Tracker {
     int order = 0, weight_choices = 0, attempts = 0;  // the kept pass's reach order; LQR runs; verifications
     double gain_time = 0, verify_time = 0;
     bool split_tried = false;  // the furthest gains verified again with splits
+    int input_rounds = 0;      // input-aware redesigns verified
+    int reweighted_rows = 0;   // (step, input) rows whose R the last of them raised
+    int input_reached = -1;    // the furthest step they verified (when none verified)
+    bool input_aware = false;  // the verified funnel is one of them
   };
   Search search(const TrackingProblem& p) const;
 

@@ -13,8 +13,9 @@ LqrGains lqr_gains(const Dynamics& f, const NominalTrajectory& nominal, double t
   LqrGains g;
   std::vector<Eigen::MatrixXd> K(static_cast<std::size_t>(T)), closed(static_cast<std::size_t>(T)),
       cost(static_cast<std::size_t>(T) + 1);
+  std::vector<Eigen::VectorXd> bpb(static_cast<std::size_t>(T)), rs(static_cast<std::size_t>(T));
   const Eigen::MatrixXd Q = wt.q.asDiagonal();
-  const Eigen::MatrixXd R = wt.r.asDiagonal();
+  Eigen::MatrixXd R(m, m);
   Eigen::MatrixXd P = wt.terminal * Q;
   cost[T] = P;
   Eigen::MatrixXd A(n, n), B(n, m);
@@ -23,7 +24,11 @@ LqrGains lqr_gains(const Dynamics& f, const NominalTrajectory& nominal, double t
     rk4_jacobians(f, nominal.x[k].data(), nominal.u[k].data(), tau, rk4_substeps, nullptr, Ar.data(), Br.data());
     A = Ar;
     B = Br;
-    const Eigen::MatrixXd S = R + B.transpose() * P * B;
+    rs[k] = static_cast<int>(wt.r_steps.size()) == T ? wt.r_steps[k] : wt.r;
+    R = rs[k].asDiagonal();
+    const Eigen::MatrixXd BPB = B.transpose() * P * B;
+    bpb[k] = BPB.diagonal();
+    const Eigen::MatrixXd S = R + BPB;
     const Eigen::MatrixXd Kk = -S.ldlt().solve(B.transpose() * P * A);
     if (!Kk.allFinite()) return {};
     K[k] = Kk;
@@ -36,6 +41,8 @@ LqrGains lqr_gains(const Dynamics& f, const NominalTrajectory& nominal, double t
   g.K = std::move(K);
   g.closed = std::move(closed);
   g.cost = std::move(cost);
+  g.bpb = std::move(bpb);
+  g.r = std::move(rs);
   return g;
 }
 

@@ -15,6 +15,9 @@ namespace marsyn::funnel {
 struct LqrWeights {
   Eigen::VectorXd q;  // state weights (n), diagonal of Q
   Eigen::VectorXd r;  // input weights (m), diagonal of R
+  // Per step k < T (may be empty): R_k's diagonal instead of r, the input-aware weights that
+  // soften the feedback where its input hull leaves U (input_weights.hpp).
+  std::vector<Eigen::VectorXd> r_steps;
   double terminal = 1.0;  // P_T = terminal Q
 };
 
@@ -22,6 +25,8 @@ struct LqrGains {
   std::vector<Eigen::MatrixXd> K;       // K_0..K_{T-1} (m x n): u = u_k + K_k (x - x_k)
   std::vector<Eigen::MatrixXd> closed;  // A_k + B_k K_k, the closed loop's linearization
   std::vector<Eigen::MatrixXd> cost;    // P_k, the cost-to-go: the closed loop contracts in its norm
+  std::vector<Eigen::VectorXd> bpb;     // diagonal of B_k' P_{k+1} B_k: how much R_k moves K_k
+  std::vector<Eigen::VectorXd> r;       // R_k's diagonal as used
   bool ok() const { return !K.empty(); }
 };
 

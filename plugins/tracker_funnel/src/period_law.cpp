@@ -70,10 +70,12 @@ Period PeriodLaw::enclose(Rows r, int k, const std::vector<double>& u) const {
   std::vector<double> extra(N, 0.0);
   Period out_p;
   out_p.u = u;
+  out_p.boxed.assign(m, 0);
   for (int i = 0; i < m; ++i) {
     out_p.shifted |= u[i] != p_.nominal.u[k][i];
     FastInterval c;
     double delta;
+    out_p.nominal_hull.push_back(row_hull(r, i, p_.nominal.u[k][i], c, delta));
     const FastInterval hull = row_hull(r, i, u[i], c, delta);
     const double lo = d_.u_lo[i], hi = d_.u_hi[i];
     if (hull.lower() >= lo && hull.upper() <= hi) {
@@ -83,6 +85,7 @@ Period PeriodLaw::enclose(Rows r, int k, const std::vector<double>& u) const {
       // Saturation: sat_U maps the hull's values into [sat(lo), sat(hi)]; the row keeps that
       // interval and loses its correlation with the state (sound, less tight).
       out_p.saturated = true;
+      out_p.boxed[i] = 1;
       const double a = std::clamp(hull.lower(), lo, hi);
       const double b = std::clamp(hull.upper(), lo, hi);
       r.center[n + i] = FastInterval(a, b);

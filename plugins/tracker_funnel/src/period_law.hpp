@@ -18,6 +18,11 @@ struct Period {
   bool saturated = false;  // some row enclosed as sat_U of its hull (a box)
   bool shifted = false;    // some row's u_k moved inside U instead
   std::vector<double> u;   // the law's u_k as the controller will store it
+  // Per input: the row's hull over the start with the nominal's u_k (feedback, rounding and
+  // measurement included), whether or not it was moved, and whether the row was enclosed as a
+  // saturated box; what the input-aware weights and a miss's report read.
+  std::vector<FastInterval> nominal_hull;
+  std::vector<char> boxed;
 };
 
 class PeriodLaw {

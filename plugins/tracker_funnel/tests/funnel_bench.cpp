@@ -7,6 +7,8 @@
 //   enclosure=second_order runs that enclosure only; w_scale=x multiplies the disturbance bound;
 //   remainder_scale=x scales the Lagrange remainder: UNSOUND below 1, a diagnostic of how much of
 //   a miss the remainder makes, hence how much splitting could win at most)
+// unicycle_at_bound, unicycle_near_bound: nominals whose speed sits at or near U's bound
+// (funnel_scenarios.hpp; docs/funnel.md, "Input-aware weights"), run only when named.
 // quadrotor_issue: the 12-state scenario at issue 23's disturbance (0.01 on the velocities, 0.1
 // on the body rates), 30 steps; bytes: the controller file's payload (serialize).
 #include <chrono>
@@ -28,6 +30,8 @@ namespace {
 
 TrackingProblem full(const std::string& name) {
   if (name == "unicycle") return testing::unicycle(60);
+  if (name == "unicycle_at_bound") return testing::unicycle_at_bound(60);
+  if (name == "unicycle_near_bound") return testing::unicycle_near_bound();
   if (name == "crane") return testing::crane(40);
   if (name == "bicycle") return testing::bicycle(50);
   if (name == "planar_quadrotor") return testing::planar_quadrotor(50);

@@ -14,6 +14,7 @@ TEST(FunnelInputBound, SaturatedBoxesMissTheTubeMovedInputsVerify) {
   const TrackingProblem p = testing::scenario("unicycle_at_bound");
   Params off;
   off.set("shift_inputs", false);
+  off.set("input_rounds", 0L);  // input-aware weights verify it without moving u_k (funnel_input_aware_test.cpp)
   const TrackResult boxed = FunnelTracker(off).track(p, {});
   EXPECT_EQ(boxed.status, TrackerStatus::NoController) << boxed.message;
   EXPECT_NE(boxed.message.find("some inputs saturated"), std::string::npos) << boxed.message;

@@ -195,7 +195,7 @@ TEST_P(FunnelSoundness, SuccessorsStayInTheNextVerifiedSet) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, FunnelSoundness,
-                         ::testing::Values("unicycle", "unicycle_at_bound", "crane", "bicycle", "planar_quadrotor", "quadrotor",
+                         ::testing::Values("unicycle", "unicycle_at_bound", "unicycle_near_bound", "crane", "bicycle", "planar_quadrotor", "quadrotor",
                                            "bicycle_split"));
 
 // bicycle_split (a wide initial box) has no funnel without splitting; with it, the parts are
