@@ -161,6 +161,57 @@ TEST(BroadPhase, NearMissesOfObstaclesAreNotSkipped) {
   }
 }
 
+// The adversary's target for every agent of a state, by the broad phase and by the full search
+// (the same point bit for bit, or neither finds one).
+void expect_same_targets(const Team& t, const std::vector<Vector2d>& p) {
+  marsyn::BroadPhase broad(t.pb);
+  broad.update(p);
+  for (int i = 0; i < static_cast<int>(p.size()); ++i) {
+    Vector2d fast(7, 7), slow(7, 7);
+    const bool f = broad.nearest_target(i, fast), s = marsyn::nearest_by_search(t.pb, i, p, slow);
+    ASSERT_EQ(f, s) << "agent " << i;
+    if (f) ASSERT_TRUE(same_bits(fast.x(), slow.x()) && same_bits(fast.y(), slow.y())) << "agent " << i;
+  }
+}
+
+TEST(BroadPhase, NearestTargetIsTheFullSearchsOnRandomTeams) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> at(-12, 12);
+  for (int team = 0; team < 100; ++team) {
+    Team t(1 + static_cast<int>(rng() % 30), rng, static_cast<int>(rng() % 4), team % 2 == 0, 0);
+    t.pb.pairwise_collision = team % 5 != 0;
+    std::vector<Vector2d> p(t.pb.agents.size());
+    for (auto& q : p) q = {at(rng), at(rng)};
+    // Some agents on a lattice: equal distances to several agents, ties broken by index.
+    for (std::size_t i = 0; i < p.size(); i += 3) p[i] = {std::round(p[i].x()), std::round(p[i].y())};
+    SCOPED_TRACE("team " + std::to_string(team));
+    expect_same_targets(t, p);
+  }
+}
+
+TEST(BroadPhase, AnObstacleAsNearAsTheNearestAgentIsTheTarget) {
+  // Agent 0 is 1 m from agent 1 and 1 m from the block's face, whose bounding box is as near as
+  // the block itself: the obstacle must still be searched (and wins the tie); then a hair
+  // farther, the agent wins.
+  std::mt19937_64 rng(3);
+  for (bool inf : {true, false}) {
+    Team t(2, rng, 0, inf, 0);
+    t.pb.obstacles.push_back({"block", {{0, 0}, {4, 0}, {4, 4}, {0, 4}}});
+    expect_same_targets(t, {{5, 2}, {5, 3}});
+    marsyn::BroadPhase broad(t.pb);
+    std::vector<Vector2d> p = {{5, 2}, {5, 3}};
+    broad.update(p);
+    Vector2d target;
+    ASSERT_TRUE(broad.nearest_target(0, target));
+    EXPECT_EQ(target, Vector2d(4, 2));
+    p[1] = {5, 3 - 1e-12};
+    broad.update(p);
+    ASSERT_TRUE(broad.nearest_target(0, target));
+    EXPECT_EQ(target, p[1]);
+    expect_same_targets(t, p);
+  }
+}
+
 TEST(BroadPhase, AdversaryTargetsTheSameAsTheFullSearch) {
   // End to end: open loop under the adversary (re-chosen at every substep), all pairs vs the
   // broad phase: the same trajectories (so the same targets) and the same margins.

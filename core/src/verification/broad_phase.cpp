@@ -24,6 +24,24 @@ Eigen::Vector2d nearest_on_polygon(const planning::Polygon& poly, const Eigen::V
   return best;
 }
 
+bool nearest_by_search(const Problem& pb, int i, const std::vector<Eigen::Vector2d>& pts, Eigen::Vector2d& target) {
+  double bd = 1e300;
+  for (const auto& o : pb.obstacles) {
+    const Eigen::Vector2d q = nearest_on_polygon(o.vertices, pts[i]);
+    if ((q - pts[i]).norm() < bd) {
+      bd = (q - pts[i]).norm();
+      target = q;
+    }
+  }
+  if (pb.pairwise_collision)
+    for (std::size_t j = 0; j < pts.size(); ++j)
+      if (static_cast<int>(j) != i && (pts[j] - pts[i]).norm() < bd) {
+        bd = (pts[j] - pts[i]).norm();
+        target = pts[j];
+      }
+  return bd < 1e300;
+}
+
 namespace {
 
 // Far above the rounding of any margin formula at this scale (a few ulps), far below any
@@ -132,10 +150,39 @@ bool BroadPhase::accumulate(StepMargins& run, Requirement* worst, planning::Mome
 bool BroadPhase::nearest_target(int i, Eigen::Vector2d& target) const {
   const std::vector<Eigen::Vector2d>& p = *pts_;
   const Eigen::Vector2d& at = p[static_cast<size_t>(i)];
+  // The nearest other agent first (smallest distance, then smallest index): its distance bounds
+  // the obstacles worth a polygon search, which is most of the cost where an agent is near.
+  double ad = 1e300;
+  int bj = -1;
+  if (pb_.pairwise_collision) {
+    auto consider = [&](int j) {
+      const double d = (p[static_cast<size_t>(j)] - at).norm();
+      if (d < ad || (d == ad && j < bj)) {
+        ad = d;
+        bj = j;
+      }
+    };
+    const int n = static_cast<int>(p.size());
+    if (!finite_) {
+      for (int j = 0; j < n; ++j)
+        if (j != i) consider(j);
+    } else {
+      const int mine = place_[static_cast<size_t>(i)];
+      for (int b = mine + 1; b < n && p[static_cast<size_t>(order_[static_cast<size_t>(b)])].x() - at.x() <= ad + slack(ad, 0); ++b)
+        consider(order_[static_cast<size_t>(b)]);
+      for (int b = mine - 1; b >= 0 && at.x() - p[static_cast<size_t>(order_[static_cast<size_t>(b)])].x() <= ad + slack(ad, 0); --b)
+        consider(order_[static_cast<size_t>(b)]);
+    }
+  }
+  // An obstacle wins at a distance up to the agent's (the full search scans obstacles first and
+  // takes an agent only when strictly nearer); among obstacles, the first of the smallest. One
+  // whose bounding box is farther than the agent by more than the slack cannot win.
   double bd = 1e300;
   bool found = false;
   for (std::size_t o = 0; o < bbox_.size(); ++o) {
-    if (outside(bbox_[o], at).norm() > bd + slack(bd, scale_ + at.cwiseAbs().maxCoeff())) continue;
+    const double lb = outside(bbox_[o], at).norm();
+    const double bound = std::min(bd, ad);
+    if (lb > bound + slack(bound, scale_ + at.cwiseAbs().maxCoeff())) continue;
     const Eigen::Vector2d q = nearest_on_polygon(pb_.obstacles[o].vertices, at);
     if ((q - at).norm() < bd) {
       bd = (q - at).norm();
@@ -143,30 +190,11 @@ bool BroadPhase::nearest_target(int i, Eigen::Vector2d& target) const {
       found = true;
     }
   }
-  if (!pb_.pairwise_collision) return found;
-  // An agent wins only strictly nearer than the obstacle; among agents, the smallest index.
-  int bj = -1;
-  auto consider = [&](int j) {
-    const double d = (p[static_cast<size_t>(j)] - at).norm();
-    if (d < bd || (d == bd && bj >= 0 && j < bj)) {
-      bd = d;
-      bj = j;
-    }
-  };
-  const int n = static_cast<int>(p.size());
-  if (!finite_) {
-    for (int j = 0; j < n; ++j)
-      if (j != i) consider(j);
-  } else {
-    const int mine = place_[static_cast<size_t>(i)];
-    for (int b = mine + 1; b < n && p[static_cast<size_t>(order_[static_cast<size_t>(b)])].x() - at.x() <= bd + slack(bd, 0); ++b)
-      consider(order_[static_cast<size_t>(b)]);
-    for (int b = mine - 1; b >= 0 && at.x() - p[static_cast<size_t>(order_[static_cast<size_t>(b)])].x() <= bd + slack(bd, 0); --b)
-      consider(order_[static_cast<size_t>(b)]);
+  if (bj >= 0 && !(found && bd <= ad)) {
+    target = p[static_cast<size_t>(bj)];
+    return true;
   }
-  if (bj < 0) return found;
-  target = p[static_cast<size_t>(bj)];
-  return true;
+  return found;
 }
 
 }  // namespace marsyn

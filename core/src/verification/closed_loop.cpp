@@ -72,26 +72,6 @@ class DisturbanceSource {
   std::mt19937_64 rng_;
 };
 
-// The adversary's target for agent i by a search over every obstacle and agent (the reference of
-// BroadPhase::nearest_target, which must find the same one).
-bool nearest_by_search(const Problem& pb, int i, const std::vector<Eigen::Vector2d>& pts, Eigen::Vector2d& target) {
-  double bd = 1e300;
-  for (const auto& o : pb.obstacles) {
-    const Eigen::Vector2d q = nearest_on_polygon(o.vertices, pts[i]);
-    if ((q - pts[i]).norm() < bd) {
-      bd = (q - pts[i]).norm();
-      target = q;
-    }
-  }
-  if (pb.pairwise_collision)
-    for (std::size_t j = 0; j < pts.size(); ++j)
-      if (static_cast<int>(j) != i && (pts[j] - pts[i]).norm() < bd) {
-        bd = (pts[j] - pts[i]).norm();
-        target = pts[j];
-      }
-  return bd < 1e300;
-}
-
 // The adversary's vertex for an agent at p: on the coordinates its workspace point reads
 // linearly, the sign that moves the point toward the target.
 void push_toward(const AgentSpec& a, const Eigen::Vector2d& p, const Eigen::Vector2d& target, Eigen::VectorXd& w) {

@@ -23,6 +23,10 @@ namespace marsyn {
 // Nearest point of a convex polygon's boundary to p (the adversary's target on an obstacle).
 Eigen::Vector2d nearest_on_polygon(const planning::Polygon& poly, const Eigen::Vector2d& p);
 
+// The adversary's target for agent i by a search over every obstacle, then every agent (strictly
+// nearer only): the reference BroadPhase::nearest_target must agree with.
+bool nearest_by_search(const Problem& pb, int i, const std::vector<Eigen::Vector2d>& pts, Eigen::Vector2d& target);
+
 class BroadPhase {
  public:
   explicit BroadPhase(const Problem& problem);
@@ -36,7 +40,8 @@ class BroadPhase {
   void windows(const planning::ObstacleWindows* w) { windows_ = w; }
   // The adversary's target for agent i: the nearest obstacle boundary point, or the nearest other
   // agent when strictly nearer (pairwise collision on); ties as a scan in index order breaks
-  // them. False when there is neither.
+  // them (nearest_by_search's answer). False when there is neither. The nearest agent is found
+  // first, so that an obstacle whose bounding box is farther is not searched.
   bool nearest_target(int i, Eigen::Vector2d& target) const;
 
  private:
