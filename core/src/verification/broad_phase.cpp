@@ -97,6 +97,17 @@ long BroadPhase::rank(const Requirement& q) const {
   return n * obstacles + pairs + q.index;
 }
 
+void BroadPhase::fold_one(const Requirement& q, const std::vector<Eigen::Vector2d>& p, double& slot, double& best,
+                          long& best_rank, Requirement* worst) const {
+  const double v = planning::requirement_margin(pb_, q, p);
+  slot = std::min(slot, v);
+  if (v < best || (v == best && best_rank >= 0 && rank(q) < best_rank)) {
+    best = v;
+    best_rank = rank(q);
+    if (worst) *worst = q;
+  }
+}
+
 bool BroadPhase::accumulate(StepMargins& run, Requirement* worst, planning::Moment when) const {
   const std::vector<Eigen::Vector2d>& p = *pts_;
   const int n = static_cast<int>(p.size());
@@ -104,15 +115,7 @@ bool BroadPhase::accumulate(StepMargins& run, Requirement* worst, planning::Mome
   // step()'s strict-less scan in requirement order names exactly that one.
   double best = run.min();
   long best_rank = -1;
-  auto fold = [&](const Requirement& q, double& slot) {
-    const double v = planning::requirement_margin(pb_, q, p);
-    slot = std::min(slot, v);
-    if (v < best || (v == best && best_rank >= 0 && rank(q) < best_rank)) {
-      best = v;
-      best_rank = rank(q);
-      if (worst) *worst = q;
-    }
-  };
+  auto fold = [&](const Requirement& q, double& slot) { fold_one(q, p, slot, best, best_rank, worst); };
   const bool inf = pb_.delta_norm == Norm::Inf;
   const double delta = pb_.delta;
   const bool windowed = when.k >= 0 && windows_ && windows_->any();
@@ -141,6 +144,81 @@ bool BroadPhase::accumulate(StepMargins& run, Requirement* worst, planning::Mome
       }
     }
   }
+  for (int q = 0; q < static_cast<int>(pb_.formation.size()); ++q)
+    fold({Requirement::Formation, pb_.formation[static_cast<size_t>(q)].i, pb_.formation[static_cast<size_t>(q)].j, q},
+         run.formation);
+  return best_rank >= 0;
+}
+
+void BroadPhase::window(const std::vector<std::vector<Eigen::Vector2d>>& states, int count, const StepMargins& run,
+                        planning::Moment when) {
+  window_ = &states;
+  candidates_.clear();
+  const int n = static_cast<int>(pb_.agents.size());
+  boxes_.assign(static_cast<size_t>(n), Eigen::Vector4d(1e300, 1e300, -1e300, -1e300));
+  bool finite = true;
+  double mag = 0;  // the largest coordinate: the slack's scale for a difference of two
+  for (int s = 0; s < count; ++s)
+    for (int i = 0; i < n; ++i) {
+      const Eigen::Vector2d& q = states[static_cast<size_t>(s)][static_cast<size_t>(i)];
+      Eigen::Vector4d& b = boxes_[static_cast<size_t>(i)];
+      finite = finite && q.allFinite();
+      b = {std::min(b[0], q.x()), std::min(b[1], q.y()), std::max(b[2], q.x()), std::max(b[3], q.y())};
+      mag = std::max(mag, q.cwiseAbs().maxCoeff());
+    }
+  const bool inf = pb_.delta_norm == Norm::Inf;
+  const double delta = pb_.delta;
+  const bool windowed = when.k >= 0 && windows_ && windows_->any();
+  for (int i = 0; i < n; ++i)
+    for (int o = 0; o < static_cast<int>(bbox_.size()); ++o) {
+      if (windowed && !windows_->binds(i, o, when)) continue;
+      // Every point of the agent's box is at least as far from the obstacle as the two boxes
+      // are apart along x and along y.
+      const Eigen::Vector4d &a = boxes_[static_cast<size_t>(i)], &b = bbox_[static_cast<size_t>(o)];
+      const Eigen::Vector2d g(std::max({b[0] - a[2], a[0] - b[2], 0.0}), std::max({b[1] - a[3], a[1] - b[3], 0.0}));
+      const double lb = (inf ? g.maxCoeff() : g.norm()) - delta;
+      if (finite && (g.x() > 0 || g.y() > 0) && lb > run.obstacle + slack(run.obstacle, scale_ + mag)) continue;
+      candidates_.push_back({Requirement::Obstacle, i, o});
+    }
+  if (!pb_.pairwise_collision) return;
+  if (static_cast<int>(box_order_.size()) != n) {
+    box_order_.resize(static_cast<size_t>(n));
+    std::iota(box_order_.begin(), box_order_.end(), 0);
+  }
+  if (!finite) {
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j) candidates_.push_back({Requirement::Collision, i, j});
+    return;
+  }
+  // By increasing x_lo (insertion sort from the last window's order: the boxes move little).
+  for (int a = 1; a < n; ++a) {
+    const int v = box_order_[static_cast<size_t>(a)];
+    int b = a;
+    for (; b > 0 && boxes_[static_cast<size_t>(box_order_[static_cast<size_t>(b - 1)])][0] > boxes_[static_cast<size_t>(v)][0]; --b)
+      box_order_[static_cast<size_t>(b)] = box_order_[static_cast<size_t>(b - 1)];
+    box_order_[static_cast<size_t>(b)] = v;
+  }
+  // Two points of the boxes are at least as far apart as the boxes along either axis, in both norms.
+  const double r = run.collision + delta + slack(run.collision, delta + mag);
+  for (int a = 0; a < n; ++a) {
+    const int i = box_order_[static_cast<size_t>(a)];
+    const Eigen::Vector4d& bi = boxes_[static_cast<size_t>(i)];
+    for (int b = a + 1; b < n; ++b) {
+      const int j = box_order_[static_cast<size_t>(b)];
+      const Eigen::Vector4d& bj = boxes_[static_cast<size_t>(j)];
+      if (bj[0] - bi[2] > r) break;  // sorted by x_lo: every later box is as far along x
+      if (std::max(bj[1] - bi[3], bi[1] - bj[3]) > r) continue;
+      candidates_.push_back({Requirement::Collision, std::min(i, j), std::max(i, j)});
+    }
+  }
+}
+
+bool BroadPhase::accumulate_window(int s, StepMargins& run, Requirement* worst) const {
+  const std::vector<Eigen::Vector2d>& p = (*window_)[static_cast<size_t>(s)];
+  double best = run.min();
+  long best_rank = -1;
+  auto fold = [&](const Requirement& q, double& slot) { fold_one(q, p, slot, best, best_rank, worst); };
+  for (const Requirement& q : candidates_) fold(q, q.kind == Requirement::Obstacle ? run.obstacle : run.collision);
   for (int q = 0; q < static_cast<int>(pb_.formation.size()); ++q)
     fold({Requirement::Formation, pb_.formation[static_cast<size_t>(q)].i, pb_.formation[static_cast<size_t>(q)].j, q},
          run.formation);
