@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 namespace marsyn {
@@ -108,6 +109,17 @@ void BroadPhase::fold_one(const Requirement& q, const std::vector<Eigen::Vector2
   }
 }
 
+bool BroadPhase::obstacle_clears(const StepMargins& run, int o, const Eigen::Vector2d& at) const {
+  // Outside its bounding box, a point is at least as far from the obstacle as from the box.
+  const Eigen::Vector2d g = outside(bbox_[static_cast<size_t>(o)], at);
+  const double lb = (pb_.delta_norm == Norm::Inf ? g.maxCoeff() : g.norm()) - pb_.delta;  // no bound inside the box
+  return (g.x() > 0 || g.y() > 0) && lb > run.obstacle + slack(run.obstacle, scale_ + at.cwiseAbs().maxCoeff());
+}
+
+double BroadPhase::pair_reach(const StepMargins& run) const {
+  return run.collision + pb_.delta + slack(run.collision, pb_.delta);
+}
+
 bool BroadPhase::accumulate(StepMargins& run, Requirement* worst, planning::Moment when) const {
   const std::vector<Eigen::Vector2d>& p = *pts_;
   const int n = static_cast<int>(p.size());
@@ -116,21 +128,17 @@ bool BroadPhase::accumulate(StepMargins& run, Requirement* worst, planning::Mome
   double best = run.min();
   long best_rank = -1;
   auto fold = [&](const Requirement& q, double& slot) { fold_one(q, p, slot, best, best_rank, worst); };
-  const bool inf = pb_.delta_norm == Norm::Inf;
   const double delta = pb_.delta;
   const bool windowed = when.k >= 0 && windows_ && windows_->any();
   for (int i = 0; i < n; ++i)
     for (int o = 0; o < static_cast<int>(bbox_.size()); ++o) {
       if (windowed && !windows_->binds(i, o, when)) continue;
-      // Outside its bounding box, a point is at least as far from the obstacle as from the box.
-      const Eigen::Vector2d g = outside(bbox_[static_cast<size_t>(o)], p[static_cast<size_t>(i)]);
-      const double lb = (inf ? g.maxCoeff() : g.norm()) - delta;  // no bound inside the box
-      if ((g.x() > 0 || g.y() > 0) && lb > run.obstacle + slack(run.obstacle, scale_ + p[static_cast<size_t>(i)].cwiseAbs().maxCoeff())) continue;
+      if (obstacle_clears(run, o, p[static_cast<size_t>(i)])) continue;
       fold({Requirement::Obstacle, i, o}, run.obstacle);
     }
   if (pb_.pairwise_collision) {
     // A pair is at least as far apart as along either axis, in both norms.
-    auto reach = [&] { return run.collision + delta + slack(run.collision, delta); };
+    auto reach = [&] { return pair_reach(run); };
     for (int a = 0; a < n; ++a) {
       const int i = finite_ ? order_[static_cast<size_t>(a)] : a;
       double r = reach();
@@ -155,17 +163,23 @@ void BroadPhase::window(const std::vector<std::vector<Eigen::Vector2d>>& states,
   window_ = &states;
   candidates_.clear();
   const int n = static_cast<int>(pb_.agents.size());
-  boxes_.assign(static_cast<size_t>(n), Eigen::Vector4d(1e300, 1e300, -1e300, -1e300));
+  boxes_.resize(static_cast<size_t>(n));
   bool finite = true;
   double mag = 0;  // the largest coordinate: the slack's scale for a difference of two
-  for (int s = 0; s < count; ++s)
-    for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < n; ++i) {
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    double xl = kInf, yl = kInf, xh = -kInf, yh = -kInf;
+    for (int s = 0; s < count; ++s) {
       const Eigen::Vector2d& q = states[static_cast<size_t>(s)][static_cast<size_t>(i)];
-      Eigen::Vector4d& b = boxes_[static_cast<size_t>(i)];
-      finite = finite && q.allFinite();
-      b = {std::min(b[0], q.x()), std::min(b[1], q.y()), std::max(b[2], q.x()), std::max(b[3], q.y())};
-      mag = std::max(mag, q.cwiseAbs().maxCoeff());
+      finite = finite && (q.x() - q.x()) + (q.y() - q.y()) == 0;  // false for inf and NaN
+      xl = std::min(xl, q.x());
+      yl = std::min(yl, q.y());
+      xh = std::max(xh, q.x());
+      yh = std::max(yh, q.y());
     }
+    boxes_[static_cast<size_t>(i)] = {xl, yl, xh, yh};
+    mag = std::max({mag, std::abs(xl), std::abs(yl), std::abs(xh), std::abs(yh)});
+  }
   const bool inf = pb_.delta_norm == Norm::Inf;
   const double delta = pb_.delta;
   const bool windowed = when.k >= 0 && windows_ && windows_->any();
@@ -218,7 +232,16 @@ bool BroadPhase::accumulate_window(int s, StepMargins& run, Requirement* worst) 
   double best = run.min();
   long best_rank = -1;
   auto fold = [&](const Requirement& q, double& slot) { fold_one(q, p, slot, best, best_rank, worst); };
-  for (const Requirement& q : candidates_) fold(q, q.kind == Requirement::Obstacle ? run.obstacle : run.collision);
+  // The point-level rules of accumulate() at this state, against the minima as they now stand.
+  for (const Requirement& q : candidates_) {
+    if (q.kind == Requirement::Obstacle) {
+      if (!obstacle_clears(run, q.b, p[static_cast<size_t>(q.a)])) fold(q, run.obstacle);
+      continue;
+    }
+    const Eigen::Vector2d d = p[static_cast<size_t>(q.b)] - p[static_cast<size_t>(q.a)];
+    const double r = pair_reach(run);
+    if (!(std::abs(d.x()) > r || std::abs(d.y()) > r)) fold(q, run.collision);
+  }
   for (int q = 0; q < static_cast<int>(pb_.formation.size()); ++q)
     fold({Requirement::Formation, pb_.formation[static_cast<size_t>(q)].i, pb_.formation[static_cast<size_t>(q)].j, q},
          run.formation);

@@ -56,6 +56,10 @@ class BroadPhase {
  private:
   // Where a requirement stands in planning::for_each_requirement's order (step()'s tie-break).
   long rank(const planning::Requirement& q) const;
+  // accumulate()'s rules at one state: obstacle o cannot lower run.obstacle at an agent's point
+  // `at`; a pair farther apart than pair_reach(run) along x or y cannot lower run.collision.
+  bool obstacle_clears(const StepMargins& run, int o, const Eigen::Vector2d& at) const;
+  double pair_reach(const StepMargins& run) const;
   // q's margin at the points p folded into its part `slot`; (best, best_rank) is the smallest
   // (margin, rank) so far below the minimum the state started from, and *worst its requirement.
   void fold_one(const planning::Requirement& q, const std::vector<Eigen::Vector2d>& p, double& slot, double& best,
