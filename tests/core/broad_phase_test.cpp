@@ -89,6 +89,20 @@ void expect_same_folds(const Team& t, const std::vector<std::vector<Vector2d>>& 
   }
 }
 
+// Random walks of n agents from scattered starts: the running minima fall now and then, as in a run.
+std::vector<std::vector<Vector2d>> random_walks(std::mt19937_64& rng, int n, int steps) {
+  std::normal_distribution<double> step(0.0, 0.15);
+  std::uniform_real_distribution<double> start(-12, 12);
+  std::vector<Vector2d> p(static_cast<size_t>(n));
+  for (auto& q : p) q = {start(rng), start(rng)};
+  std::vector<std::vector<Vector2d>> states;
+  for (int k = 0; k < steps; ++k) {
+    for (auto& q : p) q += Vector2d(step(rng), step(rng));
+    states.push_back(p);
+  }
+  return states;
+}
+
 // The same, a window of `width` states at a time (BroadPhase::window, as between two samples).
 void expect_same_window_folds(const Team& t, const std::vector<std::vector<Vector2d>>& states, int width) {
   const marsyn::SpecMonitor monitor(t.pb);
@@ -121,15 +135,7 @@ TEST(BroadPhase, WindowsGiveTheAllPairsMinimaBitForBit) {
   for (int team = 0; team < 100; ++team) {
     const int n = 2 + static_cast<int>(rng() % 40);
     const Team t(n, rng, static_cast<int>(rng() % 4), team % 2 == 0, static_cast<int>(rng() % 3));
-    std::normal_distribution<double> step(0.0, 0.15);
-    std::uniform_real_distribution<double> start(-12, 12);
-    std::vector<Vector2d> p(static_cast<size_t>(n));
-    for (auto& q : p) q = {start(rng), start(rng)};
-    std::vector<std::vector<Vector2d>> states;
-    for (int k = 0; k < 76; ++k) {
-      for (auto& q : p) q += Vector2d(step(rng), step(rng));
-      states.push_back(p);
-    }
+    const std::vector<std::vector<Vector2d>> states = random_walks(rng, n, 76);
     SCOPED_TRACE("team " + std::to_string(team) + " of " + std::to_string(n) + " agents");
     expect_same_window_folds(t, states, 1 + team % 19);
   }
@@ -173,16 +179,7 @@ TEST(BroadPhase, RandomTeamsGiveTheAllPairsMinimaBitForBit) {
   for (int team = 0; team < 100; ++team) {
     const int n = 2 + static_cast<int>(rng() % 40);
     const Team t(n, rng, static_cast<int>(rng() % 4), team % 2 == 0, static_cast<int>(rng() % 3));
-    // Random walks from scattered starts: the running minima fall now and then, as in a run.
-    std::normal_distribution<double> step(0.0, 0.15);
-    std::uniform_real_distribution<double> start(-12, 12);
-    std::vector<Vector2d> p(static_cast<size_t>(n));
-    for (auto& q : p) q = {start(rng), start(rng)};
-    std::vector<std::vector<Vector2d>> states;
-    for (int k = 0; k < 60; ++k) {
-      for (auto& q : p) q += Vector2d(step(rng), step(rng));
-      states.push_back(p);
-    }
+    const std::vector<std::vector<Vector2d>> states = random_walks(rng, n, 60);
     SCOPED_TRACE("team " + std::to_string(team) + " of " + std::to_string(n) + " agents");
     expect_same_folds(t, states);
   }
