@@ -89,21 +89,97 @@ void expect_same_folds(const Team& t, const std::vector<std::vector<Vector2d>>& 
   }
 }
 
+// Random walks of n agents from scattered starts: the running minima fall now and then, as in a run.
+std::vector<std::vector<Vector2d>> random_walks(std::mt19937_64& rng, int n, int steps) {
+  std::normal_distribution<double> step(0.0, 0.15);
+  std::uniform_real_distribution<double> start(-12, 12);
+  std::vector<Vector2d> p(static_cast<size_t>(n));
+  for (auto& q : p) q = {start(rng), start(rng)};
+  std::vector<std::vector<Vector2d>> states;
+  for (int k = 0; k < steps; ++k) {
+    for (auto& q : p) q += Vector2d(step(rng), step(rng));
+    states.push_back(p);
+  }
+  return states;
+}
+
+// The same, a window of `width` states at a time (BroadPhase::window, as between two samples).
+void expect_same_window_folds(const Team& t, const std::vector<std::vector<Vector2d>>& states, int width) {
+  const marsyn::SpecMonitor monitor(t.pb);
+  marsyn::BroadPhase broad(t.pb);
+  marsyn::StepMargins fast, slow;
+  for (std::size_t k0 = 0; k0 < states.size(); k0 += static_cast<size_t>(width)) {
+    const int count = std::min(width, static_cast<int>(states.size() - k0));
+    const std::vector<std::vector<Vector2d>> window(states.begin() + static_cast<long>(k0),
+                                                    states.begin() + static_cast<long>(k0) + count);
+    broad.window(window, count, fast, {-1, false});
+    for (int s = 0; s < count; ++s) {
+      const std::size_t k = k0 + static_cast<size_t>(s);
+      std::string name;
+      const marsyn::StepMargins m = monitor.step(t.state(states[k]), &name);
+      const double before = slow.min();
+      slow = {std::min(slow.obstacle, m.obstacle), std::min(slow.collision, m.collision), std::min(slow.formation, m.formation)};
+      marsyn::planning::Requirement q{marsyn::planning::Requirement::Obstacle, -1, -1};
+      const bool fell = broad.accumulate_window(s, fast, &q);
+      ASSERT_TRUE(same_bits(fast.obstacle, slow.obstacle)) << "state " << k;
+      ASSERT_TRUE(same_bits(fast.collision, slow.collision)) << "state " << k;
+      ASSERT_TRUE(same_bits(fast.formation, slow.formation)) << "state " << k;
+      ASSERT_EQ(fell, slow.min() < before) << "state " << k;
+      if (fell) ASSERT_EQ(q.name(t.pb), name) << "state " << k;
+    }
+  }
+}
+
+TEST(BroadPhase, WindowsGiveTheAllPairsMinimaBitForBit) {
+  std::mt19937_64 rng(25);
+  for (int team = 0; team < 100; ++team) {
+    const int n = 2 + static_cast<int>(rng() % 40);
+    const Team t(n, rng, static_cast<int>(rng() % 4), team % 2 == 0, static_cast<int>(rng() % 3));
+    const std::vector<std::vector<Vector2d>> states = random_walks(rng, n, 76);
+    SCOPED_TRACE("team " + std::to_string(team) + " of " + std::to_string(n) + " agents");
+    expect_same_window_folds(t, states, 1 + team % 19);
+  }
+}
+
+TEST(BroadPhase, AWindowsNearMissInItsMiddleIsNotSkipped) {
+  // The first window sets the minima (agents 0 and 1 apart by 3 along y, agent 2 two metres
+  // right of the block); in the second, agents 3 and 4 and agent 2 come a hair inside those at
+  // the window's middle state only, far at its first and last.
+  std::mt19937_64 rng(4);
+  for (bool inf : {true, false}) {
+    Team t(5, rng, 0, inf, 0);
+    t.pb.obstacles.push_back({"block", {{0, 0}, {4, 0}, {4, 4}, {0, 4}}});
+    const std::vector<Vector2d> a = {{20, 0}, {20, 3}, {6, 2}, {-20, 10}, {-20, 20}};
+    std::vector<std::vector<Vector2d>> states(10, a);
+    for (int s = 5; s < 10; ++s) {
+      states[static_cast<size_t>(s)][2] = {9, 2};
+      states[static_cast<size_t>(s)][4] = {-20, 30};
+    }
+    states[7][2] = {6 - 1e-12, 2};
+    states[7][4] = {-20, 13 - 1e-12};
+    expect_same_window_folds(t, states, 5);
+    marsyn::BroadPhase broad(t.pb);
+    marsyn::StepMargins m;
+    broad.window(states, 5, m, {-1, false});
+    for (int s = 0; s < 5; ++s) broad.accumulate_window(s, m, nullptr);
+    const std::vector<std::vector<Vector2d>> second(states.begin() + 5, states.end());
+    broad.window(second, 5, m, {-1, false});
+    std::vector<std::string> names;
+    for (int s = 0; s < 5; ++s) {
+      marsyn::planning::Requirement q{};
+      names.push_back(broad.accumulate_window(s, m, &q) ? q.name(t.pb) : "");
+    }
+    EXPECT_EQ(names, (std::vector<std::string>{"", "", "obstacle block vs a2", "", ""}));
+    EXPECT_EQ(m.collision, 3 - 1e-12 - t.pb.delta);
+  }
+}
+
 TEST(BroadPhase, RandomTeamsGiveTheAllPairsMinimaBitForBit) {
   std::mt19937_64 rng(24);
   for (int team = 0; team < 100; ++team) {
     const int n = 2 + static_cast<int>(rng() % 40);
     const Team t(n, rng, static_cast<int>(rng() % 4), team % 2 == 0, static_cast<int>(rng() % 3));
-    // Random walks from scattered starts: the running minima fall now and then, as in a run.
-    std::normal_distribution<double> step(0.0, 0.15);
-    std::uniform_real_distribution<double> start(-12, 12);
-    std::vector<Vector2d> p(static_cast<size_t>(n));
-    for (auto& q : p) q = {start(rng), start(rng)};
-    std::vector<std::vector<Vector2d>> states;
-    for (int k = 0; k < 60; ++k) {
-      for (auto& q : p) q += Vector2d(step(rng), step(rng));
-      states.push_back(p);
-    }
+    const std::vector<std::vector<Vector2d>> states = random_walks(rng, n, 60);
     SCOPED_TRACE("team " + std::to_string(team) + " of " + std::to_string(n) + " agents");
     expect_same_folds(t, states);
   }
@@ -158,6 +234,57 @@ TEST(BroadPhase, NearMissesOfObstaclesAreNotSkipped) {
     expect_same_folds(t, {s1, s2, s3, s4});
     EXPECT_EQ(falls(t, {s1, s2, s3, s4}), (std::vector<std::string>{"obstacle block vs a0", "obstacle block vs a0",
                                                                      "obstacle block vs a1", "obstacle block vs a2"}));
+  }
+}
+
+// The adversary's target for every agent of a state, by the broad phase and by the full search
+// (the same point bit for bit, or neither finds one).
+void expect_same_targets(const Team& t, const std::vector<Vector2d>& p) {
+  marsyn::BroadPhase broad(t.pb);
+  broad.update(p);
+  for (int i = 0; i < static_cast<int>(p.size()); ++i) {
+    Vector2d fast(7, 7), slow(7, 7);
+    const bool f = broad.nearest_target(i, fast), s = marsyn::nearest_by_search(t.pb, i, p, slow);
+    ASSERT_EQ(f, s) << "agent " << i;
+    if (f) ASSERT_TRUE(same_bits(fast.x(), slow.x()) && same_bits(fast.y(), slow.y())) << "agent " << i;
+  }
+}
+
+TEST(BroadPhase, NearestTargetIsTheFullSearchsOnRandomTeams) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> at(-12, 12);
+  for (int team = 0; team < 100; ++team) {
+    Team t(1 + static_cast<int>(rng() % 30), rng, static_cast<int>(rng() % 4), team % 2 == 0, 0);
+    t.pb.pairwise_collision = team % 5 != 0;
+    std::vector<Vector2d> p(t.pb.agents.size());
+    for (auto& q : p) q = {at(rng), at(rng)};
+    // Some agents on a lattice: equal distances to several agents, ties broken by index.
+    for (std::size_t i = 0; i < p.size(); i += 3) p[i] = {std::round(p[i].x()), std::round(p[i].y())};
+    SCOPED_TRACE("team " + std::to_string(team));
+    expect_same_targets(t, p);
+  }
+}
+
+TEST(BroadPhase, AnObstacleAsNearAsTheNearestAgentIsTheTarget) {
+  // Agent 0 is 1 m from agent 1 and 1 m from the block's face, whose bounding box is as near as
+  // the block itself: the obstacle must still be searched (and wins the tie); then a hair
+  // farther, the agent wins.
+  std::mt19937_64 rng(3);
+  for (bool inf : {true, false}) {
+    Team t(2, rng, 0, inf, 0);
+    t.pb.obstacles.push_back({"block", {{0, 0}, {4, 0}, {4, 4}, {0, 4}}});
+    expect_same_targets(t, {{5, 2}, {5, 3}});
+    marsyn::BroadPhase broad(t.pb);
+    std::vector<Vector2d> p = {{5, 2}, {5, 3}};
+    broad.update(p);
+    Vector2d target;
+    ASSERT_TRUE(broad.nearest_target(0, target));
+    EXPECT_EQ(target, Vector2d(4, 2));
+    p[1] = {5, 3 - 1e-12};
+    broad.update(p);
+    ASSERT_TRUE(broad.nearest_target(0, target));
+    EXPECT_EQ(target, p[1]);
+    expect_same_targets(t, p);
   }
 }
 

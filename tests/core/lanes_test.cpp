@@ -4,6 +4,7 @@
 // hold: the verification's results must not depend on how runs were grouped (threads, ranks).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -64,6 +65,36 @@ TEST(Lanes, ElementaryFunctionsWithinFourUlpOfLibm) {
   }
   EXPECT_LE(worst, 4.0) << (marsyn::lanes_vector_math() ? "libmvec" : "libm lane by lane");
   if (!marsyn::lanes_vector_math()) EXPECT_EQ(worst, 0.0);
+}
+
+TEST(Lanes, SineAndCosineWithinFourUlpWhereTheReductionIsHardest) {
+  // Next to multiples of pi/2 (the result is the small remainder, all of whose bits the argument
+  // reduction must get), tiny and large angles, beyond the kernel's range (libm), and not finite.
+  std::vector<double> xs;
+  for (int k = -40000; k <= 40000; k += 7)
+    for (double d : {-3e-16, 0.0, 2e-16}) xs.push_back(k * 1.5707963267948966 * (1 + d));
+  for (int e = -300; e < 17; ++e) xs.push_back(std::ldexp(1.0, e)), xs.push_back(-std::ldexp(1.3, e));
+  for (double x : {1e5, 1e5 + 1, -2e5, 6.3e8, 1e300, 0.0, -0.0, 0.7853981633974483, 2.356194490192345}) xs.push_back(x);
+  while (xs.size() % marsyn::Lanes::kWidth != 0) xs.push_back(1.0);
+  double worst = 0;
+  for (std::size_t i = 0; i < xs.size(); i += marsyn::Lanes::kWidth) {
+    marsyn::Lanes a, s, c;
+    for (int l = 0; l < marsyn::Lanes::kWidth; ++l) a[l] = xs[i + static_cast<size_t>(l)];
+    marsyn::sincos(a, s, c);
+    const marsyn::Lanes s1 = marsyn::sin(a), c1 = marsyn::cos(a);
+    for (int l = 0; l < marsyn::Lanes::kWidth; ++l) {
+      SCOPED_TRACE(a[l]);
+      // sin() and cos() are sincos()'s halves, bit for bit.
+      ASSERT_TRUE(same_bits(s[l], s1[l]) && same_bits(c[l], c1[l]));
+      ASSERT_TRUE(std::signbit(s[l]) == std::signbit(std::sin(a[l])) || std::sin(a[l]) == 0);
+      worst = std::max({worst, ulps(s[l], std::sin(a[l])), ulps(c[l], std::cos(a[l]))});
+    }
+  }
+  EXPECT_LE(worst, 4.0);
+  marsyn::Lanes a(std::nan("")), s, c;
+  a[1] = INFINITY;
+  marsyn::sincos(a, s, c);
+  for (int l = 0; l < marsyn::Lanes::kWidth; ++l) EXPECT_TRUE(std::isnan(s[l]) && std::isnan(c[l]));
 }
 
 // The lane-by-lane loop a hand-written Dynamics inherits, against a model's own Lanes field.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 namespace marsyn {
@@ -22,6 +23,24 @@ Eigen::Vector2d nearest_on_polygon(const planning::Polygon& poly, const Eigen::V
     }
   }
   return best;
+}
+
+bool nearest_by_search(const Problem& pb, int i, const std::vector<Eigen::Vector2d>& pts, Eigen::Vector2d& target) {
+  double bd = 1e300;
+  for (const auto& o : pb.obstacles) {
+    const Eigen::Vector2d q = nearest_on_polygon(o.vertices, pts[i]);
+    if ((q - pts[i]).norm() < bd) {
+      bd = (q - pts[i]).norm();
+      target = q;
+    }
+  }
+  if (pb.pairwise_collision)
+    for (std::size_t j = 0; j < pts.size(); ++j)
+      if (static_cast<int>(j) != i && (pts[j] - pts[i]).norm() < bd) {
+        bd = (pts[j] - pts[i]).norm();
+        target = pts[j];
+      }
+  return bd < 1e300;
 }
 
 namespace {
@@ -79,6 +98,28 @@ long BroadPhase::rank(const Requirement& q) const {
   return n * obstacles + pairs + q.index;
 }
 
+void BroadPhase::fold_one(const Requirement& q, const std::vector<Eigen::Vector2d>& p, double& slot, double& best,
+                          long& best_rank, Requirement* worst) const {
+  const double v = planning::requirement_margin(pb_, q, p);
+  slot = std::min(slot, v);
+  if (v < best || (v == best && best_rank >= 0 && rank(q) < best_rank)) {
+    best = v;
+    best_rank = rank(q);
+    if (worst) *worst = q;
+  }
+}
+
+bool BroadPhase::obstacle_clears(const StepMargins& run, int o, const Eigen::Vector2d& at) const {
+  // Outside its bounding box, a point is at least as far from the obstacle as from the box.
+  const Eigen::Vector2d g = outside(bbox_[static_cast<size_t>(o)], at);
+  const double lb = (pb_.delta_norm == Norm::Inf ? g.maxCoeff() : g.norm()) - pb_.delta;  // no bound inside the box
+  return (g.x() > 0 || g.y() > 0) && lb > run.obstacle + slack(run.obstacle, scale_ + at.cwiseAbs().maxCoeff());
+}
+
+double BroadPhase::pair_reach(const StepMargins& run) const {
+  return run.collision + pb_.delta + slack(run.collision, pb_.delta);
+}
+
 bool BroadPhase::accumulate(StepMargins& run, Requirement* worst, planning::Moment when) const {
   const std::vector<Eigen::Vector2d>& p = *pts_;
   const int n = static_cast<int>(p.size());
@@ -86,30 +127,18 @@ bool BroadPhase::accumulate(StepMargins& run, Requirement* worst, planning::Mome
   // step()'s strict-less scan in requirement order names exactly that one.
   double best = run.min();
   long best_rank = -1;
-  auto fold = [&](const Requirement& q, double& slot) {
-    const double v = planning::requirement_margin(pb_, q, p);
-    slot = std::min(slot, v);
-    if (v < best || (v == best && best_rank >= 0 && rank(q) < best_rank)) {
-      best = v;
-      best_rank = rank(q);
-      if (worst) *worst = q;
-    }
-  };
-  const bool inf = pb_.delta_norm == Norm::Inf;
+  auto fold = [&](const Requirement& q, double& slot) { fold_one(q, p, slot, best, best_rank, worst); };
   const double delta = pb_.delta;
   const bool windowed = when.k >= 0 && windows_ && windows_->any();
   for (int i = 0; i < n; ++i)
     for (int o = 0; o < static_cast<int>(bbox_.size()); ++o) {
       if (windowed && !windows_->binds(i, o, when)) continue;
-      // Outside its bounding box, a point is at least as far from the obstacle as from the box.
-      const Eigen::Vector2d g = outside(bbox_[static_cast<size_t>(o)], p[static_cast<size_t>(i)]);
-      const double lb = (inf ? g.maxCoeff() : g.norm()) - delta;  // no bound inside the box
-      if ((g.x() > 0 || g.y() > 0) && lb > run.obstacle + slack(run.obstacle, scale_ + p[static_cast<size_t>(i)].cwiseAbs().maxCoeff())) continue;
+      if (obstacle_clears(run, o, p[static_cast<size_t>(i)])) continue;
       fold({Requirement::Obstacle, i, o}, run.obstacle);
     }
   if (pb_.pairwise_collision) {
     // A pair is at least as far apart as along either axis, in both norms.
-    auto reach = [&] { return run.collision + delta + slack(run.collision, delta); };
+    auto reach = [&] { return pair_reach(run); };
     for (int a = 0; a < n; ++a) {
       const int i = finite_ ? order_[static_cast<size_t>(a)] : a;
       double r = reach();
@@ -129,13 +158,132 @@ bool BroadPhase::accumulate(StepMargins& run, Requirement* worst, planning::Mome
   return best_rank >= 0;
 }
 
+void BroadPhase::window(const std::vector<std::vector<Eigen::Vector2d>>& states, int count, const StepMargins& run,
+                        planning::Moment when) {
+  window_ = &states;
+  candidates_.clear();
+  const int n = static_cast<int>(pb_.agents.size());
+  boxes_.resize(static_cast<size_t>(n));
+  bool finite = true;
+  double mag = 0;  // the largest coordinate: the slack's scale for a difference of two
+  for (int i = 0; i < n; ++i) {
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    double xl = kInf, yl = kInf, xh = -kInf, yh = -kInf;
+    for (int s = 0; s < count; ++s) {
+      const Eigen::Vector2d& q = states[static_cast<size_t>(s)][static_cast<size_t>(i)];
+      finite = finite && (q.x() - q.x()) + (q.y() - q.y()) == 0;  // false for inf and NaN
+      xl = std::min(xl, q.x());
+      yl = std::min(yl, q.y());
+      xh = std::max(xh, q.x());
+      yh = std::max(yh, q.y());
+    }
+    boxes_[static_cast<size_t>(i)] = {xl, yl, xh, yh};
+    mag = std::max({mag, std::abs(xl), std::abs(yl), std::abs(xh), std::abs(yh)});
+  }
+  const bool inf = pb_.delta_norm == Norm::Inf;
+  const double delta = pb_.delta;
+  const bool windowed = when.k >= 0 && windows_ && windows_->any();
+  for (int i = 0; i < n; ++i)
+    for (int o = 0; o < static_cast<int>(bbox_.size()); ++o) {
+      if (windowed && !windows_->binds(i, o, when)) continue;
+      // Every point of the agent's box is at least as far from the obstacle as the two boxes
+      // are apart along x and along y.
+      const Eigen::Vector4d &a = boxes_[static_cast<size_t>(i)], &b = bbox_[static_cast<size_t>(o)];
+      const Eigen::Vector2d g(std::max({b[0] - a[2], a[0] - b[2], 0.0}), std::max({b[1] - a[3], a[1] - b[3], 0.0}));
+      const double lb = (inf ? g.maxCoeff() : g.norm()) - delta;
+      if (finite && (g.x() > 0 || g.y() > 0) && lb > run.obstacle + slack(run.obstacle, scale_ + mag)) continue;
+      candidates_.push_back({Requirement::Obstacle, i, o});
+    }
+  if (!pb_.pairwise_collision) return;
+  if (static_cast<int>(box_order_.size()) != n) {
+    box_order_.resize(static_cast<size_t>(n));
+    std::iota(box_order_.begin(), box_order_.end(), 0);
+  }
+  if (!finite) {
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j) candidates_.push_back({Requirement::Collision, i, j});
+    return;
+  }
+  // By increasing x_lo (insertion sort from the last window's order: the boxes move little).
+  for (int a = 1; a < n; ++a) {
+    const int v = box_order_[static_cast<size_t>(a)];
+    int b = a;
+    for (; b > 0 && boxes_[static_cast<size_t>(box_order_[static_cast<size_t>(b - 1)])][0] > boxes_[static_cast<size_t>(v)][0]; --b)
+      box_order_[static_cast<size_t>(b)] = box_order_[static_cast<size_t>(b - 1)];
+    box_order_[static_cast<size_t>(b)] = v;
+  }
+  // Two points of the boxes are at least as far apart as the boxes along either axis, in both norms.
+  const double r = run.collision + delta + slack(run.collision, delta + mag);
+  for (int a = 0; a < n; ++a) {
+    const int i = box_order_[static_cast<size_t>(a)];
+    const Eigen::Vector4d& bi = boxes_[static_cast<size_t>(i)];
+    for (int b = a + 1; b < n; ++b) {
+      const int j = box_order_[static_cast<size_t>(b)];
+      const Eigen::Vector4d& bj = boxes_[static_cast<size_t>(j)];
+      if (bj[0] - bi[2] > r) break;  // sorted by x_lo: every later box is as far along x
+      if (std::max(bj[1] - bi[3], bi[1] - bj[3]) > r) continue;
+      candidates_.push_back({Requirement::Collision, std::min(i, j), std::max(i, j)});
+    }
+  }
+}
+
+bool BroadPhase::accumulate_window(int s, StepMargins& run, Requirement* worst) const {
+  const std::vector<Eigen::Vector2d>& p = (*window_)[static_cast<size_t>(s)];
+  double best = run.min();
+  long best_rank = -1;
+  auto fold = [&](const Requirement& q, double& slot) { fold_one(q, p, slot, best, best_rank, worst); };
+  // The point-level rules of accumulate() at this state, against the minima as they now stand.
+  for (const Requirement& q : candidates_) {
+    if (q.kind == Requirement::Obstacle) {
+      if (!obstacle_clears(run, q.b, p[static_cast<size_t>(q.a)])) fold(q, run.obstacle);
+      continue;
+    }
+    const Eigen::Vector2d d = p[static_cast<size_t>(q.b)] - p[static_cast<size_t>(q.a)];
+    const double r = pair_reach(run);
+    if (!(std::abs(d.x()) > r || std::abs(d.y()) > r)) fold(q, run.collision);
+  }
+  for (int q = 0; q < static_cast<int>(pb_.formation.size()); ++q)
+    fold({Requirement::Formation, pb_.formation[static_cast<size_t>(q)].i, pb_.formation[static_cast<size_t>(q)].j, q},
+         run.formation);
+  return best_rank >= 0;
+}
+
 bool BroadPhase::nearest_target(int i, Eigen::Vector2d& target) const {
   const std::vector<Eigen::Vector2d>& p = *pts_;
   const Eigen::Vector2d& at = p[static_cast<size_t>(i)];
+  // The nearest other agent first (smallest distance, then smallest index): its distance bounds
+  // the obstacles worth a polygon search, which is most of the cost where an agent is near.
+  double ad = 1e300;
+  int bj = -1;
+  if (pb_.pairwise_collision) {
+    auto consider = [&](int j) {
+      const double d = (p[static_cast<size_t>(j)] - at).norm();
+      if (d < ad || (d == ad && j < bj)) {
+        ad = d;
+        bj = j;
+      }
+    };
+    const int n = static_cast<int>(p.size());
+    if (!finite_) {
+      for (int j = 0; j < n; ++j)
+        if (j != i) consider(j);
+    } else {
+      const int mine = place_[static_cast<size_t>(i)];
+      for (int b = mine + 1; b < n && p[static_cast<size_t>(order_[static_cast<size_t>(b)])].x() - at.x() <= ad + slack(ad, 0); ++b)
+        consider(order_[static_cast<size_t>(b)]);
+      for (int b = mine - 1; b >= 0 && at.x() - p[static_cast<size_t>(order_[static_cast<size_t>(b)])].x() <= ad + slack(ad, 0); --b)
+        consider(order_[static_cast<size_t>(b)]);
+    }
+  }
+  // An obstacle wins at a distance up to the agent's (the full search scans obstacles first and
+  // takes an agent only when strictly nearer); among obstacles, the first of the smallest. One
+  // whose bounding box is farther than the agent by more than the slack cannot win.
   double bd = 1e300;
   bool found = false;
   for (std::size_t o = 0; o < bbox_.size(); ++o) {
-    if (outside(bbox_[o], at).norm() > bd + slack(bd, scale_ + at.cwiseAbs().maxCoeff())) continue;
+    const double lb = outside(bbox_[o], at).norm();
+    const double bound = std::min(bd, ad);
+    if (lb > bound + slack(bound, scale_ + at.cwiseAbs().maxCoeff())) continue;
     const Eigen::Vector2d q = nearest_on_polygon(pb_.obstacles[o].vertices, at);
     if ((q - at).norm() < bd) {
       bd = (q - at).norm();
@@ -143,30 +291,11 @@ bool BroadPhase::nearest_target(int i, Eigen::Vector2d& target) const {
       found = true;
     }
   }
-  if (!pb_.pairwise_collision) return found;
-  // An agent wins only strictly nearer than the obstacle; among agents, the smallest index.
-  int bj = -1;
-  auto consider = [&](int j) {
-    const double d = (p[static_cast<size_t>(j)] - at).norm();
-    if (d < bd || (d == bd && bj >= 0 && j < bj)) {
-      bd = d;
-      bj = j;
-    }
-  };
-  const int n = static_cast<int>(p.size());
-  if (!finite_) {
-    for (int j = 0; j < n; ++j)
-      if (j != i) consider(j);
-  } else {
-    const int mine = place_[static_cast<size_t>(i)];
-    for (int b = mine + 1; b < n && p[static_cast<size_t>(order_[static_cast<size_t>(b)])].x() - at.x() <= bd + slack(bd, 0); ++b)
-      consider(order_[static_cast<size_t>(b)]);
-    for (int b = mine - 1; b >= 0 && at.x() - p[static_cast<size_t>(order_[static_cast<size_t>(b)])].x() <= bd + slack(bd, 0); --b)
-      consider(order_[static_cast<size_t>(b)]);
+  if (bj >= 0 && !(found && bd <= ad)) {
+    target = p[static_cast<size_t>(bj)];
+    return true;
   }
-  if (bj < 0) return found;
-  target = p[static_cast<size_t>(bj)];
-  return true;
+  return found;
 }
 
 }  // namespace marsyn

@@ -72,26 +72,6 @@ class DisturbanceSource {
   std::mt19937_64 rng_;
 };
 
-// The adversary's target for agent i by a search over every obstacle and agent (the reference of
-// BroadPhase::nearest_target, which must find the same one).
-bool nearest_by_search(const Problem& pb, int i, const std::vector<Eigen::Vector2d>& pts, Eigen::Vector2d& target) {
-  double bd = 1e300;
-  for (const auto& o : pb.obstacles) {
-    const Eigen::Vector2d q = nearest_on_polygon(o.vertices, pts[i]);
-    if ((q - pts[i]).norm() < bd) {
-      bd = (q - pts[i]).norm();
-      target = q;
-    }
-  }
-  if (pb.pairwise_collision)
-    for (std::size_t j = 0; j < pts.size(); ++j)
-      if (static_cast<int>(j) != i && (pts[j] - pts[i]).norm() < bd) {
-        bd = (pts[j] - pts[i]).norm();
-        target = pts[j];
-      }
-  return bd < 1e300;
-}
-
 // The adversary's vertex for an agent at p: on the coordinates its workspace point reads
 // linearly, the sign that moves the point toward the target.
 void push_toward(const AgentSpec& a, const Eigen::Vector2d& p, const Eigen::Vector2d& target, Eigen::VectorXd& w) {
@@ -134,6 +114,7 @@ struct Lane {
   Eigen::VectorXd prod;
   std::vector<Eigen::Vector2d> pts;
   BroadPhase broad;  // keeps a pointer to pts: a Lane does not move once built
+  std::vector<std::vector<Eigen::Vector2d>> window;  // the points at the substeps between two samples
   StepMargins at_samples;
   bool adversary;
 };
@@ -154,6 +135,13 @@ class Batch {
       for (Lane& r : lanes_) r.broad.windows(&s.between->windows());
     any_adversary_ = std::any_of(lanes_.begin(), lanes_.end(), [](const Lane& r) { return r.adversary; });
     track_points_ = s.between || any_adversary_ || s.keep_dense;
+    // The dense check a period at a time (BroadPhase::window): the plain verification runs. The
+    // kept runs keep every substep's margins, the reference checks every pair, and a stage
+    // dwelling over a period is judged against the minima as they stand at each substep.
+    windowed_ = s.between && !s.keep_dense && !s.all_pairs && !s.between->has_stages() && S_ > 1;
+    if (windowed_)
+      for (Lane& r : lanes_)
+        r.window.assign(static_cast<size_t>(S_ - 1), std::vector<Eigen::Vector2d>(static_cast<size_t>(N_)));
     // The integrator's view: per agent, its state, input and disturbance as Lanes (one lane per
     // run; lanes past L repeat run 0 so that they compute ordinary numbers, which are dropped).
     X_.resize(N_);
@@ -183,10 +171,16 @@ class Batch {
           if (r.adversary) push_adversary(r, sub);
         integrate(sub);
         for (Lane& r : lanes_) {
+          if (windowed_ && sub + 1 < S_) {
+            window_points(r, sub);
+            continue;
+          }
           points(r);
           if (sub + 1 < S_) between(r, k, sub);
         }
       }
+      if (windowed_)
+        for (Lane& r : lanes_) fold_window(r, k);
       for (Lane& r : lanes_) record(r, k + 1);
     }
     std::vector<ClosedLoopRun> out;
@@ -223,6 +217,28 @@ class Batch {
     if (!track_points_) return;
     for (int i = 0; i < N_; ++i) workspace_point<double>(*pb_.agents[i].dynamics, pb_.agents[i].workspace, r.x[i].data(), r.pts[i].data());
     r.broad.update(r.pts);
+  }
+
+  // The points at substep sub into the lane's window; the adversary also needs them now.
+  void window_points(Lane& r, int sub) const {
+    std::vector<Eigen::Vector2d>& p = r.window[static_cast<size_t>(sub)];
+    for (int i = 0; i < N_; ++i) workspace_point<double>(*pb_.agents[i].dynamics, pb_.agents[i].workspace, r.x[i].data(), p[i].data());
+    if (r.adversary) {
+      r.pts = p;
+      r.broad.update(r.pts);
+    }
+  }
+
+  // The dense check of the substeps between samples k and k + 1, in order, over the window's
+  // candidates: what between() finds at each of them.
+  void fold_window(Lane& r, int k) const {
+    r.broad.window(r.window, S_ - 1, r.run.between, {k, true});
+    for (int sub = 0; sub + 1 < S_; ++sub) {
+      planning::Requirement q{planning::Requirement::Obstacle, -1, -1};
+      if (!r.broad.accumulate_window(sub, r.run.between, &q)) continue;
+      r.run.between_worst = q.name(pb_);
+      r.run.between_worst_t = (k + static_cast<double>(sub + 1) / S_) * pb_.tau;
+    }
   }
 
   // running = min(running, the spec at the current state) part by part; true, with the
@@ -342,7 +358,7 @@ class Batch {
   const int N_, S_, L_;
   const bool closed_;
   std::vector<Lane> lanes_;
-  bool any_adversary_ = false, track_points_ = false;
+  bool any_adversary_ = false, track_points_ = false, windowed_ = false;
   std::vector<std::vector<Lanes>> X_, U_, W_, next_;
 };
 

@@ -28,6 +28,15 @@ class Unicycle : public DynamicsModel<Unicycle> {
     dx[1] = u[0] * sin(x[2]);
     dx[2] = u[1];
   }
+  // Four verification runs at once: sine and cosine from one argument reduction (lanes.hpp), the
+  // values sin() and cos() give apart.
+  void vector_field(const Lanes* x, const Lanes* u, Lanes* dx) const {
+    Lanes s, c;
+    sincos(x[2], s, c);
+    dx[0] = u[0] * c;
+    dx[1] = u[0] * s;
+    dx[2] = u[1];
+  }
   // The planner's Jacobians evaluate this once per RK4 stage and agent: one sine and cosine and
   // no dual temporaries, with the arithmetic of the generic form above (same values bit for bit).
   void vector_field(const DualD* x, const DualD* u, DualD* dx) const {

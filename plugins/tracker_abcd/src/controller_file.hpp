@@ -67,6 +67,9 @@ class GridController : public marsyn::Controller {
   ControllerData data_;
   UniformGrid grid_;
   InputGrid ugrid_;
+  // ugrid_.value(j) for every j, row j at j * m, when it has at most kInputTableMax doubles.
+  static constexpr std::int64_t kInputTableMax = 1 << 16;
+  std::vector<double> input_table_;
 };
 
 std::string serialize(const ControllerData& d);
