@@ -69,7 +69,7 @@ TEST(Lanes, ElementaryFunctionsWithinFourUlpOfLibm) {
 
 TEST(Lanes, SineAndCosineWithinFourUlpWhereTheReductionIsHardest) {
   // Next to multiples of pi/2 (the result is the small remainder, all of whose bits the argument
-  // reduction must get), tiny and large angles, beyond the kernel's range (libm), and not finite.
+  // reduction must get), tiny and large angles, and not finite.
   std::vector<double> xs;
   for (int k = -40000; k <= 40000; k += 7)
     for (double d : {-3e-16, 0.0, 2e-16}) xs.push_back(k * 1.5707963267948966 * (1 + d));
