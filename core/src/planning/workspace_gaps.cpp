@@ -165,13 +165,15 @@ double start_eps_factor(const Problem& problem) {
   return f;
 }
 
+double position_eps(const AgentSpec& a) {
+  if (!a.workspace.linear()) return -1;
+  double e = 0;
+  for (int i : a.workspace.index)
+    if (i >= 0 && i < a.tube.eps.size()) e = std::max(e, a.tube.eps[i]);
+  return e;
+}
+
 double formation_eps_factor(const Problem& problem) {
-  auto position_eps = [&](const AgentSpec& a) {
-    double e = 0;
-    for (int i : a.workspace.index)
-      if (i >= 0 && i < a.tube.eps.size()) e = std::max(e, a.tube.eps[i]);
-    return e;
-  };
   double f = 1.0;
   for (const auto& p : problem.formation) {
     const AgentSpec &a = problem.agents[p.i], &b = problem.agents[p.j];

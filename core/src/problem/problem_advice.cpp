@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "marsyn/core/planning/workspace_gaps.hpp"
 #include "marsyn/memory_budget.hpp"
 #include "marsyn/number_text.hpp"
 
@@ -22,14 +23,6 @@ std::string coordinate(const AgentSpec& a, int i) {
   return i < static_cast<int>(names.size()) ? "'" + names[i] + "'" : "coordinate " + std::to_string(i);
 }
 
-// The largest eps of the agent's two workspace coordinates (linear map only), or -1.
-double position_eps(const AgentSpec& a) {
-  if (!a.workspace.linear()) return -1;
-  double e = 0;
-  for (int i : a.workspace.index)
-    if (i >= 0 && i < a.tube.eps.size()) e = std::max(e, a.tube.eps[i]);
-  return e;
-}
 
 }  // namespace
 
@@ -99,7 +92,7 @@ Advice advise(const LoadedProblem& lp) {
   // Two agents' tubes can change their distance by up to sqrt(2) (eps_i + eps_j) in position
   // (a box's diagonal each): a formation tolerance mu below that leaves no robust plan.
   for (const auto& f : pb.formation) {
-    const double ei = position_eps(pb.agents[f.i]), ej = position_eps(pb.agents[f.j]);
+    const double ei = planning::position_eps(pb.agents[f.i]), ej = planning::position_eps(pb.agents[f.j]);
     if (ei < 0 || ej < 0) continue;
     const double change = std::sqrt(2.0) * (ei + ej);
     if (!(change < f.mu))

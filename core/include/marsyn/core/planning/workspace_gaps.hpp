@@ -52,6 +52,9 @@ std::string describe(const CrowdedStart& c, const Problem& problem);
 // CrowdedStart::eps_factor), or 1 when no start is crowded.
 double start_eps_factor(const Problem& problem);
 
+// The larger eps of an agent's two workspace coordinates (linear map only), or -1.
+double position_eps(const AgentSpec& agent);
+
 // Two tubes can change a formation pair's distance by up to sqrt(2) (eps_i + eps_j) in position
 // (each agent's larger position eps, a box's diagonal each; linear workspaces only). The factor on
 // every eps that brings that to 0.7 mu for every pair, when some pair is at or above mu (a
