@@ -6,6 +6,7 @@
 #include <sstream>
 #include <variant>
 
+#include "marsyn/core/planning/goal_room.hpp"
 #include "marsyn/core/planning/workspace_gaps.hpp"
 #include "marsyn/core/problem/agent_checks.hpp"
 #include "marsyn/number_text.hpp"
@@ -109,7 +110,7 @@ std::vector<LeverChoice> levers_for(const Failure& f, const std::vector<TrackerL
     // The planning stage lengthened the horizon already: longer still, then a narrower tube.
     // Starts too crowded for the tubes (planning/workspace_gaps.hpp): no horizon can help.
     case Failure::Plan:
-      if (f.start_eps_factor < 1 || f.formation_eps_factor < 1) return {{Lever::ShrinkEps, ""}};
+      if (f.start_eps_factor < 1 || f.formation_eps_factor < 1 || f.goal_eps_factor < 1) return {{Lever::ShrinkEps, ""}};
       return {{Lever::LongerHorizon, ""}, {Lever::ShrinkEps, ""}};
     case Failure::Certification: return {{Lever::MoreClearance, ""}};
     case Failure::NoController: break;
@@ -252,18 +253,24 @@ class Proposer {
   void shrink_eps() {
     const double start = planning::start_eps_factor(*team_.problem);
     const double formation = planning::formation_eps_factor(*team_.problem);
+    const double goal = planning::goal_eps_factor(*team_.problem);
     if (start <= 0.05) {
       p_.why_not = "the starts are too close for any tube (eps x " + number_text(start, 3) + ")";
       return;
     }
+    if (goal <= 0.05) {
+      p_.why_not = "a goal leaves no room for any tube (eps x " + number_text(goal, 3) + ")";
+      return;
+    }
     std::vector<int> everyone(p_.agents.size());
     for (std::size_t i = 0; i < everyone.size(); ++i) everyone[i] = static_cast<int>(i);
-    const double factor = std::min({0.8, 0.95 * start, formation});
+    const double factor = std::min({0.8, 0.95 * start, 0.95 * goal, formation});
     scale_eps(everyone, factor, {});
+    const char* why = formation <= factor            ? " (what the formation's tolerance needs)"
+                      : 0.95 * start <= factor       ? " (what the crowded starts need)"
+                                                     : " (what the goals without room need)";
     if (factor < 0.8 && !p_.changed.empty())  // the lever's name says 0.8: say why this round went further
-      p_.changes.push_back({"", "eps factor", "0.8",
-                            number_text(factor, 3) + (formation < 0.95 * start ? " (what the formation's tolerance needs)"
-                                                                                : " (what the crowded starts need)")});
+      p_.changes.push_back({"", "eps factor", "0.8", number_text(factor, 3) + why});
     if (p_.changed.empty()) p_.why_not = "no agent's tracker accepts a smaller eps" + refusals();
   }
 

@@ -10,6 +10,7 @@
 
 #include "marsyn/core/stopwatch.hpp"
 #include "marsyn/core/verification/run_progress.hpp"
+#include "marsyn/core/planning/goal_room.hpp"
 #include "marsyn/core/planning/workspace_gaps.hpp"
 #include "marsyn/core/tracking/mpi_plan_broadcast.hpp"
 #include "marsyn/core/search_auto.hpp"
@@ -195,7 +196,10 @@ Failure Search::plan(SearchRound& round, double time_left) {
   if (!out_.plan.feasible) {
     Failure f{Failure::Plan, "planning failed: " + out_.plan.check.message, {}, {}};
     for (const auto& pa : out_.plan.attempts) f.longest_horizon = std::max(f.longest_horizon, pa.horizon);
-    if (out_.plan.attempts.empty()) f.start_eps_factor = planning::start_eps_factor(pb_);
+    if (out_.plan.attempts.empty()) {
+      f.start_eps_factor = planning::start_eps_factor(pb_);
+      f.goal_eps_factor = planning::goal_eps_factor(pb_);
+    }
     f.formation_eps_factor = planning::formation_eps_factor(pb_);
     return f;
   }

@@ -244,6 +244,53 @@ TEST(SearchReasons, CrowdedStartsShrinkEpsAsFarAsTheyNeedWithoutTryingHorizons) 
   EXPECT_EQ(o.search.rounds[1].horizon, 40);
 }
 
+// Two unicycles parking beside a wall: each goal's far end keeps 0.25 - 0.3 f from delta plus the
+// tube at eps x f (docs/search.md), so no horizon can help; the search shrinks eps at once to
+// 0.95 x 0.833 instead of lengthening the horizon four times and then shrinking by 0.8.
+TEST(SearchReasons, AGoalWithoutRoomShrinksEpsAsFarAsItNeedsWithoutTryingHorizons) {
+  Failure f{Failure::Plan, "planning failed", {}, {}};
+  f.goal_eps_factor = 0.9;
+  EXPECT_EQ(marsyn::search::levers_for(f, kDeclared), (std::vector<LeverChoice>{{Lever::ShrinkEps, ""}}));
+
+  const auto path = std::filesystem::temp_directory_path() / "marsyn_goal_without_room.yaml";
+  std::ofstream(path) << R"(name: dock
+tau: 0.1
+horizon: 60
+delta: 0.15
+delta_norm: inf
+planner: altro
+tracker: funnel
+defaults:
+  dynamics: unicycle
+  state_bounds: {lo: [-1, -1, -3.2], hi: [7, 6, 3.2]}
+  input_bounds: {lo: [-1.5, -1.5], hi: [1.5, 1.5]}
+  disturbance: [0.01, 0.01, 0.01]
+  eps: [0.15, 0.15, 0.3]
+  workspace: {position: [0, 1]}
+obstacles:
+  - {name: wall, box: {lo: [5.25, 0], hi: [5.6, 5]}}
+agents:
+  - {name: a, x0: [0, 1, 0], goal: {center: [5.05, 1, 0], radius: [0.2, 0.2, 0.6]}}
+  - {name: b, x0: [0, 4, 0], goal: {center: [4.5, 4, 0], radius: [0.2, 0.2, 0.6]}}
+)";
+  const auto lp = marsyn::load_problem(path.string());
+  const marsyn::SolveOutcome o = marsyn::solve(lp, quick());
+  EXPECT_TRUE(o.verified) << o.search.message();
+  ASSERT_GE(o.search.rounds.size(), 2u);
+  EXPECT_NE(o.search.rounds[0].outcome.find("no eps-robust plan at any horizon: a's goal leaves no room for its tube "
+                                            "beside obstacle wall"),
+            std::string::npos)
+      << o.search.rounds[0].outcome;
+  EXPECT_EQ(actions(o)[1], "shrink eps by 0.8 and re-plan");
+  const auto& ch = o.search.rounds[1].changes;
+  ASSERT_EQ(ch.size(), 3u);  // both agents' eps and the factor's reason
+  EXPECT_EQ(ch[0].to, "(0.11875,0.11875,0.2375)");  // 0.95 x 0.8333
+  EXPECT_EQ(ch[2].what, "eps factor");
+  EXPECT_NE(ch[2].to.find("what the goals without room need"), std::string::npos) << ch[2].to;
+  EXPECT_EQ(o.search.rounds[1].horizon, 60);
+  EXPECT_EQ(o.search.rounds.size(), 2u);
+}
+
 // Three hovercraft in a triangle, tolerance mu 0.35, written eps 0.25 in position: two tubes can
 // change a pair's distance by 0.71 > mu. A longer horizon cannot help; the search shrinks eps at
 // once to where the formation leaves room (0.7 mu), instead of horizons and then x 0.8 four

@@ -7,6 +7,7 @@
 
 #include "marsyn/core/planning/projector.hpp"
 #include "marsyn/core/planning/routes.hpp"
+#include "marsyn/core/planning/goal_room.hpp"
 #include "marsyn/core/planning/workspace_gaps.hpp"
 #include "marsyn/core/stopwatch.hpp"
 
@@ -305,6 +306,19 @@ PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearc
                          (crowded > 1 ? " (" + std::to_string(crowded) + " crowded starts)" : std::string());
     if (options.log)
       for (const auto& c : starts) options.log("crowded start: " + describe(c, problem));
+    none.total_time_s = clock.seconds();
+    return none;
+  }
+  // Goals too small (or too close to an obstacle or to each other) for the tubes: the same.
+  std::size_t cramped = 0;
+  const auto goals = crowded_goals(problem, 3, &cramped);
+  if (!goals.empty()) {
+    PlanOutcome none;
+    none.check.min_margin = -std::numeric_limits<double>::infinity();
+    none.check.message = "no eps-robust plan at any horizon: " + describe(goals.front(), problem) +
+                         (cramped > 1 ? " (" + std::to_string(cramped) + " goals without room)" : std::string());
+    if (options.log)
+      for (const auto& c : goals) options.log("goal without room: " + describe(c, problem));
     none.total_time_s = clock.seconds();
     return none;
   }

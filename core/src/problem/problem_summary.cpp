@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "marsyn/core/planning/mission.hpp"
+#include "marsyn/core/planning/goal_room.hpp"
 #include "marsyn/core/planning/workspace_gaps.hpp"
 #include "marsyn/number_text.hpp"
 
@@ -92,6 +93,9 @@ std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& track
   std::size_t crowded = 0;
   for (const auto& c : planning::crowded_starts(pb, 5, &crowded)) s << "warning: " << planning::describe(c, pb) << "\n";
   if (crowded > 5) s << "warning: " << crowded - 5 << " more crowded starts\n";
+  std::size_t goals = 0;
+  for (const auto& c : planning::crowded_goals(pb, 5, &goals)) s << "warning: " << planning::describe(c, pb) << "\n";
+  if (goals > 5) s << "warning: " << goals - 5 << " more goals without room\n";
   return s.str();
 }
 

@@ -68,6 +68,9 @@ struct Failure {
   // Plan: below 1 when a formation's tolerance is within what the tubes alone can change
   // (planning::formation_eps_factor): a longer horizon cannot help either.
   double formation_eps_factor = 1.0;
+  // The factor on eps that leaves every goal room for the tubes (planning::goal_eps_factor):
+  // a longer horizon cannot help either.
+  double goal_eps_factor = 1.0;
 };
 
 // The share (0..1) of the steps on which some input of `u` lies within 1e-6 of U's range of a bound.
