@@ -295,7 +295,7 @@ void print_search_summary(const SolveOutcome& out) {
   std::printf("search        %s\n", out.search.message().c_str());
   // Every change the search made to what the file says, per agent, with the failure it answered.
   for (const auto& r : out.search.rounds)
-    for (const auto& c : r.changes)
+    for (const auto& c : grouped(r.changes, out.problem.agents.size()))
       std::printf("  %-12s %s %s -> %s (round %d: %s)\n", c.agent.empty() ? "(team)" : c.agent.c_str(), c.what.c_str(),
                   c.from.c_str(), c.to.c_str(), r.index, r.reason.c_str());
 }

@@ -5,6 +5,38 @@
 
 namespace marsyn {
 
+std::vector<SearchChange> grouped(const std::vector<SearchChange>& changes, std::size_t team_size) {
+  std::vector<SearchChange> out;
+  std::vector<std::vector<std::string>> who;  // per entry of out: the agents it stands for
+  for (const auto& c : changes) {
+    std::size_t at = 0;
+    while (at < out.size() && (c.agent.empty() || who[at].empty() || out[at].what != c.what || out[at].from != c.from ||
+                               out[at].to != c.to))
+      ++at;
+    if (at == out.size()) {
+      out.push_back(c);
+      who.push_back(c.agent.empty() ? std::vector<std::string>{} : std::vector<std::string>{c.agent});
+    } else {
+      who[at].push_back(c.agent);
+    }
+  }
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const auto& w = who[i];
+    if (w.size() < 2) continue;
+    if (team_size >= 2 && w.size() == team_size) {
+      out[i].agent = "every agent";
+      continue;
+    }
+    std::string names;
+    const std::size_t shown = w.size() > 4 ? 3 : w.size();
+    for (std::size_t k = 0; k < shown; ++k)
+      names += (k == 0 ? "" : k + 1 == shown && shown == w.size() ? " and " : ", ") + w[k];
+    if (shown < w.size()) names += " and " + std::to_string(w.size() - shown) + " more";
+    out[i].agent = names;
+  }
+  return out;
+}
+
 std::string SearchReport::tried() const {
   std::vector<std::pair<std::string, int>> counts;  // in the order first run
   for (std::size_t r = 1; r < rounds.size(); ++r) {

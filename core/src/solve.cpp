@@ -493,7 +493,7 @@ bool Search::next_round(const Failure& failure, double elapsed, SearchRound& nex
     replan = p.replan;
     // Announced only now that it runs.
     log("[search] round " + std::to_string(next.index) + ": " + failure.reason + "; " + name + " (" +
-        changes_text(p.changes) + ")" + (p.replan ? "; re-planning" : "; tracking again with the same plan"));
+        changes_text(grouped(p.changes, pb_.agents.size())) + ")" + (p.replan ? "; re-planning" : "; tracking again with the same plan"));
     return true;
   }
   rep.stop_reason = rep.not_tried.empty() ? "no lever addresses " + failure.reason : failure.reason + "; no lever left";
@@ -546,7 +546,7 @@ bool Search::narrow_auto_eps(double elapsed, SearchRound& next) {
   next.reason = "every agent has a controller; eps: auto";
   next.changes = changes;
   log("[search] round " + std::to_string(next.index) + ": " + next.reason + "; " + next.action + " (" +
-      changes_text(changes) + "); re-planning");
+      changes_text(grouped(changes, pb_.agents.size())) + "); re-planning");
   return true;
 }
 

@@ -98,3 +98,29 @@ TEST(SearchRounds, AReplanAfterATrackerFailureStartsFromThePreviousPlan) {
 }
 
 }  // namespace
+
+// The log and the summary print a change made alike to several agents once (50 agents whose eps
+// shrank by 0.8 made one line of 50 entries); changes that differ, and team-wide ones, stay apart.
+TEST(SearchRounds, ChangesMadeAlikeArePrintedOnce) {
+  using marsyn::SearchChange;
+  const std::vector<SearchChange> changes{{"a", "eps", "(0.2)", "(0.16)"},
+                                          {"b", "eps", "(0.2)", "(0.16)"},
+                                          {"c", "eps", "(0.3)", "(0.24)"},
+                                          {"", "eps factor", "0.8", "0.5"},
+                                          {"d", "eps", "(0.2)", "(0.16)"}};
+  const auto four = marsyn::grouped(changes, 4);
+  ASSERT_EQ(four.size(), 3u);
+  EXPECT_EQ(four[0].agent, "a, b and d");
+  EXPECT_EQ(four[0].to, "(0.16)");
+  EXPECT_EQ(four[1].agent, "c");
+  EXPECT_EQ(four[2].agent, "");
+  EXPECT_EQ(four[2].what, "eps factor");
+
+  std::vector<SearchChange> team;
+  for (int i = 0; i < 6; ++i) team.push_back({"a" + std::to_string(i), "eps", "(0.2)", "(0.16)"});
+  EXPECT_EQ(marsyn::grouped(team, 6).front().agent, "every agent");
+  const auto some = marsyn::grouped(team, 7);
+  ASSERT_EQ(some.size(), 1u);
+  EXPECT_EQ(some[0].agent, "a0, a1, a2 and 3 more");
+  EXPECT_EQ(marsyn::grouped({team[0]}, 1).front().agent, "a0");
+}

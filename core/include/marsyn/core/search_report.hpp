@@ -14,6 +14,12 @@ struct SearchChange {
   std::string from, to;
 };
 
+// The same change made to several agents, once: the agents' names joined ("a1, a2 and 3 more"), or
+// "every agent" when all `team_size` agents changed alike; team-wide changes (agent "") and
+// changes that differ stay as they are, in the order first made. For what people read (the log
+// and the summary); result.json keeps one entry per agent.
+std::vector<SearchChange> grouped(const std::vector<SearchChange>& changes, std::size_t team_size);
+
 struct SearchRound {
   int index = 1;            // 1: the first attempt, with the problem as written
   std::string action;       // "first attempt", or the lever (SearchLever names)
