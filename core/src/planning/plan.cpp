@@ -295,33 +295,28 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
 
 PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearchOptions& options) {
   const Stopwatch clock;
-  // Starts closer than the tubes allow fail the robust check at step 0 whatever the planner does:
-  // say so at once instead of solving at every horizon (a 100-agent solve takes minutes).
-  std::size_t crowded = 0;
-  const auto starts = crowded_starts(problem, 3, &crowded);
-  if (!starts.empty()) {
-    PlanOutcome none;
-    none.check.min_margin = -std::numeric_limits<double>::infinity();
-    none.check.message = "no eps-robust plan at any horizon: " + describe(starts.front(), problem) +
-                         (crowded > 1 ? " (" + std::to_string(crowded) + " crowded starts)" : std::string());
+  // Starts closer than the tubes allow, and goals that leave the tubes no room, fail the robust
+  // check whatever the planner does: say so at once instead of solving at every horizon (a
+  // 100-agent solve takes minutes).
+  std::optional<PlanOutcome> hopeless;
+  auto refuse = [&](const auto& found, std::size_t count, const std::string& what, const std::string& many) {
+    if (found.empty() || hopeless) return;
+    hopeless.emplace();
+    hopeless->check.min_margin = -std::numeric_limits<double>::infinity();
+    hopeless->check.message = "no eps-robust plan at any horizon: " + describe(found.front(), problem) +
+                              (count > 1 ? " (" + std::to_string(count) + " " + many + ")" : std::string());
     if (options.log)
-      for (const auto& c : starts) options.log("crowded start: " + describe(c, problem));
-    none.total_time_s = clock.seconds();
-    return none;
+      for (const auto& c : found) options.log(what + ": " + describe(c, problem));
+    hopeless->total_time_s = clock.seconds();
+  };
+  std::size_t starts = 0, goals = 0;
+  const auto crowded = crowded_starts(problem, 3, &starts);
+  refuse(crowded, starts, "crowded start", "crowded starts");
+  if (!hopeless) {
+    const auto cramped = crowded_goals(problem, 3, &goals);
+    refuse(cramped, goals, "goal without room", "goals without room");
   }
-  // Goals too small (or too close to an obstacle or to each other) for the tubes: the same.
-  std::size_t cramped = 0;
-  const auto goals = crowded_goals(problem, 3, &cramped);
-  if (!goals.empty()) {
-    PlanOutcome none;
-    none.check.min_margin = -std::numeric_limits<double>::infinity();
-    none.check.message = "no eps-robust plan at any horizon: " + describe(goals.front(), problem) +
-                         (cramped > 1 ? " (" + std::to_string(cramped) + " goals without room)" : std::string());
-    if (options.log)
-      for (const auto& c : goals) options.log("goal without room: " + describe(c, problem));
-    none.total_time_s = clock.seconds();
-    return none;
-  }
+  if (hopeless) return *hopeless;
   std::optional<GlobalPlan> warm = options.warm_start;
   if (warm && warm->u.empty()) warm.reset();
   PlanOutcome first;

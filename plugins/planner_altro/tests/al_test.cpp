@@ -124,10 +124,29 @@ TEST(AugmentedLagrangian, TwoAgentsSwapWithoutCollision) {
   ASSERT_TRUE(out.feasible) << planning::summary(p, out);
 }
 
-TEST(AugmentedLagrangian, GoalInsideAnObstacleEndsWithAClearFailure) {
+// A goal inside an obstacle leaves the tube no room: the plan stage says so before any solve
+// (planning/goal_room.hpp); no horizon can help.
+TEST(AugmentedLagrangian, GoalInsideAnObstacleIsRefusedBeforeAnySolve) {
   Problem p;
   p.agents.push_back(unicycle("car", {0, 0, 0}, {5, 0, 0}));
   p.obstacles.push_back(box(4, -1, 6, 1));
+  p.delta = 0.2;
+  p.tau = 0.1;
+  p.horizon = 50;
+  const auto out = planning::plan(p, AltroPlanner({}), {});
+  EXPECT_FALSE(out.feasible);
+  EXPECT_TRUE(out.attempts.empty());
+  EXPECT_NE(out.check.message.find("no eps-robust plan at any horizon: car's goal leaves no room for its tube beside obstacle"),
+            std::string::npos)
+      << out.check.message;
+}
+
+// A wall across the whole state space between start and goal: the goal has room, every horizon
+// fails; the horizon search tries a longer one and ends with the solver's violated constraint.
+TEST(AugmentedLagrangian, AWallAcrossTheWayEndsWithAClearFailure) {
+  Problem p;
+  p.agents.push_back(unicycle("car", {0, 0, 0}, {5, 0, 0}));
+  p.obstacles.push_back(box(2.5, -4, 3, 4));
   p.delta = 0.2;
   p.tau = 0.1;
   p.horizon = 50;
