@@ -97,3 +97,69 @@ TEST(BoxMargins, InsideBounds) {
   EXPECT_DOUBLE_EQ(box_inside_margin(box2(0.5, 0.5, 1, 1), box2(0, 0, 2, 2)), 0.5);
   EXPECT_LT(box_inside_margin(box2(-0.1, 0.5, 1, 1), box2(0, 0, 2, 2)), 0.0);
 }
+
+namespace {
+Box box3(double x0, double y0, double z0, double x1, double y1, double z1) {
+  Box b{Eigen::VectorXd(3), Eigen::VectorXd(3)};
+  b.lo << x0, y0, z0;
+  b.hi << x1, y1, z1;
+  return b;
+}
+}  // namespace
+
+// The certifier's 3-D margins: a pair that clears in x-y only when the heights are ignored, and
+// prisms bounded in z, against sampled points of both (a lower bound, tight).
+TEST(BoxMargins, ThreeDPairsAndPrisms) {
+  // Two boxes over the same x-y square, 0.2 apart in height: a collision with delta 0.25 (the
+  // plane's box margin would say they overlap; in space they are 0.2 apart).
+  const Box a = box3(0, 0, 0, 1, 1, 1), b = box3(0, 0, 1.2, 1, 1, 2);
+  for (Norm norm : {Norm::Inf, Norm::Two}) {
+    EXPECT_NEAR(box_pair_margin(a, b, 0.25, norm), 0.2 - 0.25, 1e-15);
+    EXPECT_NEAR(box_pair_margin(a, b, 0.1, norm), 0.2 - 0.1, 1e-15);
+  }
+  // Apart in x by 1 and in z by 1: inf-norm 1, 2-norm sqrt(2).
+  const Box c = box3(2, 0, 2, 3, 1, 3);
+  EXPECT_DOUBLE_EQ(box_pair_margin(a, c, 0.0, Norm::Inf), 1.0);
+  EXPECT_NEAR(box_pair_margin(a, c, 0.0, Norm::Two), std::sqrt(2.0), 1e-15);
+  // Formation in space: distances between a and c range over [sqrt(2), |(3, 1, 3)|].
+  EXPECT_NEAR(box_formation_margin(a, c, 3.0, 2.0), std::min(std::sqrt(2.0) - 1.0, 5.0 - std::sqrt(19.0)), 1e-12);
+  // A slab at heights [1, 2] over [0, 4]^2; a box under it, and one beyond an edge and below.
+  Obstacle slab;
+  slab.vertices = square(0, 0, 4, 4);
+  slab.z_lo = 1;
+  slab.z_hi = 2;
+  EXPECT_NEAR(box_obstacle_margin(box3(1, 1, 0, 2, 2, 0.5), slab, 0.0, Norm::Two), 0.5, 1e-15);
+  EXPECT_NEAR(box_obstacle_margin(box3(1, 1, 0, 2, 2, 0.5), slab, 0.6, Norm::Inf), -0.1, 1e-15);
+  EXPECT_NEAR(box_obstacle_margin(box3(5, 1, -1, 6, 2, 0), slab, 0.0, Norm::Two), std::sqrt(2.0), 1e-15);
+  EXPECT_NEAR(box_obstacle_margin(box3(5, 1, -1, 6, 2, 0), slab, 0.0, Norm::Inf), 1.0, 1e-15);
+  EXPECT_LT(box_obstacle_margin(box3(1, 1, 0.5, 2, 2, 1.5), slab, 0.0, Norm::Two), 0.0);
+  // A planar box (2 coordinates) in a 3-D problem is judged by x-y alone: never above.
+  EXPECT_LT(box_obstacle_margin(box2(1, 1, 2, 2), slab, 0.0, Norm::Two), 0.0);
+  // Random prisms and boxes: a lower bound of the sampled distance.
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-3, 3), r(0.05, 1.0);
+  int tight = 0, cases = 0;
+  for (int t = 0; t < 200; ++t) {
+    Obstacle o;
+    const double x0 = u(rng), y0 = u(rng);
+    o.vertices = square(x0, y0, x0 + r(rng) * 2, y0 + r(rng) * 2);
+    o.z_lo = u(rng);
+    o.z_hi = o.z_lo + r(rng) * 2;
+    const double x = u(rng), y = u(rng), z = u(rng);
+    const Box B = box3(x, y, z, x + r(rng), y + r(rng), z + r(rng));
+    for (Norm norm : {Norm::Inf, Norm::Two}) {
+      // Separable: the x-y distance of the box and the polygon, and the gap of the heights.
+      const double dxy = sampled_distance(box2(B.lo[0], B.lo[1], B.hi[0], B.hi[1]), o.vertices, norm, 60);
+      const bool overlap_xy = box_obstacle_margin(box2(B.lo[0], B.lo[1], B.hi[0], B.hi[1]), o.vertices, 0.0, norm) < 0;
+      const double dz = std::max({0.0, o.z_lo - B.hi[2], B.lo[2] - o.z_hi});
+      const double exact = norm == Norm::Inf ? std::max(overlap_xy ? 0.0 : dxy, dz)
+                                             : std::hypot(overlap_xy ? 0.0 : dxy, dz);
+      const double m = box_obstacle_margin(B, o, 0.0, norm);
+      if (exact < 1e-9) continue;
+      ++cases;
+      EXPECT_LE(m, exact + 1e-12) << "not a lower bound, trial " << t;
+      if (m >= exact - 0.05 * (1 + exact)) ++tight;
+    }
+  }
+  EXPECT_GT(tight, cases * 9 / 10);
+}

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <limits>
 #include <random>
 
 #include "marsyn/core/plugins/plugin_registry.hpp"
@@ -15,6 +16,7 @@
 namespace {
 
 using Eigen::Vector2d;
+using Point = marsyn::planning::Point;
 using Eigen::VectorXd;
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
@@ -24,7 +26,10 @@ struct Team {
   marsyn::PluginRegistry registry;
   marsyn::Problem pb;
 
-  Team(int n, std::mt19937_64& rng, int obstacles, bool inf, int formation) {
+  int dim = 2;
+  // dim 3: the workspace is (x, y, theta) read as a point in space (geometry only), and the
+  // obstacles are prisms, some bounded in z.
+  Team(int n, std::mt19937_64& rng, int obstacles, bool inf, int formation, int dim = 2) : dim(dim) {
     std::uniform_real_distribution<double> c(-10, 10), r(0.3, 2.0);
     for (int i = 0; i < n; ++i) {
       marsyn::AgentSpec a;
@@ -37,8 +42,8 @@ struct Team {
       a.input_bounds = {VectorXd::Constant(2, -2), VectorXd::Constant(2, 2)};
       a.tube.w = VectorXd::Constant(3, 0.2);
       a.tube.eps = VectorXd::Constant(3, 1.0);
-      a.workspace.index = {0, 1};
-      a.workspace.offset = {0.0, 0.0};
+      a.workspace.index = dim == 3 ? std::vector<int>{0, 1, 2} : std::vector<int>{0, 1};
+      a.workspace.offset = std::vector<double>(static_cast<size_t>(dim), 0.0);
       pb.agents.push_back(a);
     }
     for (int o = 0; o < obstacles; ++o) {
@@ -47,23 +52,30 @@ struct Team {
       marsyn::Obstacle ob;
       ob.name = "o" + std::to_string(o);
       ob.vertices = {m + Vector2d(-hx, -hy), m + Vector2d(hx, -hy), m + Vector2d(hx, hy), m + Vector2d(-hx, hy)};
+      if (dim == 3 && o % 3 != 2) {  // every third one full height
+        const double z = c(rng), hz = r(rng);
+        ob.z_lo = z - hz;
+        ob.z_hi = o % 3 == 1 ? std::numeric_limits<double>::infinity() : z + hz;
+      }
       pb.obstacles.push_back(ob);
     }
     for (int q = 0; q < formation && n > 1; ++q) pb.formation.push_back({q % n, (q + 1) % n, 2.0, 0.5});
     pb.delta = 0.25;
     pb.delta_norm = inf ? marsyn::Norm::Inf : marsyn::Norm::Two;
     pb.tau = 0.1;
+    pb.workspace_dim = dim;
   }
-  VectorXd state(const std::vector<Vector2d>& p) const {
+  VectorXd state(const std::vector<Point>& p) const {
     VectorXd x = VectorXd::Zero(3 * static_cast<Eigen::Index>(p.size()));
-    for (std::size_t i = 0; i < p.size(); ++i) x.segment<2>(3 * static_cast<Eigen::Index>(i)) = p[i];
+    for (std::size_t i = 0; i < p.size(); ++i)
+      x.segment(3 * static_cast<Eigen::Index>(i), dim) = p[i].head(dim);
     return x;
   }
 };
 
 // Folds a sequence of point sets both ways and checks every state: the minima bit for bit,
 // whether the smallest part fell, and its name.
-void expect_same_folds(const Team& t, const std::vector<std::vector<Vector2d>>& states) {
+void expect_same_folds(const Team& t, const std::vector<std::vector<Point>>& states) {
   const marsyn::SpecMonitor monitor(t.pb);
   marsyn::BroadPhase broad(t.pb);
   marsyn::StepMargins fast, slow;
@@ -90,27 +102,30 @@ void expect_same_folds(const Team& t, const std::vector<std::vector<Vector2d>>& 
 }
 
 // Random walks of n agents from scattered starts: the running minima fall now and then, as in a run.
-std::vector<std::vector<Vector2d>> random_walks(std::mt19937_64& rng, int n, int steps) {
+std::vector<std::vector<Point>> random_walks(std::mt19937_64& rng, int n, int steps, int dim = 2) {
   std::normal_distribution<double> step(0.0, 0.15);
   std::uniform_real_distribution<double> start(-12, 12);
-  std::vector<Vector2d> p(static_cast<size_t>(n));
-  for (auto& q : p) q = {start(rng), start(rng)};
-  std::vector<std::vector<Vector2d>> states;
+  const double zs = dim == 3 ? 1.0 : 0.0;
+  std::vector<Point> p(static_cast<size_t>(n));
+  for (auto& q : p) q = {start(rng), start(rng), 0};
+  if (dim == 3)
+    for (auto& q : p) q.z() = start(rng);
+  std::vector<std::vector<Point>> states;
   for (int k = 0; k < steps; ++k) {
-    for (auto& q : p) q += Vector2d(step(rng), step(rng));
+    for (auto& q : p) q += Point(step(rng), step(rng), zs * step(rng));
     states.push_back(p);
   }
   return states;
 }
 
 // The same, a window of `width` states at a time (BroadPhase::window, as between two samples).
-void expect_same_window_folds(const Team& t, const std::vector<std::vector<Vector2d>>& states, int width) {
+void expect_same_window_folds(const Team& t, const std::vector<std::vector<Point>>& states, int width) {
   const marsyn::SpecMonitor monitor(t.pb);
   marsyn::BroadPhase broad(t.pb);
   marsyn::StepMargins fast, slow;
   for (std::size_t k0 = 0; k0 < states.size(); k0 += static_cast<size_t>(width)) {
     const int count = std::min(width, static_cast<int>(states.size() - k0));
-    const std::vector<std::vector<Vector2d>> window(states.begin() + static_cast<long>(k0),
+    const std::vector<std::vector<Point>> window(states.begin() + static_cast<long>(k0),
                                                     states.begin() + static_cast<long>(k0) + count);
     broad.window(window, count, fast, {-1, false});
     for (int s = 0; s < count; ++s) {
@@ -135,7 +150,7 @@ TEST(BroadPhase, WindowsGiveTheAllPairsMinimaBitForBit) {
   for (int team = 0; team < 100; ++team) {
     const int n = 2 + static_cast<int>(rng() % 40);
     const Team t(n, rng, static_cast<int>(rng() % 4), team % 2 == 0, static_cast<int>(rng() % 3));
-    const std::vector<std::vector<Vector2d>> states = random_walks(rng, n, 76);
+    const std::vector<std::vector<Point>> states = random_walks(rng, n, 76);
     SCOPED_TRACE("team " + std::to_string(team) + " of " + std::to_string(n) + " agents");
     expect_same_window_folds(t, states, 1 + team % 19);
   }
@@ -149,20 +164,20 @@ TEST(BroadPhase, AWindowsNearMissInItsMiddleIsNotSkipped) {
   for (bool inf : {true, false}) {
     Team t(5, rng, 0, inf, 0);
     t.pb.obstacles.push_back({"block", {{0, 0}, {4, 0}, {4, 4}, {0, 4}}});
-    const std::vector<Vector2d> a = {{20, 0}, {20, 3}, {6, 2}, {-20, 10}, {-20, 20}};
-    std::vector<std::vector<Vector2d>> states(10, a);
+    const std::vector<Point> a = {{20, 0, 0}, {20, 3, 0}, {6, 2, 0}, {-20, 10, 0}, {-20, 20, 0}};
+    std::vector<std::vector<Point>> states(10, a);
     for (int s = 5; s < 10; ++s) {
-      states[static_cast<size_t>(s)][2] = {9, 2};
-      states[static_cast<size_t>(s)][4] = {-20, 30};
+      states[static_cast<size_t>(s)][2] = {9, 2, 0};
+      states[static_cast<size_t>(s)][4] = {-20, 30, 0};
     }
-    states[7][2] = {6 - 1e-12, 2};
-    states[7][4] = {-20, 13 - 1e-12};
+    states[7][2] = {6 - 1e-12, 2, 0};
+    states[7][4] = {-20, 13 - 1e-12, 0};
     expect_same_window_folds(t, states, 5);
     marsyn::BroadPhase broad(t.pb);
     marsyn::StepMargins m;
     broad.window(states, 5, m, {-1, false});
     for (int s = 0; s < 5; ++s) broad.accumulate_window(s, m, nullptr);
-    const std::vector<std::vector<Vector2d>> second(states.begin() + 5, states.end());
+    const std::vector<std::vector<Point>> second(states.begin() + 5, states.end());
     broad.window(second, 5, m, {-1, false});
     std::vector<std::string> names;
     for (int s = 0; s < 5; ++s) {
@@ -179,7 +194,7 @@ TEST(BroadPhase, RandomTeamsGiveTheAllPairsMinimaBitForBit) {
   for (int team = 0; team < 100; ++team) {
     const int n = 2 + static_cast<int>(rng() % 40);
     const Team t(n, rng, static_cast<int>(rng() % 4), team % 2 == 0, static_cast<int>(rng() % 3));
-    const std::vector<std::vector<Vector2d>> states = random_walks(rng, n, 60);
+    const std::vector<std::vector<Point>> states = random_walks(rng, n, 60);
     SCOPED_TRACE("team " + std::to_string(team) + " of " + std::to_string(n) + " agents");
     expect_same_folds(t, states);
   }
@@ -187,7 +202,7 @@ TEST(BroadPhase, RandomTeamsGiveTheAllPairsMinimaBitForBit) {
 
 // Folds the states with the broad phase alone; the requirement named at each state where the
 // smallest part fell ("" where it did not).
-std::vector<std::string> falls(const Team& t, const std::vector<std::vector<Vector2d>>& states) {
+std::vector<std::string> falls(const Team& t, const std::vector<std::vector<Point>>& states) {
   marsyn::BroadPhase broad(t.pb);
   marsyn::StepMargins m;
   std::vector<std::string> out;
@@ -206,11 +221,11 @@ TEST(BroadPhase, NearMissesBetweenAgentsAreNotSkipped) {
     // The first state sets the collision minimum at 3 - delta (agents 0 and 1, apart along y);
     // in the second, agents 2 and 5 come a hair inside that along x, with agents 3 and 4 between
     // them in the x order, so the sweep must run past both to find the pair.
-    const std::vector<Vector2d> a = {{20, 0}, {20, 3}, {-20, 10}, {-15, -10}, {-13, 10}, {-30, -10}};
-    std::vector<Vector2d> b = a;
-    b[3] = {-19.5, -10};
-    b[4] = {-18, 5};
-    b[5] = {-17 - 1e-12, 10};
+    const std::vector<Point> a = {{20, 0, 0}, {20, 3, 0}, {-20, 10, 0}, {-15, -10, 0}, {-13, 10, 0}, {-30, -10, 0}};
+    std::vector<Point> b = a;
+    b[3] = {-19.5, -10, 0};
+    b[4] = {-18, 5, 0};
+    b[5] = {-17 - 1e-12, 10, 0};
     expect_same_folds(t, {a, b});
     EXPECT_EQ(falls(t, {a, b}), (std::vector<std::string>{"collision a0 vs a1", "collision a2 vs a5"}));
   }
@@ -224,13 +239,13 @@ TEST(BroadPhase, NearMissesOfObstaclesAreNotSkipped) {
     t.pb.obstacles.push_back({"block", {{0, 0}, {4, 0}, {4, 4}, {0, 4}}});
     // Agent 0 one metre right of the block, then a hair nearer, off the row it was on; then
     // agents 1 and 2 inside the block, the second deeper: no box bound holds inside the box.
-    const std::vector<Vector2d> s1 = {{5, 2}, {30, 30}, {-30, 30}};
-    std::vector<Vector2d> s2 = s1, s3, s4;
-    s2[0] = {5 - 1e-12, 2.5};
+    const std::vector<Point> s1 = {{5, 2, 0}, {30, 30, 0}, {-30, 30, 0}};
+    std::vector<Point> s2 = s1, s3, s4;
+    s2[0] = {5 - 1e-12, 2.5, 0};
     s3 = s2;
-    s3[1] = {1, 1};
+    s3[1] = {1, 1, 0};
     s4 = s3;
-    s4[2] = {2, 2};
+    s4[2] = {2, 2, 0};
     expect_same_folds(t, {s1, s2, s3, s4});
     EXPECT_EQ(falls(t, {s1, s2, s3, s4}), (std::vector<std::string>{"obstacle block vs a0", "obstacle block vs a0",
                                                                      "obstacle block vs a1", "obstacle block vs a2"}));
@@ -239,11 +254,11 @@ TEST(BroadPhase, NearMissesOfObstaclesAreNotSkipped) {
 
 // The adversary's target for every agent of a state, by the broad phase and by the full search
 // (the same point bit for bit, or neither finds one).
-void expect_same_targets(const Team& t, const std::vector<Vector2d>& p) {
+void expect_same_targets(const Team& t, const std::vector<Point>& p) {
   marsyn::BroadPhase broad(t.pb);
   broad.update(p);
   for (int i = 0; i < static_cast<int>(p.size()); ++i) {
-    Vector2d fast(7, 7), slow(7, 7);
+    Point fast(7, 7, 7), slow(7, 7, 7);
     const bool f = broad.nearest_target(i, fast), s = marsyn::nearest_by_search(t.pb, i, p, slow);
     ASSERT_EQ(f, s) << "agent " << i;
     if (f) ASSERT_TRUE(same_bits(fast.x(), slow.x()) && same_bits(fast.y(), slow.y())) << "agent " << i;
@@ -256,10 +271,10 @@ TEST(BroadPhase, NearestTargetIsTheFullSearchsOnRandomTeams) {
   for (int team = 0; team < 100; ++team) {
     Team t(1 + static_cast<int>(rng() % 30), rng, static_cast<int>(rng() % 4), team % 2 == 0, 0);
     t.pb.pairwise_collision = team % 5 != 0;
-    std::vector<Vector2d> p(t.pb.agents.size());
-    for (auto& q : p) q = {at(rng), at(rng)};
+    std::vector<Point> p(t.pb.agents.size());
+    for (auto& q : p) q = {at(rng), at(rng), 0};
     // Some agents on a lattice: equal distances to several agents, ties broken by index.
-    for (std::size_t i = 0; i < p.size(); i += 3) p[i] = {std::round(p[i].x()), std::round(p[i].y())};
+    for (std::size_t i = 0; i < p.size(); i += 3) p[i] = {std::round(p[i].x()), std::round(p[i].y()), 0};
     SCOPED_TRACE("team " + std::to_string(team));
     expect_same_targets(t, p);
   }
@@ -273,14 +288,14 @@ TEST(BroadPhase, AnObstacleAsNearAsTheNearestAgentIsTheTarget) {
   for (bool inf : {true, false}) {
     Team t(2, rng, 0, inf, 0);
     t.pb.obstacles.push_back({"block", {{0, 0}, {4, 0}, {4, 4}, {0, 4}}});
-    expect_same_targets(t, {{5, 2}, {5, 3}});
+    expect_same_targets(t, {{5, 2, 0}, {5, 3, 0}});
     marsyn::BroadPhase broad(t.pb);
-    std::vector<Vector2d> p = {{5, 2}, {5, 3}};
+    std::vector<Point> p = {{5, 2, 0}, {5, 3, 0}};
     broad.update(p);
-    Vector2d target;
+    Point target;
     ASSERT_TRUE(broad.nearest_target(0, target));
-    EXPECT_EQ(target, Vector2d(4, 2));
-    p[1] = {5, 3 - 1e-12};
+    EXPECT_EQ(target, Point(4, 2, 0));
+    p[1] = {5, 3 - 1e-12, 0};
     broad.update(p);
     ASSERT_TRUE(broad.nearest_target(0, target));
     EXPECT_EQ(target, p[1]);
@@ -333,3 +348,40 @@ TEST(BroadPhase, AdversaryTargetsTheSameAsTheFullSearch) {
 }
 
 }  // namespace
+
+// A 3-D workspace: prisms (bounded, half-bounded and full-height), pairs and formations in
+// space. The broad phase prunes on x-y alone, a lower bound of the 3-D distances, and must
+// still give the all-pairs minima bit for bit.
+TEST(BroadPhase, ThreeDTeamsGiveTheAllPairsMinimaBitForBit) {
+  std::mt19937_64 rng(33);
+  for (int team = 0; team < 60; ++team) {
+    const int n = 2 + static_cast<int>(rng() % 30);
+    const Team t(n, rng, static_cast<int>(rng() % 6), team % 2 == 0, static_cast<int>(rng() % 3), 3);
+    const std::vector<std::vector<Point>> states = random_walks(rng, n, 50, 3);
+    SCOPED_TRACE("team " + std::to_string(team) + " of " + std::to_string(n) + " agents");
+    expect_same_folds(t, states);
+    expect_same_window_folds(t, states, 1 + team % 11);
+    for (std::size_t k = 0; k < states.size(); k += 10) expect_same_targets(t, states[k]);
+  }
+}
+
+TEST(BroadPhase, APairApartInXYButNotInZIsNotSkipped) {
+  // Two agents at the same x-y, 0.2 apart in z: in the plane they would coincide; in space their
+  // margin is 0.2 - delta, and an agent under a prism's floor is as far as the gap below it.
+  std::mt19937_64 rng(5);
+  for (bool inf : {true, false}) {
+    Team t(3, rng, 0, inf, 0, 3);
+    marsyn::Obstacle slab;
+    slab.name = "slab";
+    slab.vertices = {{0, 0}, {4, 0}, {4, 4}, {0, 4}};
+    slab.z_lo = 1.0;
+    slab.z_hi = 2.0;
+    t.pb.obstacles.push_back(slab);
+    const std::vector<Point> a = {{10, 10, 0}, {10, 10, 0.2}, {2, 2, 0.5}};
+    expect_same_folds(t, {a});
+    const marsyn::SpecMonitor monitor(t.pb);
+    const marsyn::StepMargins m = monitor.step(t.state(a));
+    EXPECT_DOUBLE_EQ(m.collision, 0.2 - t.pb.delta);
+    EXPECT_DOUBLE_EQ(m.obstacle, 0.5 - t.pb.delta);
+  }
+}

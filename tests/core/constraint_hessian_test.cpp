@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <random>
 
@@ -20,7 +22,9 @@ struct Counts {
 
 // Samples product states in the state bounds and checks every constraint that offers hessian().
 std::map<std::string, Counts> check_example(const std::string& file, int samples) {
-  const auto lp = marsyn::load_problem(std::string(MARSYN_SOURCE_DIR) + "/examples/" + file);
+  const auto lp = marsyn::load_problem(file.find('/') == std::string::npos
+                                           ? std::string(MARSYN_SOURCE_DIR) + "/examples/" + file
+                                           : file);
   const auto& pb = lp.problem;
   const auto pp = marsyn::planning::assemble(pb, pb.horizon);
   const int n = pb.product_state_dim();
@@ -98,6 +102,83 @@ TEST(ConstraintHessian, NonlinearFootprintCurvature) {
   ASSERT_TRUE(counts.count("collision"));
   EXPECT_EQ(counts.at("collision").checked, 200);
   EXPECT_GT(counts.at("collision").curved, 0);
+}
+
+// examples/quadrotors.yaml (a 3-D workspace) with `norm` and, optionally, a formation pair and a
+// slab bounded in z, written next to the test's scratch files.
+std::string quadrotors_variant(const std::string& norm, bool formation) {
+  std::ifstream in(std::string(MARSYN_SOURCE_DIR) + "/examples/quadrotors.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto at = text.find("delta_norm: inf");
+  text.replace(at, std::string("delta_norm: inf").size(), "delta_norm: " + norm);
+  const auto pillar = text.find("\n", text.find("{name: pillar"));
+  text.insert(pillar + 1, "  - {name: slab, box: {lo: [0.4, -1.2, 1.9], hi: [0.9, -0.6, 2.2]}}\n");
+  if (formation) text += "formation:\n  mu: 0.8\n  pairs:\n    - {agents: [north, south], lambda: 2.0}\n";
+  const std::string path = (std::filesystem::temp_directory_path() / ("quadrotors_" + norm + ".yaml")).string();
+  std::ofstream(path) << text;
+  return path;
+}
+
+// The first derivatives of the 3-D constraints (prisms, pairs, formations in space) against
+// central differences of g, away from kinks (where the one-sided differences disagree).
+int check_jacobians(const std::string& file, int samples) {
+  const auto lp = marsyn::load_problem(file);
+  const auto& pb = lp.problem;
+  EXPECT_EQ(pb.workspace_dim, 3);
+  const auto pp = marsyn::planning::assemble(pb, pb.horizon);
+  const int n = pb.product_state_dim();
+  std::vector<double> lo, hi;
+  for (const auto& a : pb.agents)
+    for (int i = 0; i < a.n(); ++i) {
+      lo.push_back(a.state_bounds.lo[i]);
+      hi.push_back(a.state_bounds.hi[i]);
+    }
+  std::mt19937_64 rng(5);
+  int checked = 0;
+  for (const auto& c : pp.constraints) {
+    if (c->name().rfind("obstacle", 0) && c->name().rfind("collision", 0) && c->name().rfind("formation", 0)) continue;
+    const auto& sup = c->support();
+    const int cols = static_cast<int>(sup.size()), rows = c->size();
+    for (int s = 0; s < samples; ++s) {
+      std::vector<double> x(n);
+      for (int i = 0; i < n; ++i) x[i] = std::uniform_real_distribution<double>(lo[i], hi[i])(rng);
+      std::vector<double> g(rows), J(rows * cols), gp(rows), gm(rows);
+      c->evaluate(x.data(), g.data(), J.data());
+      for (int j = 0; j < cols; ++j) {
+        const double h = 1e-6;
+        std::vector<double> xp = x, xm = x;
+        xp[sup[j]] += h;
+        xm[sup[j]] -= h;
+        c->evaluate(xp.data(), gp.data(), nullptr);
+        c->evaluate(xm.data(), gm.data(), nullptr);
+        for (int r = 0; r < rows; ++r) {
+          const double fwd = (gp[r] - g[r]) / h, bwd = (g[r] - gm[r]) / h;
+          if (std::abs(fwd - bwd) > 1e-4) continue;  // a kink between the probes
+          ++checked;
+          EXPECT_NEAR(J[r * cols + j], (gp[r] - gm[r]) / (2 * h), 1e-5 * (1 + std::abs(J[r * cols + j])))
+              << c->name() << " row " << r << " column " << j << " sample " << s;
+          if (::testing::Test::HasFailure()) return checked;
+        }
+      }
+    }
+  }
+  return checked;
+}
+
+TEST(ConstraintJacobian, ThreeDPrismsPairsAndFormationsInBothNorms) {
+  for (const std::string norm : {"inf", "2"}) {
+    SCOPED_TRACE(norm);
+    EXPECT_GT(check_jacobians(quadrotors_variant(norm, norm == "2"), 30), 1000);
+  }
+}
+
+TEST(ConstraintHessian, ThreeDEuclideanPairsAndFormations) {
+  // Prisms and the inf-norm's nested smoothing decline (the planner differences them); the
+  // Euclidean pair and the formation give their curvature in space.
+  const auto counts = check_example(quadrotors_variant("2", true), 40);
+  ASSERT_TRUE(counts.count("collision") && counts.count("formation"));
+  EXPECT_GT(counts.at("collision").curved, 0);
+  EXPECT_GT(counts.at("formation").curved, 0);
 }
 
 }  // namespace

@@ -173,12 +173,12 @@ TEST(StagedObstacles, TheBroadPhaseAgreesWithTheAllPairsCheckInsideAndOutsideThe
     const SpecMonitor monitor(pb, kT);
     BroadPhase broad(pb);
     broad.windows(&monitor.windows());
-    std::vector<Eigen::Vector2d> pts(pb.agents.size());
+    std::vector<marsyn::planning::Point> pts(pb.agents.size());
     Eigen::VectorXd x(3 * static_cast<int>(pb.agents.size()));
     for (int k = 0; k <= kT; ++k)
       for (bool between : {false, true}) {
         for (std::size_t i = 0; i < pts.size(); ++i) {
-          pts[i] = Eigen::Vector2d(pb.agents[i].x0[0] + dt(rng) * k, pb.agents[i].x0[1] + dt(rng) * k);
+          pts[i] = marsyn::planning::Point(pb.agents[i].x0[0] + dt(rng) * k, pb.agents[i].x0[1] + dt(rng) * k, 0.0);
           x.segment<3>(3 * static_cast<int>(i)) = Eigen::Vector3d(pts[i].x(), pts[i].y(), 0);
         }
         broad.update(pts);

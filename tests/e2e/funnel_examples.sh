@@ -1,13 +1,13 @@
 #!/bin/sh
 # Issue 11: agents with 5 and 6 states get verified controllers from the funnel tracker, chosen by
-# `tracker: auto`; the adversarial closed loop stays safe between the samples; and on a unicycle
+# `tracker: auto` (and issue 23: 12-state quadrotors in a 3-D workspace); the adversarial closed loop stays safe between the samples; and on a unicycle
 # example both trackers verify.
 # Usage: funnel_examples.sh MARSYN_EXE SOURCE_DIR SCRATCH
 set -u
 exe="$1"; src="$2"; scratch="$3"
 rm -rf "$scratch"; mkdir -p "$scratch"
 fail() { echo "$1"; [ -f "$2" ] && cat "$2"; exit 1; }
-for name in bicycles planar_quadrotors; do
+for name in bicycles planar_quadrotors quadrotors; do
   out="$scratch/$name"
   "$exe" solve "$src/examples/$name.yaml" --out "$out" --runs 200 --global-budget 0 > "$out.txt" 2>&1
   code=$?
@@ -26,6 +26,8 @@ for name in bicycles planar_quadrotors; do
   done
   echo "$name: VERIFIED with funnel controllers; adversarial closed loop satisfied"
 done
+# The quadrotors fly in a 3-D workspace: the report draws a side view (x-z) as well.
+grep -q '"side":' "$scratch/quadrotors/report.html" || fail "quadrotors: report.html has no side view" "$scratch/quadrotors.txt"
 # The multi-drone example with each tracker.
 for tracker in abcd funnel; do
   problem="$scratch/multi_drone_$tracker.yaml"

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include "dynamics_quadrotor/src/quadrotor.hpp"
 #include "dynamics_unicycle/src/unicycle.hpp"
 #include "marsyn/core/planning/constraints.hpp"
 #include "marsyn/core/planning/projector.hpp"
@@ -113,6 +114,90 @@ TEST(RobustCheck, PairMarginsAddBothEps) {
     EXPECT_EQ(r.passed, s > 0) << r.message;
     EXPECT_NEAR(r.min_margin, s, 1e-9);
   }
+}
+
+namespace {
+
+// A quadrotor in a 3-D workspace coasting at a constant velocity (hover thrust, no torque):
+// position p0, velocity v.
+AgentSpec coasting_quadrotor(const std::string& name, Eigen::Vector3d p0, Eigen::Vector3d v, double eps) {
+  AgentSpec a;
+  a.name = name;
+  a.dynamics_type = "quadrotor";
+  a.dynamics = std::make_shared<models::Quadrotor>();
+  a.x0 = Eigen::VectorXd::Zero(12);
+  a.x0.head<3>() = p0;
+  a.x0.segment<3>(6) = v;
+  a.state_bounds = {Eigen::VectorXd::Constant(12, -20), Eigen::VectorXd::Constant(12, 20)};
+  a.input_bounds = {Eigen::VectorXd::Constant(4, -20), Eigen::VectorXd::Constant(4, 20)};
+  a.goal = a.state_bounds;
+  a.tube.eps = Eigen::VectorXd::Constant(12, eps);
+  a.tube.w = Eigen::VectorXd::Zero(12);
+  a.workspace.index = {0, 1, 2};
+  a.workspace.offset = {0, 0, 0};
+  return a;
+}
+
+GlobalPlan hovering(int T, int agents) {
+  GlobalPlan g;
+  for (int k = 0; k < T; ++k) {
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(4 * agents);
+    for (int i = 0; i < agents; ++i) u[4 * i] = 9.81;  // thrust per mass = g: no acceleration
+    g.u.push_back(u);
+  }
+  return g;
+}
+
+}  // namespace
+
+// Two quadrotors fly through the same x-y point at the same time, dz apart in height: in space
+// they keep delta + both eps (0.2 + 2 x 0.1) only when dz >= 0.4; the plane would call every
+// crossing a collision.
+TEST(RobustCheck, ThreeDPairsAreJudgedInSpace) {
+  for (double dz : {0.4 + 1e-3, 0.4 - 1e-3, 0.15}) {
+    Problem p;
+    p.workspace_dim = 3;
+    p.agents.push_back(coasting_quadrotor("a", {0, 0, 1}, {1, 0, 0}, 0.1));
+    p.agents.push_back(coasting_quadrotor("b", {1, 0, 1 + dz}, {-1, 0, 0}, 0.1));
+    p.delta = 0.2;
+    p.tau = 0.1;
+    for (Guarantee g : {Guarantee::Sampled, Guarantee::Continuous}) {
+      p.guarantee = g;
+      const auto r = check_robust(p, hovering(10, 2));
+      EXPECT_EQ(r.passed, dz > 0.4) << r.message;
+      EXPECT_NEAR(r.min_margin, dz - 0.4, 1e-6) << r.message;
+      if (!r.passed) EXPECT_EQ(r.worst.rfind("collision a vs b", 0), 0u) << r.worst;
+    }
+  }
+}
+
+// Through a window's corner: a slab above z = 1 from x = 1 on. The samples (0.9, 1.3) and
+// (1.3, 0.9) are 0.1 from it, but the straight flight between them cuts its corner.
+TEST(RobustCheck, ThreeDFlightCuttingAPrismsCornerBetweenSamples) {
+  Problem p;
+  p.workspace_dim = 3;
+  p.agents.push_back(coasting_quadrotor("q", {0.9, 0, 1.3}, {4, 0, -4}, 0.01));
+  Obstacle slab;
+  slab.name = "slab";
+  slab.vertices = {{1, -5}, {5, -5}, {5, 5}, {1, 5}};
+  slab.z_lo = 1.0;
+  slab.z_hi = 3.0;
+  p.obstacles.push_back(slab);
+  p.delta = 0.05;
+  p.tau = 0.1;
+  p.guarantee = Guarantee::Sampled;
+  const auto sampled = check_robust(p, hovering(1, 1));
+  EXPECT_TRUE(sampled.passed) << sampled.message;
+  EXPECT_NEAR(sampled.min_margin, 0.1 - 0.06, 1e-6);
+  p.guarantee = Guarantee::Continuous;
+  const auto cont = check_robust(p, hovering(1, 1));
+  EXPECT_FALSE(cont.passed);
+  EXPECT_GE(cont.sampled_margin, 0.0);
+  EXPECT_LT(cont.between_margin, -0.1);
+  EXPECT_EQ(cont.worst_between, "obstacle slab vs q");
+  // Heights matter: the same flight 0.5 m lower passes under the slab.
+  p.agents[0] = coasting_quadrotor("q", {0.9, 0, 0.8}, {4, 0, -4}, 0.01);
+  EXPECT_TRUE(check_robust(p, hovering(1, 1)).passed);
 }
 
 TEST(RobustCheck, RejectsInputsOutsideUAndAMissedGoal) {

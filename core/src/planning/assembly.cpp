@@ -83,6 +83,7 @@ PlanningProblem assemble(const Problem& problem, int horizon, const AssemblyOpti
         auto c = std::make_shared<ObstacleConstraint>(name, a, xo[i], obs.vertices, margin[i], inf ? delta : 0.0,
                                                       (inf ? 0.0 : delta) + opt.buffer + clear[i] + more(name),
                                                       problem.distance_model);
+        c->set_z(obs.z_lo, obs.z_hi);
         if (obs.staged) c->bind_only_at(std::move(steps));
         out.push_back(std::move(c));
       }

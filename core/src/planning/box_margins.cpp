@@ -89,8 +89,15 @@ double gap_down(const Box& a, const Box& b, int c) {
 }
 
 // Lower bound of the distance between two boxes (negative: overlap depth, indicative only).
+// In 3-D the z gap joins: the distance between boxes separates by coordinate in both norms.
 double box_distance(const Box& a, const Box& b, Norm norm) {
   const double gx = gap_down(a, b, 0), gy = gap_down(a, b, 1);
+  if (std::min(a.dim(), b.dim()) >= 3) {
+    const double gz = gap_down(a, b, 2);
+    if (norm == Norm::Inf || (gx <= 0 && gy <= 0 && gz <= 0)) return std::max({gx, gy, gz});
+    const double px = std::max(0.0, gx), py = std::max(0.0, gy), pz = std::max(0.0, gz);
+    return sqrt_down(add_down(add_down(mul_down(px, px), mul_down(py, py)), mul_down(pz, pz)));
+  }
   if (norm == Norm::Inf || (gx <= 0 && gy <= 0)) return std::max(gx, gy);
   const double px = std::max(0.0, gx), py = std::max(0.0, gy);
   return sqrt_down(add_down(mul_down(px, px), mul_down(py, py)));
@@ -105,6 +112,23 @@ double box_obstacle_margin(const Box& w, const Polygon& obstacle, double delta, 
   return sub_down(polygon_distance(corners(w), obstacle, norm), delta);
 }
 
+double box_obstacle_margin(const Box& w, const Obstacle& o, double delta, Norm norm) {
+  if (w.dim() < 3 || !o.z_bounded()) return box_obstacle_margin(w, o.vertices, delta, norm);
+  if (o.vertices.size() < 3) return kInf;
+  if (!finite_box(w)) return -kInf;
+  const RoundToNearestScope nearest;
+  // s and h are lower bounds of the x-y and z distances (each negative when they overlap there);
+  // the combination is monotone in both, so it stays a lower bound of the prism's distance.
+  const double s = polygon_distance(corners(w), o.vertices, norm);
+  const double h = std::max(sub_down(o.z_lo, w.hi[2]), sub_down(w.lo[2], o.z_hi));
+  double d;
+  if (s > 0 && h > 0)
+    d = norm == Norm::Inf ? std::max(s, h) : sqrt_down(add_down(mul_down(s, s), mul_down(h, h)));
+  else
+    d = std::max(s, h);
+  return sub_down(d, delta);
+}
+
 double box_pair_margin(const Box& a, const Box& b, double delta, Norm norm) {
   if (!finite_box(a) || !finite_box(b)) return -kInf;
   const RoundToNearestScope nearest;
@@ -117,7 +141,7 @@ double box_formation_margin(const Box& a, const Box& b, double lambda, double mu
   // Smallest distance: as for the pair margin (2-norm); largest: the farthest corners.
   const double dmin = std::max(0.0, box_distance(a, b, Norm::Two));
   double far2 = 0.0;
-  for (int c = 0; c < 2; ++c) {
+  for (int c = 0; c < std::min(a.dim(), b.dim()); ++c) {
     const double s = std::max(std::abs(sub_up(a.hi[c], b.lo[c])), std::abs(sub_up(b.hi[c], a.lo[c])));
     // |a.hi - b.lo| <= max(|up|, |down|); the larger of the upward-rounded magnitudes bounds both.
     const double s2 = std::max(s, std::max(std::abs(sub_down(a.hi[c], b.lo[c])), std::abs(sub_down(b.hi[c], a.lo[c]))));
@@ -132,8 +156,7 @@ double box_requirement_margin(const Problem& problem, const Requirement& r, cons
   const Box& a = ws[static_cast<size_t>(r.a)];
   switch (r.kind) {
     case Requirement::Obstacle:
-      return box_obstacle_margin(a, problem.obstacles[static_cast<size_t>(r.b)].vertices, problem.delta,
-                                 problem.delta_norm);
+      return box_obstacle_margin(a, problem.obstacles[static_cast<size_t>(r.b)], problem.delta, problem.delta_norm);
     case Requirement::Collision:
       return box_pair_margin(a, ws[static_cast<size_t>(r.b)], problem.delta, problem.delta_norm);
     case Requirement::Formation: break;

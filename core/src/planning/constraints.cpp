@@ -15,8 +15,8 @@ void workspace_point_jacobian(const AgentSpec& agent, const double* x, double* p
   if (ws.linear()) {
     workspace_point(*agent.dynamics, ws, x, p);
     if (J) {
-      for (int i = 0; i < 2 * n; ++i) J[i] = 0.0;
-      for (int c = 0; c < 2; ++c)
+      for (int i = 0; i < ws.dim() * n; ++i) J[i] = 0.0;
+      for (int c = 0; c < ws.dim(); ++c)
         if (ws.index[c] >= 0) J[c * n + ws.index[c]] = 1.0;
     }
     return;
@@ -44,53 +44,61 @@ std::vector<int> range_support(int off_a, int n_a, int off_b = 0, int n_b = 0) {
   return s;
 }
 
-// d = p_a - p_b and its Jacobians (2 x n_a, 2 x n_b) for a constraint on agents a, b.
+// d = p_a - p_b and its Jacobians (D x n_a, D x n_b) for a constraint on agents a, b, D the
+// workspace dimension (the agents share it); d[2] = 0 in the plane.
 struct PairGeometry {
-  double d[2];
-  double Ja[2 * kMaxDual], Jb[2 * kMaxDual];
-  PairGeometry(const AgentSpec& a, const AgentSpec& b, const double* xa, const double* xb, bool jac) {
-    double pa[2], pb[2];
+  int D = 2;
+  double d[kMaxWorkspaceDim] = {0, 0, 0};
+  double Ja[kMaxWorkspaceDim * kMaxDual], Jb[kMaxWorkspaceDim * kMaxDual];
+  PairGeometry(const AgentSpec& a, const AgentSpec& b, const double* xa, const double* xb, bool jac)
+      : D(a.workspace.dim()) {
+    double pa[kMaxWorkspaceDim], pb[kMaxWorkspaceDim];
     workspace_point_jacobian(a, xa, pa, jac ? Ja : nullptr);
     workspace_point_jacobian(b, xb, pb, jac ? Jb : nullptr);
-    d[0] = pa[0] - pb[0];
-    d[1] = pa[1] - pb[1];
+    for (int c = 0; c < D; ++c) d[c] = pa[c] - pb[c];
   }
-  // Row of dg/dx given dg/dd.
+  // Row of dg/dx given dg/dd (the plane's expression unchanged).
   void chain(const double* gd, int na, int nb, double* row) const {
     for (int i = 0; i < na; ++i) row[i] = gd[0] * Ja[i] + gd[1] * Ja[na + i];
     for (int i = 0; i < nb; ++i) row[na + i] = -(gd[0] * Jb[i] + gd[1] * Jb[nb + i]);
+    if (D == 3) {
+      for (int i = 0; i < na; ++i) row[i] += gd[2] * Ja[2 * na + i];
+      for (int i = 0; i < nb; ++i) row[na + i] -= gd[2] * Jb[2 * nb + i];
+    }
   }
+  double norm() const { return D == 2 ? std::hypot(d[0], d[1]) : std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]); }
 };
 
 
-// H (cols x cols, row-major) += D' S D with D = [J_a, -J_b] (2 x cols) and S symmetric 2 x 2.
-void add_congruence(const double* Ja, int na, const double* Jb, int nb, const double S[4], double* H) {
+// H (cols x cols, row-major) += D' S D with D = [J_a, -J_b] (W x cols) and S symmetric W x W,
+// W the workspace dimension.
+void add_congruence(const double* Ja, int na, const double* Jb, int nb, const double* S, double* H, int W = 2) {
   const int cols = na + nb;
-  double D[2 * 2 * kMaxDual];
-  for (int c = 0; c < 2; ++c) {
+  double D[kMaxWorkspaceDim * 2 * kMaxDual];
+  for (int c = 0; c < W; ++c) {
     for (int i = 0; i < na; ++i) D[c * cols + i] = Ja[c * na + i];
     for (int i = 0; i < nb; ++i) D[c * cols + na + i] = -Jb[c * nb + i];
   }
   for (int p = 0; p < cols; ++p)
     for (int q = 0; q < cols; ++q) {
       double v = 0.0;
-      for (int r = 0; r < 2; ++r)
-        for (int t = 0; t < 2; ++t) v += D[r * cols + p] * S[r * 2 + t] * D[t * cols + q];
+      for (int r = 0; r < W; ++r)
+        for (int t = 0; t < W; ++t) v += D[r * cols + p] * S[r * W + t] * D[t * cols + q];
       H[p * cols + q] += v;
     }
 }
 
-// (I - n n') / |d|: the second derivative of the Euclidean norm at d != 0.
-void norm_curvature(const double* d, double scale, double S[4]) {
-  const double len = std::hypot(d[0], d[1]);
+// (I - n n') / |d|: the second derivative of the Euclidean norm at d != 0 (W x W).
+void norm_curvature(const double* d, double scale, double* S, int W = 2) {
+  const double len = W == 2 ? std::hypot(d[0], d[1]) : std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
   if (len < 1e-12) {
-    S[0] = S[1] = S[2] = S[3] = 0.0;
+    for (int i = 0; i < W * W; ++i) S[i] = 0.0;
     return;
   }
-  const double nx = d[0] / len, ny = d[1] / len;
-  S[0] = scale * (1 - nx * nx) / len;
-  S[1] = S[2] = scale * (-nx * ny) / len;
-  S[3] = scale * (1 - ny * ny) / len;
+  double n[kMaxWorkspaceDim];
+  for (int c = 0; c < W; ++c) n[c] = d[c] / len;
+  for (int r = 0; r < W; ++r)
+    for (int t = 0; t < W; ++t) S[r * W + t] = scale * (r == t ? 1 - n[r] * n[r] : -n[r] * n[t]) / len;
 }
 
 // P[c] (n x n, row-major, P = 2 x n x n) = d^2 p_c / dx^2 of the agent's workspace point: zero
@@ -136,12 +144,33 @@ ObstacleConstraint::ObstacleConstraint(std::string name, const AgentSpec& agent,
   }
 }
 
+void ObstacleConstraint::set_z(double z_lo, double z_hi) {
+  z_lo_ = z_lo;
+  z_hi_ = z_hi;
+  // A collision plugin's distance is the polygon's: a prism bounded in z is core's.
+  if (prism()) distance_.reset();
+}
+
 void ObstacleConstraint::evaluate(const double* x, double* g, double* jac) const {
   const int n = agent_->n();
   const double* xa = x + support_[0];
-  double p[2];
-  double J[2 * kMaxDual];
+  double p[kMaxWorkspaceDim];
+  double J[kMaxWorkspaceDim * kMaxDual];
   workspace_point_jacobian(*agent_, xa, p, jac ? J : nullptr);
+  if (prism()) {
+    // The prism grown by the margin box (+ grow): the grown polygon times the grown interval.
+    const WorkspaceMargin m = margins_->at(xa);
+    const double zg = m.z + grow_;
+    Eigen::Vector3d grad;
+    const double sd = margins_->constant()
+                          ? signed_distance(grown_, z_lo_ - zg, z_hi_ + zg, Eigen::Vector3d(p[0], p[1], p[2]), &grad)
+                          : signed_distance(grow_by_box(obstacle_, m.x + grow_, m.y + grow_), z_lo_ - zg, z_hi_ + zg,
+                                            Eigen::Vector3d(p[0], p[1], p[2]), &grad);
+    g[0] = clearance_ - sd;
+    if (jac)
+      for (int i = 0; i < n; ++i) jac[i] = -(grad[0] * J[i] + grad[1] * J[n + i] + grad[2] * J[2 * n + i]);
+    return;
+  }
   Eigen::Vector2d grad;
   double sd;
   if (distance_) {
@@ -161,8 +190,11 @@ bool ObstacleConstraint::hessian(const double* x, const double* w, double* H) co
   // A nonlinear footprint adds a curvature term this class cannot evaluate; a state-dependent
   // margin has no fixed grown polygon.
   if (!agent_->workspace.linear() || !margins_->constant()) return false;
+  // A prism's distance mixes the polygon's and the interval's: the planner differences the
+  // Jacobian there.
+  if (prism()) return false;
   const int n = agent_->n();
-  double p[2], J[2 * kMaxDual];
+  double p[kMaxWorkspaceDim], J[kMaxWorkspaceDim * kMaxDual];
   workspace_point_jacobian(*agent_, x + support_[0], p, J);
   // sd is the distance to the nearest edge (linear in p) unless the nearest feature is a vertex
   // v outside, where it is |p - v|. The Hessian is taken on core's grown polygon also when a
@@ -200,6 +232,12 @@ PairConstraint::PairConstraint(std::string name, const AgentSpec& a, int offset_
   double reach;
   if (norm_ == Norm::Two) {
     reach = delta_ + m1.two() + m2.two() + slack;  // |d|_2 >= |d|_inf
+  } else if (a.workspace.dim() == 3) {
+    // The 3-D max nests two smoothed maxima, each at most 4c/27 below the max it smooths.
+    const double rx = delta_ + m1.x + m2.x, ry = delta_ + m1.y + m2.y, rz = delta_ + m1.z + m2.z;
+    const double s = std::min({rx, ry, rz});
+    if (!(s > 0)) return;
+    reach = std::max({rx, ry, rz}) * (1.0 + 8.0 * corner_ / 27.0 + slack / s);
   } else {
     // value(): g = s (1 - M) + buffer with s = min(rx, ry) and M >= max(|dx|/rx, |dy|/ry) - 4c/27
     // (the smoothed |z| never falls more than 4c/27 below |z|), so g <= 0 once
@@ -215,13 +253,16 @@ PairConstraint::PairConstraint(std::string name, const AgentSpec& a, int offset_
 double PairConstraint::value(const double* d, const double* xa, const double* xb, double* gd) const {
   // The margins are piecewise constant in the state: their variation is not differentiated.
   const WorkspaceMargin m1 = ma_->at(xa), m2 = mb_->at(xb);
+  const bool space = a_->workspace.dim() == 3;
   if (norm_ == Norm::Two) {
-    const double len = std::hypot(d[0], d[1]);
+    const double len = space ? std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) : std::hypot(d[0], d[1]);
     const double inv = len > 1e-12 ? 1.0 / len : 0.0;
     gd[0] = -d[0] * inv;
     gd[1] = -d[1] * inv;
+    if (space) gd[2] = -d[2] * inv;
     return delta_ + m1.two() + m2.two() + buffer_ - len;
   }
+  if (space) return value_inf3(d, m1, m2, gd);
   const double rx = delta_ + m1.x + m2.x, ry = delta_ + m1.y + m2.y;
   const double sx = d[0] / rx, sy = d[1] / ry;
   const double ax = std::abs(sx), ay = std::abs(sy);
@@ -241,11 +282,44 @@ double PairConstraint::value(const double* d, const double* xa, const double* xb
   return scale * (1.0 - M) + buffer_;
 }
 
+namespace {
+// M(a, b) = (a + b)/2 + sigma((a - b)/2) <= max(a, b) and its partials (see value()).
+double smooth_max(double a, double b, double c, double& da, double& db) {
+  const double z = 0.5 * (a - b), az = std::abs(z);
+  double sigma = az, dsigma = z >= 0 ? 1.0 : -1.0;
+  if (az < c) {
+    sigma = z * z * (2 * c - az) / (c * c);
+    dsigma = (z >= 0 ? 1.0 : -1.0) * (4 * c * az - 3 * z * z) / (c * c);
+  }
+  da = 0.5 + 0.5 * dsigma;
+  db = 0.5 - 0.5 * dsigma;
+  return 0.5 * (a + b) + sigma;
+}
+}  // namespace
+
+double PairConstraint::value_inf3(const double* d, const WorkspaceMargin& m1, const WorkspaceMargin& m2,
+                                  double* gd) const {
+  // max(|dx|/rx, |dy|/ry, |dz|/rz) >= 1 through M(M(ax, ay), az), a C1 lower bound of the max.
+  const double r[3] = {delta_ + m1.x + m2.x, delta_ + m1.y + m2.y, delta_ + m1.z + m2.z};
+  double s[3], a[3];
+  for (int c = 0; c < 3; ++c) {
+    s[c] = d[c] / r[c];
+    a[c] = std::abs(s[c]);
+  }
+  double d0, d1, e01, e2;
+  const double m01 = smooth_max(a[0], a[1], corner_, d0, d1);
+  const double M = smooth_max(m01, a[2], corner_, e01, e2);
+  const double dM[3] = {e01 * d0, e01 * d1, e2};
+  const double scale = std::min({r[0], r[1], r[2]});
+  for (int c = 0; c < 3; ++c) gd[c] = -scale * dM[c] * (s[c] >= 0 ? 1 : -1) / r[c];
+  return scale * (1.0 - M) + buffer_;
+}
+
 void PairConstraint::evaluate(const double* x, double* g, double* jac) const {
   const int na = a_->n(), nb = b_->n();
   const double *xa = x + support_[0], *xb = x + support_[na];
   const PairGeometry geo(*a_, *b_, xa, xb, jac != nullptr);
-  double gd[2];
+  double gd[kMaxWorkspaceDim] = {0, 0, 0};
   g[0] = value(geo.d, xa, xb, gd);
   if (jac) geo.chain(gd, na, nb, jac);
 }
@@ -253,14 +327,16 @@ void PairConstraint::evaluate(const double* x, double* g, double* jac) const {
 bool PairConstraint::hessian(const double* x, const double* w, double* H) const {
   const int na = a_->n(), nb = b_->n();
   const double *xa = x + support_[0], *xb = x + support_[na];
+  // The nested 3-D smoothing of the max norm: the planner differences the Jacobian.
+  if (a_->workspace.dim() == 3 && norm_ == Norm::Inf) return false;
   double Pa[2 * kMaxDual * kMaxDual], Pb[2 * kMaxDual * kMaxDual];
   if (!footprint_hessian(*a_, xa, Pa) || !footprint_hessian(*b_, xb, Pb)) return false;
   const PairGeometry geo(*a_, *b_, xa, xb, true);
-  double gd[2];
+  double gd[kMaxWorkspaceDim] = {0, 0, 0};
   value(geo.d, xa, xb, gd);
-  double S[4] = {0, 0, 0, 0};
+  double S[kMaxWorkspaceDim * kMaxWorkspaceDim] = {0, 0, 0, 0};
   if (norm_ == Norm::Two) {
-    norm_curvature(geo.d, -w[0], S);
+    norm_curvature(geo.d, -w[0], S, geo.D);
   } else {
     // g = scale (1 - M): M is piecewise linear outside the smoothed corner; inside it the only
     // curvature is sigma''(z) along z's gradient v in d.
@@ -277,7 +353,7 @@ bool PairConstraint::hessian(const double* x, const double* w, double* H) const 
       S[3] = k * v[1] * v[1];
     }
   }
-  add_congruence(geo.Ja, na, geo.Jb, nb, S, H);
+  add_congruence(geo.Ja, na, geo.Jb, nb, S, H, geo.D);
   const double gw[2] = {w[0] * gd[0], w[0] * gd[1]};
   add_footprint_curvature(Pa, na, Pb, nb, gw, H);
   return true;
@@ -295,13 +371,13 @@ void FormationConstraint::evaluate(const double* x, double* g, double* jac) cons
   const double *xa = x + support_[0], *xb = x + support_[na];
   const PairGeometry geo(*a_, *b_, xa, xb, jac != nullptr);
   const double slack = ma_->at(xa).two() + mb_->at(xb).two() + buffer_;
-  const double len = std::hypot(geo.d[0], geo.d[1]);
+  const double len = geo.norm();
   g[0] = len - (lambda_ + mu_ - slack);
   g[1] = (lambda_ - mu_ + slack) - len;
   if (jac) {
     const double inv = len > 1e-12 ? 1.0 / len : 0.0;
-    const double gd[2] = {geo.d[0] * inv, geo.d[1] * inv};
-    const double gn[2] = {-gd[0], -gd[1]};
+    const double gd[kMaxWorkspaceDim] = {geo.d[0] * inv, geo.d[1] * inv, geo.d[2] * inv};
+    const double gn[kMaxWorkspaceDim] = {-gd[0], -gd[1], -gd[2]};
     geo.chain(gd, na, nb, jac);
     geo.chain(gn, na, nb, jac + na + nb);
   }
@@ -315,10 +391,10 @@ bool FormationConstraint::hessian(const double* x, const double* w, double* H) c
   const PairGeometry geo(*a_, *b_, xa, xb, true);
   // g_0 = |d| - ..., g_1 = ... - |d|: both rows through |d|, weighted w_0 - w_1.
   const double k = w[0] - w[1];
-  double S[4];
-  norm_curvature(geo.d, k, S);
-  add_congruence(geo.Ja, na, geo.Jb, nb, S, H);
-  const double len = std::hypot(geo.d[0], geo.d[1]);
+  double S[kMaxWorkspaceDim * kMaxWorkspaceDim];
+  norm_curvature(geo.d, k, S, geo.D);
+  add_congruence(geo.Ja, na, geo.Jb, nb, S, H, geo.D);
+  const double len = geo.norm();
   const double inv = len > 1e-12 ? 1.0 / len : 0.0;
   const double gw[2] = {k * geo.d[0] * inv, k * geo.d[1] * inv};
   add_footprint_curvature(Pa, na, Pb, nb, gw, H);

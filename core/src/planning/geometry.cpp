@@ -146,4 +146,35 @@ double signed_distance_two(const std::vector<Eigen::Vector2d>& poly, const Eigen
   return signed_distance(poly, p, segment_distance_two, [](double h, const Eigen::Vector2d&) { return h; });
 }
 
+double prism_combine(double s, double h, bool inf_norm) {
+  if (s > 0 && h > 0) return inf_norm ? std::max(s, h) : std::sqrt(s * s + h * h);
+  return std::max(s, h);
+}
+
+double signed_distance_inf(const Polygon& poly, double z_lo, double z_hi, const Eigen::Vector3d& p) {
+  return prism_combine(signed_distance_inf(poly, Eigen::Vector2d(p.x(), p.y())), z_gap(p.z(), z_lo, z_hi), true);
+}
+
+double signed_distance_two(const Polygon& poly, double z_lo, double z_hi, const Eigen::Vector3d& p) {
+  return prism_combine(signed_distance_two(poly, Eigen::Vector2d(p.x(), p.y())), z_gap(p.z(), z_lo, z_hi), false);
+}
+
+double signed_distance(const Polygon& poly, double z_lo, double z_hi, const Eigen::Vector3d& p, Eigen::Vector3d* grad) {
+  Eigen::Vector2d g2;
+  const double s = signed_distance(poly, Eigen::Vector2d(p.x(), p.y()), &g2);
+  const double h = z_gap(p.z(), z_lo, z_hi);
+  const double dz = z_lo - p.z() > p.z() - z_hi ? -1.0 : 1.0;  // dh/dz
+  if (s > 0 && h > 0) {
+    const double r = std::sqrt(s * s + h * h);
+    if (grad) *grad = Eigen::Vector3d(s * g2.x() / r, s * g2.y() / r, h * dz / r);
+    return r;
+  }
+  if (h > s) {
+    if (grad) *grad = Eigen::Vector3d(0.0, 0.0, dz);
+    return h;
+  }
+  if (grad) *grad = Eigen::Vector3d(g2.x(), g2.y(), 0.0);
+  return s;
+}
+
 }  // namespace marsyn::planning

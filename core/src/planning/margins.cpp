@@ -16,6 +16,7 @@ WorkspaceMargin linear_margin(const AgentSpec& a) {
   const auto& ws = a.workspace;
   m.x = ws.index[0] >= 0 ? a.tube.eps[ws.index[0]] : 0.0;
   m.y = ws.index[1] >= 0 ? a.tube.eps[ws.index[1]] : 0.0;
+  if (ws.dim() == 3) m.z = ws.index[2] >= 0 ? a.tube.eps[ws.index[2]] : 0.0;
   return m;
 }
 
@@ -138,6 +139,7 @@ WorkspaceMargin MarginTable::max() const {
     const WorkspaceMargin c = evaluate(i);
     m.x = std::max(m.x, c.x);
     m.y = std::max(m.y, c.y);
+    m.z = std::max(m.z, c.z);
   }
   return m;
 }
@@ -166,7 +168,7 @@ double workspace_speed_bound(const AgentSpec& a, double horizon_s) {
   double out = 0.0;
   const auto& ws = a.workspace;
   if (ws.linear()) {
-    for (int c = 0; c < 2; ++c)
+    for (int c = 0; c < ws.dim(); ++c)
       if (ws.index[c] >= 0) out = std::max(out, speed[ws.index[c]]);
   } else {
     double p[2];
@@ -182,11 +184,11 @@ double workspace_speed_bound(const AgentSpec& a, double horizon_s) {
   // The box's worst case is far above what a plan does where the state box is wide (the crane's
   // rates): at most twice the average speed from the start to the goal over the horizon.
   if (horizon_s > 0) {
-    double p0[2], p1[2];
+    double p0[kMaxWorkspaceDim] = {}, p1[kMaxWorkspaceDim] = {};
     if (goal.allFinite()) {
       workspace_point_jacobian(a, a.x0.data(), p0, nullptr);
       workspace_point_jacobian(a, goal.data(), p1, nullptr);
-      const double mean = std::max(std::abs(p1[0] - p0[0]), std::abs(p1[1] - p0[1])) / horizon_s;
+      const double mean = std::max({std::abs(p1[0] - p0[0]), std::abs(p1[1] - p0[1]), std::abs(p1[2] - p0[2])}) / horizon_s;
       out = std::min(out, 2.0 * mean);
     }
   }

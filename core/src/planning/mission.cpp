@@ -13,6 +13,14 @@ namespace {
 
 constexpr int kNoLimit = std::numeric_limits<int>::max() / 4;
 
+// Stages are regions of the plane (a 3-D workspace's x-y, at every height): the workspace
+// point's x and y.
+Eigen::Vector2d xy_point(const AgentSpec& a, const double* x) {
+  double p[kMaxWorkspaceDim];
+  workspace_point3<double>(*a.dynamics, a.workspace, x, p);
+  return {p[0], p[1]};
+}
+
 Eigen::Vector2d region_centre(const AgentSpec& a, const MissionStage& s) {
   if (s.is_polygon()) {
     Eigen::Vector2d c = Eigen::Vector2d::Zero();
@@ -21,7 +29,7 @@ Eigen::Vector2d region_centre(const AgentSpec& a, const MissionStage& s) {
   }
   const Eigen::VectorXd x = s.box.center();
   Eigen::Vector2d p;
-  workspace_point<double>(*a.dynamics, a.workspace, x.data(), p.data());
+  p = xy_point(a, x.data());
   return p;
 }
 
@@ -31,9 +39,9 @@ std::vector<double> straight_fractions(const AgentSpec& a) {
   const int S = static_cast<int>(a.stages.size());
   if (S == 0) return {};
   Eigen::Vector2d p0, pg;
-  workspace_point<double>(*a.dynamics, a.workspace, a.x0.data(), p0.data());
+  p0 = xy_point(a, a.x0.data());
   const Eigen::VectorXd gc = a.goal.center();
-  workspace_point<double>(*a.dynamics, a.workspace, gc.data(), pg.data());
+  pg = xy_point(a, gc.data());
   std::vector<double> L(S + 1, 0.0);
   Eigen::Vector2d prev = p0;
   for (int s = 0; s <= S; ++s) {
@@ -138,7 +146,7 @@ MissionSchedule place_all(const Problem& problem, int horizon, const std::vector
 // How deep agent a's state x lies in stage st's region (no eps): the sound margin of the point.
 double depth(const AgentSpec& a, const MissionStage& st, const Eigen::VectorXd& x) {
   Eigen::Vector2d p;
-  workspace_point<double>(*a.dynamics, a.workspace, x.data(), p.data());
+  p = xy_point(a, x.data());
   return stage_margin(st, Box{x, x}, Box{p, p});
 }
 
@@ -170,7 +178,7 @@ MissionSchedule retime_missions(const Problem& problem, const MissionSchedule& c
     for (int k = 0; k <= T; ++k) {
       Eigen::Vector2d p;
       const Eigen::VectorXd xi = state(k);
-      workspace_point<double>(*a.dynamics, a.workspace, xi.data(), p.data());
+      p = xy_point(a, xi.data());
       if (k > 0) arc[k] = arc[k - 1] + (p - prev).norm();
       prev = p;
     }

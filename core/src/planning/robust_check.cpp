@@ -90,20 +90,21 @@ bool check_period(const Problem& problem, const ProductLayout& at, const std::ve
   const int N = static_cast<int>(problem.agents.size());
   const int P = parts;
   // ws[s][i]: agent i's workspace box over part s of the period.
-  std::vector<std::vector<Box>> ws(P, std::vector<Box>(N, Box{Eigen::VectorXd(2), Eigen::VectorXd(2)}));
+  const int D = problem.workspace_dim;
+  std::vector<std::vector<Box>> ws(P, std::vector<Box>(N, Box{Eigen::VectorXd(D), Eigen::VectorXd(D)}));
   std::vector<Box> flow;
-  std::vector<Interval> xb, pb(2);
+  std::vector<Interval> xb, pb(kMaxWorkspaceDim);
   const bool inf = problem.delta_norm == Norm::Inf;
   // Knot-to-knot motion of the workspace points: an agent's own (obstacles) and, for a pair, of
   // their difference (collisions, formation), in the problem's norm.
-  std::vector<Eigen::Vector2d> step(N);
-  auto size = [&](const Eigen::Vector2d& d) { return inf ? d.lpNorm<Eigen::Infinity>() : d.norm(); };
+  std::vector<Point> step(N);
+  auto size = [&](const Point& d) { return inf ? d.lpNorm<Eigen::Infinity>() : distance2(d); };
   for (int i = 0; i < N; ++i) {
     const auto& a = problem.agents[i];
-    double p0[2], p1[2];
-    workspace_point<double>(*a.dynamics, a.workspace, x[k].data() + xo[i], p0);
-    workspace_point<double>(*a.dynamics, a.workspace, x[k + 1].data() + xo[i], p1);
-    step[i] = Eigen::Vector2d(p1[0] - p0[0], p1[1] - p0[1]);
+    Point p0, p1;
+    workspace_point3<double>(*a.dynamics, a.workspace, x[k].data() + xo[i], p0.data());
+    workspace_point3<double>(*a.dynamics, a.workspace, x[k + 1].data() + xo[i], p1.data());
+    step[i] = p1 - p0;
   }
   for (int i = 0; i < N; ++i) {
     const auto& a = problem.agents[i];
@@ -134,7 +135,7 @@ bool check_period(const Problem& problem, const ProductLayout& at, const std::ve
                  std::abs(x[k + 1][xo[i] + c] - x[k][xo[i] + c]));
       if (a.workspace.linear()) {  // exact up to one directed addition, no interval type needed
         const RoundToNearestScope nearest;
-        for (int c = 0; c < 2; ++c) {
+        for (int c = 0; c < D; ++c) {
           const int at = a.workspace.index[c];
           const double off = a.workspace.offset[c];
           ws[s][i].lo[c] = at >= 0 ? fast_detail::add_down(grown.lo[at], off) : off;
@@ -151,8 +152,8 @@ bool check_period(const Problem& problem, const ProductLayout& at, const std::ve
   }
   auto motion = [&](const Requirement& q) {
     if (q.kind == Requirement::Obstacle) return size(step[q.a]);
-    const Eigen::Vector2d d = step[q.a] - step[q.b];
-    return q.kind == Requirement::Collision ? size(d) : d.norm();
+    const Point d = step[q.a] - step[q.b];
+    return q.kind == Requirement::Collision ? size(d) : distance2(d);
   };
   for (int s = 0; s < P; ++s)
     for_each_requirement(problem, windows, Moment{k, true}, [&](const Requirement& q) {
@@ -239,10 +240,10 @@ std::vector<StageVisit> check_stages(const Problem& problem, const std::vector<E
           m = std::min(m, stage_margin(st, g, workspace_of(a, g)));
         }
       }
-      Eigen::Vector2d p0, p1;
-      workspace_point<double>(*a.dynamics, a.workspace, x[k].data() + xo, p0.data());
-      workspace_point<double>(*a.dynamics, a.workspace, x[k + 1].data() + xo, p1.data());
-      b->record(m, k, [&] { return v.name; }, (p1 - p0).norm());
+      Point p0, p1;
+      workspace_point3<double>(*a.dynamics, a.workspace, x[k].data() + xo, p0.data());
+      workspace_point3<double>(*a.dynamics, a.workspace, x[k + 1].data() + xo, p1.data());
+      b->record(m, k, [&] { return v.name; }, distance2(p1 - p0));
       v.between_margin = std::min(v.between_margin, m);
     }
     v.margin = std::min(v.sampled_margin, v.between_margin);
@@ -286,7 +287,7 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan, const M
 
   const int N = static_cast<int>(problem.agents.size());
   Tally t, tu;
-  std::vector<Eigen::Vector2d> p(N);
+  std::vector<Point> p(N);
   std::vector<WorkspaceMargin> m(N);
   const ObstacleWindows windows(problem, visits);
   for (int k = 0; k <= T; ++k) {
@@ -294,7 +295,7 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan, const M
       const auto& a = problem.agents[i];
       const Eigen::VectorXd xi = x[k].segment(xo[i], a.n());
       m[i] = margin_at(a, xi);
-      workspace_point(*a.dynamics, a.workspace, xi.data(), p[i].data());
+      workspace_point3(*a.dynamics, a.workspace, xi.data(), p[i].data());
       const Box X = a.state_bounds.shrunk(a.tube.eps);
       for (int c = 0; c < a.n(); ++c) t.record(inside_margin(X, c, xi[c]), k, [&] { return state_bound_name(a, c); });
       if (k < T) {

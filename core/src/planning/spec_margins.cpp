@@ -36,29 +36,41 @@ double obstacle_margin(const Polygon& obstacle, const Eigen::Vector2d& p, const 
   return (norm == Norm::Inf ? signed_distance_inf(P, p) : signed_distance_two(P, p)) - delta;
 }
 
-double collision_margin(const Eigen::Vector2d& p, const WorkspaceMargin& mp, const Eigen::Vector2d& q,
-                        const WorkspaceMargin& mq, double delta, Norm norm) {
-  const Eigen::Vector2d d = p - q;
-  // Inf-norm: the margin boxes add, and ||d'||_inf >= delta for every d' in d + box(mx_p + mx_q,
-  // my_p + my_q) iff one coordinate clears its sum.
-  if (norm == Norm::Inf)
-    return std::max(std::abs(d.x()) - (delta + mp.x + mq.x), std::abs(d.y()) - (delta + mp.y + mq.y));
-  return d.norm() - (delta + mp.two() + mq.two());
+double obstacle_margin(const Obstacle& o, const Point& p, const WorkspaceMargin& m, double delta, Norm norm) {
+  // A prism grown by a box is the grown polygon times the grown interval.
+  const double s = obstacle_margin(o.vertices, Eigen::Vector2d(p.x(), p.y()), m, 0.0, norm);
+  if (!o.z_bounded()) return s - delta;
+  const double h = z_gap(p.z(), o.z_lo - m.z, o.z_hi + m.z);
+  return prism_combine(s, h, norm == Norm::Inf) - delta;
 }
 
-double formation_margin(const Eigen::Vector2d& p, const WorkspaceMargin& mp, const Eigen::Vector2d& q,
-                        const WorkspaceMargin& mq, double lambda, double mu) {
-  return (mu - (mp.two() + mq.two())) - std::abs((p - q).norm() - lambda);
+double collision_margin(const Point& p, const WorkspaceMargin& mp, const Point& q, const WorkspaceMargin& mq,
+                        double delta, Norm norm) {
+  const Point d = p - q;
+  // Inf-norm: the margin boxes add, and ||d'||_inf >= delta for every d' in d + box(m_p + m_q)
+  // iff one coordinate clears its sum. Without z (the plane; a 3-D pair at one altitude without
+  // z margins) the z term is left out: the plane's value bit for bit, and never above the 3-D one.
+  if (norm == Norm::Inf) {
+    const double xy = std::max(std::abs(d.x()) - (delta + mp.x + mq.x), std::abs(d.y()) - (delta + mp.y + mq.y));
+    if (d.z() == 0.0 && mp.z == 0.0 && mq.z == 0.0) return xy;
+    return std::max(xy, std::abs(d.z()) - (delta + mp.z + mq.z));
+  }
+  return distance2(d) - (delta + mp.two() + mq.two());
 }
 
-double requirement_margin(const Problem& problem, const Requirement& r, const std::vector<Eigen::Vector2d>& p,
+double formation_margin(const Point& p, const WorkspaceMargin& mp, const Point& q, const WorkspaceMargin& mq,
+                        double lambda, double mu) {
+  return (mu - (mp.two() + mq.two())) - std::abs(distance2(p - q) - lambda);
+}
+
+double requirement_margin(const Problem& problem, const Requirement& r, const std::vector<Point>& p,
                           const std::vector<WorkspaceMargin>* m) {
   static const WorkspaceMargin none;
   const auto box = [&](int i) -> const WorkspaceMargin& { return m ? (*m)[static_cast<size_t>(i)] : none; };
   const auto& pa = p[static_cast<size_t>(r.a)];
   switch (r.kind) {
     case Requirement::Obstacle:
-      return obstacle_margin(problem.obstacles[static_cast<size_t>(r.b)].vertices, pa, box(r.a), problem.delta,
+      return obstacle_margin(problem.obstacles[static_cast<size_t>(r.b)], pa, box(r.a), problem.delta,
                              problem.delta_norm);
     case Requirement::Collision:
       return collision_margin(pa, box(r.a), p[static_cast<size_t>(r.b)], box(r.b), problem.delta, problem.delta_norm);

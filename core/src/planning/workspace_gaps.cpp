@@ -37,6 +37,10 @@ struct Edge {
 
 std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
   std::vector<NarrowGap> out;
+  // The gaps are measured in the plane: in 3-D only between full-height obstacles (a gap under
+  // or over a bounded prism is not one; no warning rather than a wrong one).
+  for (const auto& o : problem.obstacles)
+    if (o.z_bounded()) return out;
   const bool inf = problem.delta_norm == Norm::Inf;
   std::vector<double> need(problem.agents.size());
   for (size_t i = 0; i < problem.agents.size(); ++i) {
@@ -109,12 +113,12 @@ namespace {
 std::vector<CrowdedStart> all_crowded_starts(const Problem& problem) {
   std::vector<CrowdedStart> out;
   const std::size_t n = problem.agents.size();
-  std::vector<Eigen::Vector2d> p(n);
+  std::vector<Point> p(n);
   std::vector<WorkspaceMargin> m(n);
   for (std::size_t i = 0; i < n; ++i) {
     const AgentSpec& a = problem.agents[i];
     if (a.x0.size() != a.n()) return out;
-    workspace_point(*a.dynamics, a.workspace, a.x0.data(), p[i].data());
+    workspace_point3(*a.dynamics, a.workspace, a.x0.data(), p[i].data());
     m[i] = margin_at(a, a.x0);
   }
   const bool inf = problem.delta_norm == Norm::Inf;
@@ -130,7 +134,7 @@ std::vector<CrowdedStart> all_crowded_starts(const Problem& problem) {
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t o = 0; o < problem.obstacles.size(); ++o) {
       if (!windows.binds(static_cast<int>(i), static_cast<int>(o), {0, false})) continue;
-      const Polygon& poly = problem.obstacles[o].vertices;
+      const Obstacle& poly = problem.obstacles[o];
       const double g0 = obstacle_margin(poly, p[i], {}, problem.delta, problem.delta_norm);
       const double g1 = obstacle_margin(poly, p[i], m[i], problem.delta, problem.delta_norm);
       crowded(problem.agents[i].name, "obstacle " + problem.obstacles[o].name, g0, g1, g0 + problem.delta);
@@ -178,7 +182,8 @@ double formation_eps_factor(const Problem& problem) {
   for (const auto& p : problem.formation) {
     const AgentSpec &a = problem.agents[p.i], &b = problem.agents[p.j];
     if (!a.workspace.linear() || !b.workspace.linear()) continue;
-    const double change = std::sqrt(2.0) * (position_eps(a) + position_eps(b));
+    // |eps box|_2 over the workspace's coordinates: sqrt(2) in the plane, sqrt(3) in space.
+    const double change = std::sqrt(static_cast<double>(a.workspace.dim())) * (position_eps(a) + position_eps(b));
     if (change >= p.mu && change > 0) f = std::min(f, 0.7 * p.mu / change);
   }
   return f;

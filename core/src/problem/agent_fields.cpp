@@ -58,9 +58,13 @@ Workspace read_workspace(const Field& f, const Dynamics& dyn) {
     return ws;
   }
   Field pos = f.required("position");
-  if (!pos.is_sequence() || pos.size() != 2)
-    pos.fail("expected 2 entries [x_index, y_index]: state indices (0-based) or null for a fixed coordinate");
-  for (std::size_t c = 0; c < 2; ++c) {
+  if (!pos.is_sequence() || (pos.size() != 2 && pos.size() != 3))
+    pos.fail("expected 2 entries [x_index, y_index] (the plane) or 3 [x_index, y_index, z_index] (space): state "
+             "indices (0-based) or null for a fixed coordinate");
+  const std::size_t D = pos.size();
+  ws.index.assign(D, 0);
+  ws.offset.assign(D, 0.0);
+  for (std::size_t c = 0; c < D; ++c) {
     Field e = pos[c];
     if (!e.present()) {
       ws.index[c] = -1;
@@ -73,8 +77,8 @@ Workspace read_workspace(const Field& f, const Dynamics& dyn) {
     ws.index[c] = static_cast<int>(i);
   }
   if (f.child("offset").present()) {
-    const Eigen::VectorXd o = f.child("offset").vector(2, "a point in the plane");
-    ws.offset = {o[0], o[1]};
+    const Eigen::VectorXd o = f.child("offset").vector(static_cast<int>(D), D == 2 ? "a point in the plane" : "a point in space (as many entries as position)");
+    for (std::size_t c = 0; c < D; ++c) ws.offset[c] = o[static_cast<int>(c)];
   }
   return ws;
 }

@@ -35,13 +35,13 @@ double formation_tolerance(const Problem& problem, int i) {
 
 bool cap_auto_eps_for_formation(AgentSpec& a, double mu, std::string* why) {
   if (!std::isfinite(mu) || !a.workspace.linear()) return false;
-  const double cap = kFormationEpsShare * mu / (2 * std::sqrt(2.0));
+  const double cap = kFormationEpsShare * mu / (2 * std::sqrt(static_cast<double>(a.workspace.dim())));
   bool changed = false;
   for (int i : a.workspace.index)
     if (i >= 0 && i < a.tube.eps.size() && a.tube.eps[i] > cap) a.tube.eps[i] = cap, changed = true;
   if (why && changed)
     *why = "position coordinates at most " + std::to_string(static_cast<int>(100 * kFormationEpsShare)) +
-           " % of mu / (2 sqrt 2) = " + number_text(cap, 4) + " for the formation (mu " + number_text(mu, 4) +
+           " % of mu / (2 sqrt " + std::to_string(a.workspace.dim()) + ") = " + number_text(cap, 4) + " for the formation (mu " + number_text(mu, 4) +
            "), so that the two tubes leave the plan room";
   return changed;
 }

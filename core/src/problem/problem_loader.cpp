@@ -166,6 +166,15 @@ void read_agent(const Field& af, std::size_t idx, LoadedProblem& out, AgentsRead
   out.auto_tube.push_back(at);
   if (Field ws = agent_field(af, defaults, "workspace"); ws.present()) {
     a.workspace = read_workspace(ws, *a.dynamics);
+    // One workspace for the team: the first agent's dimension, every other agent's the same.
+    if (pb.agents.empty()) {
+      pb.workspace_dim = a.workspace.dim();
+    } else if (a.workspace.dim() != pb.workspace_dim) {
+      const Field pos = ws.child("position").present() ? ws.child("position") : ws;
+      pos.fail("agent '" + a.name + "' has a " + std::to_string(a.workspace.dim()) + "-D workspace, but '" +
+               pb.agents.front().name + "' (the first agent) has a " + std::to_string(pb.workspace_dim) +
+               "-D one; all agents share one workspace (give every 'position' 2 or every one 3 entries)");
+    }
   } else if (r.spatial) {
     af.fail("missing required field 'workspace' (the problem has obstacles, collisions or a formation, so "
             "each agent needs a point in the plane: {position: [i, j]} or {footprint: name})");
@@ -273,7 +282,7 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
 
   if (has_obstacles) {
     const auto obs = top.child("obstacles").items();
-    for (std::size_t i = 0; i < obs.size(); ++i) pb.obstacles.push_back(read_obstacle(obs[i], i));
+    for (std::size_t i = 0; i < obs.size(); ++i) pb.obstacles.push_back(read_obstacle(obs[i], i, pb.workspace_dim));
   }
   for (std::size_t i = 0; i < r.ltl_fields.size(); ++i) check_ltl_avoid(r.ltl_fields[i], r.ltl_avoid[i], pb.obstacles);
   if (Field f = top.child("formation"); f.present()) {

@@ -11,7 +11,9 @@
 
 namespace marsyn::loader {
 
-std::string point(const Eigen::Vector2d& p) { return list_text(p); }
+std::string point(const planning::Point& p, int dim) {
+  return dim == 3 ? list_text(p) : list_text(Eigen::Vector2d(p.x(), p.y()));
+}
 
 // The real specification at k = 0, with the exact geometry of the robustness check
 // (planning/spec_margins.hpp): each agent's workspace point at x0 keeps delta from every obstacle and
@@ -19,10 +21,12 @@ std::string point(const Eigen::Vector2d& p) { return list_text(p); }
 void check_start_geometry(const Problem& pb, const std::vector<Field>& x0_fields) {
   const bool inf = pb.delta_norm == Norm::Inf;
   const std::string norm = inf ? "inf-norm" : "Euclidean";
-  std::vector<Eigen::Vector2d> p(pb.agents.size());
+  std::vector<planning::Point> p(pb.agents.size());
+  const int D = pb.workspace_dim;
+  auto point = [D](const planning::Point& q) { return loader::point(q, D); };
   for (std::size_t i = 0; i < pb.agents.size(); ++i) {
     const AgentSpec& a = pb.agents[i];
-    workspace_point(*a.dynamics, a.workspace, a.x0.data(), p[i].data());
+    workspace_point3(*a.dynamics, a.workspace, a.x0.data(), p[i].data());
     if (!p[i].allFinite()) x0_fields[i].fail("the workspace point of x0 is not finite: " + point(p[i]));
   }
   for (std::size_t i = 0; i < pb.agents.size(); ++i) {
@@ -34,8 +38,8 @@ void check_start_geometry(const Problem& pb, const std::vector<Field>& x0_fields
                                                      static_cast<int>(oi)) == a.stages[0].avoid.end()))
         continue;
       // The real specification's own margins (spec_margins.hpp), with no tube around x0.
-      const double depth = planning::obstacle_margin(o.vertices, p[i], {}, 0.0, Norm::Two);
-      const double margin = planning::obstacle_margin(o.vertices, p[i], {}, pb.delta, pb.delta_norm);
+      const double depth = planning::obstacle_margin(o, p[i], {}, 0.0, Norm::Two);
+      const double margin = planning::obstacle_margin(o, p[i], {}, pb.delta, pb.delta_norm);
       const std::string what = "x0 puts " + a.name + "'s workspace point " + point(p[i]);
       if (depth < 0) x0_fields[i].fail(what + " inside obstacle '" + o.name + "'");
       if (margin < 0)
@@ -105,9 +109,21 @@ std::vector<Eigen::Vector2d> circumscribed_polygon(const Field& f) {
   return v;
 }
 
-Obstacle read_obstacle(const Field& f, std::size_t index) {
+// A 3-D workspace's obstacle is a vertical prism: the shape in x-y times `z: [lo, hi]` (a
+// 3-entry box gives its own; without either, full height). In the plane neither is allowed.
+void read_z_interval(const Field& z, int dim, Obstacle& o) {
+  if (dim != 3)
+    z.fail("a z interval needs a 3-D workspace (every agent's workspace: {position: [x, y, z]}); this problem's "
+           "workspace is the plane");
+  const Eigen::VectorXd v = z.vector(2, "an interval [z_lo, z_hi] of heights");
+  if (v[0] > v[1]) z[0].fail("lower bound " + number_text(v[0]) + " exceeds upper bound " + number_text(v[1]));
+  o.z_lo = v[0];
+  o.z_hi = v[1];
+}
+
+Obstacle read_obstacle(const Field& f, std::size_t index, int dim) {
   f.expect_map();
-  f.allow_only({"name", "box", "polygon", "circle", "scope"});
+  f.allow_only({"name", "box", "polygon", "circle", "scope", "z"});
   Obstacle o;
   o.name = f.child("name").present() ? f.child("name").text() : "obstacle" + std::to_string(index);
   if (Field sf = f.child("scope"); sf.present()) {
@@ -121,12 +137,22 @@ Obstacle read_obstacle(const Field& f, std::size_t index) {
   const bool has_box = f.child("box").present(), has_poly = f.child("polygon").present(),
              has_circle = f.child("circle").present();
   if (int{has_box} + int{has_poly} + int{has_circle} != 1) f.fail("expected exactly one of 'box', 'polygon' or 'circle'");
+  if (Field z = f.child("z"); z.present()) read_z_interval(z, dim, o);
   if (has_circle) {
     o.vertices = circumscribed_polygon(f.child("circle"));
     return o;
   }
   if (has_box) {
-    const Box b = read_box(f.child("box"), 2, "a box in the plane");
+    const Field bf = f.child("box");
+    // In space a box gives 3 entries (or 2 and a `z` interval, or 2 for full height).
+    const Field first = bf.child("lo").present() ? bf.child("lo") : bf.child("center");
+    const bool box3 = dim == 3 && first.present() && first.is_sequence() && first.size() == 3;
+    const Box b = read_box(bf, box3 ? 3 : 2, box3 ? "a box in space [x, y, z]" : dim == 3 ? "a box in space [x, y, z] (or [x, y] for the whole height)" : "a box in the plane");
+    if (box3) {
+      if (f.child("z").present()) f.child("z").fail("give the heights either in the box's third entries or in 'z', not both");
+      o.z_lo = b.lo[2];
+      o.z_hi = b.hi[2];
+    }
     o.is_box = true;
     o.vertices = {{b.lo[0], b.lo[1]}, {b.hi[0], b.lo[1]}, {b.hi[0], b.hi[1]}, {b.lo[0], b.hi[1]}};
     return o;
@@ -153,13 +179,14 @@ void read_formation(const Field& f, Problem& pb) {
   const double mu = f.required("mu").positive();
   if (Field off = f.child("offsets"); off.present()) {
     off.expect_map();
-    std::vector<std::pair<int, Eigen::Vector2d>> pts;
+    std::vector<std::pair<int, Eigen::VectorXd>> pts;
     for (const auto& key : off.keys()) {
       Field k = off.child(key);
       YAML::Node name_node(key);
       const int i = agent_index(pb, Field(name_node, f.file(), k.path(), k.node().Mark()));
-      const Eigen::VectorXd v = k.vector(2, "an offset in the plane");
-      pts.emplace_back(i, Eigen::Vector2d(v[0], v[1]));
+      const Eigen::VectorXd v = pb.workspace_dim == 3 ? k.vector(3, "an offset in space [x, y, z]")
+                                                      : k.vector(2, "an offset in the plane");
+      pts.emplace_back(i, v);
     }
     for (std::size_t a = 0; a < pts.size(); ++a)
       for (std::size_t b = a + 1; b < pts.size(); ++b)
@@ -207,6 +234,12 @@ void read_collision(const Field& f, LoadedProblem& out) {
     std::string msg = unknown_plugin(reg, PluginKind<DistanceModel>::name, pf.name);
     pf.name_field.fail(msg + " (or 'exact' for core's own geometry)");
   }
+  // Distance plugins take planar polygons; a prism bounded in z is not one.
+  for (const auto& o : pb.obstacles)
+    if (o.z_bounded())
+      pf.name_field.fail("the collision plugin '" + pf.name + "' measures distances to planar polygons, but obstacle '" +
+                         o.name + "' is bounded in z (a 3-D workspace's prism); use 'exact' (core's geometry, "
+                         "which judges prisms) or give every obstacle the whole height");
   Params user = read_params(pf.params_field, *info);
   for (const char* reserved : {"polygons", "boxes"})
     if (user.has(reserved))

@@ -35,6 +35,8 @@ canvas{width:100%;border:1px solid #dae1e7;border-radius:4px;background:#fff}
 <main>
 <section><h2>Workspace: agents, tubes, obstacles, goals</h2>
 <canvas id="cv" width="640" height="640"></canvas>
+<div id="side" style="display:none"><h2 style="margin-top:12px">Side view (x-z): heights of tubes, enclosures and obstacles</h2>
+<canvas id="cv2" width="640" height="360"></canvas></div>
 <div class="controls"><button id="play">pause</button><input id="k" type="range" min="0" value="0">
 <span id="kt"></span></div>
 <div class="controls"><label>run <select id="run"></select></label></div>
@@ -115,25 +117,22 @@ table($('rounds'), ['round', 'action', 'why', 'changes (from -> to)', 'T', 'outc
     fmt(r.horizon, 0) + (r.planned ? '' : ' (kept)'), esc(r.outcome), fmt(r.plan_time_s, 2), fmt(r.track_time_s, 2),
     fmt(r.certify_time_s, 2), fmt(r.time_s, 2)]));
 
-// Workspace animation.
-const cv = $('cv'), ctx = cv.getContext('2d');
+// Workspace animation: one view per canvas (the top view; a 3-D workspace adds the side view x-z).
 const colors = ['#3490dc', '#e3342f', '#38c172', '#f6993f', '#9561e2', '#f66d9b', '#4dc0b5', '#6574cd', '#ffed4a', '#8795a1'];
+function makeView(cv, S) {
+const ctx = cv.getContext('2d');
 let xmin = 1e9, xmax = -1e9, ymin = 1e9, ymax = -1e9;
 const grow = (x, y) => { xmin = Math.min(xmin, x); xmax = Math.max(xmax, x); ymin = Math.min(ymin, y); ymax = Math.max(ymax, y); };
 S.agents.forEach(a => { a.tube.forEach(b => { grow(b[0], b[1]); grow(b[2], b[3]); }); grow(a.goal[0], a.goal[1]); grow(a.goal[2], a.goal[3]); });
-(S.runs || []).forEach(r => r.points.forEach(tr => tr.forEach(p => grow(p[0], p[1]))));
+// Open-loop runs can drift metres away (no feedback): they do not set the frame.
+(S.runs || []).filter(r => !r.label.startsWith('open loop')).forEach(r => r.points.forEach(tr => tr.forEach(p => grow(p[0], p[1]))));
 S.obstacles.forEach(o => o.vertices.forEach(p => { if (p[0] > xmin - 3 && p[0] < xmax + 3 && p[1] > ymin - 3 && p[1] < ymax + 3) grow(p[0], p[1]); }));
 if (xmin > xmax) { xmin = 0; xmax = 1; ymin = 0; ymax = 1; }
 const pad = 0.05 * Math.max(xmax - xmin, ymax - ymin, 1e-3);
 xmin -= pad; xmax += pad; ymin -= pad; ymax += pad;
 const scale = Math.min(cv.width / (xmax - xmin), cv.height / (ymax - ymin));
 const X = x => (x - xmin) * scale, Y = y => cv.height - (y - ymin) * scale;
-const steps = S.agents.length ? S.agents[0].tube.length : 1;
-$('k').max = Math.max(0, steps - 1);
-(S.runs || []).forEach((r, i) => { const o = document.createElement('option'); o.value = i; o.textContent = r.label + (r.satisfied ? '' : '  [violates]'); $('run').appendChild(o); });
-const fb = (S.runs || []).findIndex(r => r.label.startsWith('feedback, constant'));
-if (fb >= 0) $('run').value = fb;
-function draw(k) {
+return function draw(k) {
   ctx.clearRect(0, 0, cv.width, cv.height);
   ctx.fillStyle = '#cbd2d9';
   S.obstacles.forEach(o => { ctx.beginPath(); o.vertices.forEach((p, i) => i ? ctx.lineTo(X(p[0]), Y(p[1])) : ctx.moveTo(X(p[0]), Y(p[1]))); ctx.closePath();
@@ -176,7 +175,18 @@ function draw(k) {
     if (p) { ctx.fillStyle = c; ctx.beginPath(); ctx.arc(X(p[0]), Y(p[1]), 4, 0, 7); ctx.fill(); }
   });
   $('kt').textContent = 'k = ' + k + ' (t = ' + (k * S.tau).toFixed(1) + ' s)';
+  if (S.axes) { ctx.fillStyle = '#52606d'; ctx.font = '11px system-ui'; ctx.fillText(S.axes[0] + ' \u2192, ' + S.axes[1] + ' \u2191', 6, 14); }
+};
 }
+const views = [makeView($('cv'), S)];
+if (S.side) { $('side').style.display = ''; views.push(makeView($('cv2'), S.side)); }
+const draw = k => views.forEach(d => d(k));
+const steps = S.agents.length ? S.agents[0].tube.length : 1;
+$('k').max = Math.max(0, steps - 1);
+(S.runs || []).forEach((r, i) => { const o = document.createElement('option'); o.value = i; o.textContent = r.label + (r.satisfied ? '' : '  [violates]'); $('run').appendChild(o); });
+const fb = (S.runs || []).findIndex(r => r.label.startsWith('feedback, constant'));
+if (fb >= 0) $('run').value = fb;
+
 let k = 0, playing = true;
 $('k').oninput = e => { k = +e.target.value; draw(k); };
 $('run').onchange = () => draw(k);

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 
 #include "marsyn/core/planning/mission.hpp"
@@ -7,13 +8,42 @@
 namespace marsyn {
 namespace {
 
-// Sound workspace box of a state box: interval evaluation of the agent's workspace map.
-std::array<double, 4> workspace_box(const AgentSpec& a, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
+// The drawing's axes: the top view x-y (the plane's only one), or a 3-D workspace's side view x-z.
+struct View {
+  int u = 0, v = 1;
+};
+
+// Sound workspace box of a state box in the view's axes: interval evaluation of the agent's
+// workspace map.
+std::array<double, 4> workspace_box(const AgentSpec& a, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, View w) {
   std::vector<Interval> x(a.n());
   for (int i = 0; i < a.n(); ++i) x[i] = Interval(lo[i], hi[i]);
-  Interval p[2];
-  workspace_point<Interval>(*a.dynamics, a.workspace, x.data(), p);
-  return {p[0].lower(), p[1].lower(), p[0].upper(), p[1].upper()};
+  Interval p[kMaxWorkspaceDim];
+  workspace_point3<Interval>(*a.dynamics, a.workspace, x.data(), p);
+  return {p[w.u].lower(), p[w.v].lower(), p[w.u].upper(), p[w.v].upper()};
+}
+
+std::array<double, 2> point_in(const AgentSpec& a, const double* x, View w) {
+  double p[kMaxWorkspaceDim];
+  workspace_point3<double>(*a.dynamics, a.workspace, x, p);
+  return {p[w.u], p[w.v]};
+}
+
+// An obstacle as the view sees it: its polygon from above; from the side the rectangle of its
+// x extent and heights (a full-height one drawn 1000 units high).
+nlohmann::json obstacle_outline(const Obstacle& o, View w) {
+  nlohmann::json v = nlohmann::json::array();
+  if (w.v != 2) {
+    for (const auto& p : o.vertices) v.push_back({p.x(), p.y()});
+    return v;
+  }
+  double lo = 1e300, hi = -1e300;
+  for (const auto& p : o.vertices) {
+    lo = std::min(lo, p[w.u]);
+    hi = std::max(hi, p[w.u]);
+  }
+  const double zl = std::max(o.z_lo, -1e3), zh = std::min(o.z_hi, 1e3);
+  return {{lo, zl}, {hi, zl}, {hi, zh}, {lo, zh}};
 }
 
 nlohmann::json round4(double v) { return std::round(v * 1e4) / 1e4; }
@@ -22,10 +52,13 @@ nlohmann::json round4(double v) { return std::round(v * 1e4) / 1e4; }
 
 // `pb` is the problem at the plan's visit knots (planning::with_visits, solve_outputs.cpp), so the
 // schedule and the staged obstacles' windows computed from it here are the plan's.
-nlohmann::json report_scene(const Problem& pb, const std::vector<NominalTrajectory>& nominal,
-                            const VerificationReport* ver, const std::vector<const std::vector<PeriodEnclosure>*>& enc) {
+namespace {
+
+nlohmann::json view_scene(const Problem& pb, const std::vector<NominalTrajectory>& nominal, const VerificationReport* ver,
+                          const std::vector<const std::vector<PeriodEnclosure>*>& enc, View view) {
   using nlohmann::json;
   json scene;
+  scene["axes"] = {std::string(1, "xyz"[view.u]), std::string(1, "xyz"[view.v])};
   scene["tau"] = pb.tau;
   scene["delta"] = pb.delta;
   json obstacles = json::array();
@@ -33,9 +66,7 @@ nlohmann::json report_scene(const Problem& pb, const std::vector<NominalTrajecto
   const planning::ObstacleWindows windows(pb, horizon);
   for (std::size_t oi = 0; oi < pb.obstacles.size(); ++oi) {
     const Obstacle& o = pb.obstacles[oi];
-    json v = json::array();
-    for (const auto& p : o.vertices) v.push_back({p.x(), p.y()});
-    json ob = {{"name", o.name}, {"vertices", v}};
+    json ob = {{"name", o.name}, {"vertices", obstacle_outline(o, view)}};
     if (o.staged) {
       // [from, to] knot ranges where it binds some agent: drawn solid there, outlined elsewhere.
       json binds = json::array();
@@ -57,15 +88,14 @@ nlohmann::json report_scene(const Problem& pb, const std::vector<NominalTrajecto
     const AgentSpec& a = pb.agents[i];
     json ag;
     ag["name"] = a.name;
-    const auto g = workspace_box(a, a.goal.lo, a.goal.hi);
+    const auto g = workspace_box(a, a.goal.lo, a.goal.hi, view);
     ag["goal"] = {g[0], g[1], g[2], g[3]};
     json tube = json::array(), path = json::array();
     if (i < nominal.size())
       for (const auto& x : nominal[i].x) {
-        const auto b = workspace_box(a, x - a.tube.eps, x + a.tube.eps);
+        const auto b = workspace_box(a, x - a.tube.eps, x + a.tube.eps, view);
         tube.push_back({round4(b[0]), round4(b[1]), round4(b[2]), round4(b[3])});
-        double p[2];
-        workspace_point<double>(*a.dynamics, a.workspace, x.data(), p);
+        const auto p = point_in(a, x.data(), view);
         path.push_back({round4(p[0]), round4(p[1])});
       }
     ag["tube"] = tube;
@@ -75,8 +105,9 @@ nlohmann::json report_scene(const Problem& pb, const std::vector<NominalTrajecto
     if (i < enc.size() && enc[i])
       for (const PeriodEnclosure& e : *enc[i]) {
         while (static_cast<int>(periods.size()) <= e.step) periods.push_back(json::array());
-        periods[static_cast<size_t>(e.step)].push_back({round4(e.workspace.lo[0]), round4(e.workspace.lo[1]),
-                                                         round4(e.workspace.hi[0]), round4(e.workspace.hi[1])});
+        if (e.workspace.dim() <= view.v) continue;  // a tracker's planar enclosure has no side view
+        periods[static_cast<size_t>(e.step)].push_back({round4(e.workspace.lo[view.u]), round4(e.workspace.lo[view.v]),
+                                                         round4(e.workspace.hi[view.u]), round4(e.workspace.hi[view.v])});
       }
     ag["enclosures"] = periods;
     if (!a.stages.empty()) {
@@ -87,9 +118,11 @@ nlohmann::json report_scene(const Problem& pb, const std::vector<NominalTrajecto
         const MissionStage& st = a.stages[s];
         json v = json::array();
         if (st.is_polygon()) {
-          for (const auto& p : st.polygon) v.push_back({p.x(), p.y()});
+          Obstacle region;  // a region of the plane: from the side, its x extent at every height
+          region.vertices = st.polygon;
+          v = obstacle_outline(region, view);
         } else {
-          const auto b = workspace_box(a, st.box.lo, st.box.hi);
+          const auto b = workspace_box(a, st.box.lo, st.box.hi, view);
           v = {{b[0], b[1]}, {b[2], b[1]}, {b[2], b[3]}, {b[0], b[3]}};
         }
         stages.push_back({{"name", st.name}, {"order", s + 1}, {"vertices", v}, {"visit", sched.visit[i][s]}, {"dwell", st.dwell}});
@@ -120,8 +153,7 @@ nlohmann::json report_scene(const Problem& pb, const std::vector<NominalTrajecto
         json track = json::array();
         const int off = ProductLayout(pb).state[i];
         for (const auto& x : kept.states) {
-          double p[2];
-          workspace_point<double>(*pb.agents[i].dynamics, pb.agents[i].workspace, x.data() + off, p);
+          const auto p = point_in(pb.agents[i], x.data() + off, view);
           track.push_back({round4(p[0]), round4(p[1])});
         }
         pts.push_back(track);
@@ -131,6 +163,17 @@ nlohmann::json report_scene(const Problem& pb, const std::vector<NominalTrajecto
     }
   }
   scene["runs"] = runs;
+  return scene;
+}
+
+}  // namespace
+
+nlohmann::json report_scene(const Problem& pb, const std::vector<NominalTrajectory>& nominal,
+                            const VerificationReport* ver, const std::vector<const std::vector<PeriodEnclosure>*>& enc) {
+  nlohmann::json scene = view_scene(pb, nominal, ver, enc, View{0, 1});
+  // A 3-D workspace gets a side view (x-z) next to the top view: heights are what a prism or a
+  // window constrains.
+  if (pb.workspace_dim == 3) scene["side"] = view_scene(pb, nominal, ver, enc, View{0, 2});
   return scene;
 }
 

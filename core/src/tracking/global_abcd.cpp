@@ -39,7 +39,7 @@ std::function<bool(const double*, const double*)> product_unsafe(const Problem& 
       const int off = layout.state[k];
       std::vector<Interval> x(a.n());
       for (int i = 0; i < a.n(); ++i) x[i] = Interval(lo[off + i], hi[off + i]);
-      Interval p[2];
+      Interval p[kMaxWorkspaceDim];  // x-y only in 3-D: never farther than in space (conservative)
       workspace_point<Interval>(*a.dynamics, a.workspace, x.data(), p);
       ws.push_back({p[0].lower(), p[1].lower(), p[0].upper(), p[1].upper()});
     }

@@ -25,19 +25,30 @@ Eigen::Vector2d nearest_on_polygon(const planning::Polygon& poly, const Eigen::V
   return best;
 }
 
-bool nearest_by_search(const Problem& pb, int i, const std::vector<Eigen::Vector2d>& pts, Eigen::Vector2d& target) {
+planning::Point nearest_on_obstacle(const Obstacle& o, const planning::Point& p) {
+  const Eigen::Vector2d xy(p.x(), p.y()), side = nearest_on_polygon(o.vertices, xy);
+  if (!o.z_bounded()) return {side.x(), side.y(), p.z()};
+  // The side's nearest point at the clamped height, or a cap's above or below p when p is over
+  // the polygon, whichever is nearer.
+  const planning::Point s(side.x(), side.y(), std::clamp(p.z(), o.z_lo, o.z_hi));
+  if (planning::signed_distance_two(o.vertices, xy) > 0) return s;
+  const planning::Point cap(p.x(), p.y(), p.z() - o.z_lo < o.z_hi - p.z() ? o.z_lo : o.z_hi);
+  return (cap - p).norm() < (s - p).norm() ? cap : s;
+}
+
+bool nearest_by_search(const Problem& pb, int i, const std::vector<planning::Point>& pts, planning::Point& target) {
   double bd = 1e300;
   for (const auto& o : pb.obstacles) {
-    const Eigen::Vector2d q = nearest_on_polygon(o.vertices, pts[i]);
-    if ((q - pts[i]).norm() < bd) {
-      bd = (q - pts[i]).norm();
+    const planning::Point q = nearest_on_obstacle(o, pts[i]);
+    if (planning::distance2(q - pts[i]) < bd) {
+      bd = planning::distance2(q - pts[i]);
       target = q;
     }
   }
   if (pb.pairwise_collision)
     for (std::size_t j = 0; j < pts.size(); ++j)
-      if (static_cast<int>(j) != i && (pts[j] - pts[i]).norm() < bd) {
-        bd = (pts[j] - pts[i]).norm();
+      if (static_cast<int>(j) != i && planning::distance2(pts[j] - pts[i]) < bd) {
+        bd = planning::distance2(pts[j] - pts[i]);
         target = pts[j];
       }
   return bd < 1e300;
@@ -49,8 +60,9 @@ namespace {
 // distance that matters: a lower bound must clear the running minimum by this much to skip.
 double slack(double a, double b) { return 1e-9 * (1.0 + std::abs(a) + std::abs(b)); }
 
-// How far p is outside an axis-aligned box along x and y (0 inside along that axis).
-Eigen::Vector2d outside(const Eigen::Vector4d& box, const Eigen::Vector2d& p) {
+// How far p is outside an axis-aligned box along x and y (0 inside along that axis): a lower
+// bound of the distance to a prism over the box in 3-D too.
+Eigen::Vector2d outside(const Eigen::Vector4d& box, const planning::Point& p) {
   return {std::max({box[0] - p.x(), p.x() - box[2], 0.0}), std::max({box[1] - p.y(), p.y() - box[3], 0.0})};
 }
 
@@ -67,7 +79,7 @@ BroadPhase::BroadPhase(const Problem& problem) : pb_(problem) {
   }
 }
 
-void BroadPhase::update(const std::vector<Eigen::Vector2d>& p) {
+void BroadPhase::update(const std::vector<planning::Point>& p) {
   pts_ = &p;
   const int n = static_cast<int>(p.size());
   if (static_cast<int>(order_.size()) != n) {
@@ -75,7 +87,7 @@ void BroadPhase::update(const std::vector<Eigen::Vector2d>& p) {
     std::iota(order_.begin(), order_.end(), 0);
     place_.assign(static_cast<size_t>(n), 0);
   }
-  finite_ = std::all_of(p.begin(), p.end(), [](const Eigen::Vector2d& q) { return q.allFinite(); });
+  finite_ = std::all_of(p.begin(), p.end(), [](const planning::Point& q) { return q.allFinite(); });
   if (!finite_) return;
   for (int a = 1; a < n; ++a) {
     const int v = order_[static_cast<size_t>(a)];
@@ -98,7 +110,7 @@ long BroadPhase::rank(const Requirement& q) const {
   return n * obstacles + pairs + q.index;
 }
 
-void BroadPhase::fold_one(const Requirement& q, const std::vector<Eigen::Vector2d>& p, double& slot, double& best,
+void BroadPhase::fold_one(const Requirement& q, const std::vector<planning::Point>& p, double& slot, double& best,
                           long& best_rank, Requirement* worst) const {
   const double v = planning::requirement_margin(pb_, q, p);
   slot = std::min(slot, v);
@@ -109,7 +121,7 @@ void BroadPhase::fold_one(const Requirement& q, const std::vector<Eigen::Vector2
   }
 }
 
-bool BroadPhase::obstacle_clears(const StepMargins& run, int o, const Eigen::Vector2d& at) const {
+bool BroadPhase::obstacle_clears(const StepMargins& run, int o, const planning::Point& at) const {
   // Outside its bounding box, a point is at least as far from the obstacle as from the box.
   const Eigen::Vector2d g = outside(bbox_[static_cast<size_t>(o)], at);
   const double lb = (pb_.delta_norm == Norm::Inf ? g.maxCoeff() : g.norm()) - pb_.delta;  // no bound inside the box
@@ -121,7 +133,7 @@ double BroadPhase::pair_reach(const StepMargins& run) const {
 }
 
 bool BroadPhase::accumulate(StepMargins& run, Requirement* worst, planning::Moment when) const {
-  const std::vector<Eigen::Vector2d>& p = *pts_;
+  const std::vector<planning::Point>& p = *pts_;
   const int n = static_cast<int>(p.size());
   // The lexicographically smallest (margin, rank) evaluated below the minimum before this state:
   // step()'s strict-less scan in requirement order names exactly that one.
@@ -144,7 +156,7 @@ bool BroadPhase::accumulate(StepMargins& run, Requirement* worst, planning::Mome
       double r = reach();
       for (int b = a + 1; b < n; ++b) {
         const int j = finite_ ? order_[static_cast<size_t>(b)] : b;
-        const Eigen::Vector2d d = p[static_cast<size_t>(j)] - p[static_cast<size_t>(i)];
+        const planning::Point d = p[static_cast<size_t>(j)] - p[static_cast<size_t>(i)];
         if (finite_ && d.x() > r) break;  // sorted: every later one is farther along x
         if (finite_ && std::abs(d.y()) > r) continue;
         fold({Requirement::Collision, std::min(i, j), std::max(i, j)}, run.collision);
@@ -158,7 +170,7 @@ bool BroadPhase::accumulate(StepMargins& run, Requirement* worst, planning::Mome
   return best_rank >= 0;
 }
 
-void BroadPhase::window(const std::vector<std::vector<Eigen::Vector2d>>& states, int count, const StepMargins& run,
+void BroadPhase::window(const std::vector<std::vector<planning::Point>>& states, int count, const StepMargins& run,
                         planning::Moment when) {
   window_ = &states;
   candidates_.clear();
@@ -170,8 +182,8 @@ void BroadPhase::window(const std::vector<std::vector<Eigen::Vector2d>>& states,
     constexpr double kInf = std::numeric_limits<double>::infinity();
     double xl = kInf, yl = kInf, xh = -kInf, yh = -kInf;
     for (int s = 0; s < count; ++s) {
-      const Eigen::Vector2d& q = states[static_cast<size_t>(s)][static_cast<size_t>(i)];
-      finite = finite && (q.x() - q.x()) + (q.y() - q.y()) == 0;  // false for inf and NaN
+      const planning::Point& q = states[static_cast<size_t>(s)][static_cast<size_t>(i)];
+      finite = finite && (q.x() - q.x()) + (q.y() - q.y()) + (q.z() - q.z()) == 0;  // false for inf and NaN
       xl = std::min(xl, q.x());
       yl = std::min(yl, q.y());
       xh = std::max(xh, q.x());
@@ -228,7 +240,7 @@ void BroadPhase::window(const std::vector<std::vector<Eigen::Vector2d>>& states,
 }
 
 bool BroadPhase::accumulate_window(int s, StepMargins& run, Requirement* worst) const {
-  const std::vector<Eigen::Vector2d>& p = (*window_)[static_cast<size_t>(s)];
+  const std::vector<planning::Point>& p = (*window_)[static_cast<size_t>(s)];
   double best = run.min();
   long best_rank = -1;
   auto fold = [&](const Requirement& q, double& slot) { fold_one(q, p, slot, best, best_rank, worst); };
@@ -238,7 +250,7 @@ bool BroadPhase::accumulate_window(int s, StepMargins& run, Requirement* worst) 
       if (!obstacle_clears(run, q.b, p[static_cast<size_t>(q.a)])) fold(q, run.obstacle);
       continue;
     }
-    const Eigen::Vector2d d = p[static_cast<size_t>(q.b)] - p[static_cast<size_t>(q.a)];
+    const planning::Point d = p[static_cast<size_t>(q.b)] - p[static_cast<size_t>(q.a)];
     const double r = pair_reach(run);
     if (!(std::abs(d.x()) > r || std::abs(d.y()) > r)) fold(q, run.collision);
   }
@@ -248,16 +260,16 @@ bool BroadPhase::accumulate_window(int s, StepMargins& run, Requirement* worst) 
   return best_rank >= 0;
 }
 
-bool BroadPhase::nearest_target(int i, Eigen::Vector2d& target) const {
-  const std::vector<Eigen::Vector2d>& p = *pts_;
-  const Eigen::Vector2d& at = p[static_cast<size_t>(i)];
+bool BroadPhase::nearest_target(int i, planning::Point& target) const {
+  const std::vector<planning::Point>& p = *pts_;
+  const planning::Point& at = p[static_cast<size_t>(i)];
   // The nearest other agent first (smallest distance, then smallest index): its distance bounds
   // the obstacles worth a polygon search, which is most of the cost where an agent is near.
   double ad = 1e300;
   int bj = -1;
   if (pb_.pairwise_collision) {
     auto consider = [&](int j) {
-      const double d = (p[static_cast<size_t>(j)] - at).norm();
+      const double d = planning::distance2(p[static_cast<size_t>(j)] - at);
       if (d < ad || (d == ad && j < bj)) {
         ad = d;
         bj = j;
@@ -284,9 +296,9 @@ bool BroadPhase::nearest_target(int i, Eigen::Vector2d& target) const {
     const double lb = outside(bbox_[o], at).norm();
     const double bound = std::min(bd, ad);
     if (lb > bound + slack(bound, scale_ + at.cwiseAbs().maxCoeff())) continue;
-    const Eigen::Vector2d q = nearest_on_polygon(pb_.obstacles[o].vertices, at);
-    if ((q - at).norm() < bd) {
-      bd = (q - at).norm();
+    const planning::Point q = nearest_on_obstacle(pb_.obstacles[o], at);
+    if (planning::distance2(q - at) < bd) {
+      bd = planning::distance2(q - at);
       target = q;
       found = true;
     }

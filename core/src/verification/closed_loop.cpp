@@ -74,8 +74,8 @@ class DisturbanceSource {
 
 // The adversary's vertex for an agent at p: on the coordinates its workspace point reads
 // linearly, the sign that moves the point toward the target.
-void push_toward(const AgentSpec& a, const Eigen::Vector2d& p, const Eigen::Vector2d& target, Eigen::VectorXd& w) {
-  for (int c = 0; c < 2; ++c) {
+void push_toward(const AgentSpec& a, const planning::Point& p, const planning::Point& target, Eigen::VectorXd& w) {
+  for (int c = 0; c < a.workspace.dim(); ++c) {
     const int s = a.workspace.index[c];
     if (s < 0) continue;
     const double d = target[c] - p[c];
@@ -112,9 +112,9 @@ struct Lane {
   std::vector<Eigen::VectorXd> x, u, uc, w;
   std::vector<DisturbanceSource> dist;
   Eigen::VectorXd prod;
-  std::vector<Eigen::Vector2d> pts;
+  std::vector<planning::Point> pts;
   BroadPhase broad;  // keeps a pointer to pts: a Lane does not move once built
-  std::vector<std::vector<Eigen::Vector2d>> window;  // the points at the substeps between two samples
+  std::vector<std::vector<planning::Point>> window;  // the points at the substeps between two samples
   StepMargins at_samples;
   bool adversary;
 };
@@ -141,7 +141,7 @@ class Batch {
     windowed_ = s.between && !s.keep_dense && !s.all_pairs && !s.between->has_stages() && S_ > 1;
     if (windowed_)
       for (Lane& r : lanes_)
-        r.window.assign(static_cast<size_t>(S_ - 1), std::vector<Eigen::Vector2d>(static_cast<size_t>(N_)));
+        r.window.assign(static_cast<size_t>(S_ - 1), std::vector<planning::Point>(static_cast<size_t>(N_)));
     // The integrator's view: per agent, its state, input and disturbance as Lanes (one lane per
     // run; lanes past L repeat run 0 so that they compute ordinary numbers, which are dropped).
     X_.resize(N_);
@@ -215,14 +215,14 @@ class Batch {
 
   void points(Lane& r) const {
     if (!track_points_) return;
-    for (int i = 0; i < N_; ++i) workspace_point<double>(*pb_.agents[i].dynamics, pb_.agents[i].workspace, r.x[i].data(), r.pts[i].data());
+    for (int i = 0; i < N_; ++i) workspace_point3<double>(*pb_.agents[i].dynamics, pb_.agents[i].workspace, r.x[i].data(), r.pts[i].data());
     r.broad.update(r.pts);
   }
 
   // The points at substep sub into the lane's window; the adversary also needs them now.
   void window_points(Lane& r, int sub) const {
-    std::vector<Eigen::Vector2d>& p = r.window[static_cast<size_t>(sub)];
-    for (int i = 0; i < N_; ++i) workspace_point<double>(*pb_.agents[i].dynamics, pb_.agents[i].workspace, r.x[i].data(), p[i].data());
+    std::vector<planning::Point>& p = r.window[static_cast<size_t>(sub)];
+    for (int i = 0; i < N_; ++i) workspace_point3<double>(*pb_.agents[i].dynamics, pb_.agents[i].workspace, r.x[i].data(), p[i].data());
     if (r.adversary) {
       r.pts = p;
       r.broad.update(r.pts);
@@ -335,7 +335,7 @@ class Batch {
       const AgentSpec& a = pb_.agents[i];
       if (sub > 0) r.dist[i].next(r.w[i]);
       if (!a.workspace.linear()) continue;
-      Eigen::Vector2d target;
+      planning::Point target;
       if (s_.all_pairs ? nearest_by_search(pb_, i, r.pts, target) : r.broad.nearest_target(i, target))
         push_toward(a, r.pts[i], target, r.w[i]);
     }

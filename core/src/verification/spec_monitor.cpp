@@ -19,8 +19,8 @@ SpecMonitor::SpecMonitor(const Problem& problem, int horizon) : problem_(problem
 double SpecMonitor::stage_depth(const planning::StageVisit& v, const Eigen::VectorXd& x) const {
   const AgentSpec& a = problem_.agents[v.agent];
   const Eigen::VectorXd xi = x.segment(offset_[v.agent], a.n());
-  Eigen::Vector2d p;
-  workspace_point<double>(*a.dynamics, a.workspace, xi.data(), p.data());
+  planning::Point p;
+  workspace_point3<double>(*a.dynamics, a.workspace, xi.data(), p.data());
   return planning::stage_margin(a.stages[v.stage], Box{xi, xi}, Box{p, p});
 }
 
@@ -61,17 +61,17 @@ double& part(StepMargins& m, planning::Requirement::Kind kind) {
 
 }  // namespace
 
-void SpecMonitor::points(const Eigen::VectorXd& x, std::vector<Eigen::Vector2d>& p) const {
+void SpecMonitor::points(const Eigen::VectorXd& x, std::vector<planning::Point>& p) const {
   p.resize(problem_.agents.size());
   for (std::size_t i = 0; i < p.size(); ++i) {
     const AgentSpec& a = problem_.agents[i];
-    workspace_point<double>(*a.dynamics, a.workspace, x.data() + offset_[i], p[i].data());
+    workspace_point3<double>(*a.dynamics, a.workspace, x.data() + offset_[i], p[i].data());
   }
 }
 
 StepMargins SpecMonitor::step(const Eigen::VectorXd& x, std::string* worst, planning::Moment when) const {
   StepMargins m;
-  std::vector<Eigen::Vector2d> pts;
+  std::vector<planning::Point> pts;
   points(x, pts);
   // The name of the smallest margin is built once, at the end: this runs at every integration
   // substep of every verification run.

@@ -2,6 +2,7 @@
 // The problem value types every stage reads (architecture: plain values flowing one way).
 // Units: states and inputs in the model's units; time in seconds (tau) or steps (k, horizon).
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -15,9 +16,11 @@
 
 namespace marsyn {
 
-// How an agent's state maps to a point in the shared plane (obstacles, collisions, formation).
+// How an agent's state maps to a point in the shared workspace (obstacles, collisions,
+// formation): the plane (2 coordinates) or space (3, `position: [x, y, z]`; linear maps only).
 struct Workspace {
-  // Linear map: p[c] = x[index[c]] + offset[c], or offset[c] alone when index[c] < 0.
+  // Linear map: p[c] = x[index[c]] + offset[c], or offset[c] alone when index[c] < 0; one entry
+  // per workspace coordinate (2 or 3).
   std::vector<int> index{0, 1};
   std::vector<double> offset{0.0, 0.0};
   // A model-provided nonlinear footprint (e.g. the crane's pendulum tip); -1 for the linear map.
@@ -25,17 +28,30 @@ struct Workspace {
   std::string footprint_name;
 
   bool linear() const { return footprint < 0; }
+  // 2 (the plane) or 3; footprints are planar.
+  int dim() const { return linear() ? static_cast<int>(index.size()) : 2; }
 };
 
-// p = workspace point of state x (2 coordinates). Works for double, DualD and Interval.
+// The largest workspace dimension: arrays of workspace coordinates are sized by it.
+inline constexpr int kMaxWorkspaceDim = 3;
+
+// p = workspace point of state x (ws.dim() coordinates). Works for double, DualD and Interval.
 template <class S>
 void workspace_point(const Dynamics& dyn, const Workspace& ws, const S* x, S* p) {
   if (!ws.linear()) {
     dyn.footprint(ws.footprint, x, p);
     return;
   }
-  for (int c = 0; c < 2; ++c)
+  for (int c = 0; c < ws.dim(); ++c)
     p[c] = ws.index[c] >= 0 ? x[ws.index[c]] + ws.offset[c] : S(ws.offset[c]);
+}
+
+// The point with 3 coordinates: z = 0 in a planar workspace (where no obstacle bounds z), so
+// that one formula judges both.
+template <class S>
+void workspace_point3(const Dynamics& dyn, const Workspace& ws, const S* x, S* p) {
+  p[2] = S(0.0);
+  workspace_point(dyn, ws, x, p);
 }
 
 struct PluginChoice {
@@ -98,6 +114,11 @@ struct Obstacle {
   // Convex polygon, counter-clockwise; an axis-aligned box is stored as its 4 corners.
   std::vector<Eigen::Vector2d> vertices;
   bool is_box = false;
+  // The vertical extent of the prism polygon x [z_lo, z_hi] in a 3-D workspace; unbounded in the
+  // plane (and for full-height obstacles), where the obstacle is the polygon alone.
+  double z_lo = -std::numeric_limits<double>::infinity();
+  double z_hi = std::numeric_limits<double>::infinity();
+  bool z_bounded() const { return z_lo > -std::numeric_limits<double>::infinity() || z_hi < std::numeric_limits<double>::infinity(); }
   // `scope: stages`: binds an agent only where one of its mission stages names it
   // (MissionStage::avoid, avoid_after); otherwise every agent at every time.
   bool staged = false;
@@ -145,6 +166,7 @@ struct Problem {
   std::string source;  // the file it was loaded from
   std::vector<AgentSpec> agents;
   std::vector<Obstacle> obstacles;
+  int workspace_dim = 2;   // every agent's workspace dimension: 2 (plane) or 3 (space)
   double delta = 0.0;      // safety distance to obstacles and between agents
   Norm delta_norm = Norm::Inf;
   bool pairwise_collision = true;

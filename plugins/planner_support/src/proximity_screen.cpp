@@ -53,7 +53,7 @@ void ProximityScreen::mark(const double* x, std::vector<char>& near, Buffers& b)
   bool finite = true;
   for (int i = 0; i < N; ++i) {
     const AgentSpec& a = problem_.agents[i];
-    double p[2];
+    double p[kMaxWorkspaceDim];  // x-y only: the max norm in x-y never exceeds the 3-D one
     workspace_point(*a.dynamics, a.workspace, x + offsets_[i], p);
     px_[i] = p[0];
     py_[i] = p[1];

@@ -328,10 +328,15 @@ void append_period_enclosures(const std::vector<const FlowResult*>& frs, const T
       e.state.hi[i] = b.upper();
       xi[i] = Interval(b.lower(), b.upper());
     }
-    Interval pw[2];
+    Interval pw[kMaxWorkspaceDim];
     workspace_point(*p.dynamics, p.workspace, xi.data(), pw);
-    e.workspace.lo = Eigen::Vector2d(pw[0].lower(), pw[1].lower());
-    e.workspace.hi = Eigen::Vector2d(pw[0].upper(), pw[1].upper());
+    const int wd = p.workspace.dim();
+    e.workspace.lo.resize(wd);
+    e.workspace.hi.resize(wd);
+    for (int c = 0; c < wd; ++c) {
+      e.workspace.lo[c] = pw[c].lower();
+      e.workspace.hi[c] = pw[c].upper();
+    }
     out.push_back(std::move(e));
   }
 }

@@ -17,8 +17,12 @@ namespace marsyn::planning {
 // and the convex polygon P: >= 0 implies every point of B keeps delta from P. Negative when B
 // meets P grown by delta (its magnitude is then only indicative).
 double box_obstacle_margin(const Box& workspace, const Polygon& obstacle, double delta, Norm norm);
+// The same against the obstacle's prism (polygon x [z_lo, z_hi]) for a 3-D workspace box; a
+// 2-D box, or an obstacle unbounded in z, is judged by the polygon alone (the distance to the
+// prism is never below the distance in x-y).
+double box_obstacle_margin(const Box& workspace, const Obstacle& obstacle, double delta, Norm norm);
 
-// A lower bound of dist(A, B) - delta between two workspace boxes.
+// A lower bound of dist(A, B) - delta between two workspace boxes (2 or 3 coordinates).
 double box_pair_margin(const Box& a, const Box& b, double delta, Norm norm);
 
 // A lower bound of min(|p - q|_2 - (lambda - mu), (lambda + mu) - |p - q|_2) over p in A, q in B.

@@ -2,6 +2,7 @@
 // Assembly of the eps-robust planning problem (paper Sec. 3.1: Avoid grown by eps, Goal shrunk by
 // eps) from a Problem: bounds become boxes, workspace requirements become Constraint objects.
 // Formulas and the margin argument: docs/planning.md.
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
@@ -62,6 +63,9 @@ class ObstacleConstraint final : public Constraint {
                      std::shared_ptr<const MarginTable> margins, double grow, double clearance,
                      const DistanceModelFactory& distance = {});
   bool uses_distance_model() const { return distance_ != nullptr; }
+  // A 3-D workspace's prism: the obstacle is the polygon times [z_lo, z_hi] (grown as the
+  // polygon); unbounded (the default) in the plane. A bounded prism is judged by core's geometry.
+  void set_z(double z_lo, double z_hi);
   // A staged obstacle (ObstacleWindows): the knots where it binds, instead of every knot.
   void bind_only_at(std::vector<int> steps) {
     steps_ = std::move(steps);
@@ -85,6 +89,11 @@ class ObstacleConstraint final : public Constraint {
   std::shared_ptr<const MarginTable> margins_;
   double grow_, clearance_;
   std::shared_ptr<const DistanceModel> distance_;
+  double z_lo_ = -std::numeric_limits<double>::infinity(), z_hi_ = std::numeric_limits<double>::infinity();
+  bool prism() const {
+    return agent_->workspace.dim() == 3 &&
+           (z_lo_ > -std::numeric_limits<double>::infinity() || z_hi_ < std::numeric_limits<double>::infinity());
+  }
 };
 
 // An agent's state box at the interior points of a period (the knots keep theirs in
@@ -133,8 +142,9 @@ class PairConstraint final : public Constraint {
   std::shared_ptr<const MarginTable> ma_, mb_;
   double corner_, buffer_;
   double reach_;
-  // g at d = p_a - p_b, and dg/dd in gd[2].
+  // g at d = p_a - p_b, and dg/dd in gd[D].
   double value(const double* d, const double* xa, const double* xb, double* gd) const;
+  double value_inf3(const double* d, const WorkspaceMargin& m1, const WorkspaceMargin& m2, double* gd) const;
 };
 
 class FormationConstraint final : public Constraint {

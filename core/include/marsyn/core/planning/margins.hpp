@@ -2,6 +2,7 @@
 // Workspace margins: how far an agent's workspace point can move while its state stays inside
 // the eps-box around the nominal state. The eps-robust spec grows every workspace constraint by
 // these margins (docs/planning.md, "Margins").
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <memory>
@@ -16,9 +17,10 @@ namespace marsyn::planning {
 
 // Per workspace coordinate: |p(y)_c - p(x)_c| <= m[c] for all y with |y - x| <= eps.
 struct WorkspaceMargin {
-  double x = 0.0, y = 0.0;
-  double inf() const { return x > y ? x : y; }
-  double two() const { return std::sqrt(x * x + y * y); }
+  double x = 0.0, y = 0.0, z = 0.0;  // z: 3-D workspaces only (0 in the plane)
+  double inf() const { return std::max(x > y ? x : y, z); }
+  // The plane's expression unchanged when z = 0 (bit for bit).
+  double two() const { return z == 0.0 ? std::sqrt(x * x + y * y) : std::sqrt(x * x + y * y + z * z); }
 };
 
 // A sound bound at one nominal state (exact for the linear map; an interval enclosure of the

@@ -60,24 +60,28 @@ void for_each_requirement(const Problem& problem, const ObstacleWindows& windows
   });
 }
 
-// d(P grown by the box (m.x, m.y), p) - delta in the problem's norm, signed (negative inside):
-// >= 0 iff every point of p's box keeps delta from the obstacle (for convex P, exactly).
+
+// d(O grown by the box (m.x, m.y, m.z), p) - delta in the problem's norm, signed (negative
+// inside), O the obstacle's prism (its polygon where z is unbounded): >= 0 iff every point of
+// p's box keeps delta from O (for convex O, exactly).
+double obstacle_margin(const Obstacle& obstacle, const Point& p, const WorkspaceMargin& m, double delta, Norm norm);
+// The polygon alone (z unbounded).
 double obstacle_margin(const Polygon& obstacle, const Eigen::Vector2d& p, const WorkspaceMargin& m, double delta,
                        Norm norm);
 
 // The smallest ||p' - q'|| - delta over p' in p's box and q' in q's box (inf-norm exact; 2-norm:
-// the boxes' circumscribed discs).
-double collision_margin(const Eigen::Vector2d& p, const WorkspaceMargin& mp, const Eigen::Vector2d& q,
-                        const WorkspaceMargin& mq, double delta, Norm norm);
+// the boxes' circumscribed balls).
+double collision_margin(const Point& p, const WorkspaceMargin& mp, const Point& q, const WorkspaceMargin& mq,
+                        double delta, Norm norm);
 
 // (mu - slack) - | |p - q|_2 - lambda |, slack the two boxes' circumscribed radii: >= 0 keeps
 // every pair of points of the boxes within lambda +- mu.
-double formation_margin(const Eigen::Vector2d& p, const WorkspaceMargin& mp, const Eigen::Vector2d& q,
-                        const WorkspaceMargin& mq, double lambda, double mu);
+double formation_margin(const Point& p, const WorkspaceMargin& mp, const Point& q, const WorkspaceMargin& mq,
+                        double lambda, double mu);
 
 // One requirement at the agents' points p (problem order); m: their margin boxes, or nullptr for
 // the real specification.
-double requirement_margin(const Problem& problem, const Requirement& r, const std::vector<Eigen::Vector2d>& p,
+double requirement_margin(const Problem& problem, const Requirement& r, const std::vector<Point>& p,
                           const std::vector<WorkspaceMargin>* m = nullptr);
 
 // min(v - box.lo[c], box.hi[c] - v): how far coordinate c of a state keeps inside a box (goal,

@@ -22,16 +22,18 @@ namespace marsyn {
 
 // Nearest point of a convex polygon's boundary to p (the adversary's target on an obstacle).
 Eigen::Vector2d nearest_on_polygon(const planning::Polygon& poly, const Eigen::Vector2d& p);
+// Its 3-D counterpart on an obstacle's prism (p's own z where the prism is unbounded in z).
+planning::Point nearest_on_obstacle(const Obstacle& obstacle, const planning::Point& p);
 
 // The adversary's target for agent i by a search over every obstacle, then every agent (strictly
 // nearer only): the reference BroadPhase::nearest_target must agree with.
-bool nearest_by_search(const Problem& pb, int i, const std::vector<Eigen::Vector2d>& pts, Eigen::Vector2d& target);
+bool nearest_by_search(const Problem& pb, int i, const std::vector<planning::Point>& pts, planning::Point& target);
 
 class BroadPhase {
  public:
   explicit BroadPhase(const Problem& problem);
   // The agents' points at the current substep (problem order); kept by reference until the next call.
-  void update(const std::vector<Eigen::Vector2d>& points);
+  void update(const std::vector<planning::Point>& points);
   // running = min(running, SpecMonitor::step at the points) part by part. Returns true when the
   // smallest of the parts fell; *worst is then the requirement step() would name.
   // `when` (k >= 0) applies the staged obstacles' windows set by windows(), as step() does.
@@ -42,7 +44,7 @@ class BroadPhase {
   // box over the window; accumulate_window(s, ...) is then accumulate() at state s over those
   // only. A requirement is left out only when its lower bound over the boxes clears the running
   // minimum by the slack; the minima only fall, so it could not lower or tie them at any state.
-  void window(const std::vector<std::vector<Eigen::Vector2d>>& states, int count, const StepMargins& running,
+  void window(const std::vector<std::vector<planning::Point>>& states, int count, const StepMargins& running,
               planning::Moment when);
   bool accumulate_window(int s, StepMargins& running, planning::Requirement* worst) const;
   // The staged obstacles' windows (SpecMonitor::windows(), kept by pointer); none: all bind.
@@ -51,21 +53,21 @@ class BroadPhase {
   // agent when strictly nearer (pairwise collision on); ties as a scan in index order breaks
   // them (nearest_by_search's answer). False when there is neither. The nearest agent is found
   // first, so that an obstacle whose bounding box is farther is not searched.
-  bool nearest_target(int i, Eigen::Vector2d& target) const;
+  bool nearest_target(int i, planning::Point& target) const;
 
  private:
   // Where a requirement stands in planning::for_each_requirement's order (step()'s tie-break).
   long rank(const planning::Requirement& q) const;
   // accumulate()'s rules at one state: obstacle o cannot lower run.obstacle at an agent's point
   // `at`; a pair farther apart than pair_reach(run) along x or y cannot lower run.collision.
-  bool obstacle_clears(const StepMargins& run, int o, const Eigen::Vector2d& at) const;
+  bool obstacle_clears(const StepMargins& run, int o, const planning::Point& at) const;
   double pair_reach(const StepMargins& run) const;
   // q's margin at the points p folded into its part `slot`; (best, best_rank) is the smallest
   // (margin, rank) so far below the minimum the state started from, and *worst its requirement.
-  void fold_one(const planning::Requirement& q, const std::vector<Eigen::Vector2d>& p, double& slot, double& best,
+  void fold_one(const planning::Requirement& q, const std::vector<planning::Point>& p, double& slot, double& best,
                 long& best_rank, planning::Requirement* worst) const;
   const Problem& pb_;
-  const std::vector<Eigen::Vector2d>* pts_ = nullptr;
+  const std::vector<planning::Point>* pts_ = nullptr;
   const planning::ObstacleWindows* windows_ = nullptr;
   std::vector<Eigen::Vector4d> bbox_;  // per obstacle: x_lo, y_lo, x_hi, y_hi
   double scale_ = 0;                   // largest obstacle coordinate: the slack's scale
@@ -74,7 +76,7 @@ class BroadPhase {
   bool finite_ = true;                 // else every pair is visited (NaN cannot be sorted)
   // window(): the states, each agent's box over them (x_lo, y_lo, x_hi, y_hi), the agents by
   // increasing x_lo, and the obstacle and collision requirements left to fold.
-  const std::vector<std::vector<Eigen::Vector2d>>* window_ = nullptr;
+  const std::vector<std::vector<planning::Point>>* window_ = nullptr;
   std::vector<Eigen::Vector4d> boxes_;
   std::vector<int> box_order_;
   std::vector<planning::Requirement> candidates_;

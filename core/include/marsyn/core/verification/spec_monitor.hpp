@@ -59,7 +59,7 @@ class SpecMonitor {
   const planning::ObstacleWindows& windows() const { return windows_; }
 
  private:
-  void points(const Eigen::VectorXd& x, std::vector<Eigen::Vector2d>& p) const;  // the agents' workspace points
+  void points(const Eigen::VectorXd& x, std::vector<planning::Point>& p) const;  // the agents' workspace points
   double stage_depth(const planning::StageVisit& v, const Eigen::VectorXd& x) const;
   const Problem& problem_;
   std::vector<int> offset_;
