@@ -15,7 +15,7 @@
 
 #include "commands.hpp"
 #include "marsyn/core/tracking/sweep_progress.hpp"
-#include "marsyn/core/tracking/mpi_plan_broadcast.hpp"
+#include "marsyn/core/mpi/plan_broadcast.hpp"
 #include "marsyn/core/verification/closed_loop.hpp"
 #include "marsyn/core/verification/run_progress.hpp"
 #include "marsyn/core/verification/verification.hpp"

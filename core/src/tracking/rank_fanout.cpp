@@ -10,7 +10,7 @@
 #include <stdexcept>
 
 #include "marsyn/core/tracking/tracker_choice.hpp"
-#include "mpi_bytes.hpp"
+#include "../mpi/bytes.hpp"
 #include "marsyn/core/tracking/sweep_progress.hpp"
 #include "marsyn/stopwatch.hpp"
 
