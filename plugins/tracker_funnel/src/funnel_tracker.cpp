@@ -397,6 +397,8 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
   res.stats.synthesis_time_s = verify_time;
   res.stats.boxes_computed = static_cast<long long>(attempts) * T * s_.substeps;
   res.stats.enclosure_substeps = s_.parts;
+  // The funnel's own figure: the agent's initial set lies in the verified set of step 0.
+  res.stats.set("initial_state_winning", "initial set in V_0", best.ok);
   if (!best.ok) {
     res.status = TrackerStatus::NoController;
     res.message = best.reached_step < 0 ? "the LQR recursion broke down (non-finite gains)"
@@ -419,7 +421,6 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
     if (best.reached_step > 0) res.failure.input_saturation = static_cast<double>(best.saturated_steps) / best.reached_step;
     return res;
   }
-  res.stats.initial_state_winning = true;
   if (reach_out_) *reach_out_ = best.reach;
   const FunnelData& d = best.data;
   res.stats.peak_memory_bytes = static_cast<long long>(8 * (d.horizon() + 1) * (3 * n + n * n + m * (n + 1)) +
