@@ -158,14 +158,13 @@ std::vector<NominalTrajectory> nominal_from(const Problem& pb, const py::object&
 
 py::dict stats_dict(const TrackerStats& s) {
   py::dict d;
-  d["tube_cells"] = s.tube_cells;
   d["state_input_pairs"] = s.state_input_pairs;
   d["boxes_computed"] = s.boxes_computed;
   d["abstraction_time_s"] = s.abstraction_time_s;
   d["synthesis_time_s"] = s.synthesis_time_s;
   d["peak_memory_bytes"] = s.peak_memory_bytes;
-  d["winning_cells_per_step"] = s.winning_cells_per_step;
-  d["initial_state_winning"] = s.initial_state_winning;
+  // The tracker's own figures (abcd: tube_cells, winning_cells_per_step, initial_state_winning).
+  for (const auto& f : s.figures) d[f.name.c_str()] = std::visit([](const auto& v) { return py::cast(v); }, f.value);
   return d;
 }
 

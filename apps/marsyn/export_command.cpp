@@ -59,13 +59,12 @@ class Readers {
  public:
   explicit Readers(std::string tracker_name) : tracker_name_(std::move(tracker_name)) {}
 
-  // The tracker that reads `file`: --tracker, else the one result.json names for it, else abcd
-  // (and, when abcd cannot read the file, the first other tracker that can).
+  // The tracker named for `file`: --tracker, else the one result.json records for it; nullptr
+  // without `error` when neither names one (read() then asks every installed tracker).
   std::shared_ptr<Tracker> tracker_for(const std::string& file, std::string* error) {
-    std::string name = tracker_name_;
-    std::string recorded;
-    if (name.empty()) recorded = tracker_from_result(file);
-    if (name.empty()) name = recorded.empty() ? "abcd" : recorded;
+    const std::string recorded = tracker_name_.empty() ? tracker_from_result(file) : std::string();
+    const std::string name = tracker_name_.empty() ? recorded : tracker_name_;
+    if (name.empty()) return nullptr;
     try {
       return created(name);
     } catch (const std::exception&) {
@@ -77,26 +76,30 @@ class Readers {
     }
   }
 
-  // The controller in `file`, or nullptr with `error`.
+  // The controller in `file`, or nullptr with `error`. A file no tracker is named for (one written
+  // by `marsyn track`, with no result.json beside it) says itself which tracker wrote it: each
+  // reader checks its own magic, so every installed tracker is asked in turn.
   std::shared_ptr<const Controller> read(const std::string& file, std::string* error) {
-    const auto tracker = tracker_for(file, error);
-    if (!tracker) return nullptr;
-    try {
-      return tracker->read_controller(file);
-    } catch (const std::exception& e) {
-      // A controller written by `marsyn track` has no result.json beside it: the file itself says
-      // which tracker wrote it (each reader checks its own magic), so ask the others.
-      if (tracker_name_.empty() && tracker_from_result(file).empty())
-        for (const auto& other : registry_.names("tracker")) {
-          if (other == "abcd") continue;
-          try {
-            return created(other)->read_controller(file);
-          } catch (const std::exception&) {  // not this tracker's file either
-          }
-        }
-      *error = e.what();
-      return nullptr;
+    error->clear();
+    if (const auto tracker = tracker_for(file, error)) {
+      try {
+        return tracker->read_controller(file);
+      } catch (const std::exception& e) {
+        *error = e.what();
+        return nullptr;
+      }
     }
+    if (!error->empty()) return nullptr;
+    std::string first_reason;
+    for (const auto& name : registry_.names("tracker")) {
+      try {
+        return created(name)->read_controller(file);
+      } catch (const std::exception& e) {  // not this tracker's file
+        if (first_reason.empty()) first_reason = e.what();
+      }
+    }
+    *error = first_reason.empty() ? file + ": no tracker plugin is installed to read it" : first_reason;
+    return nullptr;
   }
 
  private:

@@ -9,7 +9,7 @@
 #include "cli_options.hpp"
 #include "commands.hpp"
 #include "marsyn/core/problem/config_error.hpp"
-#include "marsyn/core/tracking/mpi_world.hpp"
+#include "marsyn/core/mpi/world.hpp"
 #include "marsyn/error.hpp"
 
 int main(int argc, char** argv) {

@@ -15,7 +15,7 @@
 
 #include "commands.hpp"
 #include "marsyn/core/tracking/sweep_progress.hpp"
-#include "marsyn/core/tracking/mpi_plan_broadcast.hpp"
+#include "marsyn/core/mpi/plan_broadcast.hpp"
 #include "marsyn/core/verification/closed_loop.hpp"
 #include "marsyn/core/verification/run_progress.hpp"
 #include "marsyn/core/verification/verification.hpp"
@@ -99,6 +99,24 @@ double peak_rss_mb() {
   rusage ru{};
   getrusage(RUSAGE_SELF, &ru);
   return ru.ru_maxrss / 1024.0;  // ru_maxrss is in KiB on Linux
+}
+
+// A tracker's figure as `marsyn track` prints it: yes/no, a number, or a per-step count read as
+// its first step, its fewest (and where) and its most.
+std::string figure_text(const TrackerFigure::Value& value) {
+  char buf[160];
+  if (const auto* b = std::get_if<bool>(&value)) return *b ? "yes" : "no";
+  if (const auto* v = std::get_if<long long>(&value)) return std::to_string(*v);
+  if (const auto* v = std::get_if<double>(&value)) {
+    std::snprintf(buf, sizeof buf, "%.4g", *v);
+    return buf;
+  }
+  const auto& steps = std::get<std::vector<long long>>(value);
+  if (steps.empty()) return "none";
+  const auto fewest = std::min_element(steps.begin(), steps.end());
+  std::snprintf(buf, sizeof buf, "k=0: %lld, fewest %lld (k=%td), most %lld", steps.front(), *fewest,
+                fewest - steps.begin(), *std::max_element(steps.begin(), steps.end()));
+  return buf;
 }
 
 std::string out_dir_for(const std::string& requested, const Problem& pb) {
@@ -216,34 +234,19 @@ int run_track(const std::string& config, const std::string& agent, const std::st
   std::printf("agent               %s (%s)\n", a.name.c_str(), a.dynamics_type.c_str());
   std::printf("tracker             %s%s\n", used.c_str(), automatic ? " (chosen by tracker: auto)" : "");
   std::printf("status              %s%s%s\n", to_string(r.status), r.message.empty() ? "" : ": ", r.message.c_str());
-  std::printf("tube cells          %lld over %zu steps\n", s.tube_cells, s.winning_cells_per_step.size());
   std::printf("N_l (pairs)         %.4g\n", s.state_input_pairs);
   std::printf("boxes computed      %lld\n", s.boxes_computed);
   std::printf("abstraction time    %.3f s\n", s.abstraction_time_s);
   std::printf("synthesis time      %.3f s\n", s.synthesis_time_s);
   std::printf("peak memory         %.1f MB (tracker), %.1f MB (process)\n", s.peak_memory_bytes / 1048576.0, peak_rss_mb());
-  std::printf("x0's cell winning   %s\n", s.initial_state_winning ? "yes" : "no");
   if (r.controller)
     std::printf("period enclosures   %zu (%d per period, %.3f s): between the samples\n",
                 r.controller->period_enclosures().size(), s.enclosure_substeps, s.enclosure_time_s);
-  if (!s.winning_cells_per_step.empty()) {
-    long long lo = s.winning_cells_per_step.front(), hi = lo;
-    std::size_t at = 0;
-    for (std::size_t k = 0; k < s.winning_cells_per_step.size(); ++k) {
-      if (s.winning_cells_per_step[k] < lo) {
-        lo = s.winning_cells_per_step[k];
-        at = k;
-      }
-      hi = std::max(hi, s.winning_cells_per_step[k]);
-    }
-    std::printf("winning cells/step  k=0: %lld, fewest %lld (k=%zu), most %lld\n", s.winning_cells_per_step.front(), lo,
-                at, hi);
-  }
+  for (const auto& f : s.figures) std::printf("%-19s %s\n", f.label.c_str(), figure_text(f.value).c_str());
   const OutputFolder folder(out_dir_for(out_requested, pb));
   {
-    const nlohmann::json j = {
-        {"agent", a.name}, {"status", to_string(r.status)}, {"tracker", {{"name", used}}},
-        {"winning_cells_per_step", s.winning_cells_per_step}};
+    nlohmann::json j = {{"agent", a.name}, {"status", to_string(r.status)}, {"tracker", {{"name", used}}}};
+    add_figures(j, s);  // the tracker's own figures (abcd: the winning cells per step)
     std::ofstream f(folder.path(a.name + ".track.json"));
     f << j.dump() << "\n";  // one line, as before: the per-step list is long
   }

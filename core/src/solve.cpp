@@ -12,7 +12,7 @@
 #include "marsyn/core/verification/run_progress.hpp"
 #include "marsyn/core/planning/goal_room.hpp"
 #include "marsyn/core/planning/workspace_gaps.hpp"
-#include "marsyn/core/tracking/mpi_plan_broadcast.hpp"
+#include "marsyn/core/mpi/plan_broadcast.hpp"
 #include "marsyn/core/search_auto.hpp"
 #include "marsyn/core/search_levers.hpp"
 #include "marsyn/core/setup.hpp"

@@ -5,6 +5,12 @@ set -eu
 build="$1"; src="$2"; scratch="$3"
 rm -rf "$scratch"; mkdir -p "$scratch"
 cmake --install "$build" --prefix "$scratch/prefix" > "$scratch/install.log"
+# The ABI and the numerics it is written in install side by side, as two exported targets.
+for h in plugin.hpp tracker.hpp fast_interval.hpp dual.hpp interval.hpp binary_file.hpp; do
+  [ -f "$scratch/prefix/include/marsyn/$h" ] || { echo "installed headers lack marsyn/$h"; exit 1; }
+done
+grep -q "marsyn::numerics" "$scratch/prefix"/lib*/cmake/marsyn/marsynTargets.cmake ||
+  { echo "the installed package does not export marsyn::numerics"; exit 1; }
 cmake -S "$src/examples/out_of_tree_plugin" -B "$scratch/plugin" -DCMAKE_PREFIX_PATH="$scratch/prefix" \
       -DCMAKE_BUILD_TYPE=Release > "$scratch/configure.log"
 cmake --build "$scratch/plugin" -j 2 > "$scratch/build.log"

@@ -3,7 +3,7 @@
 // x0 and the goal, and the agent's tracker resolved by the trackers' own assessments.
 #include <string>
 
-#include "marsyn/core/tracking/tracker_choice.hpp"
+#include "marsyn/core/problem/tracker_assessment.hpp"
 #include "marsyn/problem.hpp"
 #include "yaml_reader.hpp"
 

@@ -10,7 +10,7 @@
 
 #include "marsyn/core/problem/agent_checks.hpp"
 #include "marsyn/core/problem/input_limits.hpp"
-#include "marsyn/core/tracking/tracker_choice.hpp"
+#include "marsyn/core/problem/tracker_assessment.hpp"
 #include "agent_fields.hpp"
 #include "marsyn/core/problem/auto_tube.hpp"
 #include "tube_fields.hpp"

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <memory>
+#include <optional>
 
 #include "marsyn/core/tracking/product_dynamics.hpp"
 #include "marsyn/scalar.hpp"
@@ -120,13 +121,36 @@ GlobalAbcdEstimate estimate_global_abcd(const Problem& pb) {
   return g;
 }
 
+namespace {
+
+// The baseline's tracker, one that declares whole-domain reach-avoid (TrackerCapabilities): the
+// first agent's, with the parameters the problem gives it, else the first installed one's, with
+// its defaults; none when no tracker declares it.
+std::optional<PluginChoice> baseline_tracker(const Problem& pb, TrackerInstances& instances) {
+  const auto declares = [&](const PluginChoice& choice) {
+    try {
+      return instances.get(choice)->capabilities().reach_avoid;
+    } catch (const std::exception&) {  // not installed, or bad parameters: not this one
+      return false;
+    }
+  };
+  for (const auto& a : pb.agents)
+    if (declares(a.tracker)) return a.tracker;
+  for (const auto& name : instances.registry().names(PluginKind<Tracker>::name))
+    if (declares({name, {}})) return PluginChoice{name, {}};
+  return std::nullopt;
+}
+
+}  // namespace
+
 GlobalAbcdEstimate attempt_global_abcd(const Problem& pb, TrackerInstances& instances, const SolveOptions& opt,
                                        const std::function<void(const std::string&)>& log) {
   GlobalAbcdEstimate est = estimate_global_abcd(pb);
+  const std::optional<PluginChoice> tracker = est.status.empty() ? baseline_tracker(pb, instances) : std::nullopt;
   if (!est.status.empty()) {
     // estimate_global_abcd said why not
-  } else if (!instances.registry().find(PluginKind<Tracker>::name, "abcd")) {
-    est.status = "skipped: the abcd tracker is not installed";
+  } else if (!tracker) {
+    est.status = "skipped: no installed tracker declares whole-domain reach-avoid";
   } else if (est.memory_bytes_estimate > opt.global_memory_budget_bytes) {
     est.status = opt.global_memory_budget_bytes <= 0 ? "skipped: disabled (--global-budget 0)"
                                                      : "skipped: the estimate exceeds the memory budget";
@@ -137,15 +161,8 @@ GlobalAbcdEstimate attempt_global_abcd(const Problem& pb, TrackerInstances& inst
   } else {
     log("[global] abstraction of the product system over its whole domain (" +
         std::to_string(est.state_input_pairs) + " state-input pairs)");
-    // The baseline is abcd's whole-domain mode, whatever tracks the agents: with the parameters
-    // the problem gives abcd (the first agent's that uses it), else its defaults.
-    PluginChoice abcd{"abcd", {}};
-    for (const auto& a : pb.agents)
-      if (a.tracker.name == "abcd") {
-        abcd = a.tracker;
-        break;
-      }
-    const GlobalAbcdRun g = run_global_abcd(pb, *instances.get(abcd), opt.threads, opt.global_memory_budget_bytes);
+    // The baseline is a tracker's whole-domain mode, whatever tracks the agents.
+    const GlobalAbcdRun g = run_global_abcd(pb, *instances.get(*tracker), opt.threads, opt.global_memory_budget_bytes);
     est.status = g.status;
     est.time_s = g.time_s;
     est.boxes_computed = g.boxes_computed;

@@ -9,8 +9,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "marsyn/core/tracking/track_agents.hpp"
 #include "marsyn/core/tracking/tracker_choice.hpp"
-#include "mpi_bytes.hpp"
+#include "../mpi/bytes.hpp"
 #include "marsyn/core/tracking/sweep_progress.hpp"
 #include "marsyn/stopwatch.hpp"
 
@@ -19,30 +20,55 @@ namespace fs = std::filesystem;
 namespace marsyn {
 namespace {
 
+// A figure: name, label, which alternative, its value.
+void put_figure(mpi::ByteWriter& w, const TrackerFigure& f) {
+  w.put(f.name);
+  w.put(f.label);
+  w.put(static_cast<std::int32_t>(f.value.index()));
+  std::visit([&](const auto& v) { w.put(v); }, f.value);
+}
+template <std::size_t I>
+void get_alternative(mpi::ByteReader& r, std::size_t index, TrackerFigure::Value& value) {
+  if constexpr (I < std::variant_size_v<TrackerFigure::Value>) {
+    if (index != I) return get_alternative<I + 1>(r, index, value);
+    std::variant_alternative_t<I, TrackerFigure::Value> v{};
+    r.get(v);
+    value = std::move(v);
+  } else {
+    throw std::runtime_error("a tracker figure of an unknown kind crossed the ranks");
+  }
+}
+void get_figure(mpi::ByteReader& r, TrackerFigure& f) {
+  r.get(f.name);
+  r.get(f.label);
+  std::int32_t index = 0;
+  r.get(index);
+  get_alternative<0>(r, static_cast<std::size_t>(index), f.value);
+}
 
 void put_stats(mpi::ByteWriter& w, const TrackerStats& s) {
-  w.put(s.tube_cells);
   w.put(s.state_input_pairs);
   w.put(s.boxes_computed);
   w.put(s.abstraction_time_s);
   w.put(s.synthesis_time_s);
   w.put(s.peak_memory_bytes);
-  w.put(s.winning_cells_per_step);
-  w.put(s.initial_state_winning);
   w.put(s.enclosure_time_s);
   w.put(s.enclosure_substeps);
+  w.put(static_cast<std::int64_t>(s.figures.size()));
+  for (const auto& f : s.figures) put_figure(w, f);
 }
 void get_stats(mpi::ByteReader& r, TrackerStats& s) {
-  r.get(s.tube_cells);
   r.get(s.state_input_pairs);
   r.get(s.boxes_computed);
   r.get(s.abstraction_time_s);
   r.get(s.synthesis_time_s);
   r.get(s.peak_memory_bytes);
-  r.get(s.winning_cells_per_step);
-  r.get(s.initial_state_winning);
   r.get(s.enclosure_time_s);
   r.get(s.enclosure_substeps);
+  std::int64_t count = 0;
+  r.get(count);
+  s.figures.resize(static_cast<std::size_t>(count));
+  for (auto& f : s.figures) get_figure(r, f);
 }
 
 // A controller crosses ranks as the bytes of its file (the one format every tracker already
@@ -93,10 +119,8 @@ std::shared_ptr<const Controller> controller_from(const Tracker& t, const std::v
 
 std::string result_line(const AgentOutcome& o, const std::string& where, double seconds) {
   std::ostringstream s;
-  s << "[track] " << o.name << " (" << o.tracker << ", " << where << "): " << to_string(o.track.status) << ", ";
-  if (o.track.stats.tube_cells > 0)
-    s << o.track.stats.tube_cells << " tube cells, N_l " << o.track.stats.state_input_pairs << ", ";
-  s << o.track.stats.boxes_computed << " boxes, " << seconds << " s";
+  s << "[track] " << o.name << " (" << o.tracker << ", " << where << "): " << to_string(o.track.status) << ", "
+    << stats_text(o.track.stats) << ", " << seconds << " s";
   if (!o.track.message.empty()) s << " (" << o.track.message << ")";
   return s.str();
 }

@@ -88,11 +88,8 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
         running[i] = 0;
         std::ostringstream s;
         s << "[track " << d << "/" << N << "] " << a.name << " (" << a.tracker.name
-          << "): " << to_string(out[i].track.status) << ", ";
-        // Grid figures only from a tracker that has a grid.
-        if (out[i].track.stats.tube_cells > 0)
-          s << out[i].track.stats.tube_cells << " tube cells, N_l " << out[i].track.stats.state_input_pairs << ", ";
-        s << out[i].track.stats.boxes_computed << " boxes, " << t0.seconds() << " s";
+          << "): " << to_string(out[i].track.status) << ", " << stats_text(out[i].track.stats) << ", " << t0.seconds()
+          << " s";
         if (!out[i].track.message.empty()) s << " (" << out[i].track.message << ")";
         opt.log(s.str());
       }
@@ -128,6 +125,18 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
   beat_cv.notify_all();
   heartbeat.join();
   return out;
+}
+
+std::string stats_text(const TrackerStats& stats) {
+  std::ostringstream s;
+  // Counts only: a flag or a per-step list says nothing in one line.
+  for (const auto& f : stats.figures) {
+    if (const auto* v = std::get_if<long long>(&f.value)) s << *v << " " << f.label << ", ";
+    if (const auto* v = std::get_if<double>(&f.value)) s << *v << " " << f.label << ", ";
+  }
+  if (stats.state_input_pairs > 0) s << "N_l " << stats.state_input_pairs << ", ";
+  s << stats.boxes_computed << " boxes";
+  return s.str();
 }
 
 }  // namespace marsyn

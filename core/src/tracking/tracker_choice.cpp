@@ -9,48 +9,6 @@
 
 namespace marsyn {
 
-std::shared_ptr<const Tracker> TrackerInstances::get(const PluginChoice& choice) {
-  for (const auto& [c, t] : made_)
-    if (c.name == choice.name && c.params.values() == choice.params.values()) return t;
-  std::shared_ptr<const Tracker> t = registry_->create<Tracker>(choice.name, choice.params);
-  made_.emplace_back(choice, t);
-  return t;
-}
-
-std::vector<std::shared_ptr<const Tracker>> TrackerInstances::for_agents(const Problem& pb) {
-  std::vector<std::shared_ptr<const Tracker>> out;
-  for (const auto& a : pb.agents) out.push_back(get(a.tracker));
-  return out;
-}
-
-namespace {
-TrackerAssessment failed(const std::string& what) {
-  TrackerAssessment r;
-  r.ok = false;
-  r.message = what;
-  return r;
-}
-}  // namespace
-
-TrackerAssessment assess_tracker(const Tracker& tracker, const AgentSpec& agent, const AssessRequest& request) {
-  try {
-    return tracker.assess(agent, request);
-  } catch (const std::exception& e) {
-    return failed(std::string("the assessment failed: ") + e.what());
-  }
-}
-
-TrackerAssessment assess_tracker(TrackerInstances& trackers, const PluginChoice& choice, const AgentSpec& agent,
-                                 const AssessRequest& request) {
-  std::shared_ptr<const Tracker> t;
-  try {
-    t = trackers.get(choice);
-  } catch (const std::exception& e) {
-    return failed(std::string("the tracker could not be created: ") + e.what());
-  }
-  return assess_tracker(*t, agent, request);
-}
-
 std::map<std::string, std::string> recorded_trackers(const std::string& dir) {
   std::map<std::string, std::string> out;
   std::ifstream in(std::filesystem::path(dir) / "result.json");

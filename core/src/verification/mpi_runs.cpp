@@ -3,7 +3,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "../tracking/mpi_bytes.hpp"
+#include "../mpi/bytes.hpp"
 
 namespace marsyn::mpi {
 

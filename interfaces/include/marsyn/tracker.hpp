@@ -6,6 +6,8 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
+#include <variant>
 #include <vector>
 
 #include "marsyn/collective.hpp"
@@ -109,17 +111,45 @@ struct ReachAvoidProblem {
   std::function<bool(const double* lo, const double* hi)> unsafe;
 };
 
+// A figure one tracker reports about a synthesis beyond the ones every tracker fills (OMPL's
+// planner progress properties): core, the CLI, result.json and Python print what the tracker
+// declares, by name, and keep no list of any tracker's figures. A vector is one count per step
+// k = 0, 1, ... of the tracking horizon.
+struct TrackerFigure {
+  using Value = std::variant<bool, long long, double, std::vector<long long>>;
+  std::string name;   // the key in result.json and Python, e.g. "tube_cells"; unique in a result
+  std::string label;  // how the CLI prints it, e.g. "tube cells"
+  Value value;
+};
+
 struct TrackerStats {
-  long long tube_cells = 0;
-  double state_input_pairs = 0;  // N_l as in the paper: tube cells x steps x inputs
-  long long boxes_computed = 0;  // successor boxes actually computed
+  double state_input_pairs = 0;  // N_l as in the paper: the state-input pairs the tracker abstracts
+  long long boxes_computed = 0;  // successor boxes (or enclosure steps) actually computed
   double abstraction_time_s = 0.0;
   double synthesis_time_s = 0.0;
   long long peak_memory_bytes = 0;
-  std::vector<long long> winning_cells_per_step;
-  bool initial_state_winning = false;
-  double enclosure_time_s = 0.0;  // period enclosures (continuous time), after the sweep
+  double enclosure_time_s = 0.0;  // period enclosures (continuous time), after the synthesis
   int enclosure_substeps = 0;     // boxes per sampling period; 0: no enclosures
+  std::vector<TrackerFigure> figures;  // the tracker's own, in the order it sets them
+
+  // Sets the figure `name` (appended the first time, replaced after).
+  void set(const std::string& name, const std::string& label, TrackerFigure::Value value) {
+    for (auto& f : figures)
+      if (f.name == name) {
+        f.label = label;
+        f.value = std::move(value);
+        return;
+      }
+    figures.push_back({name, label, std::move(value)});
+  }
+  // The figure `name` as a T, or `fallback` when the tracker did not set it (or set another type).
+  template <class T>
+  T get(std::string_view name, T fallback = T{}) const {
+    for (const auto& f : figures)
+      if (f.name == name)
+        if (const T* v = std::get_if<T>(&f.value)) return *v;
+    return fallback;
+  }
 };
 
 struct TrackOptions {
@@ -208,10 +238,17 @@ struct AssessRequest {
   MemoryBudget memory_budget = machine_memory_budget();
 };
 
+// What a tracker can do beyond track(), declared so that core asks the tracker rather than
+// knowing which one does what.
+struct TrackerCapabilities {
+  bool reach_avoid = false;  // whole-domain reach_avoid() (the global baseline)
+};
+
 class Tracker {
  public:
   virtual ~Tracker() = default;
   virtual std::string name() const = 0;
+  virtual TrackerCapabilities capabilities() const { return {}; }
   virtual TrackResult track(const TrackingProblem& problem, const TrackOptions& options) const = 0;
   virtual TrackResult reach_avoid(const ReachAvoidProblem&, const TrackOptions&) const {
     TrackResult r;

@@ -12,6 +12,7 @@
 #include "synthesis.hpp"
 
 using namespace marsyn;
+using Steps = std::vector<long long>;  // a figure counted per step (TrackerStats::figures)
 
 int main(int argc, char** argv) {
   std::vector<std::string> which;
@@ -49,13 +50,14 @@ int main(int argc, char** argv) {
     if (r.controller) r.controller->write(file);
     const double wall = clock.seconds();
     const auto& s = r.stats;
-    long long win0 = s.winning_cells_per_step.empty() ? 0 : s.winning_cells_per_step[0];
+    const Steps winning = s.get<Steps>("winning_cells_per_step");
+    const long long win0 = winning.empty() ? 0 : winning[0];
     std::printf(
         "%-10s status=%s steps=%zu tube_cells=%lld N_l=%.3g boxes_computed=%lld abstraction_s=%.3f "
         "synthesis_s=%.3f wall_s=%.3f peak_rss_MB=%.1f win0=%lld initial_state_winning=%d threads=%d\n",
-        name.c_str(), to_string(r.status), p.nominal.x.size() - 1, s.tube_cells, s.state_input_pairs, s.boxes_computed,
+        name.c_str(), to_string(r.status), p.nominal.x.size() - 1, s.get<long long>("tube_cells"), s.state_input_pairs, s.boxes_computed,
         s.abstraction_time_s, s.synthesis_time_s, wall, abcd::peak_rss_bytes() / 1048576.0, win0,
-        s.initial_state_winning ? 1 : 0, threads);
+        s.get<bool>("initial_state_winning") ? 1 : 0, threads);
     if (r.status != TrackerStatus::ControllerFound) std::printf("  %s\n", r.message.c_str());
     std::printf("  nominal x_0 = (");
     for (int i = 0; i < p.nominal.x.front().size(); ++i) std::printf("%s%.3f", i ? ", " : "", p.nominal.x.front()[i]);

@@ -132,7 +132,8 @@ TrackResult synthesize_reach_avoid(const ReachAvoidProblem& p, const SynthesisOp
   d.offsets = {0};
   d.inputs.assign(static_cast<size_t>(cells), kLosing);
   TrackerStats& st = r.stats;
-  st.tube_cells = cells;
+  GridFigures fig;
+  fig.tube_cells = cells;
   st.state_input_pairs = static_cast<double>(cells) * static_cast<double>(ug.size());
 
   std::vector<std::uint8_t> win(static_cast<size_t>(cells), 0), candidate(static_cast<size_t>(cells), 0);
@@ -147,7 +148,8 @@ TrackResult synthesize_reach_avoid(const ReachAvoidProblem& p, const SynthesisOp
   const double box_seconds = sum_tables(tables, st.boxes_computed);
   std::int64_t count = 0;
   for (auto v : win) count += v;
-  st.winning_cells_per_step = {count};
+  fig.winning_cells_per_step = {count};
+  fig.publish(st);
   st.abstraction_time_s = box_seconds / threads;
   st.synthesis_time_s = std::max(0.0, clock.seconds() - st.abstraction_time_s);
   st.peak_memory_bytes = peak_rss_bytes();

@@ -55,13 +55,13 @@ std::string check_track(const TrackingProblem& p, UniformGrid& g, InputGrid& ug)
 // The tube's boxes for steps 0..T and the tables' offsets for steps 0..T-1, with their counts;
 // returns the number of table entries.
 std::int64_t lay_out_tube(const TrackingProblem& p, const UniformGrid& g, const InputGrid& ug, ControllerData& d,
-                          TrackerStats& st) {
+                          TrackerStats& st, GridFigures& fig) {
   const int T = static_cast<int>(p.nominal.x.size()) - 1;
   std::int64_t total = 0;
   for (int k = 0; k <= T; ++k) {
     d.boxes.push_back(tube_box(g, p.nominal.x[k].data(), p.tube.eps.data()));
     const std::int64_t cells = d.boxes.back().size();
-    st.tube_cells += cells;
+    fig.tube_cells += cells;
     if (k < T) {
       d.offsets.push_back(total);
       total += cells;
@@ -223,12 +223,12 @@ void sweep_column(const Step& s, SuccessorTable& tab, Column& c, const std::vect
 // step whose winning set is empty.
 int backward_sweep(const TrackingProblem& p, const SynthesisOptions& o, const InputGrid& ug,
                    const std::vector<bool>& inv, const SweepSplit& split,
-                   std::vector<std::unique_ptr<SuccessorTable>>& tables, ControllerData& d, TrackerStats& st) {
+                   std::vector<std::unique_ptr<SuccessorTable>>& tables, ControllerData& d, GridFigures& fig) {
   const int T = static_cast<int>(p.nominal.x.size()) - 1;
   const int m = static_cast<int>(ug.lo().size());
   const int threads = static_cast<int>(tables.size());
   std::vector<std::uint8_t> win(static_cast<size_t>(d.boxes[T].size()), 1);
-  st.winning_cells_per_step[T] = d.boxes[T].size();
+  fig.winning_cells_per_step[T] = d.boxes[T].size();
   std::vector<double> uval(static_cast<size_t>(ug.size() * m));
   for (std::int64_t j = 0; j < ug.size(); ++j) ug.value(j, &uval[static_cast<size_t>(j * m)]);
   std::vector<std::int64_t> order(static_cast<size_t>(ug.size()));
@@ -255,7 +255,7 @@ int backward_sweep(const TrackingProblem& p, const SynthesisOptions& o, const In
     split.exchange_winning(d.boxes[k], &d.inputs[static_cast<size_t>(s.off)], kLosing, win);
     std::int64_t count = 0;
     for (const std::uint8_t w : win) count += w;
-    st.winning_cells_per_step[k] = count;
+    fig.winning_cells_per_step[k] = count;
     if (o.progress) o.progress(T - k, T);
     if (count == 0) break;  // nothing can reach an empty set: earlier steps lose too
   }
@@ -267,18 +267,19 @@ int backward_sweep(const TrackingProblem& p, const SynthesisOptions& o, const In
 // The result once the sweep ended at step k (-1: complete): the controller when x_0's cell is
 // winning and, between the samples, its period enclosures hold.
 TrackResult finish_track(const TrackingProblem& p, int k, ControllerData d, const std::string& enclosure_failure,
-                         TrackResult r) {
+                         GridFigures fig, TrackResult r) {
   TrackerStats& st = r.stats;
   GridController ctl(std::move(d));
-  st.initial_state_winning = k < 0 && ctl.winning(p.nominal.x[0].data(), 0);
-  if (st.initial_state_winning && !enclosure_failure.empty()) {
+  fig.initial_state_winning = k < 0 && ctl.winning(p.nominal.x[0].data(), 0);
+  fig.publish(st);
+  if (fig.initial_state_winning && !enclosure_failure.empty()) {
     r.status = TrackerStatus::NoController;
     r.message = "agent " + p.agent + ": x_0's cell is winning, but " + enclosure_failure;
     st.peak_memory_bytes = peak_rss_bytes();
     return r;
   }
   st.peak_memory_bytes = peak_rss_bytes();
-  if (st.initial_state_winning) {
+  if (fig.initial_state_winning) {
     r.status = TrackerStatus::ControllerFound;
     r.controller = std::make_shared<GridController>(std::move(ctl));
     r.message = "agent " + p.agent + ": x_0's cell is winning";
@@ -319,19 +320,22 @@ TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o
   d.eps = to_std(p.tube.eps);
 
   TrackerStats& st = r.stats;
-  const std::int64_t total = lay_out_tube(p, g, ug, d, st);
-  st.winning_cells_per_step.assign(static_cast<size_t>(T + 1), 0);
+  GridFigures fig;
+  const std::int64_t total = lay_out_tube(p, g, ug, d, st, fig);
+  fig.winning_cells_per_step.assign(static_cast<size_t>(T + 1), 0);
   for (int k = 0; k <= T; ++k) {
     if (d.boxes[k].empty()) {
       r.status = TrackerStatus::NoController;
       r.message = "agent " + p.agent + ": the eps box of step " + std::to_string(k) + " contains no whole grid cell";
       st.peak_memory_bytes = peak_rss_bytes();
+      fig.publish(st);
       return r;
     }
   }
   if (static_cast<double>(total) * 2.0 > o.memory_budget_bytes) {
     r.status = TrackerStatus::ResourceLimit;
     r.message = "agent " + p.agent + ": the tube's controller table exceeds the memory budget";
+    fig.publish(st);
     return r;
   }
   d.inputs.assign(static_cast<size_t>(total), kLosing);
@@ -341,7 +345,7 @@ TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o
   const int threads = std::max(1, o.threads);
   const SweepSplit split(o.collective, threads, inv);  // which rank and thread owns each column
   auto tables = make_tables(threads, sb, g, ug, inv, o.prefilter_substeps);
-  const int k = backward_sweep(p, o, ug, inv, split, tables, d, st);
+  const int k = backward_sweep(p, o, ug, inv, split, tables, d, fig);
 
   const double box_seconds = sum_tables(tables, st.boxes_computed);
   st.boxes_computed = split.sum(st.boxes_computed);  // over the ranks: the same figure as one process's
@@ -361,7 +365,7 @@ TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o
     st.enclosure_time_s = enclosure_clock.seconds();
     st.enclosure_substeps = o.enclosure_substeps;
   }
-  return finish_track(p, k, std::move(d), enclosure_failure, std::move(r));
+  return finish_track(p, k, std::move(d), enclosure_failure, std::move(fig), std::move(r));
 }
 
 }  // namespace marsyn::abcd

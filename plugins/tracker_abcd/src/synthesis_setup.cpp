@@ -92,4 +92,10 @@ double sum_tables(const std::vector<std::unique_ptr<SuccessorTable>>& tables, lo
   return seconds;
 }
 
+void GridFigures::publish(TrackerStats& st) const {
+  st.set("tube_cells", "tube cells", tube_cells);
+  st.set("initial_state_winning", "x0's cell winning", initial_state_winning);
+  st.set("winning_cells_per_step", "winning cells/step", winning_cells_per_step);
+}
+
 }  // namespace marsyn::abcd

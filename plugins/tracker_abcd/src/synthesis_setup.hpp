@@ -59,4 +59,13 @@ std::vector<std::unique_ptr<SuccessorTable>> make_tables(int threads, const Succ
 // Adds the tables' computed boxes to `boxes_computed`; returns their seconds, summed.
 double sum_tables(const std::vector<std::unique_ptr<SuccessorTable>>& tables, long long& boxes_computed);
 
+// The figures abcd reports beyond every tracker's (TrackerStats::figures, docs/tracker.md
+// "Statistics"): the grid's cells, counted as the tube is laid out and swept.
+struct GridFigures {
+  long long tube_cells = 0;                     // summed over the steps k = 0..T
+  std::vector<long long> winning_cells_per_step;
+  bool initial_state_winning = false;           // x_0's cell is winning at step 0
+  void publish(TrackerStats& st) const;         // sets them in st.figures, by name
+};
+
 }  // namespace marsyn::abcd

@@ -10,6 +10,7 @@
 #include "track_scenarios.hpp"
 
 using namespace marsyn;
+using Steps = std::vector<long long>;  // a figure counted per step (TrackerStats::figures)
 using namespace marsyn::abcd;
 using marsyn::abcd::testing::SamplerSetup;
 using marsyn::abcd::testing::sample_successors;
@@ -169,7 +170,7 @@ TEST(SuccessorSoundness, TrackerUsesAModelsHookAndStaysCorrect) {
   ASSERT_EQ(plain.status, TrackerStatus::ControllerFound);
   ASSERT_EQ(hooked.status, TrackerStatus::ControllerFound);
   // An exact bound can only grow the winning set.
-  EXPECT_GE(hooked.stats.winning_cells_per_step[0], plain.stats.winning_cells_per_step[0]);
+  EXPECT_GE(hooked.stats.get<Steps>("winning_cells_per_step")[0], plain.stats.get<Steps>("winning_cells_per_step")[0]);
   const auto& c = *hooked.controller;
   std::mt19937_64 rng(4);
   for (int run = 0; run < 20; ++run) {

@@ -10,6 +10,7 @@
 #include "tube.hpp"
 
 using namespace marsyn;
+using Steps = std::vector<long long>;  // a figure counted per step (TrackerStats::figures)
 using namespace marsyn::abcd;
 using marsyn::abcd::testing::agent;
 
@@ -72,11 +73,11 @@ TEST_P(ExampleAgents, GetsAVerifiedController) {
   const auto& a = agent(GetParam());
   ASSERT_EQ(a.result.status, TrackerStatus::ControllerFound) << a.result.message;
   ASSERT_TRUE(a.result.controller);
-  EXPECT_TRUE(a.result.stats.initial_state_winning);
+  EXPECT_TRUE(a.result.stats.get<bool>("initial_state_winning"));
   const auto& s = a.result.stats;
-  EXPECT_GT(s.tube_cells, 0);
+  EXPECT_GT(s.get<long long>("tube_cells"), 0);
   EXPECT_GT(s.boxes_computed, 0);
-  EXPECT_EQ(static_cast<int>(s.winning_cells_per_step.size()), static_cast<int>(a.problem.nominal.x.size()));
+  EXPECT_EQ(static_cast<int>(s.get<Steps>("winning_cells_per_step").size()), static_cast<int>(a.problem.nominal.x.size()));
   auto* c = dynamic_cast<const GridController*>(a.result.controller.get());
   ASSERT_TRUE(c);
   expect_stored_inputs_valid(a.problem, *c, 300);
@@ -94,7 +95,7 @@ TEST(Synthesis, TubeTooThinForTheDisturbanceHasNoController) {
   const auto r = tracker.track(p, o);
   EXPECT_EQ(r.status, TrackerStatus::NoController) << r.message;
   EXPECT_FALSE(r.controller);
-  EXPECT_FALSE(r.stats.initial_state_winning);
+  EXPECT_FALSE(r.stats.get<bool>("initial_state_winning"));
 
   auto q = scenarios::vehicle();
   q.tube.eps = scenarios::vec({0.02, 0.03});  // two cells wide, W = 0.1 on the speed
@@ -138,7 +139,7 @@ TEST(Synthesis, OneAndTwoThreadsWriteIdenticalFiles) {
     const std::string b1 = slurp(f1), b2 = slurp(f2);
     EXPECT_GT(b1.size(), 100u);
     EXPECT_TRUE(b1 == b2) << name << ": 1-thread and 2-thread controller files differ";
-    EXPECT_EQ(r1.stats.winning_cells_per_step, r2.stats.winning_cells_per_step);
+    EXPECT_EQ(r1.stats.get<Steps>("winning_cells_per_step"), r2.stats.get<Steps>("winning_cells_per_step"));
   }
 }
 

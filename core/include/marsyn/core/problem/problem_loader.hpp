@@ -7,7 +7,7 @@
 
 #include "marsyn/core/plugins/plugin_registry.hpp"
 #include "marsyn/core/problem/auto_tube.hpp"
-#include "marsyn/core/tracking/tracker_choice.hpp"
+#include "marsyn/core/problem/tracker_assessment.hpp"
 #include "marsyn/memory_budget.hpp"
 #include "marsyn/problem.hpp"
 

@@ -1,7 +1,7 @@
 #pragma once
 #include <string>
 
-#include "marsyn/core/tracking/tracker_choice.hpp"
+#include "marsyn/core/problem/tracker_assessment.hpp"
 #include "marsyn/problem.hpp"
 
 namespace marsyn {

@@ -9,4 +9,10 @@ namespace marsyn {
 
 nlohmann::json result_json(const SolveOutcome& outcome);
 
+// One figure's value as JSON (a flag, a number, or one count per step).
+nlohmann::json figure_json(const TrackerFigure::Value& value);
+
+// The figures a tracker declared (TrackerStats::figures) added to `into`, by name.
+void add_figures(nlohmann::json& into, const TrackerStats& stats);
+
 }  // namespace marsyn

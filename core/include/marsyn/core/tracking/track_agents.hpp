@@ -29,4 +29,8 @@ std::vector<AgentOutcome> track_agents(const Problem& problem, const std::vector
                                        const std::vector<std::shared_ptr<const Tracker>>& trackers,
                                        const SolveOptions& options, const MemoryBudget& budget);
 
+// An agent's tracking figures for the log line: the tracker's own counts (abcd: "1200 tube
+// cells, "), N_l when the tracker abstracts pairs, then the boxes: "..., N_l 3.1e+05, 812 boxes".
+std::string stats_text(const TrackerStats& stats);
+
 }  // namespace marsyn

@@ -1,4 +1,4 @@
-#include "marsyn/core/tracking/mpi_world.hpp"
+#include "marsyn/core/mpi/world.hpp"
 
 #include <chrono>
 #include <cstdio>

@@ -1,6 +1,6 @@
-#include "marsyn/core/tracking/mpi_plan_broadcast.hpp"
+#include "marsyn/core/mpi/plan_broadcast.hpp"
 
-#include "mpi_bytes.hpp"
+#include "bytes.hpp"
 
 namespace marsyn::mpi {
 
