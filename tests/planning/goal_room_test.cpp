@@ -121,3 +121,29 @@ TEST(GoalRoom, TwoGoalsTooCloseForBothTubes) {
   p.pairwise_collision = false;
   EXPECT_TRUE(crowded_goals(p).empty());
 }
+
+TEST(GoalRoom, InSpaceTheHeightCounts) {
+  // A hover goal under a slab (z in [1, 2] over x, y in [4, 6] x [-1, 3]): the goal's lowest end,
+  // z = 0.6 + 0.15 f at eps x f, keeps 1 - 0.15 f - z - 0.15 = 0.25 - 0.3 f from delta plus the tube.
+  Problem p;
+  p.delta = 0.15;
+  p.delta_norm = Norm::Two;
+  p.horizon = 60;
+  AgentSpec a = agent("drone", 5, 1, 0.15);
+  a.goal.lo[2] = 0.6;
+  a.goal.hi[2] = 1.0;
+  a.tube.eps[2] = 0.15;
+  a.workspace.index = {0, 1, 2};
+  a.workspace.offset = {0, 0, 0};
+  p.agents = {a};
+  Obstacle slab = box("slab", 4, -1, 6, 3);
+  slab.z_lo = 1.0;
+  slab.z_hi = 2.0;
+  p.obstacles = {slab};
+  auto c = crowded_goals(p);
+  ASSERT_EQ(c.size(), 1u);
+  EXPECT_NEAR(c[0].room, -0.05, 1e-9);
+  EXPECT_NEAR(c[0].eps_factor, 0.25 / 0.3, 1e-8);
+  p.obstacles[0].z_lo = 1.1;  // 0.1 higher: room 0.05
+  EXPECT_TRUE(crowded_goals(p).empty());
+}

@@ -23,14 +23,15 @@ constexpr double kNoRoom = 1e-9;
 // the tube's margin there. Empty when the agent has a footprint, its goal is unbounded in a
 // workspace coordinate, or the goal shrinks to nothing.
 struct GoalImage {
-  std::vector<Eigen::Vector2d> corners;
+  std::vector<Point> corners;  // 4 in the plane (z = 0), 8 in space
   WorkspaceMargin margin;
 };
 
 std::optional<GoalImage> goal_image(const AgentSpec& a, double f) {
   if (!a.workspace.linear() || a.goal.dim() != a.n() || a.tube.eps.size() != a.n()) return std::nullopt;
-  std::array<double, 2> lo{}, hi{};
-  for (int c = 0; c < 2; ++c) {
+  const int dim = a.workspace.dim();
+  std::array<double, kMaxWorkspaceDim> lo{}, hi{};
+  for (int c = 0; c < dim; ++c) {
     const int at = a.workspace.index[c];
     const double off = a.workspace.offset[c];
     if (at < 0) {
@@ -45,8 +46,11 @@ std::optional<GoalImage> goal_image(const AgentSpec& a, double f) {
     if (lo[c] > hi[c]) return std::nullopt;
   }
   GoalImage g;
-  for (double x : {lo[0], hi[0]})
-    for (double y : {lo[1], hi[1]}) g.corners.emplace_back(x, y);
+  for (int corner = 0; corner < (1 << dim); ++corner) {
+    Point p = Point::Zero();
+    for (int c = 0; c < dim; ++c) p[c] = (corner >> c) & 1 ? hi[c] : lo[c];
+    g.corners.push_back(p);
+  }
   AgentSpec scaled = a;
   scaled.tube.eps = f * a.tube.eps;
   Eigen::VectorXd centre = a.x0;
@@ -58,11 +62,11 @@ std::optional<GoalImage> goal_image(const AgentSpec& a, double f) {
 
 // The best robust margin over the shrunk goal(s) at a factor on eps (the margins are convex in the
 // workspace points, so the best is at corners); +inf when there is nothing to judge.
-double obstacle_room(const Problem& pb, const AgentSpec& a, const Polygon& poly, double f) {
+double obstacle_room(const Problem& pb, const AgentSpec& a, const Obstacle& obstacle, double f) {
   const auto g = goal_image(a, f);
   if (!g) return std::numeric_limits<double>::infinity();
   double best = -std::numeric_limits<double>::infinity();
-  for (const auto& p : g->corners) best = std::max(best, obstacle_margin(poly, p, g->margin, pb.delta, pb.delta_norm));
+  for (const auto& p : g->corners) best = std::max(best, obstacle_margin(obstacle, p, g->margin, pb.delta, pb.delta_norm));
   return best;
 }
 
@@ -98,11 +102,11 @@ std::vector<CrowdedGoal> all_crowded_goals(const Problem& pb) {
     const AgentSpec& a = pb.agents[i];
     for (std::size_t o = 0; o < pb.obstacles.size(); ++o) {
       if (!windows.binds(static_cast<int>(i), static_cast<int>(o), end)) continue;
-      const Polygon& poly = pb.obstacles[o].vertices;
-      const double room = obstacle_room(pb, a, poly, 1.0);
+      const Obstacle& obstacle = pb.obstacles[o];
+      const double room = obstacle_room(pb, a, obstacle, 1.0);
       if (!(room < kNoRoom)) continue;
       out.push_back({a.name, "obstacle " + pb.obstacles[o].name, room,
-                     zero_room_factor([&](double f) { return obstacle_room(pb, a, poly, f); })});
+                     zero_room_factor([&](double f) { return obstacle_room(pb, a, obstacle, f); })});
     }
   }
   if (pb.pairwise_collision)

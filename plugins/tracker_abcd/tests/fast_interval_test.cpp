@@ -1,6 +1,6 @@
 // FastInterval as the successor boxes use it: a model's field and Jacobian over it against
 // high-precision values, and the rounding-mode discipline of the box computation
-// (docs/soundness.md, section 2). The arithmetic itself is tested in numerics/tests.
+// (docs/soundness.md, section 2). The arithmetic itself is tested in interfaces/numerics/tests.
 #include <gtest/gtest.h>
 
 #include <boost/multiprecision/cpp_bin_float.hpp>

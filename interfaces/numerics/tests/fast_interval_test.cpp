@@ -1,4 +1,4 @@
-// FastInterval (numerics/include/marsyn/fast_interval.hpp) against exact and high-precision
+// FastInterval (interfaces/numerics/include/marsyn/fast_interval.hpp) against exact and high-precision
 // references and against Boost.Interval's directed rounding (docs/soundness.md, section 2). A
 // model's field over it and the successor box's rounding-mode discipline are tested with the
 // tracker that computes the boxes (plugins/tracker_abcd/tests/fast_interval_test.cpp).
