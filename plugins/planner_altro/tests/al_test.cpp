@@ -141,12 +141,12 @@ TEST(AugmentedLagrangian, GoalInsideAnObstacleIsRefusedBeforeAnySolve) {
       << out.check.message;
 }
 
-// A wall across the whole state space between start and goal: the goal has room, every horizon
-// fails; the horizon search tries a longer one and ends with the solver's violated constraint.
-TEST(AugmentedLagrangian, AWallAcrossTheWayEndsWithAClearFailure) {
+// A goal 10 m away for a car of at most 1 m/s: the goal has room, but neither 5 s nor 6.2 s gets
+// there; the horizon search tries the longer horizon and ends with the solver's violated constraint.
+TEST(AugmentedLagrangian, AGoalOutOfReachEndsWithAClearFailure) {
   Problem p;
-  p.agents.push_back(unicycle("car", {0, 0, 0}, {5, 0, 0}));
-  p.obstacles.push_back(box(2.5, -4, 3, 4));
+  p.agents.push_back(unicycle("car", {0, 0, 0}, {10, 0, 0}));
+  p.agents[0].input_bounds = {Eigen::Vector2d(-1, -2), Eigen::Vector2d(1, 2)};
   p.delta = 0.2;
   p.tau = 0.1;
   p.horizon = 50;
