@@ -39,3 +39,17 @@ TEST(ClosedGap, RoutesAroundTheFieldGiveARobustPlan) {
   EXPECT_NE(all.find("from routes around them"), std::string::npos) << all;
   EXPECT_NE(all.find("FEASIBLE: horizon 120"), std::string::npos) << all;
 }
+
+// Two drones facing a wall of blocks with a window 1 m wide and 0.8 m high: the straight lines
+// run into the wall, routes in space lead through the window, and the team verifies in 3-D.
+TEST(ClosedGap, RoutesInSpaceLeadThroughAWindow) {
+  namespace fs = std::filesystem;
+  const fs::path out = fs::temp_directory_path() / ("marsyn_window_" + std::to_string(::getpid()));
+  const auto r = run_marsyn(std::string("solve ") + MARSYN_SOURCE_DIR + "/tests/continuous/window_3d.yaml --runs 100 --out " +
+                            out.string());
+  fs::remove_all(out);
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  const std::string all = r.out + r.err;
+  EXPECT_NE(all.find("from routes around them"), std::string::npos) << all;
+  EXPECT_NE(all.find("status        VERIFIED"), std::string::npos) << all;
+}

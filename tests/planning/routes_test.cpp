@@ -91,3 +91,120 @@ TEST(Routes, WaypointsOnlyForBlockedAgents) {
   // Grown by 1.1 (delta + eps) = 0.33: the corners sit outside the grown wall.
   EXPECT_NEAR(std::abs(w[0].x[1]), 2.33, 1e-9);
 }
+
+namespace {
+
+Prism block(double x0, double y0, double z0, double x1, double y1, double z1) { return {box(x0, y0, x1, y1), z0, z1}; }
+
+// A wall at x in [2, 2.3] across the box [-1, 5] x [-3, 3] x [0, 3] and beyond it (a route
+// along the box's faces would only touch it), with an opening y in [-0.5, 0.5], z in [1, 1.8].
+std::vector<Prism> wall_with_window(double sill = 1.0) {
+  return {block(2, -4, -1, 2.3, -0.5, 4), block(2, 0.5, -1, 2.3, 4, 4), block(2, -0.5, -1, 2.3, 0.5, sill),
+          block(2, -0.5, 1.8, 2.3, 0.5, 4)};
+}
+
+bool inside(const Prism& p, const Eigen::Vector3d& q) {
+  Eigen::Vector2d lo = p.base[0], hi = p.base[2];
+  return q.x() > lo.x() + 1e-9 && q.x() < hi.x() - 1e-9 && q.y() > lo.y() + 1e-9 && q.y() < hi.y() - 1e-9 &&
+         q.z() > p.z_lo + 1e-9 && q.z() < p.z_hi - 1e-9;
+}
+
+// Every point of the polyline (sampled densely) outside every block's interior.
+void expect_clear(const std::vector<Prism>& prisms, const Eigen::Vector3d& a, const std::vector<Eigen::Vector3d>& corners,
+                  const Eigen::Vector3d& b) {
+  std::vector<Eigen::Vector3d> all{a};
+  all.insert(all.end(), corners.begin(), corners.end());
+  all.push_back(b);
+  for (size_t s = 0; s + 1 < all.size(); ++s)
+    for (int k = 0; k <= 2000; ++k) {
+      const Eigen::Vector3d q = all[s] + (all[s + 1] - all[s]) * (k / 2000.0);
+      for (const auto& p : prisms) ASSERT_FALSE(inside(p, q)) << q.transpose() << " on leg " << s;
+    }
+}
+
+}  // namespace
+
+TEST(RoutesInSpace, ThroughTheWindowOfAWall) {
+  const auto wall = wall_with_window();
+  const Eigen::Vector3d from(0, -1, 0.5), to(4.5, 1, 0.5), lo(-1, -3, 0), hi(5, 3, 3);
+  bool found = false;
+  const auto r = route_in_space(wall, lo, hi, from, to, &found);
+  ASSERT_TRUE(found);
+  ASSERT_FALSE(r.empty());
+  expect_clear(wall, from, r, to);
+  // It crosses the wall's plane inside the opening, and it climbs no higher than it must.
+  for (const auto& c : r) {
+    EXPECT_GE(c.z(), 1.0 - 1e-9);
+    EXPECT_LE(c.z(), 1.8 + 1e-9);
+    if (c.x() >= 2 && c.x() <= 2.3) EXPECT_LE(std::abs(c.y()), 0.5 + 1e-9);
+  }
+  double L = 0;
+  Eigen::Vector3d p = from;
+  for (const auto& c : r) L += (c - p).norm(), p = c;
+  L += (to - p).norm();
+  // Through the window's lower edge: about 4.9 (the straight line is 4.93 long but blocked).
+  EXPECT_LT(L, 5.6);
+}
+
+TEST(RoutesInSpace, AClosedWindowHasNoRoute) {
+  bool found = true;
+  EXPECT_TRUE(route_in_space(wall_with_window(1.8), {-1, -3, 0}, {5, 3, 3}, {0, -1, 0.5}, {4.5, 1, 0.5}, &found).empty());
+  EXPECT_FALSE(found);
+}
+
+TEST(RoutesInSpace, OverALowBlockWhenThatIsShorter) {
+  // A block 0.4 high and 8 wide: over it is far shorter than around it.
+  const std::vector<Prism> low{block(1, -4, 0, 2, 4, 0.4)};
+  bool found = false;
+  const auto r = route_in_space(low, {-1, -5, 0}, {4, 5, 2}, {0, 0, 0.2}, {3, 0, 0.2}, &found);
+  ASSERT_TRUE(found);
+  ASSERT_EQ(r.size(), 2u);
+  for (const auto& c : r) EXPECT_NEAR(c.z(), 0.4, 1e-5);  // a hair above the top (the lattice's planes)
+  expect_clear(low, {0, 0, 0.2}, r, {3, 0, 0.2});
+}
+
+TEST(RoutesInSpace, AFreeSegmentNeedsNoCornerAndAnEndInsideHasNoRoute) {
+  bool found = false;
+  EXPECT_TRUE(route_in_space({block(1, 1, 0, 2, 2, 1)}, {-1, -1, 0}, {4, 4, 3}, {0, 0, 0.5}, {3, 0, 0.5}, &found).empty());
+  EXPECT_TRUE(found);
+  // Just over the top.
+  EXPECT_TRUE(route_in_space({block(1, -1, 0, 2, 1, 1)}, {-1, -2, 0}, {4, 2, 3}, {0, 0, 1.01}, {3, 0, 1.01}, &found).empty());
+  EXPECT_TRUE(found);
+  EXPECT_TRUE(route_in_space({block(1, -1, 0, 2, 1, 1)}, {-1, -2, 0}, {4, 2, 3}, {1.5, 0, 0.5}, {3, 0, 1}, &found).empty());
+  EXPECT_FALSE(found);
+}
+
+TEST(RoutesInSpace, WaypointsPinAllThreeCoordinates) {
+  Problem p;
+  p.delta = 0.2;
+  p.delta_norm = Norm::Inf;
+  AgentSpec a;
+  a.name = "drone";
+  a.x0 = Eigen::Vector3d(0, -1, 0.5);
+  a.goal = {Eigen::Vector3d(4.3, 0.8, 0.3), Eigen::Vector3d(4.7, 1.2, 0.7)};
+  a.state_bounds = {Eigen::Vector3d(-1, -3, 0), Eigen::Vector3d(5, 3, 3)};
+  a.input_bounds = {Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1)};
+  a.tube.eps = Eigen::Vector3d(0.05, 0.05, 0.05);
+  a.tube.w = Eigen::Vector3d::Zero();
+  a.workspace.index = {0, 1, 2};
+  a.workspace.offset = {0, 0, 0};
+  p.agents = {a};
+  for (const auto& w : wall_with_window()) {
+    Obstacle o;
+    o.name = "part";
+    o.vertices = w.base;
+    o.is_box = true;
+    o.z_lo = w.z_lo;
+    o.z_hi = w.z_hi;
+    p.obstacles.push_back(o);
+  }
+  const auto ways = route_waypoints(p, 80);
+  ASSERT_FALSE(ways.empty());
+  for (const auto& w : ways) {
+    ASSERT_EQ(w.x.size(), 3);
+    EXPECT_TRUE(w.x.allFinite());
+    // Grown by 1.1 (delta + eps) = 0.275: inside the window less that, i.e. z in [1.275, 1.525].
+    EXPECT_GE(w.x[2], 1.275 - 1e-9);
+    EXPECT_LE(w.x[2], 1.525 + 1e-9);
+  }
+}

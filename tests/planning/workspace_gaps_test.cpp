@@ -146,3 +146,64 @@ TEST(CrowdedStarts, AStartWithinDeltaAndTheTubeOfAnObstacleIsNamed) {
   EXPECT_EQ(c[0].second, "obstacle pillar");
   EXPECT_NEAR(c[0].eps_factor, (0.4 - 0.24) / 0.2, 1e-12);
 }
+
+namespace {
+
+Obstacle block(const std::string& name, double x0, double y0, double z0, double x1, double y1, double z1) {
+  Obstacle o = box(name, x0, y0, x1, y1);
+  o.z_lo = z0;
+  o.z_hi = z1;
+  return o;
+}
+
+Problem space(std::vector<Obstacle> obstacles, Norm norm) {
+  Problem p;
+  p.delta = 0.24;
+  p.delta_norm = norm;
+  AgentSpec a;
+  a.name = "drone";
+  a.x0 = Eigen::Vector3d(0, 0, 1);
+  a.state_bounds = {Eigen::Vector3d(-1, -1, 0), Eigen::Vector3d(11, 11, 3)};
+  a.goal = {Eigen::Vector3d(9, 9, 0.5), Eigen::Vector3d(10, 10, 1.5)};
+  a.tube.eps = Eigen::Vector3d(0.1, 0.1, 0.1);
+  a.workspace.index = {0, 1, 2};
+  a.workspace.offset = {0, 0, 0};
+  p.agents = {a};
+  p.obstacles = std::move(obstacles);
+  return p;
+}
+
+}  // namespace
+
+TEST(WorkspaceGaps, AWindowTooLowInAWallOfBlocks) {
+  // A sill up to z = 1 and a lintel from z = 1.3: a window 0.3 high; passing needs 2 (0.24 + 0.1).
+  const auto gaps =
+      narrow_gaps(space({block("sill", 4, 0, 0, 5, 10, 1), block("lintel", 4, 0, 1.3, 5, 10, 3)}, Norm::Inf));
+  ASSERT_EQ(gaps.size(), 1u);
+  EXPECT_EQ(gaps[0].first, "obstacle sill");
+  EXPECT_EQ(gaps[0].second, "obstacle lintel");
+  EXPECT_NEAR(gaps[0].width, 0.3, 1e-12);
+  EXPECT_NEAR(gaps[0].needed, 0.68, 1e-12);
+  // A window 0.7 high is open.
+  EXPECT_TRUE(
+      narrow_gaps(space({block("sill", 4, 0, 0, 5, 10, 1), block("lintel", 4, 0, 1.7, 5, 10, 3)}, Norm::Inf)).empty());
+}
+
+TEST(WorkspaceGaps, BesideAndAboveTheGapCombinesBothDistances) {
+  // 0.3 apart in x and 0.4 in z: 0.4 in the inf-norm, 0.5 in the 2-norm (needs 2 (0.24 + |eps|_2)).
+  const std::vector<Obstacle> two{block("low", 0, 0, 0, 1, 1, 1), block("high", 1.3, 0, 1.4, 2.3, 1, 2)};
+  const auto inf = narrow_gaps(space(two, Norm::Inf));
+  ASSERT_EQ(inf.size(), 1u);
+  EXPECT_NEAR(inf[0].width, 0.4, 1e-12);
+  const auto two_norm = narrow_gaps(space(two, Norm::Two));
+  ASSERT_EQ(two_norm.size(), 1u);
+  EXPECT_NEAR(two_norm[0].width, 0.5, 1e-12);
+}
+
+TEST(WorkspaceGaps, ABlockJustAboveTheFloor) {
+  const auto gaps = narrow_gaps(space({block("table", 4, 4, 0.2, 6, 6, 0.9)}, Norm::Inf));
+  ASSERT_EQ(gaps.size(), 1u);
+  EXPECT_EQ(gaps[0].first, "obstacle table");
+  EXPECT_NE(gaps[0].second.find("the edge z = 0"), std::string::npos) << gaps[0].second;
+  EXPECT_NEAR(gaps[0].width, 0.2, 1e-12);
+}

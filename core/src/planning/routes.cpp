@@ -94,23 +94,45 @@ std::vector<Waypoint> route_waypoints(const Problem& problem, int horizon) {
     const AgentSpec& a = problem.agents[i];
     const auto& ws = a.workspace;
     if (!ws.linear() || ws.index[0] < 0 || ws.index[1] < 0) continue;
-    const int ix = ws.index[0], iy = ws.index[1];
+    const int dim = ws.dim();
+    if (dim == 3 && ws.index[2] < 0) continue;
     auto centre = [&](int c) {
       const double lo = a.goal.lo[c], hi = a.goal.hi[c];
       return std::isfinite(lo) && std::isfinite(hi) ? 0.5 * (lo + hi) : a.x0[c];
     };
-    const Eigen::Vector2d from(a.x0[ix] + ws.offset[0], a.x0[iy] + ws.offset[1]);
-    const Eigen::Vector2d to(centre(ix) + ws.offset[0], centre(iy) + ws.offset[1]);
+    Eigen::Vector3d from = Eigen::Vector3d::Zero(), to = Eigen::Vector3d::Zero();
+    for (int c = 0; c < dim; ++c) {
+      from[c] = a.x0[ws.index[c]] + ws.offset[c];
+      to[c] = centre(ws.index[c]) + ws.offset[c];
+    }
     // What the plan keeps from an obstacle (the obstacle constraint's growth), and 10% more.
     const WorkspaceMargin m = global_margin(a, a.state_bounds.shrunk(a.tube.eps), 16);
-    const double gx = 1.1 * (problem.delta + (inf ? m.x : m.two())), gy = 1.1 * (problem.delta + (inf ? m.y : m.two()));
-    std::vector<Polygon> grown;
-    for (const auto& o : problem.obstacles)
-      if (!o.staged) grown.push_back(grow_by_box(o.vertices, gx, gy));  // staged ones bind on some legs only
-    const auto corners = shortest_route(grown, from, to);
+    const Eigen::Vector3d g = 1.1 * (Eigen::Vector3d::Constant(problem.delta) +
+                                     (inf ? Eigen::Vector3d(m.x, m.y, m.z) : Eigen::Vector3d::Constant(m.two())));
+    std::vector<Eigen::Vector3d> corners;
+    if (dim == 2) {
+      std::vector<Polygon> grown;
+      for (const auto& o : problem.obstacles)
+        if (!o.staged) grown.push_back(grow_by_box(o.vertices, g.x(), g.y()));  // staged ones bind on some legs only
+      for (const auto& c : shortest_route(grown, from.head<2>(), to.head<2>()))
+        corners.push_back(Eigen::Vector3d(c.x(), c.y(), 0.0));
+    } else {
+      std::vector<Prism> grown;
+      for (const auto& o : problem.obstacles)
+        if (!o.staged) grown.push_back({grow_by_box(o.vertices, g.x(), g.y()), o.z_lo - g.z(), o.z_hi + g.z()});
+      // Inside the position bounds the robust plan keeps (less the margin, and 10% of it more).
+      Eigen::Vector3d lo, hi;
+      for (int c = 0; c < 3; ++c) {
+        const int s = ws.index[c];
+        const double keep = 1.1 * (c == 0 ? m.x : c == 1 ? m.y : m.z);
+        lo[c] = a.state_bounds.lo[s] + ws.offset[c] + keep;
+        hi[c] = a.state_bounds.hi[s] + ws.offset[c] - keep;
+      }
+      corners = route_in_space(grown, lo, hi, from, to);
+    }
     if (corners.empty()) continue;
     std::vector<double> along{0.0};
-    Eigen::Vector2d prev = from;
+    Eigen::Vector3d prev = from;
     for (const auto& c : corners) along.push_back(along.back() + (c - prev).norm()), prev = c;
     const double total = along.back() + (to - prev).norm();
     for (size_t j = 0; j < corners.size(); ++j) {
@@ -121,8 +143,7 @@ std::vector<Waypoint> route_waypoints(const Problem& problem, int horizon) {
       // started at rest (the obstacle field of tests/continuous: 40 x holds the route, 1 x and
       // 10 x did not).
       w.follow = 40.0;
-      w.x[layout.state[i] + ix] = corners[j].x() - ws.offset[0];
-      w.x[layout.state[i] + iy] = corners[j].y() - ws.offset[1];
+      for (int c = 0; c < dim; ++c) w.x[layout.state[i] + ws.index[c]] = corners[j][c] - ws.offset[c];
       out.push_back(std::move(w));
     }
   }

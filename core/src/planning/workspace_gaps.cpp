@@ -26,6 +26,16 @@ double polygon_distance(const Polygon& a, const Polygon& b, Norm norm) {
   return std::max(out, 0.0);
 }
 
+// The same between two vertical prisms (3-D workspaces): the prisms' difference is the polygons'
+// difference times the height intervals' difference, so the distance combines the polygons'
+// distance s and the intervals' gap h >= 0 (max in the inf-norm, hypot in the 2-norm), exactly.
+double prism_distance(const Obstacle& a, const Obstacle& b, Norm norm) {
+  const double s = polygon_distance(a.vertices, b.vertices, norm);
+  const double h = std::max({b.z_lo - a.z_hi, a.z_lo - b.z_hi, 0.0});
+  if (h == 0.0) return s;  // the plane's figure, bit for bit
+  return norm == Norm::Inf ? std::max(s, h) : std::hypot(s, h);
+}
+
 struct Edge {
   std::string name;
   int axis;      // workspace coordinate
@@ -37,10 +47,6 @@ struct Edge {
 
 std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
   std::vector<NarrowGap> out;
-  // The gaps are measured in the plane: in 3-D only between full-height obstacles (a gap under
-  // or over a bounded prism is not one; no warning rather than a wrong one).
-  for (const auto& o : problem.obstacles)
-    if (o.z_bounded()) return out;
   const bool inf = problem.delta_norm == Norm::Inf;
   std::vector<double> need(problem.agents.size());
   for (size_t i = 0; i < problem.agents.size(); ++i) {
@@ -65,7 +71,7 @@ std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
   for (size_t p = 0; p < obs.size(); ++p)
     for (size_t q = p + 1; q < obs.size(); ++q) {
       if (obs[p].staged || obs[q].staged) continue;
-      const double w = polygon_distance(obs[p].vertices, obs[q].vertices, problem.delta_norm);
+      const double w = prism_distance(obs[p], obs[q], problem.delta_norm);
       if (w > 0) closed("obstacle " + obs[p].name, "obstacle " + obs[q].name, w, everyone);
     }
   // An obstacle near the edge of an agent's workspace (a linear workspace: its state bounds).
@@ -73,11 +79,11 @@ std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
     const auto& a = problem.agents[i];
     if (!a.workspace.linear()) continue;
     std::vector<Edge> edges;
-    for (int c = 0; c < 2; ++c) {
+    for (int c = 0; c < a.workspace.dim(); ++c) {
       const int at = a.workspace.index[c];
       if (at < 0) continue;
       const double off = a.workspace.offset[c];
-      const char* axis = c == 0 ? "x" : "y";
+      const char* axis = c == 0 ? "x" : c == 1 ? "y" : "z";
       if (std::isfinite(a.state_bounds.lo[at]))
         edges.push_back({std::string("the edge ") + axis + " = " + std::to_string(a.state_bounds.lo[at] + off) +
                              " of " + a.name + "'s workspace",
@@ -91,9 +97,13 @@ std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
       for (const auto& e : edges) {
         if (o.staged) continue;
         double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-        for (const auto& v : o.vertices) lo = std::min(lo, v[e.axis]), hi = std::max(hi, v[e.axis]);
+        if (e.axis == 2) {
+          lo = o.z_lo, hi = o.z_hi;  // a floor or a ceiling
+        } else {
+          for (const auto& v : o.vertices) lo = std::min(lo, v[e.axis]), hi = std::max(hi, v[e.axis]);
+        }
         const double w = e.low ? lo - e.at : e.at - hi;
-        if (w > 0) closed("obstacle " + o.name, e.name, w, {i});
+        if (w > 0 && std::isfinite(w)) closed("obstacle " + o.name, e.name, w, {i});
       }
   }
   return out;

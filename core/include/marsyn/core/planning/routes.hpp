@@ -21,10 +21,33 @@ namespace marsyn::planning {
 std::vector<Eigen::Vector2d> shortest_route(const std::vector<Polygon>& polygons, const Eigen::Vector2d& from,
                                             const Eigen::Vector2d& to, bool* found = nullptr);
 
+// An obstacle of a 3-D workspace: a convex polygon in x-y (counter-clockwise) times [z_lo, z_hi]
+// (either end may be infinite).
+struct Prism {
+  Polygon base;
+  double z_lo, z_hi;
+};
+
+// A short polyline from `from` to `to` inside the box [lo, hi] that keeps out of the interior of
+// every prism. Shortest paths in space bend on the obstacles' edges, not only at their vertices,
+// so a visibility graph over vertices can miss them (a window in a wall of boxes has no vertex
+// of its own): the search runs over a lattice whose planes are the prisms' bounding planes, the
+// ends' coordinates and a uniform refinement, with every lattice edge checked exactly against
+// the prisms, and the lattice path is then shortened by skipping to the farthest visible
+// corner. Exact for boxes' openings (their faces are lattice planes), approximate (but always
+// obstacle-free) around slanted polygons. The corners between the ends; empty when the straight
+// segment is free, and when no route exists in the lattice or an end is inside a prism
+// (`found` false then).
+std::vector<Eigen::Vector3d> route_in_space(const std::vector<Prism>& prisms, const Eigen::Vector3d& lo,
+                                            const Eigen::Vector3d& hi, const Eigen::Vector3d& from,
+                                            const Eigen::Vector3d& to, bool* found = nullptr);
+
 // Waypoints for every agent with a linear workspace whose straight line from its start to its
 // goal centre crosses an obstacle grown by delta + its workspace margin (+ 10%, so the route
 // does not graze what the plan must clear): the route's corners at knots in proportion to the
-// distance along it. Empty when no agent's straight line is blocked.
+// distance along it. Empty when no agent's straight line is blocked. In a 3-D workspace the
+// route is taken in space (route_in_space, inside the agent's position bounds less its margin)
+// over the grown prisms, which grow in z as well.
 std::vector<Waypoint> route_waypoints(const Problem& problem, int horizon);
 
 }  // namespace marsyn::planning
