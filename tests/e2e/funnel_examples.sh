@@ -26,8 +26,9 @@ for name in bicycles planar_quadrotors quadrotors; do
   done
   echo "$name: VERIFIED with funnel controllers; adversarial closed loop satisfied"
 done
-# The quadrotors fly in a 3-D workspace: the report draws a side view (x-z) as well.
+# The quadrotors fly in a 3-D workspace: the report draws a side view (x-z) and a front view (y-z).
 grep -q '"side":' "$scratch/quadrotors/report.html" || fail "quadrotors: report.html has no side view" "$scratch/quadrotors.txt"
+grep -q '"front":' "$scratch/quadrotors/report.html" || fail "quadrotors: report.html has no front view" "$scratch/quadrotors.txt"
 # The multi-drone example with each tracker.
 for tracker in abcd funnel; do
   problem="$scratch/multi_drone_$tracker.yaml"

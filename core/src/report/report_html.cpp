@@ -36,7 +36,9 @@ canvas{width:100%;border:1px solid #dae1e7;border-radius:4px;background:#fff}
 <section><h2>Workspace: agents, tubes, obstacles, goals</h2>
 <canvas id="cv" width="640" height="640"></canvas>
 <div id="side" style="display:none"><h2 style="margin-top:12px">Side view (x-z): heights of tubes, enclosures and obstacles</h2>
-<canvas id="cv2" width="640" height="360"></canvas></div>
+<canvas id="cv2" width="640" height="360"></canvas>
+<h2 style="margin-top:12px">Front view (y-z)</h2>
+<canvas id="cv3" width="640" height="360"></canvas></div>
 <div class="controls"><button id="play">pause</button><input id="k" type="range" min="0" value="0">
 <span id="kt"></span></div>
 <div class="controls"><label>run <select id="run"></select></label></div>
@@ -117,7 +119,7 @@ table($('rounds'), ['round', 'action', 'why', 'changes (from -> to)', 'T', 'outc
     fmt(r.horizon, 0) + (r.planned ? '' : ' (kept)'), esc(r.outcome), fmt(r.plan_time_s, 2), fmt(r.track_time_s, 2),
     fmt(r.certify_time_s, 2), fmt(r.time_s, 2)]));
 
-// Workspace animation: one view per canvas (the top view; a 3-D workspace adds the side view x-z).
+// Workspace animation: one view per canvas (the top view; a 3-D workspace adds the side view x-z and the front view y-z).
 const colors = ['#3490dc', '#e3342f', '#38c172', '#f6993f', '#9561e2', '#f66d9b', '#4dc0b5', '#6574cd', '#ffed4a', '#8795a1'];
 function makeView(cv, S) {
 const ctx = cv.getContext('2d');
@@ -180,6 +182,7 @@ return function draw(k) {
 }
 const views = [makeView($('cv'), S)];
 if (S.side) { $('side').style.display = ''; views.push(makeView($('cv2'), S.side)); }
+if (S.front) views.push(makeView($('cv3'), S.front));
 const draw = k => views.forEach(d => d(k));
 const steps = S.agents.length ? S.agents[0].tube.length : 1;
 $('k').max = Math.max(0, steps - 1);

@@ -8,7 +8,8 @@
 namespace marsyn {
 namespace {
 
-// The drawing's axes: the top view x-y (the plane's only one), or a 3-D workspace's side view x-z.
+// The drawing's axes: the top view x-y (the plane's only one), or a 3-D workspace's side view x-z
+// and front view y-z.
 struct View {
   int u = 0, v = 1;
 };
@@ -29,8 +30,8 @@ std::array<double, 2> point_in(const AgentSpec& a, const double* x, View w) {
   return {p[w.u], p[w.v]};
 }
 
-// An obstacle as the view sees it: its polygon from above; from the side the rectangle of its
-// x extent and heights (a full-height one drawn 1000 units high).
+// An obstacle as the view sees it: its polygon from above; from the side (or the front) the
+// rectangle of its x (y) extent and heights (a full-height one drawn 1000 units high).
 nlohmann::json obstacle_outline(const Obstacle& o, View w) {
   nlohmann::json v = nlohmann::json::array();
   if (w.v != 2) {
@@ -171,9 +172,13 @@ nlohmann::json view_scene(const Problem& pb, const std::vector<NominalTrajectory
 nlohmann::json report_scene(const Problem& pb, const std::vector<NominalTrajectory>& nominal,
                             const VerificationReport* ver, const std::vector<const std::vector<PeriodEnclosure>*>& enc) {
   nlohmann::json scene = view_scene(pb, nominal, ver, enc, View{0, 1});
-  // A 3-D workspace gets a side view (x-z) next to the top view: heights are what a prism or a
-  // window constrains.
-  if (pb.workspace_dim == 3) scene["side"] = view_scene(pb, nominal, ver, enc, View{0, 2});
+  // A 3-D workspace gets a side view (x-z) and a front view (y-z) next to the top view: heights
+  // are what a prism or a window constrains, and a window in a wall across x shows only from the
+  // front.
+  if (pb.workspace_dim == 3) {
+    scene["side"] = view_scene(pb, nominal, ver, enc, View{0, 2});
+    scene["front"] = view_scene(pb, nominal, ver, enc, View{1, 2});
+  }
   return scene;
 }
 
