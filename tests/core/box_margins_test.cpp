@@ -163,3 +163,32 @@ TEST(BoxMargins, ThreeDPairsAndPrisms) {
   }
   EXPECT_GT(tight, cases * 9 / 10);
 }
+
+// A `box` obstacle takes the box-to-box distance instead of the polygon's separating directions:
+// the same lower bound (to rounding) as the polygon path on the same corners, in the plane and in
+// space, separated or overlapping (the sign must agree).
+TEST(BoxMargins, BoxObstaclesTakeTheBoxDistanceWithTheSameResult) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-3, 3), r(0.05, 1.5);
+  int separated = 0;
+  for (int t = 0; t < 400; ++t) {
+    const double x = u(rng), y = u(rng), z = u(rng);
+    Obstacle box;
+    box.vertices = square(x, y, x + r(rng), y + r(rng));
+    box.is_box = true;
+    if (t % 2) box.z_lo = z, box.z_hi = z + r(rng);
+    Obstacle poly = box;
+    poly.is_box = false;
+    const double wx = u(rng), wy = u(rng), wz = u(rng);
+    const Box w = t % 4 < 2 ? box3(wx, wy, wz, wx + r(rng), wy + r(rng), wz + r(rng)) : box2(wx, wy, wx + r(rng), wy + r(rng));
+    for (Norm norm : {Norm::Inf, Norm::Two}) {
+      const double fast = box_obstacle_margin(w, box, 0.1, norm), slow = box_obstacle_margin(w, poly, 0.1, norm);
+      ASSERT_EQ(fast + 0.1 > 0, slow + 0.1 > 0) << "trial " << t;
+      if (slow + 0.1 > 0) {
+        EXPECT_NEAR(fast, slow, 1e-12 * (1 + std::abs(slow))) << "trial " << t;
+        ++separated;
+      }
+    }
+  }
+  EXPECT_GT(separated, 300);
+}
