@@ -53,3 +53,18 @@ TEST(ClosedGap, RoutesInSpaceLeadThroughAWindow) {
   EXPECT_NE(all.find("from routes around them"), std::string::npos) << all;
   EXPECT_NE(all.find("status        VERIFIED"), std::string::npos) << all;
 }
+
+// Two robots swapping ends of a field split by a long block, each side a lane one robot wide:
+// the straight lines and both shortest routes meet head-on in the north lane at every horizon;
+// the search then sends one of them along the south lane and plans at the first horizon.
+TEST(ClosedGap, AnotherHomotopyClassWhenTheRoutesMeetHeadOn) {
+  namespace fs = std::filesystem;
+  const fs::path out = fs::temp_directory_path() / ("marsyn_lanes_" + std::to_string(::getpid()));
+  const auto r = run_marsyn(std::string("plan ") + MARSYN_SOURCE_DIR + "/tests/continuous/one_lane_each.yaml --out " +
+                            out.string());
+  fs::remove_all(out);
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  const std::string all = r.out + r.err;
+  EXPECT_NE(all.find("on the other side (another homotopy class)"), std::string::npos) << all;
+  EXPECT_NE(all.find("FEASIBLE: horizon 100"), std::string::npos) << all;
+}

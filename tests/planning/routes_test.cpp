@@ -208,3 +208,79 @@ TEST(RoutesInSpace, WaypointsPinAllThreeCoordinates) {
     EXPECT_LE(w.x[2], 1.525 + 1e-9);
   }
 }
+
+// Another homotopy class: a wall from inside the first obstacle out past everything on the side
+// the shortest route takes, so the route around both passes the obstacle on the other side.
+TEST(RoutesOtherSide, BesideABoxTheOtherWayRound) {
+  const std::vector<Prism> one{{box(4, -1, 6, 1.2), -INFINITY, INFINITY}};
+  const Eigen::Vector3d from(0, 0, 0), to(10, 0, 0);
+  std::vector<Polygon> polygons{one[0].base};
+  const auto shortest = shortest_route(polygons, from.head<2>(), to.head<2>());
+  ASSERT_EQ(shortest.size(), 2u);
+  EXPECT_EQ(shortest[0].y(), -1.0);  // under the box: it reaches less far down
+  std::vector<Eigen::Vector3d> corners;
+  for (const auto& c : shortest) corners.push_back({c.x(), c.y(), 0.0});
+  const auto wall = other_side_barrier(one, from, to, corners, 100);
+  ASSERT_TRUE(wall.has_value());
+  polygons.push_back(wall->base);
+  const auto other = shortest_route(polygons, from.head<2>(), to.head<2>());
+  ASSERT_EQ(other.size(), 2u);
+  for (const auto& c : other) EXPECT_EQ(c.y(), 1.2);  // over the box now
+  // A straight way that crosses nothing has no other side.
+  EXPECT_FALSE(other_side_barrier(one, {0, 5, 0}, {10, 5, 0}, {{5, 5, 0}}, 100).has_value());
+}
+
+TEST(RoutesOtherSide, OverALowBlockBecomesAroundIt) {
+  const std::vector<Prism> low{block(1, -1, 0, 2, 1, 0.4)};
+  const Eigen::Vector3d from(0, 0, 0.2), to(3, 0, 0.2), lo(-1, -3, 0), hi(4, 3, 2);
+  const auto over = route_in_space(low, lo, hi, from, to);
+  ASSERT_FALSE(over.empty());
+  for (const auto& c : over) EXPECT_NEAR(c.z(), 0.4, 1e-5);
+  const auto wall = other_side_barrier(low, from, to, over, 100);
+  ASSERT_TRUE(wall.has_value());
+  std::vector<Prism> walled = low;
+  walled.push_back(*wall);
+  bool found = false;
+  const auto around = route_in_space(walled, lo, hi, from, to, &found);
+  ASSERT_TRUE(found);
+  ASSERT_FALSE(around.empty());
+  expect_clear(walled, from, around, to);
+  for (const auto& c : around) EXPECT_LT(c.z(), 0.4);         // below the top: beside the block
+  EXPECT_GE(std::abs(around[0].y()), 1.0 - 1e-5);
+}
+
+TEST(RoutesOtherSide, WaypointsForTheListedAgentOnly) {
+  Problem p;
+  p.delta = 0.2;
+  p.delta_norm = Norm::Inf;
+  auto agent = [](const std::string& name, double y) {
+    AgentSpec a;
+    a.name = name;
+    a.x0 = Eigen::Vector2d(0, y);
+    a.goal = {Eigen::Vector2d(9.5, y - 0.5), Eigen::Vector2d(10.5, y + 0.5)};
+    a.state_bounds = {Eigen::Vector2d(-1, -5), Eigen::Vector2d(11, 5)};
+    a.input_bounds = {Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, 1)};
+    a.tube.eps = Eigen::Vector2d(0.1, 0.1);
+    a.tube.w = Eigen::Vector2d(0, 0);
+    return a;
+  };
+  p.agents = {agent("a", 0.3), agent("b", 0.2)};
+  Obstacle o;
+  o.name = "block";
+  o.vertices = box(4, -1, 6, 1);
+  o.is_box = true;
+  p.obstacles = {o};
+  // Both pass over the block (their lines run above its middle); b on the other side passes under.
+  for (const auto& w : route_waypoints(p, 100)) EXPECT_GT(std::isfinite(w.x[1]) ? w.x[1] : w.x[3], 1.0);
+  int a_over = 0, b_under = 0;
+  for (const auto& w : route_waypoints(p, 100, {1})) {
+    if (std::isfinite(w.x[1])) a_over += w.x[1] > 1.0;
+    if (std::isfinite(w.x[3])) b_under += w.x[3] < -1.0;
+  }
+  EXPECT_EQ(a_over, 2);
+  EXPECT_EQ(b_under, 2);
+  // A lane closed on the other side (the block reaching the bounds below): the shortest route stays.
+  p.obstacles[0].vertices = box(4, -6, 6, 1);
+  for (const auto& w : route_waypoints(p, 100, {1}))
+    if (std::isfinite(w.x[3])) EXPECT_GT(w.x[3], 1.0);
+}

@@ -92,6 +92,17 @@ int largest_shift(const MissionSchedule& a, const MissionSchedule& b) {
   return d;
 }
 
+// The same waypoints (steps and pinned coordinates; NaN where none is pinned).
+bool same_waypoints(const std::vector<Waypoint>& p, const std::vector<Waypoint>& q) {
+  if (p.size() != q.size()) return false;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p[i].step != q[i].step || p[i].x.size() != q[i].x.size()) return false;
+    for (Eigen::Index c = 0; c < p[i].x.size(); ++c)
+      if (!(p[i].x[c] == q[i].x[c] || (std::isnan(p[i].x[c]) && std::isnan(q[i].x[c])))) return false;
+  }
+  return true;
+}
+
 // The horizon search of one planner: T, then longer horizons, each warm-started from the last.
 PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSearchOptions& options,
                    std::optional<GlobalPlan> warm, const Stopwatch& clock) {
@@ -112,7 +123,12 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
   // horizon; a longer horizon starts again from the initial schedule.
   MissionSchedule visits = schedule_or_initial(problem, options.assembly.visits, horizon);
   int horizons = 0, retries_here = 0, retimed_here = 0;
-  bool clearance_dropped = false, routes = false, retimed = false;
+  bool clearance_dropped = false, routes = false, retimed = false, other_tried = false;
+  // Agents whose routes pass the first obstacle on their way on another side than the shortest
+  // (another homotopy class), and the margin of the attempt before that change when it is
+  // still to be judged (kept for later horizons only when the new class did better).
+  std::vector<int> other_side, other_before;
+  std::optional<double> other_judge;
   constexpr int kRetriesPerHorizon = 2;
   // One solve at `horizon` with `assembly` and `visits`: the attempt, the planner's result and
   // the clamped, re-simulated plan.
@@ -127,7 +143,7 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
     assembly.visits = visits;
     PlanningProblem pp = assemble(problem, horizon, assembly);
     if (from) pp.warm_start = extend(problem, *from, horizon);
-    if (routes) pp.waypoints = route_waypoints(problem, horizon);
+    if (routes) pp.waypoints = route_waypoints(problem, horizon, other_side);
     out.waypoints = !pp.waypoints.empty();
     PlanOptions po;
     po.time_limit_s = std::max(left, 1e-3);
@@ -171,6 +187,10 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
     Solved one = solve_once(warm, left);
     retimed = false;
     PlanAttempt& a = one.a;
+    if (other_judge) {
+      if (!(a.check.min_margin > *other_judge)) other_side = other_before;
+      other_judge.reset();
+    }
     PlanResult& res = one.res;
     GlobalPlan& clean = one.clean;
     best.attempts.push_back(a);
@@ -229,6 +249,31 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
                       " waypoints)");
         continue;
       }
+    }
+    // Routes taken and still short at the samples, the worst requirement an agent's (two agents
+    // meeting head-on in a lane, say): the same horizon once more, cold, with that agent's route
+    // passing the first obstacle on its way on another side (another homotopy class).
+    if (routes && one.waypoints && !other_tried && options.routes && a.check.sampled_margin < 0) {
+      other_tried = true;
+      const auto now = route_waypoints(problem, horizon, other_side);
+      bool changed = false;
+      for (int who : {a.check.worst_agents[1], a.check.worst_agents[0]}) {
+        if (who < 0 || std::find(other_side.begin(), other_side.end(), who) != other_side.end()) continue;
+        std::vector<int> flip = other_side;
+        flip.push_back(who);
+        if (same_waypoints(route_waypoints(problem, horizon, flip), now)) continue;
+        other_before = other_side;
+        other_judge = a.check.min_margin;
+        other_side = flip;
+        warm.reset();
+        if (options.log)
+          options.log("not robust at the samples along the routes (" + a.check.worst + "): re-planning T = " +
+                      std::to_string(horizon) + " with " + problem.agents[who].name +
+                      " passing the first obstacle on its way on the other side (another homotopy class)");
+        changed = true;
+        break;
+      }
+      if (changed) continue;
     }
     // The clearance between the samples is sized for moving agents; a plan that must end (or
     // wait) pressed against a requirement cannot keep it. Before a longer horizon, the same one

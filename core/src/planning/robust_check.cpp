@@ -1,6 +1,7 @@
 #include "marsyn/core/planning/robust_check.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -32,27 +33,34 @@ std::vector<Eigen::VectorXd> rollout(const Problem& problem, const std::vector<E
 
 namespace {
 
+std::array<int, 2> agents_of(const Requirement& q) {
+  return {q.a, q.kind == Requirement::Obstacle ? -1 : q.b};
+}
+
 class Tally {
  public:
   // Names are built only for new minima: the 50-agent check visits ~10^5 requirements per plan.
-  void record(double margin, int k, const std::function<std::string()>& name) {
+  void record(double margin, int k, const std::function<std::string()>& name, std::array<int, 2> who = {-1, -1}) {
     if (!(margin >= min_)) {  // also catches NaN
       min_ = std::isnan(margin) ? -std::numeric_limits<double>::infinity() : margin;
       step_ = k;
       name_ = name();
+      who_ = who;
     }
   }
   double min_ = std::numeric_limits<double>::infinity();
   int step_ = -1;
   std::string name_;
+  std::array<int, 2> who_{-1, -1};
 };
 
 // A tally that also keeps every violated requirement by name (the continuous-time check's
 // targets for more clearance).
 class NamedTally : public Tally {
  public:
-  void record(double margin, int k, const std::function<std::string()>& name, double motion = 0.0) {
-    Tally::record(margin, k, name);
+  void record(double margin, int k, const std::function<std::string()>& name, double motion = 0.0,
+              std::array<int, 2> who = {-1, -1}) {
+    Tally::record(margin, k, name, who);
     if (!(margin >= 0)) {
       const std::string n = name();
       auto [it, fresh] = negative.try_emplace(n, BetweenShortfall{margin, motion});
@@ -68,6 +76,7 @@ class NamedTally : public Tally {
       min_ = o.min_;
       step_ = o.step_;
       name_ = o.name_;
+      who_ = o.who_;
     }
     for (const auto& [n, b] : o.negative) {
       auto [it, fresh] = negative.try_emplace(n, b);
@@ -157,7 +166,7 @@ bool check_period(const Problem& problem, const ProductLayout& at, const std::ve
   };
   for (int s = 0; s < P; ++s)
     for_each_requirement(problem, windows, Moment{k, true}, [&](const Requirement& q) {
-      t.record(box_requirement_margin(problem, q, ws[s]), k, [&] { return q.name(problem); }, motion(q));
+      t.record(box_requirement_margin(problem, q, ws[s]), k, [&] { return q.name(problem); }, motion(q), agents_of(q));
     });
   return true;
 }
@@ -311,7 +320,7 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan, const M
       }
     }
     for_each_requirement(problem, windows, Moment{k, false}, [&](const Requirement& q) {
-      t.record(requirement_margin(problem, q, p, &m), k, [&] { return q.name(problem); });
+      t.record(requirement_margin(problem, q, p, &m), k, [&] { return q.name(problem); }, agents_of(q));
     });
   }
   NamedTally b;
@@ -320,6 +329,7 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan, const M
   r.min_margin = t.min_;
   r.worst = t.name_;
   r.worst_step = t.step_;
+  r.worst_agents = t.who_;
   r.min_input_margin = tu.min_;
   r.worst_input = tu.name_;
   if (problem.guarantee == Guarantee::Continuous) {
@@ -333,6 +343,7 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan, const M
       r.min_margin = b.min_;
       r.worst = b.name_ + " between steps " + std::to_string(b.step_) + " and " + std::to_string(b.step_ + 1);
       r.worst_step = b.step_;
+      r.worst_agents = b.who_;
     }
   }
   r.passed = r.min_margin >= 0.0 && tu.min_ >= 0.0;

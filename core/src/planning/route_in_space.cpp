@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <queue>
 
 #include "marsyn/core/planning/geometry.hpp"
@@ -14,9 +15,11 @@ namespace marsyn::planning {
 
 namespace {
 
-// Whether the segment a-b passes through the prism's interior (Cyrus-Beck against the side
-// faces' and the caps' inner half-spaces): touching a face, an edge or a vertex is not crossing.
-bool crosses(const Prism& prism, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+// Where the segment a-b enters the prism's interior, as a fraction of the way (Cyrus-Beck
+// against the side faces' and the caps' inner half-spaces); infinity when it does not: touching
+// a face, an edge or a vertex is not crossing.
+double entry(const Prism& prism, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  constexpr double kNever = std::numeric_limits<double>::infinity();
   const Eigen::Vector3d d = b - a;
   double t0 = 0.0, t1 = 1.0;
   // Inside the half-space of outward normal `out` through a point at offset `num` = out . (v - a):
@@ -29,17 +32,21 @@ bool crosses(const Prism& prism, const Eigen::Vector3d& a, const Eigen::Vector3d
       t0 = std::max(t0, num / den);
     return t0 < t1;
   };
-  if (std::isfinite(prism.z_hi) && !clip(prism.z_hi - a.z(), d.z())) return false;
-  if (std::isfinite(prism.z_lo) && !clip(a.z() - prism.z_lo, -d.z())) return false;
+  if (std::isfinite(prism.z_hi) && !clip(prism.z_hi - a.z(), d.z())) return kNever;
+  if (std::isfinite(prism.z_lo) && !clip(a.z() - prism.z_lo, -d.z())) return kNever;
   const auto& poly = prism.base;
   const size_t n = poly.size();
   for (size_t i = 0; i < n; ++i) {
     const Eigen::Vector2d e = poly[(i + 1) % n] - poly[i];
     const Eigen::Vector2d out(e.y(), -e.x());
     const double num = out.dot(poly[i] - a.head<2>()), den = out.dot(d.head<2>());
-    if (!clip(num, den)) return false;
+    if (!clip(num, den)) return kNever;
   }
-  return t1 - t0 > 1e-9 * (1.0 + d.norm());
+  return t1 - t0 > 1e-9 * (1.0 + d.norm()) ? t0 : kNever;
+}
+
+bool crosses(const Prism& prism, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return entry(prism, a, b) < std::numeric_limits<double>::infinity();
 }
 
 bool strictly_inside(const Prism& prism, const Eigen::Vector3d& p) {
@@ -206,6 +213,61 @@ std::vector<Eigen::Vector3d> route_in_space(const std::vector<Prism>& prisms, co
   }
   if (found) *found = true;
   return corners;
+}
+
+std::optional<Prism> other_side_barrier(const std::vector<Prism>& prisms, const Eigen::Vector3d& from,
+                                        const Eigen::Vector3d& to, const std::vector<Eigen::Vector3d>& corners,
+                                        double reach) {
+  const Eigen::Vector3d d = to - from;
+  if (corners.empty() || !(d.norm() > 0) || !(reach > 0)) return std::nullopt;
+  // The first obstacle on the straight way, and a point inside it on that way's side of the
+  // ends (its base's vertex mean, at the ends' height clamped into its own).
+  const Prism* first = nullptr;
+  double at = std::numeric_limits<double>::infinity();
+  for (const auto& p : prisms)
+    if (const double t = entry(p, from, to); t < at) at = t, first = &p;
+  if (!first || first->base.empty()) return std::nullopt;
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto& v : first->base) c.head<2>() += v;
+  c.head<2>() /= static_cast<double>(first->base.size());
+  c.z() = std::isfinite(first->z_lo) && std::isfinite(first->z_hi)
+              ? 0.5 * (first->z_lo + first->z_hi)
+              : std::clamp(0.5 * (from.z() + to.z()), first->z_lo, first->z_hi);
+  // Where the route crosses the plane through c across the way: the side it passes c on.
+  std::vector<Eigen::Vector3d> line{from};
+  line.insert(line.end(), corners.begin(), corners.end());
+  line.push_back(to);
+  std::optional<Eigen::Vector3d> q;
+  for (size_t i = 0; i + 1 < line.size() && !q; ++i) {
+    const double s0 = (line[i] - c).dot(d), s1 = (line[i + 1] - c).dot(d);
+    if (s0 <= 0 && s1 > 0) q = line[i] + (line[i + 1] - line[i]) * (-s0 / (s1 - s0));
+  }
+  if (!q) return std::nullopt;
+  Eigen::Vector3d v = *q - c;
+  v -= v.dot(d) / d.squaredNorm() * d;
+  const Eigen::Vector2d way = d.head<2>();
+  const double thin = 1e-3 * (1.0 + d.norm());
+  Prism wall;
+  std::vector<Eigen::Vector2d> pts;
+  if (std::abs(v.z()) > v.head<2>().norm()) {
+    // Over (or under) it: a sheet across the way from c's height up (down), as wide as `reach`.
+    if (!(way.norm() > 0)) return std::nullopt;
+    const Eigen::Vector2d t = way.normalized(), across(-t.y(), t.x());
+    for (double sa : {-1.0, 1.0})
+      for (double st : {-1.0, 1.0}) pts.push_back(c.head<2>() + sa * reach * across + st * thin * t);
+    wall.z_lo = v.z() > 0 ? c.z() : -std::numeric_limits<double>::infinity();
+    wall.z_hi = v.z() > 0 ? std::numeric_limits<double>::infinity() : c.z();
+  } else {
+    // Beside it: a wall at every height from c out to `reach` on the route's side.
+    if (!(v.head<2>().norm() > 0)) return std::nullopt;
+    const Eigen::Vector2d n = v.head<2>().normalized(), t(-n.y(), n.x());
+    for (double sn : {0.0, 1.0})
+      for (double st : {-1.0, 1.0}) pts.push_back(c.head<2>() + sn * reach * n + st * thin * t);
+    wall.z_lo = -std::numeric_limits<double>::infinity();
+    wall.z_hi = std::numeric_limits<double>::infinity();
+  }
+  wall.base = convex_hull(pts);
+  return wall;
 }
 
 }  // namespace marsyn::planning

@@ -84,7 +84,7 @@ std::vector<Eigen::Vector2d> shortest_route(const std::vector<Polygon>& polygons
   return corners;
 }
 
-std::vector<Waypoint> route_waypoints(const Problem& problem, int horizon) {
+std::vector<Waypoint> route_waypoints(const Problem& problem, int horizon, const std::vector<int>& other_side) {
   std::vector<Waypoint> out;
   if (problem.obstacles.empty() || horizon < 2) return out;
   const ProductLayout layout(problem);
@@ -109,26 +109,47 @@ std::vector<Waypoint> route_waypoints(const Problem& problem, int horizon) {
     const WorkspaceMargin m = global_margin(a, a.state_bounds.shrunk(a.tube.eps), 16);
     const Eigen::Vector3d g = 1.1 * (Eigen::Vector3d::Constant(problem.delta) +
                                      (inf ? Eigen::Vector3d(m.x, m.y, m.z) : Eigen::Vector3d::Constant(m.two())));
-    std::vector<Eigen::Vector3d> corners;
-    if (dim == 2) {
-      std::vector<Polygon> grown;
-      for (const auto& o : problem.obstacles)
-        if (!o.staged) grown.push_back(grow_by_box(o.vertices, g.x(), g.y()));  // staged ones bind on some legs only
-      for (const auto& c : shortest_route(grown, from.head<2>(), to.head<2>()))
+    // The position bounds the robust plan keeps (less the margin, and 10% of it more); the
+    // plane's shortest routes are not held to them (only another class is).
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity()), hi = -lo;
+    for (int c = 0; c < dim; ++c) {
+      const int s = ws.index[c];
+      const double keep = 1.1 * (c == 0 ? m.x : c == 1 ? m.y : m.z);
+      lo[c] = a.state_bounds.lo[s] + ws.offset[c] + keep;
+      hi[c] = a.state_bounds.hi[s] + ws.offset[c] - keep;
+    }
+    std::vector<Prism> grown;
+    for (const auto& o : problem.obstacles)
+      if (!o.staged)  // staged ones bind on some legs only
+        grown.push_back({grow_by_box(o.vertices, g.x(), g.y()), dim == 2 ? -std::numeric_limits<double>::infinity() : o.z_lo - g.z(),
+                         dim == 2 ? std::numeric_limits<double>::infinity() : o.z_hi + g.z()});
+    auto route = [&](const std::vector<Prism>& prisms, bool* found) {
+      std::vector<Eigen::Vector3d> corners;
+      if (dim == 3) return route_in_space(prisms, lo, hi, from, to, found);
+      std::vector<Polygon> polygons;
+      for (const auto& p : prisms) polygons.push_back(p.base);
+      for (const auto& c : shortest_route(polygons, from.head<2>(), to.head<2>(), found))
         corners.push_back(Eigen::Vector3d(c.x(), c.y(), 0.0));
-    } else {
-      std::vector<Prism> grown;
-      for (const auto& o : problem.obstacles)
-        if (!o.staged) grown.push_back({grow_by_box(o.vertices, g.x(), g.y()), o.z_lo - g.z(), o.z_hi + g.z()});
-      // Inside the position bounds the robust plan keeps (less the margin, and 10% of it more).
-      Eigen::Vector3d lo, hi;
-      for (int c = 0; c < 3; ++c) {
-        const int s = ws.index[c];
-        const double keep = 1.1 * (c == 0 ? m.x : c == 1 ? m.y : m.z);
-        lo[c] = a.state_bounds.lo[s] + ws.offset[c] + keep;
-        hi[c] = a.state_bounds.hi[s] + ws.offset[c] - keep;
+      return corners;
+    };
+    std::vector<Eigen::Vector3d> corners = route(grown, nullptr);
+    if (!corners.empty() && std::find(other_side.begin(), other_side.end(), static_cast<int>(i)) != other_side.end()) {
+      // Far past the bounds (or everything, where they are open), so the wall cannot be walked around inside them.
+      Eigen::Vector3d span = (to - from).cwiseAbs();
+      for (int c = 0; c < dim; ++c)
+        if (std::isfinite(hi[c] - lo[c])) span[c] = std::max(span[c], hi[c] - lo[c]);
+      for (const auto& p : grown)
+        for (const auto& v : p.base) span.head<2>() = span.head<2>().cwiseMax((v - from.head<2>()).cwiseAbs());
+      if (const auto wall = other_side_barrier(grown, from, to, corners, 10.0 * (1.0 + span.norm()))) {
+        std::vector<Prism> walled = grown;
+        walled.push_back(*wall);
+        bool found = false;
+        const auto other = route(walled, &found);
+        const bool inside = std::all_of(other.begin(), other.end(), [&](const Eigen::Vector3d& p) {
+          return (p.array() >= lo.array() - 1e-9).all() && (p.array() <= hi.array() + 1e-9).all();
+        });
+        if (found && !other.empty() && inside) corners = other;
       }
-      corners = route_in_space(grown, lo, hi, from, to);
     }
     if (corners.empty()) continue;
     std::vector<double> along{0.0};

@@ -2,6 +2,7 @@
 // The exact eps-robust check, independent of any solver: re-simulate the nominal inputs from x0
 // with the sampled map f_tau and verify, at every step k = 0..T, that every state within eps of
 // the nominal one satisfies the real specification (docs/planning.md, "Exact check").
+#include <array>
 #include <limits>
 #include <map>
 #include <string>
@@ -27,6 +28,9 @@ struct RobustCheck {
   double min_margin = 0.0;
   std::string worst;
   int worst_step = -1;
+  // The agents of the worst requirement when it is a workspace one (an obstacle: {agent, -1};
+  // a pair or formation: both), else {-1, -1}: what the plan search changes routes for.
+  std::array<int, 2> worst_agents{-1, -1};
   // Inputs are reported apart: clamped inputs sit exactly on their bounds (margin 0).
   double min_input_margin = 0.0;
   std::string worst_input;

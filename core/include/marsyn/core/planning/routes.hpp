@@ -4,6 +4,7 @@
 // workspace, around the obstacles grown by what the eps-robust plan keeps from them, gives the
 // planner another homotopy class to start from. The route enters the planning problem as
 // waypoints (PlanningProblem::waypoints: a hint for the initial guess, never a requirement).
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -42,12 +43,24 @@ std::vector<Eigen::Vector3d> route_in_space(const std::vector<Prism>& prisms, co
                                             const Eigen::Vector3d& hi, const Eigen::Vector3d& from,
                                             const Eigen::Vector3d& to, bool* found = nullptr);
 
+// Another homotopy class: a thin wall from inside the first obstacle the straight segment
+// from-to crosses, out past everything (`reach`) on the side where the route `corners` passes
+// it (beside it at every height; or above or below it, a sheet across the way, when the route
+// goes over or under). A route that avoids the wall as well passes that obstacle on another
+// side. None when the straight segment crosses nothing or the route does not pass it.
+std::optional<Prism> other_side_barrier(const std::vector<Prism>& prisms, const Eigen::Vector3d& from,
+                                        const Eigen::Vector3d& to, const std::vector<Eigen::Vector3d>& corners,
+                                        double reach);
+
 // Waypoints for every agent with a linear workspace whose straight line from its start to its
 // goal centre crosses an obstacle grown by delta + its workspace margin (+ 10%, so the route
 // does not graze what the plan must clear): the route's corners at knots in proportion to the
 // distance along it. Empty when no agent's straight line is blocked. In a 3-D workspace the
 // route is taken in space (route_in_space, inside the agent's position bounds less its margin)
 // over the grown prisms, which grow in z as well.
-std::vector<Waypoint> route_waypoints(const Problem& problem, int horizon);
+// Agents listed in `other_side` get another homotopy class where one exists inside their
+// position bounds: their route passes the first obstacle on its way on another side
+// (other_side_barrier); the shortest route otherwise.
+std::vector<Waypoint> route_waypoints(const Problem& problem, int horizon, const std::vector<int>& other_side = {});
 
 }  // namespace marsyn::planning
