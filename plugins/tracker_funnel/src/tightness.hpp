@@ -1,7 +1,7 @@
 #pragma once
 // How loose a verified funnel is (issue 23, item 6): per step k and state coordinate i, the
 // verified half-width (the hull of V_k about the nominal x_k) next to the largest |x_i - x_k,i|
-// seen in sampled closed-loop runs under adversarial disturbances. A statistic only: sampling
+// seen in closed-loop runs under adversarial disturbances (sampled, and the linearized worst cases). A statistic only: sampling
 // never enters the guarantee. The ratio is >= 1 up to sampling; the closer to 1, the tighter.
 #include <cstdint>
 #include <string>
@@ -21,9 +21,12 @@ struct Tightness {
   int runs = 0;
 };
 
-// `verified`: (T + 1) x n half-widths from the verification. Runs start at vertices of V_0 and
-// face, in turn, a constant vertex of [-W, W], a vertex switching 8 times per period, a vertex
-// re-drawn every fine step, and a push away from the nominal (w_i = W_i sign(x_i - x_k,i)).
+// `verified`: (T + 1) x n half-widths from the verification. `runs` runs start at vertices of
+// V_0 and face, in turn, a constant vertex of [-W, W], a vertex switching 8 times per period, a
+// vertex re-drawn every fine step, and a push away from the nominal (w_i = W_i sign(x_i - x_k,i)).
+// Then (when runs > 0) the linearized closed loop's worst cases: for each coordinate, sign and
+// one of 4 target steps (T/4, T/2, 3T/4, T), the vertex sequence and initial vertex that maximize that deviation to
+// first order (exact for linear systems), each run to the end.
 Tightness measure_tightness(const Dynamics& f, const FunnelController& ctrl, std::vector<std::vector<double>> verified,
                             int runs, std::uint64_t seed);
 
