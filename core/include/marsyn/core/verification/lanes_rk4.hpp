@@ -29,6 +29,22 @@ class LanesRk4 {
 
   // out = x after one substep h = tau / substeps under u and w (per lane); out may not alias x.
   void step(const Lanes* x, const Lanes* u, const Lanes* w, double tau, int substeps, Lanes* out) {
+    // The common state sizes with their loops unrolled (the same operations in the same order).
+    switch (n_) {
+      case 3: return step_n<3>(x, u, w, tau, substeps, out);
+      case 4: return step_n<4>(x, u, w, tau, substeps, out);
+      case 6: return step_n<6>(x, u, w, tau, substeps, out);
+      default: return step_n<0>(x, u, w, tau, substeps, out);
+    }
+  }
+
+  // Whether some step so far took stage 3's field from stage 2 (for the tests).
+  bool reuses_stage_two() const { return reused_; }
+
+ private:
+  // N > 0: n_ == N known at compile time; N == 0: any n_.
+  template <int N>
+  void step_n(const Lanes* x, const Lanes* u, const Lanes* w, double tau, int substeps, Lanes* out) {
     // Two doubles per vector: SSE2's width, which every x86-64 has (a 32-byte vector would pass
     // through memory without AVX); the compiler unrolls the two halves.
     using V = double __attribute__((vector_size(2 * sizeof(double))));
@@ -40,7 +56,7 @@ class LanesRk4 {
       return v;
     };
     auto put = [](Lanes& a, int j, V v) { std::memcpy(a.v + 2 * j, &v, sizeof v); };
-    const int n = n_;
+    const int n = N > 0 ? N : n_;
     Lanes *k1 = scratch_.data(), *k2 = k1 + n, *k3 = k2 + n, *k4 = k3 + n, *y = k4 + n;
     const double h = tau / substeps;
     const V half = V{} + 0.5 * h, full = V{} + h, sixth = V{} + h / 6.0, two = V{} + 2.0;
@@ -78,10 +94,6 @@ class LanesRk4 {
         put(out[i], j, at(x[i], j) + sixth * (at(k1[i], j) + two * at(k2[i], j) + two * at(k3[i], j) + at(k4[i], j)));
   }
 
-  // Whether some step so far took stage 3's field from stage 2 (for the tests).
-  bool reuses_stage_two() const { return reused_; }
-
- private:
   const Dynamics& f_;
   int n_;
   std::vector<int> reads_;      // the state columns the field reads
