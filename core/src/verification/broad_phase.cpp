@@ -289,12 +289,17 @@ bool BroadPhase::nearest_target(int i, planning::Point& target) const {
       const int* order = order_.data();
       const double ax = at.x();
       double reach = ad + slack(ad, 0);
+      // An agent farther along y than the reach is passed over (a crowd at one x is then not
+      // a distance each).
+      const double ay = at.y();
       for (int b = mine + 1; b < n && p[static_cast<size_t>(order[b])].x() - ax <= reach; ++b) {
+        if (std::abs(p[static_cast<size_t>(order[b])].y() - ay) > reach) continue;
         const double before = ad;
         consider(order[b]);
         if (ad != before) reach = ad + slack(ad, 0);
       }
       for (int b = mine - 1; b >= 0 && ax - p[static_cast<size_t>(order[b])].x() <= reach; --b) {
+        if (std::abs(p[static_cast<size_t>(order[b])].y() - ay) > reach) continue;
         const double before = ad;
         consider(order[b]);
         if (ad != before) reach = ad + slack(ad, 0);
