@@ -181,14 +181,18 @@ void BroadPhase::window(const std::vector<std::vector<planning::Point>>& states,
   for (int i = 0; i < n; ++i) {
     constexpr double kInf = std::numeric_limits<double>::infinity();
     double xl = kInf, yl = kInf, xh = -kInf, yh = -kInf;
+    // sum - sum is 0 only when every coordinate is finite (an inf or NaN makes it NaN; a sum
+    // that overflows on finite points also fails, which only costs the skipping).
+    double sum = 0;
     for (int s = 0; s < count; ++s) {
       const planning::Point& q = states[static_cast<size_t>(s)][static_cast<size_t>(i)];
-      finite = finite && (q.x() - q.x()) + (q.y() - q.y()) + (q.z() - q.z()) == 0;  // false for inf and NaN
+      sum += q.x() + q.y() + q.z();
       xl = std::min(xl, q.x());
       yl = std::min(yl, q.y());
       xh = std::max(xh, q.x());
       yh = std::max(yh, q.y());
     }
+    finite = finite && sum - sum == 0;
     boxes_[static_cast<size_t>(i)] = {xl, yl, xh, yh};
     mag = std::max({mag, std::abs(xl), std::abs(yl), std::abs(xh), std::abs(yh)});
   }
@@ -280,11 +284,26 @@ bool BroadPhase::nearest_target(int i, planning::Point& target) const {
       for (int j = 0; j < n; ++j)
         if (j != i) consider(j);
     } else {
+      // (The reach, ad plus the slack, is recomputed only when ad falls.)
       const int mine = place_[static_cast<size_t>(i)];
-      for (int b = mine + 1; b < n && p[static_cast<size_t>(order_[static_cast<size_t>(b)])].x() - at.x() <= ad + slack(ad, 0); ++b)
-        consider(order_[static_cast<size_t>(b)]);
-      for (int b = mine - 1; b >= 0 && at.x() - p[static_cast<size_t>(order_[static_cast<size_t>(b)])].x() <= ad + slack(ad, 0); --b)
-        consider(order_[static_cast<size_t>(b)]);
+      const int* order = order_.data();
+      const double ax = at.x();
+      double reach = ad + slack(ad, 0);
+      // An agent farther along y than the reach is passed over (a crowd at one x is then not
+      // a distance each).
+      const double ay = at.y();
+      for (int b = mine + 1; b < n && p[static_cast<size_t>(order[b])].x() - ax <= reach; ++b) {
+        if (std::abs(p[static_cast<size_t>(order[b])].y() - ay) > reach) continue;
+        const double before = ad;
+        consider(order[b]);
+        if (ad != before) reach = ad + slack(ad, 0);
+      }
+      for (int b = mine - 1; b >= 0 && ax - p[static_cast<size_t>(order[b])].x() <= reach; --b) {
+        if (std::abs(p[static_cast<size_t>(order[b])].y() - ay) > reach) continue;
+        const double before = ad;
+        consider(order[b]);
+        if (ad != before) reach = ad + slack(ad, 0);
+      }
     }
   }
   // An obstacle wins at a distance up to the agent's (the full search scans obstacles first and
@@ -292,10 +311,11 @@ bool BroadPhase::nearest_target(int i, planning::Point& target) const {
   // whose bounding box is farther than the agent by more than the slack cannot win.
   double bd = 1e300;
   bool found = false;
+  const double scale = bbox_.empty() ? 0.0 : scale_ + at.cwiseAbs().maxCoeff();
   for (std::size_t o = 0; o < bbox_.size(); ++o) {
     const double lb = outside(bbox_[o], at).norm();
     const double bound = std::min(bd, ad);
-    if (lb > bound + slack(bound, scale_ + at.cwiseAbs().maxCoeff())) continue;
+    if (lb > bound + slack(bound, scale)) continue;
     const planning::Point q = nearest_on_obstacle(pb_.obstacles[o], at);
     if (planning::distance2(q - at) < bd) {
       bd = planning::distance2(q - at);

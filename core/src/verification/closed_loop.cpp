@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "marsyn/core/verification/broad_phase.hpp"
+#include "marsyn/core/verification/lanes_rk4.hpp"
 #include "marsyn/sampled_map.hpp"
 
 namespace marsyn {
@@ -113,6 +114,7 @@ struct Lane {
   std::vector<DisturbanceSource> dist;
   Eigen::VectorXd prod;
   std::vector<planning::Point> pts;
+  const std::vector<planning::Point>* now = &pts;  // the points at the current substep (pts or a window's)
   BroadPhase broad;  // keeps a pointer to pts: a Lane does not move once built
   std::vector<std::vector<planning::Point>> window;  // the points at the substeps between two samples
   StepMargins at_samples;
@@ -144,6 +146,11 @@ class Batch {
         r.window.assign(static_cast<size_t>(S_ - 1), std::vector<planning::Point>(static_cast<size_t>(N_)));
     // The integrator's view: per agent, its state, input and disturbance as Lanes (one lane per
     // run; lanes past L repeat run 0 so that they compute ordinary numbers, which are dropped).
+    rk_.reserve(static_cast<size_t>(N_));
+    for (int i = 0; i < N_; ++i) rk_.emplace_back(*pb_.agents[i].dynamics);
+    int n_max = 0;
+    for (int i = 0; i < N_; ++i) n_max = std::max(n_max, pb_.agents[i].n());
+    lane_x_.resize(static_cast<size_t>(n_max));
     X_.resize(N_);
     U_.resize(N_);
     W_.resize(N_);
@@ -170,9 +177,10 @@ class Batch {
         for (Lane& r : lanes_)
           if (r.adversary) push_adversary(r, sub);
         integrate(sub);
-        for (Lane& r : lanes_) {
+        for (int l = 0; l < L_; ++l) {
+          Lane& r = lanes_[static_cast<size_t>(l)];
           if (windowed_ && sub + 1 < S_) {
-            window_points(r, sub);
+            window_points(l, sub);
             continue;
           }
           points(r);
@@ -205,6 +213,13 @@ class Batch {
     }
   }
 
+  // The integrator's states into the lanes' own.
+  void unpack() {
+    for (int i = 0; i < N_; ++i)
+      for (int l = 0; l < L_; ++l)
+        for (std::size_t c = 0; c < X_[i].size(); ++c) lanes_[static_cast<size_t>(l)].x[i][static_cast<Eigen::Index>(c)] = X_[i][c][l];
+  }
+
   void stack(Lane& r) const {
     int off = 0;
     for (int i = 0; i < N_; ++i) {
@@ -216,16 +231,31 @@ class Batch {
   void points(Lane& r) const {
     if (!track_points_) return;
     for (int i = 0; i < N_; ++i) workspace_point3<double>(*pb_.agents[i].dynamics, pb_.agents[i].workspace, r.x[i].data(), r.pts[i].data());
+    r.now = &r.pts;
     r.broad.update(r.pts);
   }
 
   // The points at substep sub into the lane's window; the adversary also needs them now.
-  void window_points(Lane& r, int sub) const {
+  // Read from the integrator's lanes: the lanes' own states are unpacked at the sample only.
+  void window_points(int l, int sub) {
+    Lane& r = lanes_[static_cast<size_t>(l)];
     std::vector<planning::Point>& p = r.window[static_cast<size_t>(sub)];
-    for (int i = 0; i < N_; ++i) workspace_point3<double>(*pb_.agents[i].dynamics, pb_.agents[i].workspace, r.x[i].data(), p[i].data());
+    for (int i = 0; i < N_; ++i) {
+      const std::vector<Lanes>& x = X_[static_cast<size_t>(i)];
+      const Workspace& ws = pb_.agents[i].workspace;
+      planning::Point& q = p[static_cast<size_t>(i)];
+      if (ws.linear()) {  // workspace_point3's formula, read in place
+        q.z() = 0.0;
+        for (int c = 0; c < ws.dim(); ++c)
+          q[c] = ws.index[c] >= 0 ? x[static_cast<size_t>(ws.index[c])][l] + ws.offset[c] : ws.offset[c];
+        continue;
+      }
+      for (std::size_t c = 0; c < x.size(); ++c) lane_x_[c] = x[c][l];
+      workspace_point3<double>(*pb_.agents[i].dynamics, ws, lane_x_.data(), q.data());
+    }
     if (r.adversary) {
-      r.pts = p;
-      r.broad.update(r.pts);
+      r.now = &p;
+      r.broad.update(p);
     }
   }
 
@@ -336,8 +366,8 @@ class Batch {
       if (sub > 0) r.dist[i].next(r.w[i]);
       if (!a.workspace.linear()) continue;
       planning::Point target;
-      if (s_.all_pairs ? nearest_by_search(pb_, i, r.pts, target) : r.broad.nearest_target(i, target))
-        push_toward(a, r.pts[i], target, r.w[i]);
+      if (s_.all_pairs ? nearest_by_search(pb_, i, *r.now, target) : r.broad.nearest_target(i, target))
+        push_toward(a, (*r.now)[static_cast<size_t>(i)], target, r.w[i]);
     }
   }
 
@@ -345,12 +375,19 @@ class Batch {
   // over tau with S substeps.
   void integrate(int sub) {
     for (int i = 0; i < N_; ++i) {
-      if (sub == 0 || any_adversary_) pack(W_[i], &Lane::w, i);
-      rk4_step_lanes(*pb_.agents[i].dynamics, X_[i].data(), U_[i].data(), W_[i].data(), pb_.tau, S_, next_[i].data(), 1);
+      // Within a period only the adversary's disturbances change.
+      if (sub == 0) pack(W_[i], &Lane::w, i);
+      else
+        for (int l = 0; l < Lanes::kWidth; ++l)
+          if (run_of(l).adversary) {
+            const Eigen::VectorXd& w = run_of(l).w[static_cast<size_t>(i)];
+            for (Eigen::Index c = 0; c < w.size(); ++c) W_[i][static_cast<size_t>(c)][l] = w[c];
+          }
+      rk_[static_cast<size_t>(i)].step(X_[i].data(), U_[i].data(), W_[i].data(), pb_.tau, S_, next_[i].data());
       X_[i].swap(next_[i]);
-      for (int l = 0; l < L_; ++l)
-        for (std::size_t c = 0; c < X_[i].size(); ++c) lanes_[static_cast<size_t>(l)].x[i][static_cast<Eigen::Index>(c)] = X_[i][c][l];
     }
+    // The windowed check reads the substeps' points from the lanes (window_points).
+    if (!windowed_ || sub + 1 == S_) unpack();
   }
 
   const SimulationSetup& s_;
@@ -360,6 +397,8 @@ class Batch {
   std::vector<Lane> lanes_;
   bool any_adversary_ = false, track_points_ = false, windowed_ = false;
   std::vector<std::vector<Lanes>> X_, U_, W_, next_;
+  std::vector<verification_detail::LanesRk4> rk_;  // per agent
+  std::vector<double> lane_x_;                     // one lane's state of one agent
 };
 
 }  // namespace

@@ -132,14 +132,21 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
   // same report): the nominal (undisturbed open loop), for the reference curves, then the
   // paper's constant disturbances closed loop and open loop. They share the threads with the
   // verification runs, first, since each is longer (dense states and margins kept).
+  // Batched like the others (a run in a batch is the run alone, closed_loop.hpp): the nominal
+  // and three open-loop runs, the fourth open-loop run, the four closed-loop runs.
   struct Kept {
     const SimulationSetup* setup;
-    int variant;  // -1: the nominal
-    ClosedLoopRun run;
+    std::vector<Scenario> scenarios;
+    std::vector<ClosedLoopRun> runs;
   };
-  std::vector<Kept> kept{{&open_dense, -1, {}}};
-  for (const SimulationSetup* setup : {&closed_dense, &open_dense})
-    for (int v = 0; v < 4; ++v) kept.push_back({setup, v, {}});
+  auto paper = [&](int v) { return Scenario{DisturbanceMode::PaperConstant, opt.seed, v}; };
+  std::vector<Kept> kept{{&open_dense, {{DisturbanceMode::None, opt.seed, 0}, paper(0), paper(1), paper(2)}, {}},
+                         {&open_dense, {paper(3)}, {}},
+                         {&closed_dense, {paper(0), paper(1), paper(2), paper(3)}, {}}};
+  auto kept_run = [&](bool closed_loop, int v) -> const ClosedLoopRun& {  // v = -1: the nominal
+    if (closed_loop) return kept[2].runs[static_cast<size_t>(v)];
+    return v < 3 ? kept[0].runs[static_cast<size_t>(v + 1)] : kept[1].runs[0];
+  };
   const int n_kept = static_cast<int>(kept.size());
 
   const std::vector<Scenario> scenarios = verification_scenarios(std::max(opt.runs, 5), opt.seed);
@@ -156,8 +163,7 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
     for (int task = next++; task < n_kept + batches; task = next++) {
       if (task < n_kept) {
         Kept& k = kept[static_cast<size_t>(task)];
-        k.run = simulate(*k.setup, {k.variant < 0 ? DisturbanceMode::None : DisturbanceMode::PaperConstant, opt.seed,
-                                    std::max(k.variant, 0)});
+        k.runs = simulate(*k.setup, k.scenarios);
         continue;
       }
       const int first = (task - n_kept) * Lanes::kWidth;
@@ -185,13 +191,13 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
   rep.runs_time_s = runs_clock.seconds();
 
   const int worst_run = tally(results, rep);
-  rep.kept.push_back(keep(monitor, "nominal (no disturbance, open loop)", kept[0].run));
+  rep.kept.push_back(keep(monitor, "nominal (no disturbance, open loop)", kept_run(false, -1)));
   for (int v = 0; v < 4; ++v)
-    rep.kept.push_back(keep(monitor, "feedback, constant disturbance " + paper_label(v), kept[static_cast<size_t>(1 + v)].run));
+    rep.kept.push_back(keep(monitor, "feedback, constant disturbance " + paper_label(v), kept_run(true, v)));
   rep.kept.push_back(keep(monitor, std::string("feedback, worst run (") + to_string(scenarios[worst_run].mode) + ")",
                           simulate(closed_dense, scenarios[worst_run])));
   // Open loop under the paper's constant disturbances: what fails without feedback.
-  for (int v = 0; v < 4; ++v) add_open_loop(monitor, v, kept[static_cast<size_t>(5 + v)].run, rep);
+  for (int v = 0; v < 4; ++v) add_open_loop(monitor, v, kept_run(false, v), rep);
   rep.time_s = clock.seconds();
   return rep;
 }
