@@ -4,7 +4,6 @@
 #include <cmath>
 #include <deque>
 #include <limits>
-#include <sstream>
 
 #include <Eigen/LU>
 #include <Eigen/Eigenvalues>
@@ -12,6 +11,7 @@
 
 #include "allowances.hpp"
 #include "marsyn/interval.hpp"
+#include "marsyn/number_text.hpp"
 #include "membership.hpp"
 #include "period_law.hpp"
 
@@ -22,13 +22,6 @@ using fast_detail::add_up;
 using fast_detail::mul_up;
 
 FastInterval fi(double v) { return FastInterval(v); }
-
-std::string num(double v) {
-  std::ostringstream s;
-  s.precision(4);
-  s << v;
-  return s.str();
-}
 
 // The stored box of step k: inside [x_k - eps, x_k + eps] in exact arithmetic.
 void eps_box(const Eigen::VectorXd& xk, const Eigen::VectorXd& eps, std::vector<double>& lo, std::vector<double>& hi) {
@@ -294,8 +287,8 @@ bool initial_set(const TrackingProblem& p, const Eigen::VectorXd& radius, StepSe
     s0.lo[i] = (fi(p.nominal.x[0][i]) - fi(radius[i])).lower();
     s0.hi[i] = (fi(p.nominal.x[0][i]) + fi(radius[i])).upper();
     if (s0.lo[i] < elo[i] || s0.hi[i] > ehi[i]) {
-      why = "the initial box (radius " + num(radius[i]) + " along " + p.dynamics->state_names()[i] +
-            ") is not inside the eps-box (eps " + num(p.tube.eps[i]) + ")";
+      why = "the initial box (radius " + number_text(radius[i], 4) + " along " + p.dynamics->state_names()[i] +
+            ") is not inside the eps-box (eps " + number_text(p.tube.eps[i], 4) + ")";
       return false;
     }
   }
@@ -352,8 +345,8 @@ bool leaves_tube(const Zonotope& zend, const StepSet& next, const TrackingProble
       const double offset = std::fabs(zend.c[i] - p.nominal.x[k + 1][i]);
       out.miss_off_centre = offset > zend.radius(i);
       out.why = "at step " + std::to_string(k + 1) + " of " + std::to_string(T) + ", " + p.dynamics->state_names()[i] +
-                " can leave the eps-tube by " + num(over) + " (enclosure half-width " + num(zend.radius(i)) +
-                " vs eps " + num(p.tube.eps[i]) + (out.miss_off_centre ? ", its centre " + num(offset) + " off the nominal" : "") +
+                " can leave the eps-tube by " + number_text(over, 4) + " (enclosure half-width " + number_text(zend.radius(i), 4) +
+                " vs eps " + number_text(p.tube.eps[i], 4) + (out.miss_off_centre ? ", its centre " + number_text(offset, 4) + " off the nominal" : "") +
                 (out.saturated_steps ? "; some inputs saturated" : "") + ")";
       out.reached_step = k;
       out.miss_coordinate = i;
@@ -412,7 +405,7 @@ std::string saturation_report(const VerifyOutcome& out, const TrackingProblem& p
     if (!count) continue;
     note += note.empty() ? ": " : "; ";
     note += names[i] + " on " + std::to_string(count) + " step(s) (" + std::to_string(first) +
-            (last > first ? "-" + std::to_string(last) : std::string()) + "), its hull up to " + num(worst) +
+            (last > first ? "-" + std::to_string(last) : std::string()) + "), its hull up to " + number_text(worst, 4) +
             " past U (step " + std::to_string(worst_step) + ")";
   }
   return note;
