@@ -106,7 +106,7 @@ void fixed_point(const IndexBox& dom, const InputGrid& ug, const std::vector<boo
 
 }  // namespace
 
-TrackResult synthesize_reach_avoid(const ReachAvoidProblem& p, const SynthesisOptions& o) {
+TrackResult synthesize_reach_avoid(const ReachAvoidProblem& p, const Options& o) {
   const Stopwatch clock;
   TrackResult r;
   UniformGrid g;

@@ -221,7 +221,7 @@ void sweep_column(const Step& s, SuccessorTable& tab, Column& c, const std::vect
 
 // The backward sweep from step T-1; returns the last step swept: -1 when complete, else the
 // step whose winning set is empty.
-int backward_sweep(const TrackingProblem& p, const SynthesisOptions& o, const InputGrid& ug,
+int backward_sweep(const TrackingProblem& p, const Options& o, const InputGrid& ug,
                    const std::vector<bool>& inv, const SweepSplit& split,
                    std::vector<std::unique_ptr<SuccessorTable>>& tables, ControllerData& d, GridFigures& fig) {
   const int T = static_cast<int>(p.nominal.x.size()) - 1;
@@ -303,7 +303,7 @@ long long peak_rss_bytes() {
   return static_cast<long long>(ru.ru_maxrss) * 1024;
 }
 
-TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o) {
+TrackResult synthesize_track(const TrackingProblem& p, const Options& o) {
   const Stopwatch clock;
   TrackResult r;
   UniformGrid g;

@@ -20,46 +20,38 @@ constexpr double kInputWeightLadder[] = {1.0, 0.1, 10.0, 0.01, 100.0};
 constexpr int kFirstReachOrder = 8;
 constexpr double kRoomyFill = 0.25;
 
-// An integer parameter in [lo, hi], checked as soon as it is read (before it is narrowed): the
-// listed range "[lo, hi]" and the message "expected an integer in [lo, hi], got v" come from
-// the one pair.
-ParamSet<FunnelSettings>::Declared<long> integer_in(ParamSet<FunnelSettings>& s, const std::string& name,
-                                                    long FunnelSettings::*member, long lo, long hi, std::string doc) {
-  const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
-  auto d = s.add(name, member, range, std::move(doc));
-  d.check([name, member, lo, hi, range](const FunnelSettings& o) {
-    const long v = o.*member;
-    if (v < lo || v > hi) throw ParamError(name, "expected an integer in " + range + ", got " + std::to_string(v));
-  });
-  return d;
-}
-
 // A weight: positive and finite, checked as soon as it is read.
-void weight(ParamSet<FunnelSettings>& s, std::string name, double FunnelSettings::*member, std::string doc) {
+void weight(ParamSet<Options>& s, std::string name, double Options::*member, std::string doc) {
   s.add(std::move(name), member, "(0, inf)", std::move(doc))
       .require({[](const double& v) { return v > 0 && std::isfinite(v); }, "expected a positive number"});
 }
 
-ParamSet<FunnelSettings> declare() {
-  using O = FunnelSettings;
+ParamSet<Options> declare() {
+  using O = Options;
   ParamSet<O> s;
-  integer_in(s, "substeps", &O::substeps, 1, 1024,
-             "enclosure steps per sampling period, a multiple of enclosure_substeps (more: tighter, slower)");
+  s.integer("substeps", 1, 1024,
+            "enclosure steps per sampling period, a multiple of enclosure_substeps (more: tighter, slower)",
+            Checked::on_read, &O::substeps);
   // Reported under substeps, right after enclosure_substeps is read.
-  integer_in(s, "enclosure_substeps", &O::parts, 1, 64,
-             "boxes per sampling period enclosing the closed loop between samples (continuous-time guarantee)")
+  s.integer("enclosure_substeps", 1, 64,
+            "boxes per sampling period enclosing the closed loop between samples (continuous-time guarantee)",
+            Checked::on_read, &O::parts)
       .check([](const O& o) {
         if (o.substeps % o.parts != 0)
           throw ParamError("substeps", "expected a multiple of enclosure_substeps (" + std::to_string(o.parts) + "), got " +
                                            std::to_string(o.substeps));
       });
-  integer_in(s, "picard_iterations", &O::picard_iterations, 1, 100, "a priori enclosure attempts per enclosure step");
-  integer_in(s, "max_generators", &O::max_generators, 0, 1000,
-             "zonotope generators kept within a period; 0: reach_order n + n + m, after a cheap pass at 8 n + n + m; "
-             "a number: that many, in one pass");
-  integer_in(s, "reach_order", &O::reach_order, 1, 64,
-             "generators per state of the reachable-set enclosure carried from period to period (more: tighter, slower); "
-             "above 8, a pass at 8 goes first and is kept if its sets fill at most 25% of eps");
+  s.integer("picard_iterations", 1, 100, "a priori enclosure attempts per enclosure step", Checked::on_read,
+            &O::picard_iterations);
+  s.integer("max_generators", 0, 1000,
+            "zonotope generators kept within a period; 0: reach_order n + n + m, after a cheap pass at 8 n + n + m; "
+            "a number: that many, in one pass",
+            Checked::on_read, &O::max_generators);
+  s.integer(
+      "reach_order", 1, 64,
+      "generators per state of the reachable-set enclosure carried from period to period (more: tighter, slower); "
+      "above 8, a pass at 8 goes first and is kept if its sets fill at most 25% of eps",
+      Checked::on_read, &O::reach_order);
   // Its length (the state dimension) is checked per agent (assess, track).
   s.add("initial_radius", &O::initial_radius, "[0, eps)",
         "half-widths of the initial box around x0 (one per state); empty: initial_fraction x eps")
@@ -77,7 +69,8 @@ ParamSet<FunnelSettings> declare() {
   weight(s, "terminal_weight", &O::terminal_weight, "terminal cost P_T = terminal_weight Q");
   s.add("weight_search", &O::weight_search, "true|false",
         "when the weights give no verified funnel, try input weights x 0.1, 10, 0.01, 100 in turn");
-  integer_in(s, "rk4_substeps", &O::rk4_substeps, 1, 1000, "RK4 substeps of the sampled map linearized for the gains");
+  s.integer("rk4_substeps", 1, 1000, "RK4 substeps of the sampled map linearized for the gains", Checked::on_read,
+            &O::rk4_substeps);
   s.add("enclosure", &O::enclosure, "second_order|mean_value",
         "linearization error of the flow enclosure: Lagrange remainder with interval Hessians (per row the smaller "
         "of it and the mean-value bound), or the mean-value (Jacobian spread) bound alone")
@@ -88,21 +81,26 @@ ParamSet<FunnelSettings> declare() {
         "set_order (tighter; a small simplex at worst)")
       .require({[](const std::string& v) { return v == "parallelotope" || v == "zonotope"; },
                 "expected parallelotope or zonotope"});
-  integer_in(s, "set_order", &O::set_order, 2, 8, "zonotope order (generators / n) of verified_set: zonotope");
-  integer_in(s, "box_substeps", &O::box_substeps, 0, 1024,
-             "enclosure steps after which the box of new errors becomes zonotope generators; 0: once per period");
+  s.integer("set_order", 2, 8, "zonotope order (generators / n) of verified_set: zonotope", Checked::on_read,
+            &O::set_order);
+  s.integer("box_substeps", 0, 1024,
+            "enclosure steps after which the box of new errors becomes zonotope generators; 0: once per period",
+            Checked::on_read, &O::box_substeps);
   s.add("shift_inputs", &O::shift_inputs, "true|false",
         "where u_k + K (x - x_k) leaves U over the verified set but fits in it, also try the law with u_k moved "
         "inside U (an offset instead of saturation) and keep the period that ends closer inside the tube");
-  integer_in(s, "split_depth", &O::split_depth, 0, 8,
-             "times a part of the carried set that misses the tube may be split in two along its widest generator "
-             "and verified again (at most 2^split_depth parts; the controller is unchanged); 0: never");
-  integer_in(s, "input_rounds", &O::input_rounds, 0, 8,
-             "when a weight choice misses with some input enclosed saturated (past U by over 1% of its width), "
-             "redesign its gains (once per agent) up to this many times with R raised where the input hull left U "
-             "(input-aware weights); 0: never");
-  integer_in(s, "tightness_runs", &O::tightness_runs, 0, 100000,
-             "sampled closed-loop runs measuring verified half-width / largest deviation seen (a statistic; 0: off)");
+  s.integer("split_depth", 0, 8,
+            "times a part of the carried set that misses the tube may be split in two along its widest generator "
+            "and verified again (at most 2^split_depth parts; the controller is unchanged); 0: never",
+            Checked::on_read, &O::split_depth);
+  s.integer("input_rounds", 0, 8,
+            "when a weight choice misses with some input enclosed saturated (past U by over 1% of its width), "
+            "redesign its gains (once per agent) up to this many times with R raised where the input hull left U "
+            "(input-aware weights); 0: never",
+            Checked::on_read, &O::input_rounds);
+  s.integer("tightness_runs", 0, 100000,
+            "sampled closed-loop runs measuring verified half-width / largest deviation seen (a statistic; 0: off)",
+            Checked::on_read, &O::tightness_runs);
   return s;
 }
 
