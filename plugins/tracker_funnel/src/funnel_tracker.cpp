@@ -232,134 +232,155 @@ VerifyOptions FunnelTracker::verify_options(const Eigen::VectorXd& eps) const {
   return vo;
 }
 
-// The gains and the verification: the input weights of the ladder in turn, each with the cheap
-// pass first; the first verified funnel, or the one that got furthest.
-FunnelTracker::Search FunnelTracker::search(const TrackingProblem& p) const {
-  VerifyOptions vo = verify_options(p.tube.eps);
-  const int n = p.dynamics->state_dim(), m = p.dynamics->input_dim();
-  Search out;
-  VerifyOutcome& best = out.best;
-  double& gain_time = out.gain_time;
-  double& verify_time = out.verify_time;
-  int& attempts = out.attempts;
+// search's run: the input weights of the ladder in turn, each with the cheap pass first; the
+// first verified funnel, or the one that got furthest.
+class FunnelTracker::Ladder {
+ public:
+  Ladder(const FunnelTracker& tracker, const TrackingProblem& p)
+      : s_(tracker.s_), p_(p), vo_(tracker.verify_options(p.tube.eps)) {}
 
-  LqrWeights wt;
-  wt.q.resize(n);
-  wt.r.resize(m);
-  for (int i = 0; i < n; ++i) wt.q[i] = s_.state_weight / (p.tube.eps[i] * p.tube.eps[i]);
-  wt.terminal = s_.terminal_weight;
-  const int tries = s_.weight_search ? static_cast<int>(std::size(kInputWeightLadder)) : 1;
-  best.reached_step = -1;
-  // A cheap pass first: carried at order kFirstReachOrder the enclosure verifies most agents of
-  // large teams (the circle swaps' unicycles fill 14% of eps either way) at about half the cost.
-  // Where it misses, or its sets fill more than kRoomyFill of eps, the same gains again at
-  // reach_order. An explicit max_generators keeps one pass.
-  std::vector<int> orders{static_cast<int>(s_.reach_order)};
-  if (s_.reach_order > kFirstReachOrder && s_.max_generators == 0) orders.insert(orders.begin(), kFirstReachOrder);
-  int& best_order = out.order;
-  int& weight_choices = out.weight_choices;
-  best_order = orders.back();
-  VerifyOutcome cheap;
-  // Splitting (split_depth) is a second chance: the ladder runs without it, so that what verifies
-  // without splits costs what it did; then the gains that got furthest are verified again with
-  // splits, once.
-  const int split_depth = vo.split_depth;
-  vo.split_depth = 0;
-  LqrGains furthest;
+  Search run() {
+    const int n = p_.dynamics->state_dim(), m = p_.dynamics->input_dim();
+    LqrWeights wt;
+    wt.q.resize(n);
+    wt.r.resize(m);
+    for (int i = 0; i < n; ++i) wt.q[i] = s_.state_weight / (p_.tube.eps[i] * p_.tube.eps[i]);
+    wt.terminal = s_.terminal_weight;
+    const int tries = s_.weight_search ? static_cast<int>(std::size(kInputWeightLadder)) : 1;
+    best().reached_step = -1;
+    // A cheap pass first: carried at order kFirstReachOrder the enclosure verifies most agents of
+    // large teams (the circle swaps' unicycles fill 14% of eps either way) at about half the cost.
+    // Where it misses, or its sets fill more than kRoomyFill of eps, the same gains again at
+    // reach_order. An explicit max_generators keeps one pass.
+    orders_ = {static_cast<int>(s_.reach_order)};
+    if (s_.reach_order > kFirstReachOrder && s_.max_generators == 0) orders_.insert(orders_.begin(), kFirstReachOrder);
+    out_.order = orders_.back();
+    // Splitting (split_depth) is a second chance: the ladder runs without it, so that what
+    // verifies without splits costs what it did; then the gains that got furthest are verified
+    // again with splits, once.
+    const int split_depth = vo_.split_depth;
+    vo_.split_depth = 0;
+    // Input-aware rounds go to the first weight choice whose furthest pass enclosed some input
+    // as a saturated box (one agent pays for at most input_rounds more designs).
+    bool rounds_left = s_.input_rounds > 0;
+    for (int t = 0; t < tries; ++t) {
+      for (int j = 0; j < m; ++j) {
+        const double half = 0.5 * (p_.input_bounds.hi[j] - p_.input_bounds.lo[j]);
+        wt.r[j] = s_.input_weight * kInputWeightLadder[t] / (half > 0 ? half * half : 1.0);
+      }
+      wt.r_steps.clear();
+      LqrGains g = design(wt);
+      if (!g.ok()) continue;
+      ++out_.weight_choices;
+      VerifyOutcome last;
+      if (verify_gains(g, last, orders_, true) && !best().ok) furthest_ = g;
+      if (!best().ok && !cheap_.ok && rounds_left && saturation_matters(p_, last)) {
+        rounds_left = false;
+        input_aware_rounds(std::move(g), last, wt);
+      }
+      if (best().ok) break;
+      if (cheap_.ok) {
+        best() = std::move(cheap_);
+        out_.order = kFirstReachOrder;
+        break;
+      }
+    }
+    if (!best().ok && split_depth > 0 && furthest_.ok()) verify_with_splits(split_depth);
+    return std::move(out_);
+  }
+
+ private:
+  VerifyOutcome& best() { return out_.best; }
+
+  LqrGains design(const LqrWeights& w) {
+    const Stopwatch tg;
+    LqrGains g = lqr_gains(*p_.dynamics, p_.nominal, p_.tau, s_.rk4_substeps, w);
+    out_.gain_time += tg.seconds();
+    return g;
+  }
+
+  VerifyOutcome verify(const LqrGains& g) {
+    const Stopwatch tv;
+    VerifyOutcome v = verify_funnel(p_, g.K, g.closed, vo_, g.cost);
+    out_.verify_time += tv.seconds();
+    ++out_.attempts;
+    return v;
+  }
+
   // The gains g through the passes (cheap first); true if some pass got further than best.
   // `last` receives the furthest pass of g (its input hulls feed the input-aware weights).
   // A pass that fails replaces best only when `ranked` (the ladder's): the input-aware rounds
   // are kept when they verify, and a miss is reported as the ladder's, whose reason (a centre
   // off the nominal, the share of saturated steps) the outer search reacts to.
-  auto verify_gains = [&](const LqrGains& g, VerifyOutcome& last, const std::vector<int>& passes, bool ranked) {
+  bool verify_gains(const LqrGains& g, VerifyOutcome& last, const std::vector<int>& passes, bool ranked) {
     bool further = false;
     last.reached_step = -1;
     for (const int order : passes) {
-      vo.reach_order = order;
-      const Stopwatch tv;
-      VerifyOutcome v = verify_funnel(p, g.K, g.closed, vo, g.cost);
-      verify_time += tv.seconds();
-      ++attempts;
-      if (v.ok && order != orders.back() && v.max_fill > kRoomyFill) {
+      vo_.reach_order = order;
+      VerifyOutcome v = verify(g);
+      if (v.ok && order != orders_.back() && v.max_fill > kRoomyFill) {
         // Verified, but its sets use much of the tube: the tighter pass gives the monitor and
         // the tightness figure sets up to 2x smaller (funnel_bench); this one stays as the fallback.
-        cheap = std::move(v);
+        cheap_ = std::move(v);
         continue;
       }
       if (!v.ok && v.reached_step >= last.reached_step) last = v;
-      if (v.ok || (ranked && v.reached_step > best.reached_step)) {
-        best = std::move(v);
-        best_order = order;
+      if (v.ok || (ranked && v.reached_step > best().reached_step)) {
+        best() = std::move(v);
+        out_.order = order;
         further = true;
       }
-      if (best.ok) break;
+      if (best().ok) break;
     }
     return further;
-  };
-  auto design = [&](const LqrWeights& w) {
-    const Stopwatch tg;
-    LqrGains g = lqr_gains(*p.dynamics, p.nominal, p.tau, s_.rk4_substeps, w);
-    gain_time += tg.seconds();
-    return g;
-  };
-  // Input-aware rounds go to the first weight choice whose furthest pass enclosed some input as
-  // a saturated box (one agent pays for at most input_rounds more designs).
-  bool rounds_left = s_.input_rounds > 0;
-  for (int t = 0; t < tries; ++t) {
-    for (int j = 0; j < m; ++j) {
-      const double half = 0.5 * (p.input_bounds.hi[j] - p.input_bounds.lo[j]);
-      wt.r[j] = s_.input_weight * kInputWeightLadder[t] / (half > 0 ? half * half : 1.0);
-    }
-    wt.r_steps.clear();
-    LqrGains g = design(wt);
-    if (!g.ok()) continue;
-    ++weight_choices;
-    VerifyOutcome last;
-    if (verify_gains(g, last, orders, true) && !best.ok) furthest = g;
-    if (!best.ok && !cheap.ok && rounds_left && saturation_matters(p, last)) {
-      rounds_left = false;
-      int reached = last.reached_step;
-      for (int round = 0; round < s_.input_rounds && !best.ok && !cheap.ok; ++round) {
-        LqrWeights aware = wt;
-        const InputReweighting rw = input_aware_weights(p, g, last, aware.r_steps);
-        if (rw.rows == 0) break;
-        LqrGains h = design(aware);
-        if (!h.ok()) break;
-        ++out.input_rounds;
-        out.reweighted_rows = rw.rows;
-        verify_gains(h, last, {orders.back()}, false);
-        out.input_reached = std::max(out.input_reached, last.reached_step);
-        if (best.ok) out.input_aware = true;
-        // A redesign that got no further, or left no input saturated by more than 1% of U, ends
-        // the rounds: the miss is then the enclosure's, not the inputs' (on
-        // tests/problems/15 the boat's later rounds missed with r past U by 0.003 or less).
-        if (!saturation_matters(p, last) || last.reached_step <= reached) break;
-        reached = last.reached_step;
-        g = std::move(h);
-      }
-    }
-    if (best.ok) break;
-    if (cheap.ok) {
-      best = std::move(cheap);
-      best_order = kFirstReachOrder;
-      break;
+  }
+
+  // Gains g missed with some input saturated: redesigned with R raised where the input hull left
+  // U, up to input_rounds times, while each redesign gets further and still saturates.
+  void input_aware_rounds(LqrGains g, VerifyOutcome& last, const LqrWeights& wt) {
+    int reached = last.reached_step;
+    for (int round = 0; round < s_.input_rounds && !best().ok && !cheap_.ok; ++round) {
+      LqrWeights aware = wt;
+      const InputReweighting rw = input_aware_weights(p_, g, last, aware.r_steps);
+      if (rw.rows == 0) break;
+      LqrGains h = design(aware);
+      if (!h.ok()) break;
+      ++out_.input_rounds;
+      out_.reweighted_rows = rw.rows;
+      verify_gains(h, last, {orders_.back()}, false);
+      out_.input_reached = std::max(out_.input_reached, last.reached_step);
+      if (best().ok) out_.input_aware = true;
+      // A redesign that got no further, or left no input saturated by more than 1% of U, ends
+      // the rounds: the miss is then the enclosure's, not the inputs' (on
+      // tests/problems/15 the boat's later rounds missed with r past U by 0.003 or less).
+      if (!saturation_matters(p_, last) || last.reached_step <= reached) break;
+      reached = last.reached_step;
+      g = std::move(h);
     }
   }
-  if (!best.ok && split_depth > 0 && furthest.ok()) {
-    vo.split_depth = split_depth;
-    vo.reach_order = orders.back();  // the tighter pass: splits pay only where the rest is tight
-    const Stopwatch tv;
-    VerifyOutcome v = verify_funnel(p, furthest.K, furthest.closed, vo, furthest.cost);
-    verify_time += tv.seconds();
-    ++attempts;
-    out.split_tried = true;
-    if (v.ok || v.reached_step > best.reached_step) {
-      best = std::move(v);
-      best_order = orders.back();
+
+  // The gains that got furthest, verified again with splits, once.
+  void verify_with_splits(int split_depth) {
+    vo_.split_depth = split_depth;
+    vo_.reach_order = orders_.back();  // the tighter pass: splits pay only where the rest is tight
+    VerifyOutcome v = verify(furthest_);
+    out_.split_tried = true;
+    if (v.ok || v.reached_step > best().reached_step) {
+      best() = std::move(v);
+      out_.order = orders_.back();
     }
   }
-  return out;
-}
+
+  const Options& s_;
+  const TrackingProblem& p_;
+  VerifyOptions vo_;
+  std::vector<int> orders_;  // the reach orders of the passes, the tighter last
+  Search out_;
+  VerifyOutcome cheap_;  // a cheap pass that verified with roomy sets: the fallback
+  LqrGains furthest_;    // the ladder's gains that got furthest
+};
+
+FunnelTracker::Search FunnelTracker::search(const TrackingProblem& p) const { return Ladder(*this, p).run(); }
 
 TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) const {
   TrackResult res;

@@ -72,6 +72,7 @@ class FunnelTracker : public marsyn::Tracker {
     int input_reached = -1;    // the furthest step they verified (when none verified)
     bool input_aware = false;  // the verified funnel is one of them
   };
+  class Ladder;  // search's run (funnel_tracker.cpp)
   Search search(const TrackingProblem& p) const;
 
   Options s_;
