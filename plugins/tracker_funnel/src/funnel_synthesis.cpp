@@ -13,6 +13,7 @@
 #include "allowances.hpp"
 #include "marsyn/interval.hpp"
 #include "marsyn/number_text.hpp"
+#include "marsyn/period_part.hpp"
 #include "membership.hpp"
 #include "period_law.hpp"
 
@@ -305,14 +306,9 @@ bool initial_set(const TrackingProblem& p, const Eigen::VectorXd& radius, StepSe
 // the periods of a split set's parts), with their workspace footprint.
 void append_period_enclosures(const std::vector<const FlowResult*>& frs, const TrackingProblem& p, int k, int parts, int spp,
                               std::vector<PeriodEnclosure>& out) {
-  const int n = p.dynamics->state_dim();
+  const int n = p.dynamics->state_dim(), wd = p.workspace.dim();
   for (int part = 0; part < parts; ++part) {
-    PeriodEnclosure e;
-    e.step = k;
-    e.t0 = p.tau * (k + static_cast<double>(part) / parts);
-    e.t1 = p.tau * (k + static_cast<double>(part + 1) / parts);
-    e.state.lo.resize(n);
-    e.state.hi.resize(n);
+    PeriodEnclosure e = period_part(k, part, parts, p.tau, n, wd);
     std::vector<Interval> xi(n);
     for (int i = 0; i < n; ++i) {
       FastInterval b = frs.front()->boxes[static_cast<std::size_t>(part * spp) * n + i];
@@ -324,9 +320,6 @@ void append_period_enclosures(const std::vector<const FlowResult*>& frs, const T
     }
     Interval pw[kMaxWorkspaceDim];
     workspace_point(*p.dynamics, p.workspace, xi.data(), pw);
-    const int wd = p.workspace.dim();
-    e.workspace.lo.resize(wd);
-    e.workspace.hi.resize(wd);
     for (int c = 0; c < wd; ++c) {
       e.workspace.lo[c] = pw[c].lower();
       e.workspace.hi[c] = pw[c].upper();
