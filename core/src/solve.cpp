@@ -8,7 +8,7 @@
 #include <set>
 #include <sstream>
 
-#include "marsyn/core/stopwatch.hpp"
+#include "marsyn/stopwatch.hpp"
 #include "marsyn/core/verification/run_progress.hpp"
 #include "marsyn/core/planning/goal_room.hpp"
 #include "marsyn/core/planning/workspace_gaps.hpp"

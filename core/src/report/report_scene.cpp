@@ -55,15 +55,9 @@ nlohmann::json round4(double v) { return std::round(v * 1e4) / 1e4; }
 // schedule and the staged obstacles' windows computed from it here are the plan's.
 namespace {
 
-nlohmann::json view_scene(const Problem& pb, const std::vector<NominalTrajectory>& nominal, const VerificationReport* ver,
-                          const std::vector<const std::vector<PeriodEnclosure>*>& enc, View view) {
+nlohmann::json obstacles_json(const Problem& pb, int horizon, View view) {
   using nlohmann::json;
-  json scene;
-  scene["axes"] = {std::string(1, "xyz"[view.u]), std::string(1, "xyz"[view.v])};
-  scene["tau"] = pb.tau;
-  scene["delta"] = pb.delta;
   json obstacles = json::array();
-  const int horizon = !nominal.empty() && !nominal.front().u.empty() ? static_cast<int>(nominal.front().u.size()) : pb.horizon;
   const planning::ObstacleWindows windows(pb, horizon);
   for (std::size_t oi = 0; oi < pb.obstacles.size(); ++oi) {
     const Obstacle& o = pb.obstacles[oi];
@@ -83,87 +77,113 @@ nlohmann::json view_scene(const Problem& pb, const std::vector<NominalTrajectory
     }
     obstacles.push_back(ob);
   }
-  scene["obstacles"] = obstacles;
-  json agents = json::array();
-  for (std::size_t i = 0; i < pb.agents.size(); ++i) {
-    const AgentSpec& a = pb.agents[i];
-    json ag;
-    ag["name"] = a.name;
-    const auto g = workspace_box(a, a.goal.lo, a.goal.hi, view);
-    ag["goal"] = {g[0], g[1], g[2], g[3]};
-    json tube = json::array(), path = json::array();
-    if (i < nominal.size())
-      for (const auto& x : nominal[i].x) {
-        const auto b = workspace_box(a, x - a.tube.eps, x + a.tube.eps, view);
-        tube.push_back({round4(b[0]), round4(b[1]), round4(b[2]), round4(b[3])});
-        const auto p = point_in(a, x.data(), view);
-        path.push_back({round4(p[0]), round4(p[1])});
-      }
-    ag["tube"] = tube;
-    ag["nominal"] = path;
-    // [step][part] = workspace box of the closed loop during that part of the period.
-    json periods = json::array();
-    if (i < enc.size() && enc[i])
-      for (const PeriodEnclosure& e : *enc[i]) {
-        while (static_cast<int>(periods.size()) <= e.step) periods.push_back(json::array());
-        if (e.workspace.dim() <= view.v) continue;  // a tracker's planar enclosure has no side view
-        periods[static_cast<size_t>(e.step)].push_back({round4(e.workspace.lo[view.u]), round4(e.workspace.lo[view.v]),
-                                                         round4(e.workspace.hi[view.u]), round4(e.workspace.hi[view.v])});
-      }
-    ag["enclosures"] = periods;
-    if (!a.stages.empty()) {
-      const int T = i < nominal.size() ? static_cast<int>(nominal[i].u.size()) : pb.horizon;
-      const planning::MissionSchedule sched = planning::schedule_missions(pb, T);
-      json stages = json::array();
-      for (std::size_t s = 0; s < a.stages.size(); ++s) {
-        const MissionStage& st = a.stages[s];
-        json v = json::array();
-        if (st.is_polygon()) {
-          Obstacle region;  // a region of the plane: from the side, its x extent at every height
-          region.vertices = st.polygon;
-          v = obstacle_outline(region, view);
-        } else {
-          const auto b = workspace_box(a, st.box.lo, st.box.hi, view);
-          v = {{b[0], b[1]}, {b[2], b[1]}, {b[2], b[3]}, {b[0], b[3]}};
-        }
-        stages.push_back({{"name", st.name}, {"order", s + 1}, {"vertices", v}, {"visit", sched.visit[i][s]}, {"dwell", st.dwell}});
-      }
-      ag["stages"] = stages;
-    }
-    agents.push_back(ag);
-  }
-  scene["agents"] = agents;
+  return obstacles;
+}
 
-  json runs = json::array();
-  if (ver) {
-    for (const auto& kept : ver->kept) {
-      json r;
-      r["label"] = kept.label;
-      r["satisfied"] = kept.spec.satisfied;
-      r["min_margin"] = kept.spec.min_margin;
-      r["worst"] = kept.spec.worst;
-      json margins = json::array();
-      for (const auto& m : kept.spec.per_step) margins.push_back(round4(std::max(-1e3, std::min(1e3, m.min()))));
-      r["margin"] = margins;
-      // Dense in time (every integration substep): the continuous-time margin curve.
-      json dense = json::array();
-      for (const auto& m : kept.dense) dense.push_back(round4(std::max(-1e3, std::min(1e3, m.min()))));
-      r["dense"] = dense;
-      json pts = json::array();  // [agent][step] = [x, y]
-      for (std::size_t i = 0; i < pb.agents.size(); ++i) {
-        json track = json::array();
-        const int off = ProductLayout(pb).state[i];
-        for (const auto& x : kept.states) {
-          const auto p = point_in(pb.agents[i], x.data() + off, view);
-          track.push_back({round4(p[0]), round4(p[1])});
-        }
-        pts.push_back(track);
-      }
-      r["points"] = pts;
-      runs.push_back(r);
+// Agent i's mission stages: each region's outline, its visit knot (at the nominal's horizon T)
+// and dwell.
+nlohmann::json stages_json(const Problem& pb, std::size_t i, int T, View view) {
+  using nlohmann::json;
+  const AgentSpec& a = pb.agents[i];
+  const planning::MissionSchedule sched = planning::schedule_missions(pb, T);
+  json stages = json::array();
+  for (std::size_t s = 0; s < a.stages.size(); ++s) {
+    const MissionStage& st = a.stages[s];
+    json v = json::array();
+    if (st.is_polygon()) {
+      Obstacle region;  // a region of the plane: from the side, its x extent at every height
+      region.vertices = st.polygon;
+      v = obstacle_outline(region, view);
+    } else {
+      const auto b = workspace_box(a, st.box.lo, st.box.hi, view);
+      v = {{b[0], b[1]}, {b[2], b[1]}, {b[2], b[3]}, {b[0], b[3]}};
     }
+    stages.push_back({{"name", st.name}, {"order", s + 1}, {"vertices", v}, {"visit", sched.visit[i][s]}, {"dwell", st.dwell}});
   }
-  scene["runs"] = runs;
+  return stages;
+}
+
+nlohmann::json agent_scene_json(const Problem& pb, std::size_t i, const std::vector<NominalTrajectory>& nominal,
+                                const std::vector<const std::vector<PeriodEnclosure>*>& enc, View view) {
+  using nlohmann::json;
+  const AgentSpec& a = pb.agents[i];
+  json ag;
+  ag["name"] = a.name;
+  const auto g = workspace_box(a, a.goal.lo, a.goal.hi, view);
+  ag["goal"] = {g[0], g[1], g[2], g[3]};
+  json tube = json::array(), path = json::array();
+  if (i < nominal.size())
+    for (const auto& x : nominal[i].x) {
+      const auto b = workspace_box(a, x - a.tube.eps, x + a.tube.eps, view);
+      tube.push_back({round4(b[0]), round4(b[1]), round4(b[2]), round4(b[3])});
+      const auto p = point_in(a, x.data(), view);
+      path.push_back({round4(p[0]), round4(p[1])});
+    }
+  ag["tube"] = tube;
+  ag["nominal"] = path;
+  // [step][part] = workspace box of the closed loop during that part of the period.
+  json periods = json::array();
+  if (i < enc.size() && enc[i])
+    for (const PeriodEnclosure& e : *enc[i]) {
+      while (static_cast<int>(periods.size()) <= e.step) periods.push_back(json::array());
+      if (e.workspace.dim() <= view.v) continue;  // a tracker's planar enclosure has no side view
+      periods[static_cast<size_t>(e.step)].push_back({round4(e.workspace.lo[view.u]), round4(e.workspace.lo[view.v]),
+                                                       round4(e.workspace.hi[view.u]), round4(e.workspace.hi[view.v])});
+    }
+  ag["enclosures"] = periods;
+  if (!a.stages.empty())
+    ag["stages"] = stages_json(pb, i, i < nominal.size() ? static_cast<int>(nominal[i].u.size()) : pb.horizon, view);
+  return ag;
+}
+
+// The closed-loop runs the verification kept: margins per step and dense in time, and each
+// agent's path.
+nlohmann::json runs_json(const Problem& pb, const VerificationReport* ver, View view) {
+  using nlohmann::json;
+  json runs = json::array();
+  if (!ver) return runs;
+  for (const auto& kept : ver->kept) {
+    json r;
+    r["label"] = kept.label;
+    r["satisfied"] = kept.spec.satisfied;
+    r["min_margin"] = kept.spec.min_margin;
+    r["worst"] = kept.spec.worst;
+    json margins = json::array();
+    for (const auto& m : kept.spec.per_step) margins.push_back(round4(std::max(-1e3, std::min(1e3, m.min()))));
+    r["margin"] = margins;
+    // Dense in time (every integration substep): the continuous-time margin curve.
+    json dense = json::array();
+    for (const auto& m : kept.dense) dense.push_back(round4(std::max(-1e3, std::min(1e3, m.min()))));
+    r["dense"] = dense;
+    json pts = json::array();  // [agent][step] = [x, y]
+    for (std::size_t i = 0; i < pb.agents.size(); ++i) {
+      json track = json::array();
+      const int off = ProductLayout(pb).state[i];
+      for (const auto& x : kept.states) {
+        const auto p = point_in(pb.agents[i], x.data() + off, view);
+        track.push_back({round4(p[0]), round4(p[1])});
+      }
+      pts.push_back(track);
+    }
+    r["points"] = pts;
+    runs.push_back(r);
+  }
+  return runs;
+}
+
+nlohmann::json view_scene(const Problem& pb, const std::vector<NominalTrajectory>& nominal, const VerificationReport* ver,
+                          const std::vector<const std::vector<PeriodEnclosure>*>& enc, View view) {
+  using nlohmann::json;
+  json scene;
+  scene["axes"] = {std::string(1, "xyz"[view.u]), std::string(1, "xyz"[view.v])};
+  scene["tau"] = pb.tau;
+  scene["delta"] = pb.delta;
+  const int horizon = !nominal.empty() && !nominal.front().u.empty() ? static_cast<int>(nominal.front().u.size()) : pb.horizon;
+  scene["obstacles"] = obstacles_json(pb, horizon, view);
+  json agents = json::array();
+  for (std::size_t i = 0; i < pb.agents.size(); ++i) agents.push_back(agent_scene_json(pb, i, nominal, enc, view));
+  scene["agents"] = agents;
+  scene["runs"] = runs_json(pb, ver, view);
   return scene;
 }
 

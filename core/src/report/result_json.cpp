@@ -35,8 +35,6 @@ nlohmann::json open_loop_runs_json(const std::vector<OpenLoopRun>& runs) {
   return out;
 }
 
-// The search (docs/search.md): why it stopped, and per round the action, its reason, what it
-// changed and where the round's time went. Times are totals; the rounds give the split.
 // What the file left to marsyn for agent i (docs/parameters.md): the fields, the rules that gave
 // their first values, and how the search narrowed an auto eps.
 nlohmann::json auto_json(const SolveOutcome& o, std::size_t i) {
@@ -61,6 +59,8 @@ nlohmann::json auto_json(const SolveOutcome& o, std::size_t i) {
   return j;
 }
 
+// The search (docs/search.md): why it stopped, and per round the action, its reason, what it
+// changed and where the round's time went. Times are totals; the rounds give the split.
 nlohmann::json search_json(const SearchReport& s) {
   using nlohmann::json;
   json rounds = json::array();
@@ -96,6 +96,184 @@ double tracking_time_all_rounds(const SolveOutcome& o, const std::string& agent)
   return t;
 }
 
+// A margin, or null where none was measured (the reports' 1e300).
+nlohmann::json margin_json(double m) { return m < 1e299 ? nlohmann::json(m) : nlohmann::json(nullptr); }
+
+// A certified part's smallest margin with where and when, or null where the part is absent.
+nlohmann::json certified_part_json(const CertifiedPart& p) {
+  return std::isfinite(p.margin) ? nlohmann::json{{"margin", p.margin}, {"where", p.where}, {"step", p.step}}
+                                 : nlohmann::json(nullptr);
+}
+
+nlohmann::json plan_json(const SolveOutcome& o) {
+  using nlohmann::json;
+  return {{"planner", o.problem.planner.name},
+          {"status", o.plan.feasible ? "feasible" : to_string(o.plan.result.status)},
+          {"time_s", o.search.plan_time_s},  // every round's planning; search.rounds has the split
+          {"last_round_time_s", o.plan.total_time_s},
+          {"horizon", o.plan.horizon},
+          {"iterations", o.plan.result.iterations},
+          {"min_robust_margin", o.plan.check.min_margin},
+          {"worst_constraint", o.plan.check.worst},
+          {"sampled_robust_margin", o.plan.check.sampled_margin},
+          {"between_samples_robust_margin", o.plan.check.continuous ? json(o.plan.check.between_margin) : json(nullptr)}};
+}
+
+// Agent i of the problem, tracked or not (a failed plan tracks none).
+nlohmann::json agent_json(const SolveOutcome& o, std::size_t i) {
+  using nlohmann::json;
+  const bool tracked = i < o.agents.size();
+  const AgentOutcome a = tracked ? o.agents[i] : AgentOutcome{o.problem.agents[i].name, "", {}, ""};
+  const auto& s = a.track.stats;
+  const AgentTrackers* choice = i < o.trackers.size() ? &o.trackers[i] : nullptr;
+  json t = {{"name", a.tracker.empty() ? o.problem.agents[i].tracker.name : a.tracker},
+            {"chosen", choice && choice->automatic ? "auto" : "given"},
+            {"assessment", choice ? json(choice->assessment.summary) : json(nullptr)},
+            {"status", tracked ? to_string(a.track.status) : "not tracked"},
+            {"all_rounds_time_s", tracking_time_all_rounds(o, a.name)},
+            {"state_input_pairs", s.state_input_pairs},
+            {"boxes_computed", s.boxes_computed},
+            {"abstraction_time_s", s.abstraction_time_s},
+            {"synthesis_time_s", s.synthesis_time_s},
+            {"peak_memory_bytes", s.peak_memory_bytes},
+            {"enclosure_substeps", s.enclosure_substeps},
+            {"enclosure_time_s", s.enclosure_time_s},
+            {"period_enclosures", a.track.controller ? json(a.track.controller->period_enclosures().size()) : json(0)}};
+  // What this tracker alone measures (abcd: tube_cells, initial_state_winning, the winning
+  // cells per step), as it declares it.
+  add_figures(t, s);
+  if (!a.track.message.empty()) t["message"] = a.track.message;
+  const AgentSpec& spec = o.problem.agents[i];
+  json j = {{"name", a.name},
+            {"dynamics", spec.dynamics_type},
+            {"eps", std::vector<double>(spec.tube.eps.data(), spec.tube.eps.data() + spec.tube.eps.size())},
+            {"eta_x", std::vector<double>(spec.tube.eta_x.data(), spec.tube.eta_x.data() + spec.tube.eta_x.size())},
+            {"eta_u", std::vector<double>(spec.tube.eta_u.data(), spec.tube.eta_u.data() + spec.tube.eta_u.size())},
+            {"tracker", t},
+            {"controller", a.controller_file.empty() ? json(nullptr) : json(a.controller_file)}};
+  if (i < o.auto_tube.size() && o.auto_tube[i].any()) j["auto"] = auto_json(o, i);
+  return j;
+}
+
+nlohmann::json certification_json(const SolveOutcome& o) {
+  using nlohmann::json;
+  const auto& c = o.certification;
+  return {{"ran", o.certification_ran},
+          {"certified", c.certified},
+          {"message", c.message},
+          {"period_enclosures", c.enclosures},
+          {"min_margin", o.certification_ran && std::isfinite(c.min_margin) ? json(c.min_margin) : json(nullptr)},
+          {"state_bounds", certified_part_json(c.state_bounds)},
+          {"obstacle", certified_part_json(c.obstacle)},
+          {"collision", certified_part_json(c.collision)},
+          {"formation", certified_part_json(c.formation)},
+          {"time_s", c.time_s}};
+}
+
+nlohmann::json verification_json(const SolveOutcome& o) {
+  using nlohmann::json;
+  const auto& v = o.verification;
+  return {{"ran", o.verification_ran},
+          {"guarantee", v.continuous ? "continuous" : "sampled"},
+          {"dense_resolution_s", v.dense_resolution_s},
+          {"sampled_min_margin", o.verification_ran ? margin_json(v.sampled_min_margin) : json(nullptr)},
+          {"between_samples",
+           {{"min_margin", o.verification_ran ? margin_json(v.between.min()) : json(nullptr)},
+            {"obstacle", margin_json(v.between.obstacle)},
+            {"collision", margin_json(v.between.collision)},
+            {"formation", margin_json(v.between.formation)},
+            {"violating_runs", v.between_violations},
+            {"worst", v.between_worst}}},
+          {"runs", v.runs},
+          {"violations", v.violations},
+          {"tube_violations", v.tube_violations},
+          {"outside_domain", v.outside_domain},
+          {"min_margin", o.verification_ran ? json(v.min_margin) : json(nullptr)},
+          {"worst", v.worst},
+          {"time_s", v.time_s},
+          {"runs_time_s", v.runs_time_s}};  // runs / runs_time_s: the runs per second
+}
+
+// Missions (docs/tasks.md): each stage's visit knot, its window and dwell, and its margin on the
+// plan (eps-robust) and on the certified enclosures.
+nlohmann::json mission_stages_json(const SolveOutcome& o, int horizon) {
+  using nlohmann::json;
+  const auto& c = o.certification;
+  json stages = json::array();
+  const planning::MissionSchedule initial = planning::schedule_missions(o.problem, horizon);
+  for (const auto& p : o.plan.check.stages) {
+    const AgentSpec& a = o.problem.agents[static_cast<std::size_t>(p.agent)];
+    const MissionStage& st = a.stages[static_cast<std::size_t>(p.stage)];
+    auto names = [&](const std::vector<int>& obs) {
+      json n = json::array();
+      for (int ob : obs) n.push_back(o.problem.obstacles[static_cast<std::size_t>(ob)].name);
+      return n;
+    };
+    json cert = nullptr;
+    for (const auto& q : c.stages)
+      if (q.agent == p.agent && q.stage == p.stage && o.certification_ran)
+        cert = {{"margin", q.margin}, {"at_samples", q.sampled_margin}, {"between_samples", margin_json(q.between_margin)}};
+    stages.push_back({{"agent", a.name},
+                      {"stage", st.name},
+                      {"order", p.stage + 1},
+                      {"region", st.is_polygon() ? "polygon" : "box"},
+                      {"team", st.team.empty() ? json(nullptr) : json(st.team)},
+                      {"visit_step", p.step},
+                      {"visit_time_s", p.step * o.problem.tau},
+                      // The distance-proportional first guess the plan started from.
+                      {"initial_visit_step", initial.visit[static_cast<std::size_t>(p.agent)][static_cast<std::size_t>(p.stage)]},
+                      {"dwell", p.dwell},
+                      {"not_before", st.not_before},
+                      {"by", st.by >= 0 ? json(st.by) : json(nullptr)},
+                      {"avoid", names(st.avoid)},
+                      {"avoid_after", names(st.avoid_after)},
+                      {"plan_margin", p.margin},
+                      {"plan_margin_at_samples", p.sampled_margin},
+                      {"plan_margin_between_samples", margin_json(p.between_margin)},
+                      {"certified", cert}});
+  }
+  return stages;
+}
+
+// Staged obstacles: where each binds each agent, at the plan's visit knots.
+nlohmann::json staged_obstacles_json(const SolveOutcome& o, int horizon) {
+  using nlohmann::json;
+  json staged = json::array();
+  const planning::ObstacleWindows windows(o.problem, planning::schedule_or_initial(o.problem, o.plan.visits, horizon));
+  for (std::size_t ob = 0; ob < o.problem.obstacles.size(); ++ob)
+    if (o.problem.obstacles[ob].staged)
+      for (std::size_t i = 0; i < o.problem.agents.size(); ++i) {
+        const std::vector<int> k = windows.knots(static_cast<int>(i), static_cast<int>(ob));
+        if (k.empty()) continue;
+        staged.push_back({{"obstacle", o.problem.obstacles[ob].name},
+                          {"agent", o.problem.agents[i].name},
+                          {"steps", windows.describe(static_cast<int>(i), static_cast<int>(ob))}});
+      }
+  return staged;
+}
+
+nlohmann::json mission_json(const SolveOutcome& o) {
+  using nlohmann::json;
+  const auto& c = o.certification;
+  const int horizon = o.plan.horizon > 0 ? o.plan.horizon : o.problem.horizon;
+  return {{"stages", mission_stages_json(o, horizon)},
+          {"staged_obstacles", staged_obstacles_json(o, horizon)},
+          {"certification", o.certification_ran && std::isfinite(c.stage.margin) ? certified_part_json(c.stage) : json(nullptr)},
+          {"verification_between_samples", margin_json(o.verification.between.stage)}};
+}
+
+nlohmann::json attempts_json(const std::vector<Attempt>& attempts) {
+  using nlohmann::json;
+  json att = json::array();
+  for (const auto& a : attempts)
+    att.push_back({{"stage", a.stage},
+                   {"parameters", a.parameters},
+                   {"horizon", a.horizon > 0 ? json(a.horizon) : json(nullptr)},
+                   {"outcome", a.outcome},
+                   {"time_s", a.time_s}});
+  return att;
+}
+
 }  // namespace
 
 nlohmann::json result_json(const SolveOutcome& o) {
@@ -107,142 +285,15 @@ nlohmann::json result_json(const SolveOutcome& o) {
   // Which times the result holds for: every t in [0, T tau], or only t = k tau.
   j["guarantee"] = to_string(o.problem.guarantee);
   j["tracker"] = o.problem.tracker.name;  // the request: a tracker or "auto"; each agent's is agents[i].tracker.name
-  j["plan"] = {{"planner", o.problem.planner.name},
-               {"status", o.plan.feasible ? "feasible" : to_string(o.plan.result.status)},
-               {"time_s", o.search.plan_time_s},  // every round's planning; search.rounds has the split
-               {"last_round_time_s", o.plan.total_time_s},
-               {"horizon", o.plan.horizon},
-               {"iterations", o.plan.result.iterations},
-               {"min_robust_margin", o.plan.check.min_margin},
-               {"worst_constraint", o.plan.check.worst},
-               {"sampled_robust_margin", o.plan.check.sampled_margin},
-               {"between_samples_robust_margin",
-                o.plan.check.continuous ? json(o.plan.check.between_margin) : json(nullptr)}};
-  // Every agent of the problem, tracked or not (a failed plan tracks none).
+  j["plan"] = plan_json(o);
   json agents = json::array();
-  for (std::size_t i = 0; i < o.problem.agents.size(); ++i) {
-    const bool tracked = i < o.agents.size();
-    const AgentOutcome a = tracked ? o.agents[i] : AgentOutcome{o.problem.agents[i].name, "", {}, ""};
-    const auto& s = a.track.stats;
-    const AgentTrackers* choice = i < o.trackers.size() ? &o.trackers[i] : nullptr;
-    json t = {{"name", a.tracker.empty() ? o.problem.agents[i].tracker.name : a.tracker},
-              {"chosen", choice && choice->automatic ? "auto" : "given"},
-              {"assessment", choice ? json(choice->assessment.summary) : json(nullptr)},
-              {"status", tracked ? to_string(a.track.status) : "not tracked"},
-              {"all_rounds_time_s", tracking_time_all_rounds(o, a.name)},
-              {"state_input_pairs", s.state_input_pairs},
-              {"boxes_computed", s.boxes_computed},
-              {"abstraction_time_s", s.abstraction_time_s},
-              {"synthesis_time_s", s.synthesis_time_s},
-              {"peak_memory_bytes", s.peak_memory_bytes},
-              {"enclosure_substeps", s.enclosure_substeps},
-              {"enclosure_time_s", s.enclosure_time_s},
-              {"period_enclosures", a.track.controller ? json(a.track.controller->period_enclosures().size()) : json(0)}};
-    // What this tracker alone measures (abcd: tube_cells, initial_state_winning, the winning
-    // cells per step), as it declares it.
-    add_figures(t, s);
-    if (!a.track.message.empty()) t["message"] = a.track.message;
-    const AgentSpec& spec = o.problem.agents[i];
-    agents.push_back({{"name", a.name},
-                      {"dynamics", spec.dynamics_type},
-                      {"eps", std::vector<double>(spec.tube.eps.data(), spec.tube.eps.data() + spec.tube.eps.size())},
-                      {"eta_x", std::vector<double>(spec.tube.eta_x.data(), spec.tube.eta_x.data() + spec.tube.eta_x.size())},
-                      {"eta_u", std::vector<double>(spec.tube.eta_u.data(), spec.tube.eta_u.data() + spec.tube.eta_u.size())},
-                      {"tracker", t},
-                      {"controller", a.controller_file.empty() ? json(nullptr) : json(a.controller_file)}});
-    if (i < o.auto_tube.size() && o.auto_tube[i].any()) agents.back()["auto"] = auto_json(o, i);
-  }
+  for (std::size_t i = 0; i < o.problem.agents.size(); ++i) agents.push_back(agent_json(o, i));
   j["agents"] = agents;
-  const auto& c = o.certification;
-  auto part = [](const CertifiedPart& p) {
-    return std::isfinite(p.margin) ? json{{"margin", p.margin}, {"where", p.where}, {"step", p.step}}
-                                   : json(nullptr);
-  };
-  j["certification"] = {{"ran", o.certification_ran},
-                        {"certified", c.certified},
-                        {"message", c.message},
-                        {"period_enclosures", c.enclosures},
-                        {"min_margin", o.certification_ran && std::isfinite(c.min_margin) ? json(c.min_margin) : json(nullptr)},
-                        {"state_bounds", part(c.state_bounds)},
-                        {"obstacle", part(c.obstacle)},
-                        {"collision", part(c.collision)},
-                        {"formation", part(c.formation)},
-                        {"time_s", c.time_s}};
+  j["certification"] = certification_json(o);
+  j["verification"] = verification_json(o);
+  if (std::any_of(o.problem.agents.begin(), o.problem.agents.end(), [](const AgentSpec& a) { return !a.stages.empty(); }))
+    j["mission"] = mission_json(o);
   const auto& v = o.verification;
-  auto margin = [](double m) { return m < 1e299 ? json(m) : json(nullptr); };
-  j["verification"] = {{"ran", o.verification_ran},
-                       {"guarantee", v.continuous ? "continuous" : "sampled"},
-                       {"dense_resolution_s", v.dense_resolution_s},
-                       {"sampled_min_margin", o.verification_ran ? margin(v.sampled_min_margin) : json(nullptr)},
-                       {"between_samples",
-                        {{"min_margin", o.verification_ran ? margin(v.between.min()) : json(nullptr)},
-                         {"obstacle", margin(v.between.obstacle)},
-                         {"collision", margin(v.between.collision)},
-                         {"formation", margin(v.between.formation)},
-                         {"violating_runs", v.between_violations},
-                         {"worst", v.between_worst}}},
-                       {"runs", v.runs},
-                       {"violations", v.violations},
-                       {"tube_violations", v.tube_violations},
-                       {"outside_domain", v.outside_domain},
-                       {"min_margin", o.verification_ran ? json(v.min_margin) : json(nullptr)},
-                       {"worst", v.worst},
-                       {"time_s", v.time_s},
-                       {"runs_time_s", v.runs_time_s}};  // runs / runs_time_s: the runs per second
-  // Missions (docs/tasks.md): each stage's visit knot, its window and dwell, and its margin on
-  // the plan (eps-robust) and on the certified enclosures.
-  if (std::any_of(o.problem.agents.begin(), o.problem.agents.end(), [](const AgentSpec& a) { return !a.stages.empty(); })) {
-    json stages = json::array();
-    const int horizon = o.plan.horizon > 0 ? o.plan.horizon : o.problem.horizon;
-    const planning::MissionSchedule initial = planning::schedule_missions(o.problem, horizon);
-    for (const auto& p : o.plan.check.stages) {
-      const AgentSpec& a = o.problem.agents[static_cast<std::size_t>(p.agent)];
-      const MissionStage& st = a.stages[static_cast<std::size_t>(p.stage)];
-      auto names = [&](const std::vector<int>& obs) {
-        json n = json::array();
-        for (int ob : obs) n.push_back(o.problem.obstacles[static_cast<std::size_t>(ob)].name);
-        return n;
-      };
-      json cert = nullptr;
-      for (const auto& q : c.stages)
-        if (q.agent == p.agent && q.stage == p.stage && o.certification_ran)
-          cert = {{"margin", q.margin}, {"at_samples", q.sampled_margin}, {"between_samples", margin(q.between_margin)}};
-      stages.push_back({{"agent", a.name},
-                        {"stage", st.name},
-                        {"order", p.stage + 1},
-                        {"region", st.is_polygon() ? "polygon" : "box"},
-                        {"team", st.team.empty() ? json(nullptr) : json(st.team)},
-                        {"visit_step", p.step},
-                        {"visit_time_s", p.step * o.problem.tau},
-                        // The distance-proportional first guess the plan started from.
-                        {"initial_visit_step", initial.visit[static_cast<std::size_t>(p.agent)][static_cast<std::size_t>(p.stage)]},
-                        {"dwell", p.dwell},
-                        {"not_before", st.not_before},
-                        {"by", st.by >= 0 ? json(st.by) : json(nullptr)},
-                        {"avoid", names(st.avoid)},
-                        {"avoid_after", names(st.avoid_after)},
-                        {"plan_margin", p.margin},
-                        {"plan_margin_at_samples", p.sampled_margin},
-                        {"plan_margin_between_samples", margin(p.between_margin)},
-                        {"certified", cert}});
-    }
-    // Staged obstacles: where each binds each agent, at the plan's visit knots.
-    json staged = json::array();
-    const planning::ObstacleWindows windows(o.problem, planning::schedule_or_initial(o.problem, o.plan.visits, horizon));
-    for (std::size_t ob = 0; ob < o.problem.obstacles.size(); ++ob)
-      if (o.problem.obstacles[ob].staged)
-        for (std::size_t i = 0; i < o.problem.agents.size(); ++i) {
-          const std::vector<int> k = windows.knots(static_cast<int>(i), static_cast<int>(ob));
-          if (k.empty()) continue;
-          staged.push_back({{"obstacle", o.problem.obstacles[ob].name},
-                            {"agent", o.problem.agents[i].name},
-                            {"steps", windows.describe(static_cast<int>(i), static_cast<int>(ob))}});
-        }
-    j["mission"] = {{"stages", stages},
-                    {"staged_obstacles", staged},
-                    {"certification", o.certification_ran && std::isfinite(c.stage.margin) ? part(c.stage) : json(nullptr)},
-                    {"verification_between_samples", margin(v.between.stage)}};
-  }
   j["open_loop"] = {{"runs", v.open_loop_runs},
                     {"violations", v.open_loop_violations},
                     {"min_margin", o.verification_ran ? json(v.open_loop_min_margin) : json(nullptr)},
@@ -253,14 +304,7 @@ nlohmann::json result_json(const SolveOutcome& o) {
                       {"status", o.global.status},
                       {"time_s", o.global.time_s},
                       {"boxes_computed", o.global.boxes_computed}};
-  json att = json::array();
-  for (const auto& a : o.attempts)
-    att.push_back({{"stage", a.stage},
-                   {"parameters", a.parameters},
-                   {"horizon", a.horizon > 0 ? json(a.horizon) : json(nullptr)},
-                   {"outcome", a.outcome},
-                   {"time_s", a.time_s}});
-  j["attempts"] = att;
+  j["attempts"] = attempts_json(o.attempts);
   j["search"] = search_json(o.search);
   j["tracking_time_s"] = o.search.track_time_s;  // every round's tracking, wall time
   j["total_time_s"] = o.total_time_s;

@@ -87,6 +87,9 @@ struct Rule {
   std::string message;
 };
 
+// When a rule runs: as soon as its value is read, or after every value is read (require, require_last).
+enum class Checked { on_read, last };
+
 template <class Options>
 class ParamSet {
  public:
@@ -107,6 +110,7 @@ class ParamSet {
   template <class T>
   class Declared {
    public:
+    using value_type = T;
     using Get = std::function<const T&(const Options&)>;
     Declared(Declaration& d, Get get) : d_(d), get_(std::move(get)) {}
     // Refused with ParamError(name, rule.message) right after the value is read.
@@ -181,6 +185,23 @@ class ParamSet {
                  return false;
                },
                "expected " + expected});
+    return d;
+  }
+
+  // An integer parameter in [lo, hi] (an int or long member, or a member of a member: `path`):
+  // the listed range "[lo, hi]" and the message "expected an integer in [lo, hi]" come from the
+  // one pair; a long member is checked before anything narrows it.
+  template <class... Path>
+  auto integer(std::string name, long lo, long hi, std::string doc, Checked when, Path... path) {
+    const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+    auto d = add(std::move(name), path..., range, std::move(doc));
+    using T = typename decltype(d)::value_type;
+    static_assert(std::is_same_v<T, int> || std::is_same_v<T, long>, "integer() binds an int or long member");
+    Rule<T> within{[lo, hi](const T& v) { return v >= lo && v <= hi; }, "expected an integer in " + range};
+    if (when == Checked::last)
+      d.require_last(std::move(within));
+    else
+      d.require(std::move(within));
     return d;
   }
 

@@ -83,9 +83,10 @@ ParamSet<Options> declare() {
       .require(integer_at_least(1));
   s.add("broad_phase", &O::broad_phase, "true or false",
         "skip pair rows whose agents are beyond their reach (same plan, less work)");
-  s.add("threads", &O::threads, "[0, 256]", "threads for Jacobians, rollouts, costs and the backward pass (0: the machine's, "
-        "at most 8; same plan for any number)")
-      .require({[](const int& v) { return v >= 0 && v <= 256; }, "expected an integer in [0, 256]"});
+  s.integer("threads", 0, 256,
+            "threads for Jacobians, rollouts, costs and the backward pass (0: the machine's, at most 8; same plan for "
+            "any number)",
+            Checked::on_read, &O::threads);
   return s;
 }
 

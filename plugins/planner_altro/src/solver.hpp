@@ -66,6 +66,7 @@ class Solver {
 
  private:
   // Setup
+  void prepare();  // the layout, the multipliers and scratch, the initial guess
   void layout();
   void initial_guess();
   // ref_: straight lines from x0 to the goal centre, bent sideways by `bend` x path length.
@@ -109,9 +110,27 @@ class Solver {
   // partial step's Jacobians. Used by the expansion and the final projection.
   void between_gradients(int k, int j, const ConstraintRef& r, const double* jac, int row,
                          std::vector<AgentGradient>& out, Scratch& s) const;
-  // Final projection: Gauss-Newton steps on the inputs onto the active constraints.
+  // Final projection: Gauss-Newton steps on the inputs onto the active constraints (polish.cpp).
   bool polish(double& viol, std::string& worst, const Stopwatch& clock);
+  // A near-active row c at step k: its gradient in the product state at k (or, `input`, in u_k),
+  // and a between row's direct gradient in u_k.
+  struct PolishRow {
+    int k;
+    double c;
+    std::vector<std::pair<int, double>> grad;  // product state (or input) index, dc/d
+    bool input;
+    std::vector<std::pair<int, double>> ugrad = {};  // a between row's direct dc/du_k
+  };
+  void between_polish_rows(double active, std::vector<PolishRow>& rows);
+  void bound_polish_rows(double active, std::vector<PolishRow>& rows);
+  bool polish_direction(const std::vector<PolishRow>& rows, Vec& dU) const;
+  bool polish_line_search(const Vec& dU, double& viol, std::string& worst);
   // iLQR
+  // One outer round's iLQR iterations at tolerance tol (regularization reg carried between
+  // rounds); stops on a small decrease, the time limit (timed_out) or no descent (stalled).
+  void inner_iterations(const Stopwatch& clock, double tol, double& reg, bool& timed_out, bool& stalled);
+  PlanResult result(double viol, const std::string& worst, int outer, bool timed_out, bool polished,
+                    const Stopwatch& clock) const;
   void linearize();
   void expand_costs();
   void expand_knot(int k, Scratch& s);

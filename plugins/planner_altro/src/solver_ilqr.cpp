@@ -235,9 +235,7 @@ bool Solver::forward(double dv1, double dv2, double& alpha) {
   return false;
 }
 
-PlanResult Solver::run() {
-  const Stopwatch clock;
-  PlanResult res;
+void Solver::prepare() {
   layout();
   const int N = static_cast<int>(agents_.size()), G = static_cast<int>(groups_.size());
   lam_xlo_.assign(T_ + 1, Vec::Zero(n_));
@@ -272,6 +270,51 @@ PlanResult Solver::run() {
   Xn_ = X_;
   Un_ = U_;
   cost_ = total_cost(X_, U_);
+}
+
+void Solver::inner_iterations(const Stopwatch& clock, double tol, double& reg, bool& timed_out, bool& stalled) {
+  for (int inner = 0; inner < opt_.max_inner && iterations_ < opt_.max_iterations; ++inner) {
+    if (clock.seconds() > run_.time_limit_s) {
+      timed_out = true;
+      break;
+    }
+    ++iterations_;
+    linearize();
+    expand_costs();
+    double dv1, dv2, alpha = 0.0;
+    bool ok = false;
+    while (reg <= opt_.reg_max) {
+      if (backward(reg, dv1, dv2)) {
+        ok = true;
+        break;
+      }
+      reg *= opt_.reg_factor;
+    }
+    if (!ok) {
+      stalled = true;
+      break;
+    }
+    const double before = cost_;
+    if (!forward(dv1, dv2, alpha)) {
+      reg = std::max(reg * opt_.reg_factor * opt_.reg_factor, 1e-6);
+      if (reg > opt_.reg_max) {
+        stalled = true;
+        break;
+      }
+      continue;
+    }
+    // Small accepted steps mean the model is poor: raise regularization, as for a failure.
+    if (alpha <= opt_.small_step) reg = std::min(reg * opt_.reg_factor, opt_.reg_max);
+    else if (alpha == 1.0) reg = std::max(reg / opt_.reg_factor, opt_.reg_min);
+    if (run_.progress) run_.progress({iterations_, cost_, -1.0});
+    const double decrease = before - cost_;
+    if (decrease < tol * std::max(1.0, std::abs(cost_))) break;
+  }
+}
+
+PlanResult Solver::run() {
+  const Stopwatch clock;
+  prepare();
   double reg = opt_.reg_initial;
   std::string worst;
   double viol = max_violation(X_, U_, &worst);
@@ -280,43 +323,7 @@ PlanResult Solver::run() {
   int outer = 0;
   for (; outer < opt_.max_outer; ++outer) {
     const double tol = viol <= 1e2 * opt_.constraint_tolerance ? opt_.cost_tolerance : opt_.cost_tolerance_intermediate;
-    for (int inner = 0; inner < opt_.max_inner && iterations_ < opt_.max_iterations; ++inner) {
-      if (clock.seconds() > run_.time_limit_s) {
-        timed_out = true;
-        break;
-      }
-      ++iterations_;
-      linearize();
-      expand_costs();
-      double dv1, dv2, alpha = 0.0;
-      bool ok = false;
-      while (reg <= opt_.reg_max) {
-        if (backward(reg, dv1, dv2)) {
-          ok = true;
-          break;
-        }
-        reg *= opt_.reg_factor;
-      }
-      if (!ok) {
-        stalled = true;
-        break;
-      }
-      const double before = cost_;
-      if (!forward(dv1, dv2, alpha)) {
-        reg = std::max(reg * opt_.reg_factor * opt_.reg_factor, 1e-6);
-        if (reg > opt_.reg_max) {
-          stalled = true;
-          break;
-        }
-        continue;
-      }
-      // Small accepted steps mean the model is poor: raise regularization, as for a failure.
-      if (alpha <= opt_.small_step) reg = std::min(reg * opt_.reg_factor, opt_.reg_max);
-      else if (alpha == 1.0) reg = std::max(reg / opt_.reg_factor, opt_.reg_min);
-      if (run_.progress) run_.progress({iterations_, cost_, -1.0});
-      const double decrease = before - cost_;
-      if (decrease < tol * std::max(1.0, std::abs(cost_))) break;
-    }
+    inner_iterations(clock, tol, reg, timed_out, stalled);
     viol = max_violation(X_, U_, &worst);
     if (run_.progress) run_.progress({iterations_, cost_, viol});
     if (viol <= opt_.constraint_tolerance || timed_out || iterations_ >= opt_.max_iterations) break;
@@ -345,6 +352,13 @@ PlanResult Solver::run() {
   if (viol > opt_.constraint_tolerance && viol <= opt_.polish_max_violation && !timed_out)
     polished = polish(viol, worst, clock);
   cost_ = total_cost(X_, U_);
+  return result(viol, worst, outer, timed_out, polished, clock);
+}
+
+// The plan and how the run ended: converged, or why not (time, penalty at its maximum).
+PlanResult Solver::result(double viol, const std::string& worst, int outer, bool timed_out, bool polished,
+                          const Stopwatch& clock) const {
+  PlanResult res;
   res.plan.tau = prob_.tau;
   res.plan.x = X_;
   res.plan.u = U_;

@@ -144,7 +144,7 @@ struct Outer {
 }  // namespace
 
 TEST(ParamSet, BindsAMemberOfAMember) {
-  // abcd declares its enclosure's substeps on SynthesisOptions::successor: listed, read and
+  // abcd declares its enclosure's substeps on abcd::Options::successor: listed, read and
   // checked where the tracker's code reads it, with no copy.
   ParamSet<Outer> s;
   s.add("substeps", &Outer::inner, &Inner::substeps, "[1, 10]", "substeps").require({[](const int& v) {
@@ -170,5 +170,58 @@ TEST(ParamSet, BindsAMemberOfAMember) {
   } catch (const ParamError& e) {
     EXPECT_EQ(e.field(), "substeps");
     EXPECT_STREQ(e.what(), "expected an integer in [1, 10]");
+  }
+}
+
+TEST(ParamSet, IntegerInARangeListsAndChecksTheOnePair) {
+  // integer(): the listed range and the refusal come from one (lo, hi); both ends are inside,
+  // one past either end is refused under the parameter's name, on read or after every value.
+  for (const Checked when : {Checked::on_read, Checked::last}) {
+    ParamSet<Outer> s;
+    s.integer("substeps", 1, 10, "substeps", when, &Outer::inner, &Inner::substeps);
+    ASSERT_EQ(s.specs().size(), 1u);
+    EXPECT_EQ(s.specs()[0].range, "[1, 10]");
+    EXPECT_EQ(s.specs()[0].type, ParamType::Int);
+    for (const long v : {1L, 10L}) {
+      Params p;
+      p.set("substeps", v);
+      EXPECT_EQ(s.parse(p).inner.substeps, v);
+    }
+    for (const long v : {0L, 11L}) {
+      Params p;
+      p.set("substeps", v);
+      try {
+        s.parse(p);
+        FAIL() << "accepted substeps: " << v;
+      } catch (const ParamError& e) {
+        EXPECT_EQ(e.field(), "substeps");
+        EXPECT_STREQ(e.what(), "expected an integer in [1, 10]");
+      }
+    }
+  }
+}
+
+TEST(ParamSet, IntegerOnReadIsCheckedBeforeLaterParametersAreRead) {
+  // A long member is checked as it is read: a later parameter's own refusal does not hide it.
+  ParamSet<Opts> s;
+  s.integer("seed", 0, 5, "a seed", Checked::on_read, &Opts::seed);
+  s.add("weight", &Opts::weight, "[0, inf)", "a weight").require({[](const double& v) { return v >= 0; }, "expected >= 0"});
+  Params p;
+  p.set("seed", 6L);
+  p.set("weight", -1.0);
+  try {
+    s.parse(p);
+    FAIL() << "accepted seed: 6";
+  } catch (const ParamError& e) {
+    EXPECT_EQ(e.field(), "seed");
+  }
+  ParamSet<Opts> later;
+  later.integer("seed", 0, 5, "a seed", Checked::last, &Opts::seed);
+  later.add("weight", &Opts::weight, "[0, inf)", "a weight").require({[](const double& v) { return v >= 0; }, "expected >= 0"});
+  try {
+    later.parse(p);
+    FAIL() << "accepted weight: -1";
+  } catch (const ParamError& e) {
+    EXPECT_EQ(e.field(), "weight");
   }
 }

@@ -14,49 +14,33 @@ namespace marsyn::abcd {
 
 namespace {
 
-// When a range is checked: as soon as its value is read, or after every value is read.
-enum class Checked { on_read, last };
-
-// An int parameter in [lo, hi], the listed range "[lo, hi]" and the message "expected an integer
-// in [lo, hi]" (which, unlike the funnel's integer_in, does not repeat the value) from the one
-// pair; `member` is a member of SynthesisOptions or of one of its parts.
-template <class... Member>
-void int_in_range(ParamSet<SynthesisOptions>& s, std::string name, int lo, int hi, std::string doc, Checked when,
-                  Member... member) {
-  const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
-  auto d = s.add(std::move(name), member..., range, std::move(doc));
-  const Rule<int> within{[lo, hi](const int& v) { return v >= lo && v <= hi; }, "expected an integer in " + range};
-  if (when == Checked::last) d.require_last(within);
-  else d.require(within);
-}
-
-ParamSet<SynthesisOptions> declare() {
-  using O = SynthesisOptions;
+ParamSet<Options> declare() {
+  using O = Options;
   using S = SuccessorOptions;
   // The enclosure's two ranges are checked as soon as each is read, the others after every
   // value is read: the order the messages have always come in.
   constexpr Checked on_read = Checked::on_read, last = Checked::last;
   ParamSet<O> s;
-  int_in_range(s, "substeps", 1, 1000,
-               "substeps of the sound enclosure over one sampling period (more: tighter boxes, slower)", last,
-               &O::successor, &S::substeps);
-  int_in_range(s, "taylor_terms", 4, 16, "matrix-exponential series terms before the rigorous tail bound", last,
-               &O::successor, &S::taylor_terms);
-  int_in_range(s, "picard_iterations", 1, 100, "a priori enclosure attempts before an input is dropped", last,
-               &O::successor, &S::picard_iterations);
+  s.integer("substeps", 1, 1000,
+            "substeps of the sound enclosure over one sampling period (more: tighter boxes, slower)", last,
+            &O::successor, &S::substeps);
+  s.integer("taylor_terms", 4, 16, "matrix-exponential series terms before the rigorous tail bound", last,
+            &O::successor, &S::taylor_terms);
+  s.integer("picard_iterations", 1, 100, "a priori enclosure attempts before an input is dropped", last, &O::successor,
+            &S::picard_iterations);
   s.add("prefilter", &O::prefilter, "true|false",
         "skip inputs whose RK4 centre image leaves the next tube before computing their box (work only)");
-  int_in_range(s, "prefilter_substeps", 1, 1000, "RK4 substeps of the prefilter's centre image", last,
-               &O::prefilter_substeps);
-  int_in_range(s, "threads", 0, 256, "worker threads; 0: the run's thread option", last, &O::threads);
-  int_in_range(s, "enclosure_substeps", 1, SuccessorBox::kMaxEncloseSubsteps,
-               "boxes per sampling period enclosing the closed loop between samples (continuous-time guarantee; "
-               "more: tighter)",
-               on_read, &O::enclosure_substeps);
-  int_in_range(s, "enclosure_block", 1, 64,
-               "cells per block enclosed together between samples, along coordinates the field reads (fewer: "
-               "tighter, slower)",
-               on_read, &O::enclosure_block);
+  s.integer("prefilter_substeps", 1, 1000, "RK4 substeps of the prefilter's centre image", last,
+            &O::prefilter_substeps);
+  s.integer("threads", 0, 256, "worker threads; 0: the run's thread option", last, &O::threads);
+  s.integer("enclosure_substeps", 1, SuccessorBox::kMaxEncloseSubsteps,
+            "boxes per sampling period enclosing the closed loop between samples (continuous-time guarantee; "
+            "more: tighter)",
+            on_read, &O::enclosure_substeps);
+  s.integer("enclosure_block", 1, 64,
+            "cells per block enclosed together between samples, along coordinates the field reads (fewer: "
+            "tighter, slower)",
+            on_read, &O::enclosure_block);
   return s;
 }
 
@@ -66,8 +50,8 @@ AbcdTracker::AbcdTracker(const Params& p) : base_(declared_once<declare>().parse
 
 std::vector<ParamSpec> AbcdTracker::param_specs() { return declared_once<declare>().specs(); }
 
-SynthesisOptions AbcdTracker::options_for(const TrackOptions& o) const {
-  SynthesisOptions s = base_;
+Options AbcdTracker::options_for(const TrackOptions& o) const {
+  Options s = base_;
   int t = base_.threads > 0 ? base_.threads : o.threads;
   if (t <= 0) t = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   s.threads = t;
@@ -78,14 +62,14 @@ SynthesisOptions AbcdTracker::options_for(const TrackOptions& o) const {
 }
 
 TrackResult AbcdTracker::track(const TrackingProblem& problem, const TrackOptions& options) const {
-  SynthesisOptions s = options_for(options);
+  Options s = options_for(options);
   s.successor.tau = problem.tau;
   if (!s.hook) s.hook = dynamic_cast<const SuccessorBoundHook*>(problem.dynamics.get());
   return synthesize_track(problem, s);
 }
 
 TrackResult AbcdTracker::reach_avoid(const ReachAvoidProblem& problem, const TrackOptions& options) const {
-  SynthesisOptions s = options_for(options);
+  Options s = options_for(options);
   s.successor.tau = problem.tau;
   if (!s.hook) s.hook = dynamic_cast<const SuccessorBoundHook*>(problem.dynamics.get());
   return synthesize_reach_avoid(problem, s);

@@ -55,10 +55,10 @@ class AbcdTracker : public marsyn::Tracker {
 
   // The parameters with the run's threads, memory budget, ranks and progress: what the sweep
   // reads. Tests and benchmarks set these directly.
-  SynthesisOptions options_for(const TrackOptions& o) const;
+  Options options_for(const TrackOptions& o) const;
 
  private:
-  SynthesisOptions base_;  // the parameters, as abcd_tracker.cpp declares them
+  Options base_;  // the parameters, as abcd_tracker.cpp declares them
 };
 
 }  // namespace marsyn::abcd

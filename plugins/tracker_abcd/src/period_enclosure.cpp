@@ -10,6 +10,7 @@
 
 #include "input_grid.hpp"
 #include "marsyn/fast_interval.hpp"
+#include "marsyn/period_part.hpp"
 #include "successor_cache.hpp"
 #include "uniform_grid.hpp"
 
@@ -244,18 +245,11 @@ void write_enclosures(const std::vector<StepBoxes>& steps, int S, ControllerData
   for (int k = 0; k < T; ++k) {
     const StepBoxes& acc = steps[static_cast<size_t>(k)];
     for (int s = 0; s < S; ++s) {
-      PeriodEnclosure e;
-      e.step = k;
-      e.t0 = d.tau * (k + static_cast<double>(s) / S);
-      e.t1 = d.tau * (k + static_cast<double>(s + 1) / S);
-      e.state.lo.resize(n);
-      e.state.hi.resize(n);
+      PeriodEnclosure e = period_part(k, s, S, d.tau, n, 2);
       for (int i = 0; i < n; ++i) {
         e.state.lo[i] = acc.state[static_cast<size_t>(s * n + i)].lower();
         e.state.hi[i] = acc.state[static_cast<size_t>(s * n + i)].upper();
       }
-      e.workspace.lo.resize(2);
-      e.workspace.hi.resize(2);
       for (int c = 0; c < 2; ++c) {
         e.workspace.lo[c] = acc.workspace[static_cast<size_t>(s * 2 + c)].lower();
         e.workspace.hi[c] = acc.workspace[static_cast<size_t>(s * 2 + c)].upper();

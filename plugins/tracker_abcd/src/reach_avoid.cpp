@@ -106,16 +106,12 @@ void fixed_point(const IndexBox& dom, const InputGrid& ug, const std::vector<boo
 
 }  // namespace
 
-TrackResult synthesize_reach_avoid(const ReachAvoidProblem& p, const SynthesisOptions& o) {
+TrackResult synthesize_reach_avoid(const ReachAvoidProblem& p, const Options& o) {
   const Stopwatch clock;
-  TrackResult r;
   UniformGrid g;
   InputGrid ug;
-  if (const std::string e = check_reach_avoid(p, g, ug); !e.empty()) {
-    r.status = TrackerStatus::InvalidInput;
-    r.message = "reach-avoid: " + e;
-    return r;
-  }
+  if (const std::string e = check_reach_avoid(p, g, ug); !e.empty()) return invalid_input("reach-avoid: " + e);
+  TrackResult r;
   const Dynamics& f = *p.dynamics;
   const int n = f.state_dim();
   const IndexBox dom = inner_box(g, p.domain);
@@ -150,8 +146,7 @@ TrackResult synthesize_reach_avoid(const ReachAvoidProblem& p, const SynthesisOp
   for (auto v : win) count += v;
   fig.winning_cells_per_step = {count};
   fig.publish(st);
-  st.abstraction_time_s = box_seconds / threads;
-  st.synthesis_time_s = std::max(0.0, clock.seconds() - st.abstraction_time_s);
+  record_times(box_seconds, threads, clock, st);
   st.peak_memory_bytes = peak_rss_bytes();
   if (count > 0) {
     r.status = TrackerStatus::ControllerFound;

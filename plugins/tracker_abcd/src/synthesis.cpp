@@ -221,7 +221,7 @@ void sweep_column(const Step& s, SuccessorTable& tab, Column& c, const std::vect
 
 // The backward sweep from step T-1; returns the last step swept: -1 when complete, else the
 // step whose winning set is empty.
-int backward_sweep(const TrackingProblem& p, const SynthesisOptions& o, const InputGrid& ug,
+int backward_sweep(const TrackingProblem& p, const Options& o, const InputGrid& ug,
                    const std::vector<bool>& inv, const SweepSplit& split,
                    std::vector<std::unique_ptr<SuccessorTable>>& tables, ControllerData& d, GridFigures& fig) {
   const int T = static_cast<int>(p.nominal.x.size()) - 1;
@@ -303,16 +303,12 @@ long long peak_rss_bytes() {
   return static_cast<long long>(ru.ru_maxrss) * 1024;
 }
 
-TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o) {
+TrackResult synthesize_track(const TrackingProblem& p, const Options& o) {
   const Stopwatch clock;
-  TrackResult r;
   UniformGrid g;
   InputGrid ug;
-  if (const std::string e = check_track(p, g, ug); !e.empty()) {
-    r.status = TrackerStatus::InvalidInput;
-    r.message = "agent " + p.agent + ": " + e;
-    return r;
-  }
+  if (const std::string e = check_track(p, g, ug); !e.empty()) return invalid_input("agent " + p.agent + ": " + e);
+  TrackResult r;
   const Dynamics& f = *p.dynamics;
   const int T = static_cast<int>(p.nominal.x.size()) - 1;
   std::vector<bool> inv = invariant_coords(f);
@@ -349,8 +345,7 @@ TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o
 
   const double box_seconds = sum_tables(tables, st.boxes_computed);
   st.boxes_computed = split.sum(st.boxes_computed);  // over the ranks: the same figure as one process's
-  st.abstraction_time_s = box_seconds / threads;
-  st.synthesis_time_s = std::max(0.0, clock.seconds() - st.abstraction_time_s);
+  record_times(box_seconds, threads, clock, st);
 
   // Between the samples: only for a complete sweep (the controller is used from step 0).
   std::string enclosure_failure;

@@ -13,7 +13,7 @@ namespace marsyn::abcd {
 // The tracker's parameters are members of these options (and of `successor`), each declared
 // once in abcd_tracker.cpp (marsyn/param_set.hpp): the default is the member's initializer here,
 // and the listing, the parsing and the range checks read that one declaration.
-struct SynthesisOptions {
+struct Options {
   // Worker threads (the parameter `threads`; 0: AbcdTracker::options_for takes the run's
   // TrackOptions::threads, else the machine's). The sweep runs at least one.
   int threads = 0;
@@ -34,8 +34,8 @@ struct SynthesisOptions {
   std::function<void(int done, int total)> progress;  // after each backward step; may be empty
 };
 
-TrackResult synthesize_track(const TrackingProblem& p, const SynthesisOptions& o);
-TrackResult synthesize_reach_avoid(const ReachAvoidProblem& p, const SynthesisOptions& o);
+TrackResult synthesize_track(const TrackingProblem& p, const Options& o);
+TrackResult synthesize_reach_avoid(const ReachAvoidProblem& p, const Options& o);
 
 long long peak_rss_bytes();
 

@@ -1,5 +1,6 @@
 #include "synthesis_setup.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace marsyn::abcd {
@@ -90,6 +91,18 @@ double sum_tables(const std::vector<std::unique_ptr<SuccessorTable>>& tables, lo
     seconds += tab->seconds();
   }
   return seconds;
+}
+
+void record_times(double box_seconds, int threads, const Stopwatch& clock, TrackerStats& st) {
+  st.abstraction_time_s = box_seconds / threads;
+  st.synthesis_time_s = std::max(0.0, clock.seconds() - st.abstraction_time_s);
+}
+
+TrackResult invalid_input(std::string message) {
+  TrackResult r;
+  r.status = TrackerStatus::InvalidInput;
+  r.message = std::move(message);
+  return r;
 }
 
 void GridFigures::publish(TrackerStats& st) const {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "controller_file.hpp"
+#include "marsyn/stopwatch.hpp"
 #include "marsyn/tracker.hpp"
 #include "successor_cache.hpp"
 
@@ -58,6 +59,13 @@ std::vector<std::unique_ptr<SuccessorTable>> make_tables(int threads, const Succ
 
 // Adds the tables' computed boxes to `boxes_computed`; returns their seconds, summed.
 double sum_tables(const std::vector<std::unique_ptr<SuccessorTable>>& tables, long long& boxes_computed);
+
+// The sweep's times from the tables' seconds (summed over `threads` threads): the successor
+// boxes' share of the wall clock as abstraction, the rest since `clock` started as synthesis.
+void record_times(double box_seconds, int threads, const Stopwatch& clock, TrackerStats& st);
+
+// A request refused before any work: TrackerStatus::InvalidInput with this message.
+TrackResult invalid_input(std::string message);
 
 // The figures abcd reports beyond every tracker's (TrackerStats::figures, docs/tracker.md
 // "Statistics"): the grid's cells, counted as the tube is laid out and swept.

@@ -1,4 +1,4 @@
-// abcd's parameters, declared once on SynthesisOptions (abcd_tracker.cpp): the listing, where
+// abcd's parameters, declared once on abcd::Options (abcd_tracker.cpp): the listing, where
 // each value lands in the options the sweep reads, and the order and words of the refusals.
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@ using namespace marsyn::abcd;
 
 TEST(AbcdParams, ListedDefaultsAreTheOptionsTheSweepReads) {
   const auto specs = AbcdTracker::param_specs();
-  const SynthesisOptions s = AbcdTracker().options_for(TrackOptions{});
+  const Options s = AbcdTracker().options_for(TrackOptions{});
   auto listed = [&](const std::string& name) {
     for (const auto& p : specs)
       if (p.name == name) return p.default_value;
@@ -38,7 +38,7 @@ TEST(AbcdParams, EachValueLandsWhereTheSweepReadsIt) {
   p.set("enclosure_block", 11L);
   TrackOptions run;
   run.threads = 4;
-  const SynthesisOptions s = AbcdTracker(p).options_for(run);
+  const Options s = AbcdTracker(p).options_for(run);
   EXPECT_EQ(s.successor.substeps, 5);
   EXPECT_EQ(s.successor.taylor_terms, 7);
   EXPECT_EQ(s.successor.picard_iterations, 3);

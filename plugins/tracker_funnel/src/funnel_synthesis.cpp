@@ -4,7 +4,7 @@
 #include <cmath>
 #include <deque>
 #include <limits>
-#include <sstream>
+#include <optional>
 
 #include <Eigen/LU>
 #include <Eigen/Eigenvalues>
@@ -12,6 +12,8 @@
 
 #include "allowances.hpp"
 #include "marsyn/interval.hpp"
+#include "marsyn/number_text.hpp"
+#include "marsyn/period_part.hpp"
 #include "membership.hpp"
 #include "period_law.hpp"
 
@@ -22,13 +24,6 @@ using fast_detail::add_up;
 using fast_detail::mul_up;
 
 FastInterval fi(double v) { return FastInterval(v); }
-
-std::string num(double v) {
-  std::ostringstream s;
-  s.precision(4);
-  s << v;
-  return s.str();
-}
 
 // The stored box of step k: inside [x_k - eps, x_k + eps] in exact arithmetic.
 void eps_box(const Eigen::VectorXd& xk, const Eigen::VectorXd& eps, std::vector<double>& lo, std::vector<double>& hi) {
@@ -294,8 +289,8 @@ bool initial_set(const TrackingProblem& p, const Eigen::VectorXd& radius, StepSe
     s0.lo[i] = (fi(p.nominal.x[0][i]) - fi(radius[i])).lower();
     s0.hi[i] = (fi(p.nominal.x[0][i]) + fi(radius[i])).upper();
     if (s0.lo[i] < elo[i] || s0.hi[i] > ehi[i]) {
-      why = "the initial box (radius " + num(radius[i]) + " along " + p.dynamics->state_names()[i] +
-            ") is not inside the eps-box (eps " + num(p.tube.eps[i]) + ")";
+      why = "the initial box (radius " + number_text(radius[i], 4) + " along " + p.dynamics->state_names()[i] +
+            ") is not inside the eps-box (eps " + number_text(p.tube.eps[i], 4) + ")";
       return false;
     }
   }
@@ -311,14 +306,9 @@ bool initial_set(const TrackingProblem& p, const Eigen::VectorXd& radius, StepSe
 // the periods of a split set's parts), with their workspace footprint.
 void append_period_enclosures(const std::vector<const FlowResult*>& frs, const TrackingProblem& p, int k, int parts, int spp,
                               std::vector<PeriodEnclosure>& out) {
-  const int n = p.dynamics->state_dim();
+  const int n = p.dynamics->state_dim(), wd = p.workspace.dim();
   for (int part = 0; part < parts; ++part) {
-    PeriodEnclosure e;
-    e.step = k;
-    e.t0 = p.tau * (k + static_cast<double>(part) / parts);
-    e.t1 = p.tau * (k + static_cast<double>(part + 1) / parts);
-    e.state.lo.resize(n);
-    e.state.hi.resize(n);
+    PeriodEnclosure e = period_part(k, part, parts, p.tau, n, wd);
     std::vector<Interval> xi(n);
     for (int i = 0; i < n; ++i) {
       FastInterval b = frs.front()->boxes[static_cast<std::size_t>(part * spp) * n + i];
@@ -330,9 +320,6 @@ void append_period_enclosures(const std::vector<const FlowResult*>& frs, const T
     }
     Interval pw[kMaxWorkspaceDim];
     workspace_point(*p.dynamics, p.workspace, xi.data(), pw);
-    const int wd = p.workspace.dim();
-    e.workspace.lo.resize(wd);
-    e.workspace.hi.resize(wd);
     for (int c = 0; c < wd; ++c) {
       e.workspace.lo[c] = pw[c].lower();
       e.workspace.hi[c] = pw[c].upper();
@@ -352,8 +339,8 @@ bool leaves_tube(const Zonotope& zend, const StepSet& next, const TrackingProble
       const double offset = std::fabs(zend.c[i] - p.nominal.x[k + 1][i]);
       out.miss_off_centre = offset > zend.radius(i);
       out.why = "at step " + std::to_string(k + 1) + " of " + std::to_string(T) + ", " + p.dynamics->state_names()[i] +
-                " can leave the eps-tube by " + num(over) + " (enclosure half-width " + num(zend.radius(i)) +
-                " vs eps " + num(p.tube.eps[i]) + (out.miss_off_centre ? ", its centre " + num(offset) + " off the nominal" : "") +
+                " can leave the eps-tube by " + number_text(over, 4) + " (enclosure half-width " + number_text(zend.radius(i), 4) +
+                " vs eps " + number_text(p.tube.eps[i], 4) + (out.miss_off_centre ? ", its centre " + number_text(offset, 4) + " off the nominal" : "") +
                 (out.saturated_steps ? "; some inputs saturated" : "") + ")";
       out.reached_step = k;
       out.miss_coordinate = i;
@@ -412,7 +399,7 @@ std::string saturation_report(const VerifyOutcome& out, const TrackingProblem& p
     if (!count) continue;
     note += note.empty() ? ": " : "; ";
     note += names[i] + " on " + std::to_string(count) + " step(s) (" + std::to_string(first) +
-            (last > first ? "-" + std::to_string(last) : std::string()) + "), its hull up to " + num(worst) +
+            (last > first ? "-" + std::to_string(last) : std::string()) + "), its hull up to " + number_text(worst, 4) +
             " past U (step " + std::to_string(worst_step) + ")";
   }
   return note;
@@ -425,49 +412,91 @@ double rounding_factor(int terms) {
   return (terms + 3) * 0x1p-52;
 }
 
-VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::MatrixXd>& K,
-                            const std::vector<Eigen::MatrixXd>& closed, const VerifyOptions& o,
-                            const std::vector<Eigen::MatrixXd>& cost) {
-  const RoundToNearestScope nearest;
-  VerifyOutcome out;
-  const Dynamics& f = *p.dynamics;
-  const int n = f.state_dim(), m = f.input_dim(), N = n + m;
-  const int T = static_cast<int>(p.nominal.u.size());
-  FunnelData& d = out.data;
-  describe_law(p, K, d);
-  d.sets.resize(static_cast<std::size_t>(T) + 1);
+namespace {
 
-  Zonotope zx;
-  if (!initial_set(p, o.initial_radius, d.sets[0], zx, out.why)) return out;
-  if (o.keep_reach) out.reach.push_back({zx});
-  FlowOptions flow = o.flow;
-  flow.tau = p.tau;
-  // The reachable set is carried with reach_order generators per state (the period adds n + m
-  // and reduces back): a reduction boxes generators, and boxing at every step makes a contracting
-  // closed loop's enclosure grow linearly (measured on the crane: to eps in 55 steps, against 0.3
-  // eps for the linearized closed loop; with 24 n generators it stays within 0.3-0.5 eps).
-  if (flow.max_generators <= 0) flow.max_generators = std::max(3 * N, std::max(o.reach_order, 1) * n + N);
-  if (o.parts < 1 || flow.substeps % o.parts != 0) {
-    out.why = "enclosure_substeps must divide substeps";
-    return out;
+// verify_funnel's run over the horizon: the carried set as parts whose union contains every
+// reachable state (one part unless a period missed the tube and was split, split_depth times at
+// most along any line of splits), the starts kept for a rewind, and the fill figures.
+class FunnelVerifier {
+ public:
+  FunnelVerifier(const TrackingProblem& p, const std::vector<Eigen::MatrixXd>& K,
+                 const std::vector<Eigen::MatrixXd>& closed, const VerifyOptions& o,
+                 const std::vector<Eigen::MatrixXd>& cost)
+      : p_(p), K_(K), closed_(closed), cost_(cost), o_(o), n_(p.dynamics->state_dim()), m_(p.dynamics->input_dim()),
+        T_(static_cast<int>(p.nominal.u.size())) {}
+
+  VerifyOutcome run() {
+    FunnelData& d = out_.data;
+    describe_law(p_, K_, d);
+    d.sets.resize(static_cast<std::size_t>(T_) + 1);
+    Zonotope zx;
+    if (!initial_set(p_, o_.initial_radius, d.sets[0], zx, out_.why)) return std::move(out_);
+    if (o_.keep_reach) out_.reach.push_back({zx});
+    if (!choose_flow()) return std::move(out_);
+    record_fill({zx}, d.sets[0], 0);
+    law_.emplace(p_, K_, d, flow_, o_.shift_inputs);
+    parts_.push_back({std::move(zx), 0});
+    for (int k = 0; k < T_; ++k) {
+      const Step s = step(k);
+      if (s == Step::failed) return std::move(out_);
+      if (s == Step::last) break;
+    }
+    out_.mean_fill = fill_count_ ? fill_sum_ / fill_count_ : 0.0;
+    out_.reached_step = T_;
+    out_.ok = true;
+    return std::move(out_);
   }
-  const int spp = flow.substeps / o.parts;
-  double fill_sum = 0.0;
-  int fill_count = 0;
+
+ private:
+  struct Part {
+    Zonotope z;
+    int depth = 0;
+  };
+  // A step's start as it was, to split there when splitting at the miss is not enough (the
+  // remainders of the periods before it are in the carried set already).
+  struct Start {
+    int k;
+    std::vector<Part> parts;
+    double fill_sum, max_fill;
+    int fill_count, saturated_steps, shifted_steps;
+    long rows, second_order_rows;
+  };
+  // What a step ends in: the next step, the loop again from an earlier start (rewound), the
+  // outcome's failure, or the horizon's end without a fitted V_T.
+  enum class Step { next, rewound, failed, last };
+
+  bool choose_flow() {
+    flow_ = o_.flow;
+    flow_.tau = p_.tau;
+    const int N = n_ + m_;
+    // The reachable set is carried with reach_order generators per state (the period adds n + m
+    // and reduces back): a reduction boxes generators, and boxing at every step makes a contracting
+    // closed loop's enclosure grow linearly (measured on the crane: to eps in 55 steps, against 0.3
+    // eps for the linearized closed loop; with 24 n generators it stays within 0.3-0.5 eps).
+    if (flow_.max_generators <= 0) flow_.max_generators = std::max(3 * N, std::max(o_.reach_order, 1) * n_ + N);
+    if (o_.parts < 1 || flow_.substeps % o_.parts != 0) {
+      out_.why = "enclosure_substeps must divide substeps";
+      return false;
+    }
+    spp_ = flow_.substeps / o_.parts;
+    return true;
+  }
+
   // How much of the eps-box a verified set spans: its parts' hull, which its box also bounds.
-  auto record_half_width = [&](const std::vector<Zonotope>& zs, const StepSet& set, int k) {
-    std::vector<double> hw(n, 0.0);
+  void record_half_width(const std::vector<Zonotope>& zs, const StepSet& set, int k) {
+    std::vector<double> hw(n_, 0.0);
     for (const Zonotope& z : zs)
-      for (int i = 0; i < n; ++i) {
+      for (int i = 0; i < n_; ++i) {
         const FastInterval h = z.hull(i);
-        const double xk = p.nominal.x[k][i];
+        const double xk = p_.nominal.x[k][i];
         hw[i] = std::max(hw[i], std::max(std::min(h.upper(), set.hi[i]) - xk, xk - std::max(h.lower(), set.lo[i])));
       }
-    out.half_width.push_back(std::move(hw));
-  };
-  auto record_fill = [&](const std::vector<Zonotope>& zs, const StepSet& set, int k) {
+    out_.half_width.push_back(std::move(hw));
+  }
+
+  void record_fill(const std::vector<Zonotope>& zs, const StepSet& set, int k) {
     record_half_width(zs, set, k);
-    for (int i = 0; i < n; ++i) {
+    for (int i = 0; i < n_; ++i) {
       double radius = zs.front().radius(i);
       if (zs.size() > 1) {  // half the width of the parts' hull
         double a = std::numeric_limits<double>::infinity(), b = -a;
@@ -477,70 +506,63 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
         }
         radius = 0.5 * fast_detail::sub_up(b, a);
       }
-      const double r = std::min(radius, 0.5 * (set.hi[i] - set.lo[i])) / p.tube.eps[i];
-      out.max_fill = std::max(out.max_fill, r);
-      fill_sum += r;
-      ++fill_count;
+      const double r = std::min(radius, 0.5 * (set.hi[i] - set.lo[i])) / p_.tube.eps[i];
+      out_.max_fill = std::max(out_.max_fill, r);
+      fill_sum_ += r;
+      ++fill_count_;
     }
-  };
-  record_fill({zx}, d.sets[0], 0);
+  }
 
-  const PeriodLaw law(p, K, d, flow, o.shift_inputs);
-  // The carried set as parts whose union contains every reachable state; one part unless a
-  // period missed the tube and was split (split_depth times at most along any line of splits).
-  struct Part {
-    Zonotope z;
-    int depth = 0;
-  };
-  std::vector<Part> parts{{std::move(zx), 0}};
-  // The starts of the last split_lookback steps, to split there when splitting at the miss is
-  // not enough (the remainders of the periods before it are in the carried set already).
-  struct Start {
-    int k;
-    std::vector<Part> parts;
-    double fill_sum, max_fill;
-    int fill_count, saturated_steps, shifted_steps;
-    long rows, second_order_rows;
-  };
-  std::deque<Start> history;
-  int rewinds = 0;
-  for (int k = 0; k < T; ++k) {
-    if (o.split_depth > 0 && o.split_lookback > 0) {
-      history.push_back({k, parts, fill_sum, out.max_fill, fill_count, out.saturated_steps, out.shifted_steps, out.rows,
-                         out.second_order_rows});
-      if (static_cast<int>(history.size()) > o.split_lookback + 1) history.pop_front();
+  // The inputs' hull and which rows were boxed, over the step's periods.
+  void record_inputs(const std::vector<Period>& periods) {
+    std::vector<FastInterval> hull = periods.front().nominal_hull;
+    std::vector<char> boxed(m_, 0);
+    for (const Period& q : periods)
+      for (int i = 0; i < m_; ++i) {
+        hull[i] = marsyn::hull(hull[i], q.nominal_hull[i]);
+        boxed[i] |= q.boxed[i];
+      }
+    out_.input_hull.push_back(std::move(hull));
+    out_.input_boxed.push_back(std::move(boxed));
+  }
+
+  Step step(int& k) {
+    FunnelData& d = out_.data;
+    if (o_.split_depth > 0 && o_.split_lookback > 0) {
+      history_.push_back({k, parts_, fill_sum_, out_.max_fill, fill_count_, out_.saturated_steps, out_.shifted_steps,
+                          out_.rows, out_.second_order_rows});
+      if (static_cast<int>(history_.size()) > o_.split_lookback + 1) history_.pop_front();
     }
     std::vector<const Zonotope*> starts;
-    for (const Part& q : parts) starts.push_back(&q.z);
-    std::vector<Period> periods = law.best(starts, k);
-    out.periods += static_cast<long>(starts.size());
-    {
-      std::vector<FastInterval> hull = periods.front().nominal_hull;
-      std::vector<char> boxed(m, 0);
-      for (const Period& q : periods)
-        for (int i = 0; i < m; ++i) {
-          hull[i] = marsyn::hull(hull[i], q.nominal_hull[i]);
-          boxed[i] |= q.boxed[i];
-        }
-      out.input_hull.push_back(std::move(hull));
-      out.input_boxed.push_back(std::move(boxed));
-    }
+    for (const Part& q : parts_) starts.push_back(&q.z);
+    std::vector<Period> periods = law_->best(starts, k);
+    out_.periods += static_cast<long>(starts.size());
+    record_inputs(periods);
     const std::vector<double> u = periods.front().u;  // one law for every part
     d.u_nom[k] = u;  // the law's u_k (moved inside U where that was verified)
-    if (periods.front().shifted) ++out.shifted_steps;
+    if (periods.front().shifted) ++out_.shifted_steps;
     StepSet& next = d.sets[k + 1];
-    eps_box(p.nominal.x[k + 1], p.tube.eps, next.lo, next.hi);
-    // Parts whose period misses are split along their widest generator and verified again under
-    // the same law, until they fit or reach split_depth.
-    std::vector<Part> todo;
-    std::vector<Period> todo_periods;
-    for (std::size_t q = parts.size(); q-- > 0;) {
-      todo.push_back(std::move(parts[q]));
-      todo_periods.push_back(std::move(periods[q]));
-    }
+    eps_box(p_.nominal.x[k + 1], p_.tube.eps, next.lo, next.hi);
     std::vector<Part> ends;
     std::vector<Period> kept;
-    bool saturated = false, rewound = false;
+    bool saturated = false;
+    const Step s = verify_parts(k, u, next, periods, ends, kept, saturated);
+    if (s != Step::next) return s;
+    if (saturated) ++out_.saturated_steps;
+    return store(k, next, ends, kept);
+  }
+
+  // The parts' periods of step k under the law u: a part whose period misses is split along its
+  // widest generator and verified again under the same law, until it fits or reaches split_depth;
+  // then the step rewinds to the earliest start kept, or fails. The parts' ends go to `ends`.
+  Step verify_parts(int& k, const std::vector<double>& u, const StepSet& next, std::vector<Period>& periods,
+                    std::vector<Part>& ends, std::vector<Period>& kept, bool& saturated) {
+    std::vector<Part> todo;
+    std::vector<Period> todo_periods;
+    for (std::size_t q = parts_.size(); q-- > 0;) {
+      todo.push_back(std::move(parts_[q]));
+      todo_periods.push_back(std::move(periods[q]));
+    }
     while (!todo.empty()) {
       Part q = std::move(todo.back());
       Period cur = std::move(todo_periods.back());
@@ -548,121 +570,152 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
       todo_periods.pop_back();
       Zonotope zend;
       VerifyOutcome miss;
-      miss.saturated_steps = out.saturated_steps + (saturated || cur.saturated);
+      miss.saturated_steps = out_.saturated_steps + (saturated || cur.saturated);
       bool fails = !cur.fr.ok;
       if (!fails) {
-        zend.c = cur.fr.end.c.head(n);
-        zend.G = cur.fr.end.G.topRows(n);
+        zend.c = cur.fr.end.c.head(n_);
+        zend.G = cur.fr.end.G.topRows(n_);
         drop_zero_generators(zend);
         // The states at the next sample must lie in the eps-box of x_{k+1}.
-        fails = leaves_tube(zend, next, p, k, miss);
+        fails = leaves_tube(zend, next, p_, k, miss);
       }
-      const bool may_split = out.periods < static_cast<long>(o.split_work) * T;
-      if (fails && may_split && q.depth < o.split_depth && q.z.generators() > 0) {
-        auto [lo_half, hi_half] = split_widest(q.z, p.tube.eps);
-        ++out.splits;
+      const bool may_split = out_.periods < static_cast<long>(o_.split_work) * T_;
+      if (fails && may_split && q.depth < o_.split_depth && q.z.generators() > 0) {
+        auto [lo_half, hi_half] = split_widest(q.z, p_.tube.eps);
+        ++out_.splits;
         for (Zonotope* h : {&hi_half, &lo_half}) {
-          todo_periods.push_back(law.with_input(*h, k, u));
-          ++out.periods;
+          todo_periods.push_back(law_->with_input(*h, k, u));
+          ++out_.periods;
           todo.push_back({std::move(*h), q.depth + 1});
         }
         continue;
       }
-      if (fails && may_split && rewinds < o.split_depth && history.size() > 1) {
-        // Split every part that may be split at the earliest start kept, and verify from there.
-        Start back = std::move(history.front());
-        history.clear();
-        std::vector<Part> halves;
-        for (Part& b : back.parts) {
-          if (b.depth >= o.split_depth || b.z.generators() == 0) {
-            halves.push_back(std::move(b));
-            continue;
-          }
-          auto [lo_half, hi_half] = split_widest(b.z, p.tube.eps);
-          ++out.splits;
-          halves.push_back({std::move(lo_half), b.depth + 1});
-          halves.push_back({std::move(hi_half), b.depth + 1});
-        }
-        if (halves.size() > back.parts.size()) {
-          ++rewinds;
-          parts = std::move(halves);
-          fill_sum = back.fill_sum;
-          out.max_fill = back.max_fill;
-          fill_count = back.fill_count;
-          out.saturated_steps = back.saturated_steps;
-          out.shifted_steps = back.shifted_steps;
-          out.rows = back.rows;
-          out.second_order_rows = back.second_order_rows;
-          out.input_hull.resize(static_cast<std::size_t>(back.k));
-          out.input_boxed.resize(static_cast<std::size_t>(back.k));
-          d.enclosures.resize(static_cast<std::size_t>(back.k) * o.parts);
-          out.half_width.resize(static_cast<std::size_t>(back.k) + 1);
-          if (o.keep_reach) out.reach.resize(static_cast<std::size_t>(back.k) + 1);
-          k = back.k - 1;  // the loop's ++k
-          rewound = true;
-          break;
-        }
-      }
-      out.rows += cur.fr.rows;
-      out.second_order_rows += cur.fr.second_order_rows;
+      if (fails && may_split && rewinds_ < o_.split_depth && history_.size() > 1 && rewind(k)) return Step::rewound;
+      out_.rows += cur.fr.rows;
+      out_.second_order_rows += cur.fr.second_order_rows;
       saturated |= cur.saturated;
-      for (int i = 0; i < m; ++i) out.input_boxed.back()[i] |= cur.boxed[i];
+      for (int i = 0; i < m_; ++i) out_.input_boxed.back()[i] |= cur.boxed[i];
       if (fails) {
-        if (saturated) ++out.saturated_steps;
-        if (!cur.fr.ok) {
-          out.why = "no enclosure of the flow over step " + std::to_string(k) + " (the a priori enclosure failed" +
-                    (out.saturated_steps ? "; some inputs saturated" : "") + ")";
-          out.reached_step = k;
-        } else {
-          out.why = std::move(miss.why);
-          out.reached_step = miss.reached_step;
-          out.miss_coordinate = miss.miss_coordinate;
-          out.miss_amount = miss.miss_amount;
-          out.miss_off_centre = miss.miss_off_centre;
-        }
-        // Which input saturated, where, and by how much: inside the parenthesis that ends why.
-        if (out.saturated_steps) out.why.insert(out.why.size() - 1, saturation_report(out, p));
-        return out;
+        fail(k, cur, miss, saturated);
+        return Step::failed;
       }
       ends.push_back({std::move(zend), q.depth});
       kept.push_back(std::move(cur));
     }
-    if (rewound) continue;
-    if (saturated) ++out.saturated_steps;
-    out.max_parts = std::max(out.max_parts, static_cast<int>(ends.size()));
+    return Step::next;
+  }
+
+  // Splits every part that may be split at the earliest start kept, and makes the loop verify
+  // from there (k is set so that the loop's ++k reaches it); false when no part could be split.
+  bool rewind(int& k) {
+    Start back = std::move(history_.front());
+    history_.clear();
+    std::vector<Part> halves;
+    for (Part& b : back.parts) {
+      if (b.depth >= o_.split_depth || b.z.generators() == 0) {
+        halves.push_back(std::move(b));
+        continue;
+      }
+      auto [lo_half, hi_half] = split_widest(b.z, p_.tube.eps);
+      ++out_.splits;
+      halves.push_back({std::move(lo_half), b.depth + 1});
+      halves.push_back({std::move(hi_half), b.depth + 1});
+    }
+    if (halves.size() <= back.parts.size()) return false;
+    ++rewinds_;
+    parts_ = std::move(halves);
+    fill_sum_ = back.fill_sum;
+    out_.max_fill = back.max_fill;
+    fill_count_ = back.fill_count;
+    out_.saturated_steps = back.saturated_steps;
+    out_.shifted_steps = back.shifted_steps;
+    out_.rows = back.rows;
+    out_.second_order_rows = back.second_order_rows;
+    out_.input_hull.resize(static_cast<std::size_t>(back.k));
+    out_.input_boxed.resize(static_cast<std::size_t>(back.k));
+    out_.data.enclosures.resize(static_cast<std::size_t>(back.k) * o_.parts);
+    out_.half_width.resize(static_cast<std::size_t>(back.k) + 1);
+    if (o_.keep_reach) out_.reach.resize(static_cast<std::size_t>(back.k) + 1);
+    k = back.k - 1;  // the loop's ++k
+    return true;
+  }
+
+  // The outcome of a period that missed at step k: no enclosure, or the tube's miss, with which
+  // input saturated, where and by how much inside the parenthesis that ends why.
+  void fail(int k, const Period& cur, VerifyOutcome& miss, bool saturated) {
+    if (saturated) ++out_.saturated_steps;
+    if (!cur.fr.ok) {
+      out_.why = "no enclosure of the flow over step " + std::to_string(k) + " (the a priori enclosure failed" +
+                 (out_.saturated_steps ? "; some inputs saturated" : "") + ")";
+      out_.reached_step = k;
+    } else {
+      out_.why = std::move(miss.why);
+      out_.reached_step = miss.reached_step;
+      out_.miss_coordinate = miss.miss_coordinate;
+      out_.miss_amount = miss.miss_amount;
+      out_.miss_off_centre = miss.miss_off_centre;
+    }
+    if (out_.saturated_steps) out_.why.insert(out_.why.size() - 1, saturation_report(out_, p_));
+  }
+
+  // Step k verified: its period enclosures, and V_{k+1} fitted around the parts' ends (it only
+  // has to contain them; the next period starts from the parts).
+  Step store(int k, StepSet& next, std::vector<Part>& ends, const std::vector<Period>& kept) {
+    out_.max_parts = std::max(out_.max_parts, static_cast<int>(ends.size()));
     std::vector<const FlowResult*> frs;
     for (const Period& c : kept) frs.push_back(&c.fr);
-    append_period_enclosures(frs, p, k, o.parts, spp, d.enclosures);
+    append_period_enclosures(frs, p_, k, o_.parts, spp_, out_.data.enclosures);
     std::vector<Zonotope> end_sets;
     for (const Part& e : ends) end_sets.push_back(e.z);
-    // The stored set V_{k+1} only has to contain the parts; the next period starts from them.
     Eigen::VectorXd centre;
     Fit fit = verified_set(end_sets, centre, next.lo, next.hi,
-                           k + 1 < static_cast<int>(closed.size()) ? &closed[k + 1] : nullptr,
-                           k + 1 < static_cast<int>(cost.size()) ? &cost[k + 1] : nullptr, o);
+                           k + 1 < static_cast<int>(closed_.size()) ? &closed_[k + 1] : nullptr,
+                           k + 1 < static_cast<int>(cost_.size()) ? &cost_[k + 1] : nullptr, o_);
     if (!fit.ok) {
-      if (k + 1 == T) {  // V_T need not be fitted: the box is checked and no input follows
-        record_half_width(end_sets, next, T);
-        if (o.keep_reach) out.reach.push_back(std::move(end_sets));
-        break;
+      if (k + 1 == T_) {  // V_T need not be fitted: the box is checked and no input follows
+        record_half_width(end_sets, next, T_);
+        if (o_.keep_reach) out_.reach.push_back(std::move(end_sets));
+        return Step::last;
       }
-      out.why = "no verified set fits the enclosure at step " + std::to_string(k + 1) + " (degenerate)";
-      out.reached_step = k;
-      return out;
+      out_.why = "no verified set fits the enclosure at step " + std::to_string(k + 1) + " (degenerate)";
+      out_.reached_step = k;
+      return Step::failed;
     }
     next.kind = fit.kind;
-    next.c.assign(centre.data(), centre.data() + n);  // every kind: a reduction keeps the centre
+    next.c.assign(centre.data(), centre.data() + n_);  // every kind: a reduction keeps the centre
     next.S = std::move(fit.S);
     next.generators = fit.generators;
     next.tol = std::move(fit.tol);
     record_fill(end_sets, next, k + 1);
-    if (o.keep_reach) out.reach.push_back(std::move(end_sets));
-    parts = std::move(ends);
+    if (o_.keep_reach) out_.reach.push_back(std::move(end_sets));
+    parts_ = std::move(ends);
+    return Step::next;
   }
-  out.mean_fill = fill_count ? fill_sum / fill_count : 0.0;
-  out.reached_step = T;
-  out.ok = true;
-  return out;
+
+  const TrackingProblem& p_;
+  const std::vector<Eigen::MatrixXd>& K_;
+  const std::vector<Eigen::MatrixXd>& closed_;
+  const std::vector<Eigen::MatrixXd>& cost_;
+  const VerifyOptions& o_;
+  const int n_, m_, T_;
+  VerifyOutcome out_;
+  FlowOptions flow_;
+  int spp_ = 0;  // enclosure steps per period enclosure
+  std::optional<PeriodLaw> law_;  // reads out_.data and flow_, so made once both are set
+  std::vector<Part> parts_;
+  std::deque<Start> history_;  // the starts of the last split_lookback steps
+  int rewinds_ = 0;
+  double fill_sum_ = 0.0;
+  int fill_count_ = 0;
+};
+
+}  // namespace
+
+VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::MatrixXd>& K,
+                            const std::vector<Eigen::MatrixXd>& closed, const VerifyOptions& o,
+                            const std::vector<Eigen::MatrixXd>& cost) {
+  const RoundToNearestScope nearest;
+  return FunnelVerifier(p, K, closed, o, cost).run();
 }
 
 }  // namespace marsyn::funnel

@@ -20,46 +20,38 @@ constexpr double kInputWeightLadder[] = {1.0, 0.1, 10.0, 0.01, 100.0};
 constexpr int kFirstReachOrder = 8;
 constexpr double kRoomyFill = 0.25;
 
-// An integer parameter in [lo, hi], checked as soon as it is read (before it is narrowed): the
-// listed range "[lo, hi]" and the message "expected an integer in [lo, hi], got v" come from
-// the one pair.
-ParamSet<FunnelSettings>::Declared<long> integer_in(ParamSet<FunnelSettings>& s, const std::string& name,
-                                                    long FunnelSettings::*member, long lo, long hi, std::string doc) {
-  const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
-  auto d = s.add(name, member, range, std::move(doc));
-  d.check([name, member, lo, hi, range](const FunnelSettings& o) {
-    const long v = o.*member;
-    if (v < lo || v > hi) throw ParamError(name, "expected an integer in " + range + ", got " + std::to_string(v));
-  });
-  return d;
-}
-
 // A weight: positive and finite, checked as soon as it is read.
-void weight(ParamSet<FunnelSettings>& s, std::string name, double FunnelSettings::*member, std::string doc) {
+void weight(ParamSet<Options>& s, std::string name, double Options::*member, std::string doc) {
   s.add(std::move(name), member, "(0, inf)", std::move(doc))
       .require({[](const double& v) { return v > 0 && std::isfinite(v); }, "expected a positive number"});
 }
 
-ParamSet<FunnelSettings> declare() {
-  using O = FunnelSettings;
+ParamSet<Options> declare() {
+  using O = Options;
   ParamSet<O> s;
-  integer_in(s, "substeps", &O::substeps, 1, 1024,
-             "enclosure steps per sampling period, a multiple of enclosure_substeps (more: tighter, slower)");
+  s.integer("substeps", 1, 1024,
+            "enclosure steps per sampling period, a multiple of enclosure_substeps (more: tighter, slower)",
+            Checked::on_read, &O::substeps);
   // Reported under substeps, right after enclosure_substeps is read.
-  integer_in(s, "enclosure_substeps", &O::parts, 1, 64,
-             "boxes per sampling period enclosing the closed loop between samples (continuous-time guarantee)")
+  s.integer("enclosure_substeps", 1, 64,
+            "boxes per sampling period enclosing the closed loop between samples (continuous-time guarantee)",
+            Checked::on_read, &O::parts)
       .check([](const O& o) {
         if (o.substeps % o.parts != 0)
           throw ParamError("substeps", "expected a multiple of enclosure_substeps (" + std::to_string(o.parts) + "), got " +
                                            std::to_string(o.substeps));
       });
-  integer_in(s, "picard_iterations", &O::picard_iterations, 1, 100, "a priori enclosure attempts per enclosure step");
-  integer_in(s, "max_generators", &O::max_generators, 0, 1000,
-             "zonotope generators kept within a period; 0: reach_order n + n + m, after a cheap pass at 8 n + n + m; "
-             "a number: that many, in one pass");
-  integer_in(s, "reach_order", &O::reach_order, 1, 64,
-             "generators per state of the reachable-set enclosure carried from period to period (more: tighter, slower); "
-             "above 8, a pass at 8 goes first and is kept if its sets fill at most 25% of eps");
+  s.integer("picard_iterations", 1, 100, "a priori enclosure attempts per enclosure step", Checked::on_read,
+            &O::picard_iterations);
+  s.integer("max_generators", 0, 1000,
+            "zonotope generators kept within a period; 0: reach_order n + n + m, after a cheap pass at 8 n + n + m; "
+            "a number: that many, in one pass",
+            Checked::on_read, &O::max_generators);
+  s.integer(
+      "reach_order", 1, 64,
+      "generators per state of the reachable-set enclosure carried from period to period (more: tighter, slower); "
+      "above 8, a pass at 8 goes first and is kept if its sets fill at most 25% of eps",
+      Checked::on_read, &O::reach_order);
   // Its length (the state dimension) is checked per agent (assess, track).
   s.add("initial_radius", &O::initial_radius, "[0, eps)",
         "half-widths of the initial box around x0 (one per state); empty: initial_fraction x eps")
@@ -77,7 +69,8 @@ ParamSet<FunnelSettings> declare() {
   weight(s, "terminal_weight", &O::terminal_weight, "terminal cost P_T = terminal_weight Q");
   s.add("weight_search", &O::weight_search, "true|false",
         "when the weights give no verified funnel, try input weights x 0.1, 10, 0.01, 100 in turn");
-  integer_in(s, "rk4_substeps", &O::rk4_substeps, 1, 1000, "RK4 substeps of the sampled map linearized for the gains");
+  s.integer("rk4_substeps", 1, 1000, "RK4 substeps of the sampled map linearized for the gains", Checked::on_read,
+            &O::rk4_substeps);
   s.add("enclosure", &O::enclosure, "second_order|mean_value",
         "linearization error of the flow enclosure: Lagrange remainder with interval Hessians (per row the smaller "
         "of it and the mean-value bound), or the mean-value (Jacobian spread) bound alone")
@@ -88,21 +81,26 @@ ParamSet<FunnelSettings> declare() {
         "set_order (tighter; a small simplex at worst)")
       .require({[](const std::string& v) { return v == "parallelotope" || v == "zonotope"; },
                 "expected parallelotope or zonotope"});
-  integer_in(s, "set_order", &O::set_order, 2, 8, "zonotope order (generators / n) of verified_set: zonotope");
-  integer_in(s, "box_substeps", &O::box_substeps, 0, 1024,
-             "enclosure steps after which the box of new errors becomes zonotope generators; 0: once per period");
+  s.integer("set_order", 2, 8, "zonotope order (generators / n) of verified_set: zonotope", Checked::on_read,
+            &O::set_order);
+  s.integer("box_substeps", 0, 1024,
+            "enclosure steps after which the box of new errors becomes zonotope generators; 0: once per period",
+            Checked::on_read, &O::box_substeps);
   s.add("shift_inputs", &O::shift_inputs, "true|false",
         "where u_k + K (x - x_k) leaves U over the verified set but fits in it, also try the law with u_k moved "
         "inside U (an offset instead of saturation) and keep the period that ends closer inside the tube");
-  integer_in(s, "split_depth", &O::split_depth, 0, 8,
-             "times a part of the carried set that misses the tube may be split in two along its widest generator "
-             "and verified again (at most 2^split_depth parts; the controller is unchanged); 0: never");
-  integer_in(s, "input_rounds", &O::input_rounds, 0, 8,
-             "when a weight choice misses with some input enclosed saturated (past U by over 1% of its width), "
-             "redesign its gains (once per agent) up to this many times with R raised where the input hull left U "
-             "(input-aware weights); 0: never");
-  integer_in(s, "tightness_runs", &O::tightness_runs, 0, 100000,
-             "sampled closed-loop runs measuring verified half-width / largest deviation seen (a statistic; 0: off)");
+  s.integer("split_depth", 0, 8,
+            "times a part of the carried set that misses the tube may be split in two along its widest generator "
+            "and verified again (at most 2^split_depth parts; the controller is unchanged); 0: never",
+            Checked::on_read, &O::split_depth);
+  s.integer("input_rounds", 0, 8,
+            "when a weight choice misses with some input enclosed saturated (past U by over 1% of its width), "
+            "redesign its gains (once per agent) up to this many times with R raised where the input hull left U "
+            "(input-aware weights); 0: never",
+            Checked::on_read, &O::input_rounds);
+  s.integer("tightness_runs", 0, 100000,
+            "sampled closed-loop runs measuring verified half-width / largest deviation seen (a statistic; 0: off)",
+            Checked::on_read, &O::tightness_runs);
   return s;
 }
 
@@ -234,134 +232,155 @@ VerifyOptions FunnelTracker::verify_options(const Eigen::VectorXd& eps) const {
   return vo;
 }
 
-// The gains and the verification: the input weights of the ladder in turn, each with the cheap
-// pass first; the first verified funnel, or the one that got furthest.
-FunnelTracker::Search FunnelTracker::search(const TrackingProblem& p) const {
-  VerifyOptions vo = verify_options(p.tube.eps);
-  const int n = p.dynamics->state_dim(), m = p.dynamics->input_dim();
-  Search out;
-  VerifyOutcome& best = out.best;
-  double& gain_time = out.gain_time;
-  double& verify_time = out.verify_time;
-  int& attempts = out.attempts;
+// search's run: the input weights of the ladder in turn, each with the cheap pass first; the
+// first verified funnel, or the one that got furthest.
+class FunnelTracker::Ladder {
+ public:
+  Ladder(const FunnelTracker& tracker, const TrackingProblem& p)
+      : s_(tracker.s_), p_(p), vo_(tracker.verify_options(p.tube.eps)) {}
 
-  LqrWeights wt;
-  wt.q.resize(n);
-  wt.r.resize(m);
-  for (int i = 0; i < n; ++i) wt.q[i] = s_.state_weight / (p.tube.eps[i] * p.tube.eps[i]);
-  wt.terminal = s_.terminal_weight;
-  const int tries = s_.weight_search ? static_cast<int>(std::size(kInputWeightLadder)) : 1;
-  best.reached_step = -1;
-  // A cheap pass first: carried at order kFirstReachOrder the enclosure verifies most agents of
-  // large teams (the circle swaps' unicycles fill 14% of eps either way) at about half the cost.
-  // Where it misses, or its sets fill more than kRoomyFill of eps, the same gains again at
-  // reach_order. An explicit max_generators keeps one pass.
-  std::vector<int> orders{static_cast<int>(s_.reach_order)};
-  if (s_.reach_order > kFirstReachOrder && s_.max_generators == 0) orders.insert(orders.begin(), kFirstReachOrder);
-  int& best_order = out.order;
-  int& weight_choices = out.weight_choices;
-  best_order = orders.back();
-  VerifyOutcome cheap;
-  // Splitting (split_depth) is a second chance: the ladder runs without it, so that what verifies
-  // without splits costs what it did; then the gains that got furthest are verified again with
-  // splits, once.
-  const int split_depth = vo.split_depth;
-  vo.split_depth = 0;
-  LqrGains furthest;
+  Search run() {
+    const int n = p_.dynamics->state_dim(), m = p_.dynamics->input_dim();
+    LqrWeights wt;
+    wt.q.resize(n);
+    wt.r.resize(m);
+    for (int i = 0; i < n; ++i) wt.q[i] = s_.state_weight / (p_.tube.eps[i] * p_.tube.eps[i]);
+    wt.terminal = s_.terminal_weight;
+    const int tries = s_.weight_search ? static_cast<int>(std::size(kInputWeightLadder)) : 1;
+    best().reached_step = -1;
+    // A cheap pass first: carried at order kFirstReachOrder the enclosure verifies most agents of
+    // large teams (the circle swaps' unicycles fill 14% of eps either way) at about half the cost.
+    // Where it misses, or its sets fill more than kRoomyFill of eps, the same gains again at
+    // reach_order. An explicit max_generators keeps one pass.
+    orders_ = {static_cast<int>(s_.reach_order)};
+    if (s_.reach_order > kFirstReachOrder && s_.max_generators == 0) orders_.insert(orders_.begin(), kFirstReachOrder);
+    out_.order = orders_.back();
+    // Splitting (split_depth) is a second chance: the ladder runs without it, so that what
+    // verifies without splits costs what it did; then the gains that got furthest are verified
+    // again with splits, once.
+    const int split_depth = vo_.split_depth;
+    vo_.split_depth = 0;
+    // Input-aware rounds go to the first weight choice whose furthest pass enclosed some input
+    // as a saturated box (one agent pays for at most input_rounds more designs).
+    bool rounds_left = s_.input_rounds > 0;
+    for (int t = 0; t < tries; ++t) {
+      for (int j = 0; j < m; ++j) {
+        const double half = 0.5 * (p_.input_bounds.hi[j] - p_.input_bounds.lo[j]);
+        wt.r[j] = s_.input_weight * kInputWeightLadder[t] / (half > 0 ? half * half : 1.0);
+      }
+      wt.r_steps.clear();
+      LqrGains g = design(wt);
+      if (!g.ok()) continue;
+      ++out_.weight_choices;
+      VerifyOutcome last;
+      if (verify_gains(g, last, orders_, true) && !best().ok) furthest_ = g;
+      if (!best().ok && !cheap_.ok && rounds_left && saturation_matters(p_, last)) {
+        rounds_left = false;
+        input_aware_rounds(std::move(g), last, wt);
+      }
+      if (best().ok) break;
+      if (cheap_.ok) {
+        best() = std::move(cheap_);
+        out_.order = kFirstReachOrder;
+        break;
+      }
+    }
+    if (!best().ok && split_depth > 0 && furthest_.ok()) verify_with_splits(split_depth);
+    return std::move(out_);
+  }
+
+ private:
+  VerifyOutcome& best() { return out_.best; }
+
+  LqrGains design(const LqrWeights& w) {
+    const Stopwatch tg;
+    LqrGains g = lqr_gains(*p_.dynamics, p_.nominal, p_.tau, s_.rk4_substeps, w);
+    out_.gain_time += tg.seconds();
+    return g;
+  }
+
+  VerifyOutcome verify(const LqrGains& g) {
+    const Stopwatch tv;
+    VerifyOutcome v = verify_funnel(p_, g.K, g.closed, vo_, g.cost);
+    out_.verify_time += tv.seconds();
+    ++out_.attempts;
+    return v;
+  }
+
   // The gains g through the passes (cheap first); true if some pass got further than best.
   // `last` receives the furthest pass of g (its input hulls feed the input-aware weights).
   // A pass that fails replaces best only when `ranked` (the ladder's): the input-aware rounds
   // are kept when they verify, and a miss is reported as the ladder's, whose reason (a centre
   // off the nominal, the share of saturated steps) the outer search reacts to.
-  auto verify_gains = [&](const LqrGains& g, VerifyOutcome& last, const std::vector<int>& passes, bool ranked) {
+  bool verify_gains(const LqrGains& g, VerifyOutcome& last, const std::vector<int>& passes, bool ranked) {
     bool further = false;
     last.reached_step = -1;
     for (const int order : passes) {
-      vo.reach_order = order;
-      const Stopwatch tv;
-      VerifyOutcome v = verify_funnel(p, g.K, g.closed, vo, g.cost);
-      verify_time += tv.seconds();
-      ++attempts;
-      if (v.ok && order != orders.back() && v.max_fill > kRoomyFill) {
+      vo_.reach_order = order;
+      VerifyOutcome v = verify(g);
+      if (v.ok && order != orders_.back() && v.max_fill > kRoomyFill) {
         // Verified, but its sets use much of the tube: the tighter pass gives the monitor and
         // the tightness figure sets up to 2x smaller (funnel_bench); this one stays as the fallback.
-        cheap = std::move(v);
+        cheap_ = std::move(v);
         continue;
       }
       if (!v.ok && v.reached_step >= last.reached_step) last = v;
-      if (v.ok || (ranked && v.reached_step > best.reached_step)) {
-        best = std::move(v);
-        best_order = order;
+      if (v.ok || (ranked && v.reached_step > best().reached_step)) {
+        best() = std::move(v);
+        out_.order = order;
         further = true;
       }
-      if (best.ok) break;
+      if (best().ok) break;
     }
     return further;
-  };
-  auto design = [&](const LqrWeights& w) {
-    const Stopwatch tg;
-    LqrGains g = lqr_gains(*p.dynamics, p.nominal, p.tau, s_.rk4_substeps, w);
-    gain_time += tg.seconds();
-    return g;
-  };
-  // Input-aware rounds go to the first weight choice whose furthest pass enclosed some input as
-  // a saturated box (one agent pays for at most input_rounds more designs).
-  bool rounds_left = s_.input_rounds > 0;
-  for (int t = 0; t < tries; ++t) {
-    for (int j = 0; j < m; ++j) {
-      const double half = 0.5 * (p.input_bounds.hi[j] - p.input_bounds.lo[j]);
-      wt.r[j] = s_.input_weight * kInputWeightLadder[t] / (half > 0 ? half * half : 1.0);
-    }
-    wt.r_steps.clear();
-    LqrGains g = design(wt);
-    if (!g.ok()) continue;
-    ++weight_choices;
-    VerifyOutcome last;
-    if (verify_gains(g, last, orders, true) && !best.ok) furthest = g;
-    if (!best.ok && !cheap.ok && rounds_left && saturation_matters(p, last)) {
-      rounds_left = false;
-      int reached = last.reached_step;
-      for (int round = 0; round < s_.input_rounds && !best.ok && !cheap.ok; ++round) {
-        LqrWeights aware = wt;
-        const InputReweighting rw = input_aware_weights(p, g, last, aware.r_steps);
-        if (rw.rows == 0) break;
-        LqrGains h = design(aware);
-        if (!h.ok()) break;
-        ++out.input_rounds;
-        out.reweighted_rows = rw.rows;
-        verify_gains(h, last, {orders.back()}, false);
-        out.input_reached = std::max(out.input_reached, last.reached_step);
-        if (best.ok) out.input_aware = true;
-        // A redesign that got no further, or left no input saturated by more than 1% of U, ends
-        // the rounds: the miss is then the enclosure's, not the inputs' (on
-        // tests/problems/15 the boat's later rounds missed with r past U by 0.003 or less).
-        if (!saturation_matters(p, last) || last.reached_step <= reached) break;
-        reached = last.reached_step;
-        g = std::move(h);
-      }
-    }
-    if (best.ok) break;
-    if (cheap.ok) {
-      best = std::move(cheap);
-      best_order = kFirstReachOrder;
-      break;
+  }
+
+  // Gains g missed with some input saturated: redesigned with R raised where the input hull left
+  // U, up to input_rounds times, while each redesign gets further and still saturates.
+  void input_aware_rounds(LqrGains g, VerifyOutcome& last, const LqrWeights& wt) {
+    int reached = last.reached_step;
+    for (int round = 0; round < s_.input_rounds && !best().ok && !cheap_.ok; ++round) {
+      LqrWeights aware = wt;
+      const InputReweighting rw = input_aware_weights(p_, g, last, aware.r_steps);
+      if (rw.rows == 0) break;
+      LqrGains h = design(aware);
+      if (!h.ok()) break;
+      ++out_.input_rounds;
+      out_.reweighted_rows = rw.rows;
+      verify_gains(h, last, {orders_.back()}, false);
+      out_.input_reached = std::max(out_.input_reached, last.reached_step);
+      if (best().ok) out_.input_aware = true;
+      // A redesign that got no further, or left no input saturated by more than 1% of U, ends
+      // the rounds: the miss is then the enclosure's, not the inputs' (on
+      // tests/problems/15 the boat's later rounds missed with r past U by 0.003 or less).
+      if (!saturation_matters(p_, last) || last.reached_step <= reached) break;
+      reached = last.reached_step;
+      g = std::move(h);
     }
   }
-  if (!best.ok && split_depth > 0 && furthest.ok()) {
-    vo.split_depth = split_depth;
-    vo.reach_order = orders.back();  // the tighter pass: splits pay only where the rest is tight
-    const Stopwatch tv;
-    VerifyOutcome v = verify_funnel(p, furthest.K, furthest.closed, vo, furthest.cost);
-    verify_time += tv.seconds();
-    ++attempts;
-    out.split_tried = true;
-    if (v.ok || v.reached_step > best.reached_step) {
-      best = std::move(v);
-      best_order = orders.back();
+
+  // The gains that got furthest, verified again with splits, once.
+  void verify_with_splits(int split_depth) {
+    vo_.split_depth = split_depth;
+    vo_.reach_order = orders_.back();  // the tighter pass: splits pay only where the rest is tight
+    VerifyOutcome v = verify(furthest_);
+    out_.split_tried = true;
+    if (v.ok || v.reached_step > best().reached_step) {
+      best() = std::move(v);
+      out_.order = orders_.back();
     }
   }
-  return out;
-}
+
+  const Options& s_;
+  const TrackingProblem& p_;
+  VerifyOptions vo_;
+  std::vector<int> orders_;  // the reach orders of the passes, the tighter last
+  Search out_;
+  VerifyOutcome cheap_;  // a cheap pass that verified with roomy sets: the fallback
+  LqrGains furthest_;    // the ladder's gains that got furthest
+};
+
+FunnelTracker::Search FunnelTracker::search(const TrackingProblem& p) const { return Ladder(*this, p).run(); }
 
 TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) const {
   TrackResult res;

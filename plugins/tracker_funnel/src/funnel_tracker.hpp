@@ -14,7 +14,7 @@ namespace marsyn::funnel {
 // The tracker's parameters with their defaults, each declared once in funnel_tracker.cpp
 // (marsyn/param_set.hpp): the listing, the parsing and the checks read that declaration. The
 // integers are long, as written in the config, so that a range is checked before narrowing.
-struct FunnelSettings {
+struct Options {
   long substeps = 16;
   long parts = 8;  // the parameter enclosure_substeps
   long picard_iterations = 20;
@@ -53,7 +53,7 @@ class FunnelTracker : public marsyn::Tracker {
   bool apply_lever(const std::string& name, const TrackFailure& failure, AgentSpec& agent) const override;
   std::shared_ptr<const Controller> read_controller(const std::string& path) const override;
 
-  const FunnelSettings& settings() const { return s_; }
+  const Options& options() const { return s_; }
   // Test hook: scales the second-order remainder (docs/soundness.md section 11); 1 is sound.
   void scale_remainder_for_tests(double scale) { remainder_scale_ = scale; }
   // Test hook: the verified run's reachable-set enclosures (VerifyOutcome::reach) go to *out.
@@ -72,9 +72,10 @@ class FunnelTracker : public marsyn::Tracker {
     int input_reached = -1;    // the furthest step they verified (when none verified)
     bool input_aware = false;  // the verified funnel is one of them
   };
+  class Ladder;  // search's run (funnel_tracker.cpp)
   Search search(const TrackingProblem& p) const;
 
-  FunnelSettings s_;
+  Options s_;
   double remainder_scale_ = 1.0;
   std::vector<std::vector<Zonotope>>* reach_out_ = nullptr;
 };

@@ -2,10 +2,11 @@
 // The closed-loop runs as the user sees them (VerificationOptions::progress): runs done, runs per
 // second and the time left. On a terminal (`live` set) a bar redrawn in place at most ten times
 // a second; otherwise a plain line through `log` at every quarter, so that a log file stays short.
-#include <chrono>
 #include <cstdio>
 #include <functional>
 #include <string>
+
+#include "marsyn/stopwatch.hpp"
 
 namespace marsyn {
 
@@ -16,7 +17,7 @@ class RunProgress {
 
   // verify() calls this under its own lock.
   void operator()(int done, int total) {
-    const double t = std::chrono::duration<double>(Clock::now() - t0_).count();
+    const double t = clock_.seconds();
     char rate[96];
     std::snprintf(rate, sizeof rate, ", %.0f runs/s, about %.0f s left", t > 0 ? done / t : 0.0,
                   done > 0 ? t / done * (total - done) : 0.0);
@@ -38,9 +39,8 @@ class RunProgress {
   }
 
  private:
-  using Clock = std::chrono::steady_clock;
   Sink log_, live_;
-  Clock::time_point t0_ = Clock::now();
+  Stopwatch clock_;
   int last_quarter_ = 0;
   double drawn_ = -1.0;
 };
