@@ -104,33 +104,56 @@ bool same_waypoints(const std::vector<Waypoint>& p, const std::vector<Waypoint>&
 }
 
 // The horizon search of one planner: T, then longer horizons, each warm-started from the last.
-PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSearchOptions& options,
-                   std::optional<GlobalPlan> warm, const Stopwatch& clock) {
-  PlanOutcome best;
-  best.check.min_margin = -std::numeric_limits<double>::infinity();
-  int horizon = problem.horizon;
-  if (horizon <= 0) throw std::invalid_argument("marsyn::planning::plan: the problem's horizon must be positive");
-  if (warm) horizon = std::max(horizon, warm->horizon());
-  // Continuous time: the requirements are imposed between the samples too (the assembly's
-  // interior points), so a converged plan normally passes the exact check at once. One that is
-  // robust at its samples and still short between them is re-planned at the same horizon with
-  // more clearance for the requirements that fell short (a small budget per horizon; clearance
-  // only grows, so rounds do not undo each other), before a longer horizon is tried.
-  AssemblyOptions assembly = options.assembly;
-  const bool mission = has_stages(problem);
-  // The visit knots: the given ones when they are a schedule at the first horizon, else the
-  // initial schedule; re-timed along the plans (retime_missions) at most retime_rounds times per
-  // horizon; a longer horizon starts again from the initial schedule.
-  MissionSchedule visits = schedule_or_initial(problem, options.assembly.visits, horizon);
-  int horizons = 0, retries_here = 0, retimed_here = 0;
-  bool clearance_dropped = false, routes = false, retimed = false, other_tried = false;
-  // Agents whose routes pass the first obstacle on their way on another side than the shortest
-  // (another homotopy class), and the margin of the attempt before that change when it is
-  // still to be judged (kept for later horizons only when the new class did better).
-  std::vector<int> other_side, other_before;
-  std::optional<double> other_judge;
-  constexpr int kRetriesPerHorizon = 2;
-  // One solve at `horizon` with `assembly` and `visits`: the attempt, the planner's result and
+// Continuous time: the requirements are imposed between the samples too (the assembly's
+// interior points), so a converged plan normally passes the exact check at once. One that is
+// robust at its samples and still short between them is re-planned at the same horizon with
+// more clearance for the requirements that fell short (a small budget per horizon; clearance
+// only grows, so rounds do not undo each other), before a longer horizon is tried. The other
+// levers at one horizon, in order: re-timed mission knots, routes around the obstacles,
+// another homotopy class, the clearance between the samples dropped.
+class HorizonSearch {
+ public:
+  HorizonSearch(const Problem& problem, const Planner& planner, const PlanSearchOptions& options,
+                std::optional<GlobalPlan> warm, const Stopwatch& clock)
+      : problem_(problem), planner_(planner), options_(options), clock_(clock), warm_(std::move(warm)),
+        assembly_(options.assembly), mission_(has_stages(problem)) {
+    best_.check.min_margin = -std::numeric_limits<double>::infinity();
+    horizon_ = problem.horizon;
+    if (horizon_ <= 0) throw std::invalid_argument("marsyn::planning::plan: the problem's horizon must be positive");
+    if (warm_) horizon_ = std::max(horizon_, warm_->horizon());
+    visits_ = schedule_or_initial(problem, options.assembly.visits, horizon_);
+  }
+
+  PlanOutcome run() {
+    int horizons = 0;
+    while (horizons < std::max(1, options_.max_attempts)) {
+      const double left = options_.time_limit_s - clock_.seconds();
+      if (!best_.attempts.empty() && left <= 0) {
+        log("time limit reached: no further horizons tried");
+        break;
+      }
+      Solved one = solve_once(warm_, left);
+      retimed_ = false;
+      judge_other_side(one.a);
+      keep_if_better(one);
+      if (best_.feasible) break;
+      if (!one.clean.u.empty()) warm_ = one.clean;
+      if (more_clearance_between(one.a) || retime_knots(one) || take_routes(one) || other_homotopy_class(one) ||
+          drop_clearance(one.a))
+        continue;
+      ++horizons;
+      retries_here_ = retimed_here_ = 0;
+      horizon_ = std::max(horizon_ + 1, static_cast<int>(std::ceil(horizon_ * options_.horizon_growth)));
+      visits_ = schedule_missions(problem_, horizon_);
+    }
+    if (best_.feasible && mission_) retime_robust_plan();
+    return std::move(best_);
+  }
+
+ private:
+  static constexpr int kRetriesPerHorizon = 2;
+
+  // One solve at the current horizon, assembly and visits: the attempt, the planner's result and
   // the clamped, re-simulated plan.
   struct Solved {
     PlanAttempt a;
@@ -138,202 +161,223 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
     GlobalPlan clean;
     bool waypoints = false;  // the planner was given waypoints (stages' or routes')
   };
-  auto solve_once = [&](const std::optional<GlobalPlan>& from, double left) {
+
+  void log(const std::string& line) const {
+    if (options_.log) options_.log(line);
+  }
+
+  Solved solve_once(const std::optional<GlobalPlan>& from, double left) {
     Solved out;
-    assembly.visits = visits;
-    PlanningProblem pp = assemble(problem, horizon, assembly);
-    if (from) pp.warm_start = extend(problem, *from, horizon);
-    if (routes) pp.waypoints = route_waypoints(problem, horizon, other_side);
+    assembly_.visits = visits_;
+    PlanningProblem pp = assemble(problem_, horizon_, assembly_);
+    if (from) pp.warm_start = extend(problem_, *from, horizon_);
+    if (routes_) pp.waypoints = route_waypoints(problem_, horizon_, other_side_);
     out.waypoints = !pp.waypoints.empty();
     PlanOptions po;
     po.time_limit_s = std::max(left, 1e-3);
-    po.progress = options.progress;
-    out.res = planner.solve(pp, po);
+    po.progress = options_.progress;
+    out.res = planner_.solve(pp, po);
     PlanAttempt& a = out.a;
-    a.planner = planner.name();
-    a.horizon = horizon;
+    a.planner = planner_.name();
+    a.horizon = horizon_;
     a.status = out.res.status;
     a.iterations = out.res.iterations;
     a.solve_time_s = out.res.solve_time_s;
     a.max_violation = out.res.max_violation;
     a.message = out.res.message;
-    a.visits = visits;
-    a.retimed = retimed;
-    if (static_cast<int>(out.res.plan.u.size()) == horizon) {
-      out.clean = clamp_and_resimulate(problem, out.res.plan);
-      a.check = check_robust(problem, out.clean, visits);
-      a.effort = input_effort(problem, out.clean);
+    a.visits = visits_;
+    a.retimed = retimed_;
+    if (static_cast<int>(out.res.plan.u.size()) == horizon_) {
+      out.clean = clamp_and_resimulate(problem_, out.res.plan);
+      a.check = check_robust(problem_, out.clean, visits_);
+      a.effort = input_effort(problem_, out.clean);
     } else {
       a.check.message = "the planner returned no inputs";
       a.check.min_margin = -std::numeric_limits<double>::infinity();
     }
-    if (options.log) {
+    if (options_.log) {
       std::ostringstream os;
-      os << (options.warm_start_planner ? a.planner + " " : std::string()) << "T = " << horizon << ": "
+      os << (options_.warm_start_planner ? a.planner + " " : std::string()) << "T = " << horizon_ << ": "
          << to_string(out.res.status) << " after " << out.res.iterations << " iterations, " << out.res.solve_time_s
          << " s, violation " << out.res.max_violation << "; " << a.check.message;
-      if (mission) os << "; visits " << knots_text(problem, visits) << ", input effort " << a.effort;
+      if (mission_) os << "; visits " << knots_text(problem_, visits_) << ", input effort " << a.effort;
       if (!out.res.message.empty()) os << "; planner: " << out.res.message;
-      options.log(os.str());
+      options_.log(os.str());
     }
     return out;
-  };
-  while (horizons < std::max(1, options.max_attempts)) {
-    const double left = options.time_limit_s - clock.seconds();
-    if (!best.attempts.empty() && left <= 0) {
-      if (options.log) options.log("time limit reached: no further horizons tried");
-      break;
-    }
-    Solved one = solve_once(warm, left);
-    retimed = false;
-    PlanAttempt& a = one.a;
-    if (other_judge) {
-      if (!(a.check.min_margin > *other_judge)) other_side = other_before;
-      other_judge.reset();
-    }
-    PlanResult& res = one.res;
-    GlobalPlan& clean = one.clean;
-    best.attempts.push_back(a);
-    const bool better = best.attempts.size() == 1 || a.check.passed || a.check.min_margin > best.check.min_margin;
-    if (better && !best.feasible) {
-      best.extra = assembly.extra;
-      best.horizon = horizon;
-      best.result = std::move(res);
-      best.check = a.check;
-      best.plan = clean;
-      best.visits = visits;
-      best.feasible = a.check.passed;
-    }
-    if (best.feasible) break;
-    if (!clean.u.empty()) warm = clean;
-    if (short_between_only(a.check) && retries_here < kRetriesPerHorizon) {
-      ++retries_here;
-      more_clearance(assembly, a.check);
-      if (options.log) {
-        std::ostringstream os;
-        os << "robust at the samples, short by " << -a.check.between_margin << " between them ("
-           << a.check.worst_between << " after step " << a.check.worst_between_step << "; "
-           << a.check.between_shortfalls.size() << " requirement(s) short): re-planning T = " << horizon
-           << " with more clearance for them";
-        options.log(os.str());
-      }
-      continue;
-    }
-    // Short at a stage's knots: the knots re-timed along this plan (where it passes deepest
-    // through each region, at an even pace along its path) before anything else is changed.
-    if (mission && retimed_here < options.retime_rounds && !clean.u.empty() && short_at_a_stage(a.check)) {
-      const MissionSchedule next = retime_missions(problem, visits, clean.x);
-      if (next.visit != visits.visit) {
-        ++retimed_here;
-        if (options.log)
-          options.log("short at a stage's knots: re-planning T = " + std::to_string(horizon) + " at knots re-timed along the plan (" +
-                      knots_text(problem, next) + ")");
-        visits = next;
-        retimed = true;
-        continue;
-      }
-    }
-    // Short at the samples with agents whose straight way is blocked by obstacles: the local
-    // solver may be pressing them into a gap they cannot pass (one too narrow for eps + delta
-    // on both sides). The same horizon once more, cold, from routes around the obstacles (the
-    // shortest path per agent around the grown obstacles, as waypoints of the reference); later
-    // horizons keep the routes.
-    if (!routes && options.routes && a.check.sampled_margin < 0 && !one.waypoints) {
-      const auto ways = route_waypoints(problem, horizon);
-      if (!ways.empty()) {
-        routes = true;
-        warm.reset();
-        if (options.log)
-          options.log("not robust at the samples, and straight lines cross obstacles: re-planning T = " +
-                      std::to_string(horizon) + " from routes around them (" + std::to_string(ways.size()) +
-                      " waypoints)");
-        continue;
-      }
-    }
-    // Routes taken and still short at the samples, the worst requirement an agent's (two agents
-    // meeting head-on in a lane, say): the same horizon once more, cold, with that agent's route
-    // passing the first obstacle on its way on another side (another homotopy class).
-    if (routes && one.waypoints && !other_tried && options.routes && a.check.sampled_margin < 0) {
-      other_tried = true;
-      const auto now = route_waypoints(problem, horizon, other_side);
-      bool changed = false;
-      for (int who : {a.check.worst_agents[1], a.check.worst_agents[0]}) {
-        if (who < 0 || std::find(other_side.begin(), other_side.end(), who) != other_side.end()) continue;
-        std::vector<int> flip = other_side;
-        flip.push_back(who);
-        if (same_waypoints(route_waypoints(problem, horizon, flip), now)) continue;
-        other_before = other_side;
-        other_judge = a.check.min_margin;
-        other_side = flip;
-        warm.reset();
-        if (options.log)
-          options.log("not robust at the samples along the routes (" + a.check.worst + "): re-planning T = " +
-                      std::to_string(horizon) + " with " + problem.agents[who].name +
-                      " passing the first obstacle on its way on the other side (another homotopy class)");
-        changed = true;
-        break;
-      }
-      if (changed) continue;
-    }
-    // The clearance between the samples is sized for moving agents; a plan that must end (or
-    // wait) pressed against a requirement cannot keep it. Before a longer horizon, the same one
-    // once without it (the exact check and the targeted re-plans above then decide), when the
-    // shortfall at the samples is one the clearance could explain.
-    if (!clearance_dropped && assembly.between_clearance > 0 && a.check.sampled_margin < 0 &&
-        -a.check.sampled_margin <= largest_clearance(problem, horizon, assembly) &&
-        problem.guarantee == Guarantee::Continuous) {
-      clearance_dropped = true;
-      assembly.between_clearance = 0.0;
-      if (options.log)
-        options.log("not robust at the samples with the clearance between them: re-planning T = " +
-                    std::to_string(horizon) + " without it");
-      continue;
-    }
-    ++horizons;
-    retries_here = retimed_here = 0;
-    horizon = std::max(horizon + 1, static_cast<int>(std::ceil(horizon * options.horizon_growth)));
-    visits = schedule_missions(problem, horizon);
   }
+
+  void keep_if_better(Solved& one) {
+    const PlanAttempt& a = one.a;
+    best_.attempts.push_back(a);
+    const bool better = best_.attempts.size() == 1 || a.check.passed || a.check.min_margin > best_.check.min_margin;
+    if (better && !best_.feasible) {
+      best_.extra = assembly_.extra;
+      best_.horizon = horizon_;
+      best_.result = std::move(one.res);
+      best_.check = a.check;
+      best_.plan = one.clean;
+      best_.visits = visits_;
+      best_.feasible = a.check.passed;
+    }
+  }
+
+  // Robust at the samples, short between them: more clearance for the requirements short there.
+  bool more_clearance_between(const PlanAttempt& a) {
+    if (!short_between_only(a.check) || retries_here_ >= kRetriesPerHorizon) return false;
+    ++retries_here_;
+    more_clearance(assembly_, a.check);
+    std::ostringstream os;
+    os << "robust at the samples, short by " << -a.check.between_margin << " between them (" << a.check.worst_between
+       << " after step " << a.check.worst_between_step << "; " << a.check.between_shortfalls.size()
+       << " requirement(s) short): re-planning T = " << horizon_ << " with more clearance for them";
+    log(os.str());
+    return true;
+  }
+
+  // Short at a stage's knots: the knots re-timed along this plan (where it passes deepest
+  // through each region, at an even pace along its path) before anything else is changed.
+  bool retime_knots(const Solved& one) {
+    if (!mission_ || retimed_here_ >= options_.retime_rounds || one.clean.u.empty() || !short_at_a_stage(one.a.check))
+      return false;
+    const MissionSchedule next = retime_missions(problem_, visits_, one.clean.x);
+    if (next.visit == visits_.visit) return false;
+    ++retimed_here_;
+    log("short at a stage's knots: re-planning T = " + std::to_string(horizon_) + " at knots re-timed along the plan (" +
+        knots_text(problem_, next) + ")");
+    visits_ = next;
+    retimed_ = true;
+    return true;
+  }
+
+  // Short at the samples with agents whose straight way is blocked by obstacles: the local
+  // solver may be pressing them into a gap they cannot pass (one too narrow for eps + delta
+  // on both sides). The same horizon once more, cold, from routes around the obstacles (the
+  // shortest path per agent around the grown obstacles, as waypoints of the reference); later
+  // horizons keep the routes.
+  bool take_routes(const Solved& one) {
+    if (routes_ || !options_.routes || !(one.a.check.sampled_margin < 0) || one.waypoints) return false;
+    const auto ways = route_waypoints(problem_, horizon_);
+    if (ways.empty()) return false;
+    routes_ = true;
+    warm_.reset();
+    log("not robust at the samples, and straight lines cross obstacles: re-planning T = " + std::to_string(horizon_) +
+        " from routes around them (" + std::to_string(ways.size()) + " waypoints)");
+    return true;
+  }
+
+  // Routes taken and still short at the samples, the worst requirement an agent's (two agents
+  // meeting head-on in a lane, say): the same horizon once more, cold, with that agent's route
+  // passing the first obstacle on its way on another side (another homotopy class).
+  bool other_homotopy_class(const Solved& one) {
+    const PlanAttempt& a = one.a;
+    if (!routes_ || !one.waypoints || other_tried_ || !options_.routes || !(a.check.sampled_margin < 0)) return false;
+    other_tried_ = true;
+    const auto now = route_waypoints(problem_, horizon_, other_side_);
+    for (int who : {a.check.worst_agents[1], a.check.worst_agents[0]}) {
+      if (who < 0 || std::find(other_side_.begin(), other_side_.end(), who) != other_side_.end()) continue;
+      std::vector<int> flip = other_side_;
+      flip.push_back(who);
+      if (same_waypoints(route_waypoints(problem_, horizon_, flip), now)) continue;
+      other_before_ = other_side_;
+      other_judge_ = a.check.min_margin;
+      other_side_ = flip;
+      warm_.reset();
+      log("not robust at the samples along the routes (" + a.check.worst + "): re-planning T = " +
+          std::to_string(horizon_) + " with " + problem_.agents[who].name +
+          " passing the first obstacle on its way on the other side (another homotopy class)");
+      return true;
+    }
+    return false;
+  }
+
+  // The attempt after a change of homotopy class decides whether later horizons keep it.
+  void judge_other_side(const PlanAttempt& a) {
+    if (!other_judge_) return;
+    if (!(a.check.min_margin > *other_judge_)) other_side_ = other_before_;
+    other_judge_.reset();
+  }
+
+  // The clearance between the samples is sized for moving agents; a plan that must end (or
+  // wait) pressed against a requirement cannot keep it. Before a longer horizon, the same one
+  // once without it (the exact check and the targeted re-plans above then decide), when the
+  // shortfall at the samples is one the clearance could explain.
+  bool drop_clearance(const PlanAttempt& a) {
+    if (clearance_dropped_ || !(assembly_.between_clearance > 0) || !(a.check.sampled_margin < 0) ||
+        !(-a.check.sampled_margin <= largest_clearance(problem_, horizon_, assembly_)) ||
+        problem_.guarantee != Guarantee::Continuous)
+      return false;
+    clearance_dropped_ = true;
+    assembly_.between_clearance = 0.0;
+    log("not robust at the samples with the clearance between them: re-planning T = " + std::to_string(horizon_) +
+        " without it");
+    return true;
+  }
+
   // A robust plan: its knots re-timed along it and the same horizon solved again from it, kept
   // only when robust with less input effort (the exact check judges, the effort compares).
-  if (best.feasible && mission) {
-    horizon = best.horizon;
-    double effort = input_effort(problem, best.plan);
-    for (int r = 0; r < options.retime_rounds; ++r) {
-      const double left = options.time_limit_s - clock.seconds();
+  void retime_robust_plan() {
+    horizon_ = best_.horizon;
+    double effort = input_effort(problem_, best_.plan);
+    for (int r = 0; r < options_.retime_rounds; ++r) {
+      const double left = options_.time_limit_s - clock_.seconds();
       if (left <= 0) break;
-      const MissionSchedule next = retime_missions(problem, best.visits, best.plan.x);
+      const MissionSchedule next = retime_missions(problem_, best_.visits, best_.plan.x);
       // Knots that move a step or two are the plan's own jitter: a re-solve for them costs a
       // solve and changes the effort by little (warehouse.yaml: docs/benchmarks.md).
-      if (largest_shift(best.visits, next) < std::max(2, horizon / 40)) break;
-      visits = next;
-      retimed = true;
-      assembly.extra = best.extra;
-      Solved one = solve_once(best.plan, left);
-      best.attempts.push_back(one.a);
+      if (largest_shift(best_.visits, next) < std::max(2, horizon_ / 40)) break;
+      visits_ = next;
+      retimed_ = true;
+      assembly_.extra = best_.extra;
+      Solved one = solve_once(best_.plan, left);
+      best_.attempts.push_back(one.a);
       // Short only between the samples: more clearance at the same knots, as in the search.
       for (int retry = 0; retry < kRetriesPerHorizon && short_between_only(one.a.check) &&
-                          options.time_limit_s - clock.seconds() > 0;
+                          options_.time_limit_s - clock_.seconds() > 0;
            ++retry) {
-        more_clearance(assembly, one.a.check);
-        one = solve_once(one.clean, options.time_limit_s - clock.seconds());
-        best.attempts.push_back(one.a);
+        more_clearance(assembly_, one.a.check);
+        one = solve_once(one.clean, options_.time_limit_s - clock_.seconds());
+        best_.attempts.push_back(one.a);
       }
       const bool keep = one.a.check.passed && one.a.effort < effort;
-      if (options.log)
-        options.log(std::string(keep ? "re-timed knots kept" : "re-timed knots not kept") + " (input effort " +
-                    std::to_string(effort) + " -> " + std::to_string(one.a.effort) +
-                    (one.a.check.passed ? "" : ", not robust") + ")");
+      log(std::string(keep ? "re-timed knots kept" : "re-timed knots not kept") + " (input effort " +
+          std::to_string(effort) + " -> " + std::to_string(one.a.effort) + (one.a.check.passed ? "" : ", not robust") +
+          ")");
       if (!keep) break;
       effort = one.a.effort;
-      best.extra = assembly.extra;
-      best.result = std::move(one.res);
-      best.check = one.a.check;
-      best.plan = one.clean;
-      best.visits = visits;
+      best_.extra = assembly_.extra;
+      best_.result = std::move(one.res);
+      best_.check = one.a.check;
+      best_.plan = one.clean;
+      best_.visits = visits_;
     }
   }
-  return best;
+
+  const Problem& problem_;
+  const Planner& planner_;
+  const PlanSearchOptions& options_;
+  const Stopwatch& clock_;
+  std::optional<GlobalPlan> warm_;
+  PlanOutcome best_;
+  AssemblyOptions assembly_;
+  const bool mission_;
+  int horizon_ = 0;
+  // The visit knots: the given ones when they are a schedule at the first horizon, else the
+  // initial schedule; re-timed along the plans (retime_missions) at most retime_rounds times per
+  // horizon; a longer horizon starts again from the initial schedule.
+  MissionSchedule visits_;
+  int retries_here_ = 0, retimed_here_ = 0;
+  bool clearance_dropped_ = false, routes_ = false, retimed_ = false, other_tried_ = false;
+  // Agents whose routes pass the first obstacle on their way on another side than the shortest
+  // (another homotopy class), and the margin of the attempt before that change while it is
+  // still to be judged (kept for later horizons only when the new class did better).
+  std::vector<int> other_side_, other_before_;
+  std::optional<double> other_judge_;
+};
+
+PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSearchOptions& options,
+                   std::optional<GlobalPlan> warm, const Stopwatch& clock) {
+  return HorizonSearch(problem, planner, options, std::move(warm), clock).run();
 }
 
 }  // namespace
