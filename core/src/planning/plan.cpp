@@ -9,7 +9,7 @@
 #include "marsyn/core/planning/routes.hpp"
 #include "marsyn/core/planning/goal_room.hpp"
 #include "marsyn/core/planning/workspace_gaps.hpp"
-#include "marsyn/core/stopwatch.hpp"
+#include "marsyn/stopwatch.hpp"
 
 namespace marsyn::planning {
 

@@ -8,7 +8,8 @@
 
 #include "marsyn/core/planning/box_margins.hpp"
 #include "marsyn/core/planning/constraints.hpp"
-#include "marsyn/core/stopwatch.hpp"
+#include "marsyn/stopwatch.hpp"
+#include "marsyn/number_text.hpp"
 
 namespace marsyn {
 
@@ -26,12 +27,6 @@ void record(CertifiedPart& part, double margin, int step, const std::function<st
     auto [it, fresh] = shortfalls.try_emplace(where(), margin);
     if (!fresh) it->second = std::min(it->second, margin);
   }
-}
-
-std::string fmt(double v) {
-  std::ostringstream os;
-  os << v;
-  return os.str();
 }
 
 // Per agent and step: its enclosures in time order.
@@ -209,7 +204,7 @@ CertificationReport certify(const Problem& pb, const std::vector<std::shared_ptr
   r.certified = r.min_margin >= 0;
   std::ostringstream os;
   os << (r.certified ? "certified in continuous time" : "NOT certified in continuous time") << ": " << r.enclosures
-     << " period enclosures, smallest margin " << fmt(r.min_margin);
+     << " period enclosures, smallest margin " << number_text(r.min_margin);
   if (worst->step >= 0)
     os << " (" << worst->where << " between steps " << worst->step << " and " << worst->step + 1 << ")";
   r.message = os.str();

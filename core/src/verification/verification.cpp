@@ -5,7 +5,7 @@
 #include <thread>
 
 #include "mpi_runs.hpp"
-#include "marsyn/core/stopwatch.hpp"
+#include "marsyn/stopwatch.hpp"
 
 namespace marsyn {
 
