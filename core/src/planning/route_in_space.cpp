@@ -137,10 +137,15 @@ std::vector<Eigen::Vector3d> route_in_space(const std::vector<Prism>& prisms, co
     return {};
   }
   // About 16 lattice intervals per axis at least; the obstacles' planes come on top. Lattices
-  // beyond a few hundred thousand points are coarsened (a hint is not worth seconds).
+  // beyond a few hundred thousand points are coarsened (a hint is not worth seconds): first the
+  // refinement, then, with many obstacles, their planes thinned to a spacing that fits. Every
+  // lattice edge is still checked exactly, so a route stays clear; only narrow openings may be
+  // missed.
+  constexpr size_t kMaxPoints = 300000;
   std::array<std::vector<double>, 3> axis;
+  size_t points = 0;
   for (double parts = 16; parts >= 2; parts /= 2) {
-    size_t points = 1;
+    points = 1;
     for (int c = 0; c < 3; ++c) {
       std::vector<double> at{lo[c], hi[c], from[c], to[c]};
       for (size_t i = 0; i < prisms.size(); ++i)
@@ -149,9 +154,20 @@ std::vector<Eigen::Vector3d> route_in_space(const std::vector<Prism>& prisms, co
       axis[c] = planes(at, lo[c], hi[c], std::max((hi[c] - lo[c]) / parts, 1e-12));
       points *= axis[c].size();
     }
-    if (points <= 300000) break;
-    if (parts <= 2) return {};
+    if (points <= kMaxPoints) break;
   }
+  for (double share = 256; points > kMaxPoints && share >= 4; share /= 2) {
+    points = 1;
+    for (int c = 0; c < 3; ++c) {
+      std::vector<double> kept;
+      const double gap = (hi[c] - lo[c]) / share;
+      for (double v : axis[c])
+        if (kept.empty() || v == hi[c] || v == from[c] || v == to[c] || v - kept.back() >= gap) kept.push_back(v);
+      axis[c] = std::move(kept);
+      points *= axis[c].size();
+    }
+  }
+  if (points > kMaxPoints) return {};
   const size_t nx = axis[0].size(), ny = axis[1].size(), nz = axis[2].size();
   auto id = [&](size_t i, size_t j, size_t k) { return (k * ny + j) * nx + i; };
   auto point = [&](size_t v) {
