@@ -122,7 +122,7 @@ std::vector<Eigen::Vector3d> route_in_space(const std::vector<Prism>& prisms, co
                                             const Eigen::Vector3d& hi_in, const Eigen::Vector3d& from,
                                             const Eigen::Vector3d& to, bool* found) {
   if (found) *found = false;
-  if (!Scene(prisms).free(from) || !Scene(prisms).free(to)) return {};
+  if (const Scene bare(prisms); !bare.free(from) || !bare.free(to)) return {};
   const Eigen::Vector3d lo = lo_in.cwiseMin(from).cwiseMin(to), hi = hi_in.cwiseMax(from).cwiseMax(to);
   if (!lo.allFinite() || !hi.allFinite()) return {};
   // The prisms grown by a hair, and the lattice's planes a hair beyond them: a segment along a

@@ -20,6 +20,15 @@ double median_of(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+// w pushes x away from the nominal interpolated linearly over period k (fine step q of `fine`).
+void push_away(const FunnelData& d, int k, int q, int fine, const std::vector<double>& x, std::vector<double>& w) {
+  const double s = static_cast<double>(q) / fine;
+  for (int i = 0; i < d.n; ++i) {
+    const double ref = (1 - s) * d.x_nom[k][i] + s * d.x_nom[k + 1][i];
+    w[i] = x[i] >= ref ? d.w[i] : -d.w[i];
+  }
+}
+
 // The closed loop's period map about the nominal, x_{k+1} = F_k(x_k, w) with the input held and
 // w constant over the period, by central differences: Phi_k = dF/dx, G_k = dF/dw.
 struct PeriodJacobians {
@@ -94,11 +103,7 @@ void linearized_worst_cases(const Dynamics& f, const FunnelController& ctrl, int
             w = plan[k];
             return;
           }
-          const double s = static_cast<double>(q) / fine;
-          for (int c = 0; c < n; ++c) {
-            const double ref = (1 - s) * d.x_nom[k][c] + s * d.x_nom[k + 1][c];
-            w[c] = x[c] >= ref ? d.w[c] : -d.w[c];
-          }
+          push_away(d, k, q, fine, x, w);
         });
       }
 }
@@ -133,14 +138,6 @@ Tightness measure_tightness(const Dynamics& f, const FunnelController& ctrl, std
         for (int i = 0; i < n; ++i) t.sampled[T][i] = std::max(t.sampled[T][i], std::fabs(x[i] - d.x_nom[T][i]));
     }
   };
-  // Away from the nominal interpolated linearly over the period.
-  auto push = [&](int k, int q) {
-    const double s = static_cast<double>(q) / kFine;
-    for (int i = 0; i < n; ++i) {
-      const double ref = (1 - s) * d.x_nom[k][i] + s * d.x_nom[k + 1][i];
-      w[i] = x[i] >= ref ? d.w[i] : -d.w[i];
-    }
-  };
   for (int r = 0; r < runs; ++r) {
     const int mode = r % 4;
     for (int i = 0; i < n; ++i) x[i] = U01(rng) < 0.5 ? d.sets[0].lo[i] : d.sets[0].hi[i];
@@ -148,7 +145,7 @@ Tightness measure_tightness(const Dynamics& f, const FunnelController& ctrl, std
       const bool redraw = (mode == 0 && k == 0 && q == 0) || (mode == 1 && q % (kFine / kPieces) == 0) || mode == 2;
       if (redraw)
         for (int i = 0; i < n; ++i) w[i] = (U01(rng) < 0.5 ? -1 : 1) * d.w[i];
-      if (mode == 3) push(k, q);
+      if (mode == 3) push_away(d, k, q, kFine, x, w);
     });
   }
   if (runs > 0) linearized_worst_cases(f, ctrl, kFine, run, x, w);
