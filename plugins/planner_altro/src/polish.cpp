@@ -14,9 +14,9 @@ namespace marsyn::altro::detail {
 void Solver::between_polish_rows(double active, std::vector<PolishRow>& rows) {
   std::vector<double> g(64), jac;
   std::vector<AgentGradient> grads;
-  Vec Z;
+  Vec tmp;
   for (int k = 0; k < T_; ++k) {
-    interior_points(X_[k], U_[k], Z);
+    const Vec& Z = points_at(k, X_, U_, kept(Z_), tmp);
     for (int j = 1; j <= points_; ++j) {
       const double* z = Z.data() + static_cast<long>(j - 1) * n_;
       std::fill(work_[0].have_jac.begin(), work_[0].have_jac.end(), 0);
@@ -180,13 +180,14 @@ bool Solver::polish_line_search(const Vec& dU, double& viol, std::string& worst)
     Xn_[0] = X_[0];
     for (int k = 0; k < T_; ++k) {
       Un_[k] = U_[k] + alpha * dU.segment(static_cast<long>(k) * m_, m_);
-      for (const auto& a : agents_) step_agent(a, Xn_[k], Un_[k], Xn_[k + 1]);
+      for (const auto& a : agents_) step_agent(a, Xn_[k], Un_[k], Xn_[k + 1], kept_points_ ? &Zn_[k] : nullptr);
     }
     std::string w;
-    const double nv = max_violation(Xn_, Un_, &w);
+    const double nv = max_violation(Xn_, Un_, &w, kept(Zn_));
     if (nv < viol) {
       std::swap(X_, Xn_);
       std::swap(U_, Un_);
+      std::swap(Z_, Zn_);
       viol = nv;
       worst = w;
       improved = true;

@@ -7,9 +7,17 @@ namespace marsyn::altro {
 
 namespace {
 
+// S = d x / d(x0, u) (n x w) as the row-major A (n x n) and B (n x m).
+void split(const double* S, int n, int m, int w, double* A, double* B) {
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) A[i * n + j] = S[i * w + j];
+    for (int j = 0; j < m; ++j) B[i * m + j] = S[i * w + n + j];
+  }
+}
+
 template <int NX, int W>
 void staged_impl(const Dynamics& f, const double* x, const double* u, double tau, int substeps, double* A,
-                 double* B, unsigned reads) {
+                 double* B, unsigned reads, double* Amid, double* Bmid, int mid) {
   const int n = NX > 0 ? NX : f.state_dim(), w = W > 0 ? W : f.state_dim() + f.input_dim(), m = w - n;
   // The state coordinates the field reads: f_x is zero in every other column, and two stage
   // points equal in these coordinates have the same field value and Jacobian (RK4 stages 2 and 3
@@ -69,11 +77,9 @@ void staged_impl(const Dynamics& f, const double* x, const double* u, double tau
     stage(y, Y, 3);
     for (int i = 0; i < n; ++i) xs[i] = xs[i] + (h / 6.0) * (kv[0][i] + 2.0 * kv[1][i] + 2.0 * kv[2][i] + kv[3][i]);
     for (int e = 0; e < n * w; ++e) S[e] = S[e] + (h / 6.0) * (dk[0][e] + 2.0 * dk[1][e] + 2.0 * dk[2][e] + dk[3][e]);
+    if (Amid && sub + 1 == mid) split(S, n, m, w, Amid, Bmid);
   }
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j) A[i * n + j] = S[i * w + j];
-    for (int j = 0; j < m; ++j) B[i * m + j] = S[i * w + n + j];
-  }
+  split(S, n, m, w, A, B);
 }
 
 }  // namespace
@@ -83,12 +89,12 @@ void staged_impl(const Dynamics& f, const double* x, const double* u, double tau
 // small dense products. Same derivative as marsyn::rk4_jacobians, without dual arithmetic in the
 // stage combinations (which dominated the profile).
 void rk4_jacobians_staged(const Dynamics& f, const double* x, const double* u, double tau, int substeps,
-                          double* A, double* B, unsigned reads) {
+                          double* A, double* B, unsigned reads, double* Amid, double* Bmid, int mid) {
   const int n = f.state_dim(), m = f.input_dim();
-  if (n == 3 && m == 2) return staged_impl<3, 5>(f, x, u, tau, substeps, A, B, reads);
-  if (n == 2 && m == 1) return staged_impl<2, 3>(f, x, u, tau, substeps, A, B, reads);
-  if (n == 4 && m == 1) return staged_impl<4, 5>(f, x, u, tau, substeps, A, B, reads);
-  staged_impl<0, 0>(f, x, u, tau, substeps, A, B, reads);
+  if (n == 3 && m == 2) return staged_impl<3, 5>(f, x, u, tau, substeps, A, B, reads, Amid, Bmid, mid);
+  if (n == 2 && m == 1) return staged_impl<2, 3>(f, x, u, tau, substeps, A, B, reads, Amid, Bmid, mid);
+  if (n == 4 && m == 1) return staged_impl<4, 5>(f, x, u, tau, substeps, A, B, reads, Amid, Bmid, mid);
+  staged_impl<0, 0>(f, x, u, tau, substeps, A, B, reads, Amid, Bmid, mid);
 }
 
 unsigned field_reads(const Dynamics& f) {

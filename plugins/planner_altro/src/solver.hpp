@@ -92,18 +92,26 @@ class Solver {
   };
   // Evaluation
   void rollout_nominal();
-  double stage_cost(int k, const Vec& x, const Vec* u, Scratch& s) const;
-  double total_cost(const std::vector<Vec>& X, const std::vector<Vec>& U) const;
-  double max_violation(const std::vector<Vec>& X, const std::vector<Vec>& U, std::string* worst) const;
+  // Z, where given: the interior points of every period of (X, U) as its rollout left them
+  // (Z_ for X_, Zn_ for Xn_); null: integrated again.
+  double stage_cost(int k, const Vec& x, const Vec* u, Scratch& s, const Vec* z = nullptr) const;
+  double total_cost(const std::vector<Vec>& X, const std::vector<Vec>& U,
+                    const std::vector<Vec>* Z = nullptr) const;
+  double max_violation(const std::vector<Vec>& X, const std::vector<Vec>& U, std::string* worst,
+                       const std::vector<Vec>* Z = nullptr) const;
   void update_multipliers();
   // Between the samples (PlanningProblem::between, solver_between.cpp): rows at the interior
   // points of each period, functions of (x_k, u_k) through the partial RK4 step.
   // Z: the interior points of the period from x under u, point-major (points_ x n_).
   void interior_points(const Vec& x, const Vec& u, Vec& Z) const;
-  double between_cost(int k, const Vec& x, const Vec& u, Scratch& s) const;
-  void for_each_between_row(const std::vector<Vec>& X, const std::vector<Vec>& U,
+  // Period k's interior points of (X, U): (*Z)[k] when the rollout kept them, else into tmp.
+  const Vec& points_at(int k, const std::vector<Vec>& X, const std::vector<Vec>& U, const std::vector<Vec>* Z,
+                       Vec& tmp) const;
+  double between_cost(int k, const Vec& x, const Vec& u, Scratch& s, const Vec* z) const;
+  void for_each_between_row(const std::vector<Vec>& X, const std::vector<Vec>& U, const std::vector<Vec>* Z,
                             const std::function<void(int k, int j, const ConstraintRef& r, const double* g)>& f) const;
-  double between_violation(const std::vector<Vec>& X, const std::vector<Vec>& U, std::string* worst, double v) const;
+  double between_violation(const std::vector<Vec>& X, const std::vector<Vec>& U, const std::vector<Vec>* Z,
+                           std::string* worst, double v) const;
   void update_between_multipliers();
   void expand_between(int k, Scratch& s);
   // Row i of a between row's gradient in (x_k, u_k), per agent it reads: dg/dz times the
@@ -137,7 +145,11 @@ class Solver {
   bool backward(double reg, double& dv1, double& dv2);
   bool backward_group(int group, double reg, double& dv1, double& dv2);
   bool forward(double dv1, double dv2, double& alpha);
-  void step_agent(const AgentBlock& a, const Vec& x, const Vec& u, Vec& out) const;
+  // One period of agent a from x under u into out; with z and kept_points_, the period's
+  // interior points (its own substep states) into z, point-major as interior_points writes them.
+  void step_agent(const AgentBlock& a, const Vec& x, const Vec& u, Vec& out, Vec* z = nullptr) const;
+  // The rollout's kept interior points, or null when they are not kept.
+  const std::vector<Vec>* kept(const std::vector<Vec>& Z) const { return kept_points_ ? &Z : nullptr; }
 
   const PlanningProblem& pp_;
   const PlanOptions& run_;
@@ -157,7 +169,16 @@ class Solver {
   std::vector<int> agent_of_;          // product state index -> agent
   std::vector<Vec> lam_b_;             // [k]: multipliers of the between rows, point-major
   std::vector<Mat> Luu_, Lux_;         // [k * G + group]: the between rows' blocks in u and (u, x)
-  mutable Vec z_;
+  std::vector<char> between_set_;      // [k * G + group]: Luu_, Lux_ hold this expansion's blocks
+  // The interior points are the periods' own RK4 substep states (solver_setup.cpp): every
+  // rollout keeps them (Z_ with X_, Zn_ with Xn_, swapped with them) and the between rows read
+  // them instead of integrating each period a second time, bit for bit the same numbers.
+  bool kept_points_ = false;
+  std::vector<Vec> Z_, Zn_;  // [k]: period k's interior points, point-major (points_ x n_)
+  // One midpoint (points_ == 1, even substeps): linearize() keeps its partial-step Jacobians
+  // (the sweep passes through it), bit for bit what between_gradients would compute.
+  bool kept_mid_jacobians_ = false;
+  std::vector<Mat> Amid_, Bmid_;  // [k * N + agent], of the iterate linearize() last saw
 
   std::vector<Vec> X_, U_, ref_;
   Vec goal_centre_;

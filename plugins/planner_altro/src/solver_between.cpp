@@ -26,12 +26,20 @@ void Solver::interior_points(const Vec& x, const Vec& u, Vec& Z) const {
   }
 }
 
-double Solver::between_cost(int k, const Vec& x, const Vec& u, Scratch& s) const {
+const Vec& Solver::points_at(int k, const std::vector<Vec>& X, const std::vector<Vec>& U, const std::vector<Vec>* Z,
+                             Vec& tmp) const {
+  if (Z) return (*Z)[k];
+  interior_points(X[k], U[k], tmp);
+  return tmp;
+}
+
+double Solver::between_cost(int k, const Vec& x, const Vec& u, Scratch& s, const Vec* zk) const {
   double J = 0.0;
   std::vector<double>& g = s.g;
-  interior_points(x, u, s.z);
+  if (!zk) interior_points(x, u, s.z);
+  const Vec& Z = zk ? *zk : s.z;
   for (int j = 1; j <= points_; ++j) {
-    const double* z = s.z.data() + static_cast<long>(j - 1) * n_;
+    const double* z = Z.data() + static_cast<long>(j - 1) * n_;
     const double* lam = lam_b_[k].data() + static_cast<long>(j - 1) * between_rows_;
     screen_b_->mark(z, s.near, s.screen);
     for (int c = 0; c < static_cast<int>(between_.size()); ++c) {
@@ -45,13 +53,13 @@ double Solver::between_cost(int k, const Vec& x, const Vec& u, Scratch& s) const
   return J;
 }
 
-void Solver::for_each_between_row(const std::vector<Vec>& X, const std::vector<Vec>& U,
+void Solver::for_each_between_row(const std::vector<Vec>& X, const std::vector<Vec>& U, const std::vector<Vec>* Zs,
                                   const std::function<void(int k, int j, const ConstraintRef& r, const double* g)>& f) const {
   // Rows the screen leaves out are satisfied and carry no multiplier: f would change nothing.
   std::vector<double> g(64);
-  Vec Z;
+  Vec tmp;
   for (int k = 0; k < T_; ++k) {
-    interior_points(X[k], U[k], Z);
+    const Vec& Z = points_at(k, X, U, Zs, tmp);
     for (int j = 1; j <= points_; ++j) {
       const double* z = Z.data() + static_cast<long>(j - 1) * n_;
       screen_b_->mark(z, near_);
@@ -67,9 +75,9 @@ void Solver::for_each_between_row(const std::vector<Vec>& X, const std::vector<V
   }
 }
 
-double Solver::between_violation(const std::vector<Vec>& X, const std::vector<Vec>& U, std::string* worst,
-                                 double v) const {
-  for_each_between_row(X, U, [&](int, int, const ConstraintRef& r, const double* g) {
+double Solver::between_violation(const std::vector<Vec>& X, const std::vector<Vec>& U, const std::vector<Vec>* Z,
+                                 std::string* worst, double v) const {
+  for_each_between_row(X, U, Z, [&](int, int, const ConstraintRef& r, const double* g) {
     for (int i = 0; i < r.rows; ++i)
       if (g[i] > v) {
         v = g[i];
@@ -80,7 +88,7 @@ double Solver::between_violation(const std::vector<Vec>& X, const std::vector<Ve
 }
 
 void Solver::update_between_multipliers() {
-  for_each_between_row(X_, U_, [&](int k, int j, const ConstraintRef& r, const double* g) {
+  for_each_between_row(X_, U_, kept(Z_), [&](int k, int j, const ConstraintRef& r, const double* g) {
     double* lam = lam_b_[k].data() + static_cast<long>(j - 1) * between_rows_ + r.lam_offset;
     for (int i = 0; i < r.rows; ++i) lam[i] = std::max(0.0, lam[i] + rho_ * g[i]);
   });
@@ -96,6 +104,12 @@ void Solver::between_gradients(int k, int j, const ConstraintRef& r, const doubl
     if (J[e] == 0.0) continue;
     const int ai = agent_of_[sup[e]];
     const auto& a = agents_[ai];
+    if (!s.have_jac[ai] && kept_mid_jacobians_) {  // linearize() saw this iterate
+      const int N = static_cast<int>(agents_.size());
+      s.Az[ai] = Amid_[k * N + ai];
+      s.Bz[ai] = Bmid_[k * N + ai];
+      s.have_jac[ai] = 1;
+    }
     if (!s.have_jac[ai]) {
       double Ar[kMaxDual * kMaxDual], Br[kMaxDual * kMaxDual];
       rk4_jacobians_staged(*a.dyn, X_[k].data() + a.xo, U_[k].data() + a.uo, step.h, step.substeps, Ar, Br,
@@ -117,15 +131,12 @@ void Solver::between_gradients(int k, int j, const ConstraintRef& r, const doubl
 
 void Solver::expand_between(int k, Scratch& s) {
   const int G = static_cast<int>(groups_.size());
-  for (int gi = 0; gi < G; ++gi) {
-    Luu_[k * G + gi].setZero(groups_[gi].m, groups_[gi].m);
-    Lux_[k * G + gi].setZero(groups_[gi].m, groups_[gi].n);
-  }
+  // Most periods have no active between row: their blocks are zeroed only when first written.
+  for (int gi = 0; gi < G; ++gi) between_set_[k * G + gi] = 0;
   std::vector<double>& g = s.g;
   std::vector<double>& jac = s.jac;
   std::vector<AgentGradient>& grads = s.grads;
-  Vec& Z = s.z;
-  interior_points(X_[k], U_[k], Z);
+  const Vec& Z = points_at(k, X_, U_, kept(Z_), s.z);
   for (int j = 1; j <= points_; ++j) {
     const double* z = Z.data() + static_cast<long>(j - 1) * n_;
     std::fill(s.have_jac.begin(), s.have_jac.end(), 0);
@@ -152,6 +163,11 @@ void Solver::expand_between(int k, Scratch& s) {
           const int gi = a.group;
           const auto& gr = groups_[gi];
           const int xa = a.xo - gr.xo, ua = a.uo - gr.uo;
+          if (!between_set_[k * G + gi]) {
+            Luu_[k * G + gi].setZero(gr.m, gr.m);
+            Lux_[k * G + gi].setZero(gr.m, gr.n);
+            between_set_[k * G + gi] = 1;
+          }
           lx_[k * G + gi].segment(xa, a.n) += mu * ga.cx;
           lu_[k * G + gi].segment(ua, a.m) += mu * ga.cu;
           for (const auto& gb : grads) {

@@ -6,7 +6,7 @@
 
 namespace marsyn::altro::detail {
 
-double Solver::stage_cost(int k, const Vec& x, const Vec* u, Scratch& s) const {
+double Solver::stage_cost(int k, const Vec& x, const Vec* u, Scratch& s, const Vec* z) const {
   double J = 0.0;
   const bool term = k == T_;
   // Without q_state, the same arithmetic as before it existed (plans stay bit-identical).
@@ -20,7 +20,7 @@ double Solver::stage_cost(int k, const Vec& x, const Vec* u, Scratch& s) const {
       J += phr((*u)[j] - pp_.input_bounds.hi[j], lam_uhi_[k][j], rho_);
     }
   }
-  if (u && points_ > 0) J += between_cost(k, x, *u, s);  // u_0 moves the flow after x0 too
+  if (u && points_ > 0) J += between_cost(k, x, *u, s, z);  // u_0 moves the flow after x0 too
   if (k == 0) return J;  // x0 is fixed: constraints there cannot be influenced
   for (int i = 0; i < n_; ++i) {
     if (std::isfinite(pp_.state_bounds.lo[i])) J += phr(pp_.state_bounds.lo[i] - x[i], lam_xlo_[k][i], rho_);
@@ -50,21 +50,23 @@ double Solver::stage_cost(int k, const Vec& x, const Vec* u, Scratch& s) const {
   return J;
 }
 
-double Solver::total_cost(const std::vector<Vec>& X, const std::vector<Vec>& U) const {
+double Solver::total_cost(const std::vector<Vec>& X, const std::vector<Vec>& U, const std::vector<Vec>* Z) const {
   // Knots on several threads, summed in knot order: the same sum for any number of threads.
   std::vector<double>& c = knot_cost_;
   c.resize(T_ + 1);
   planner_support::parallel_chunks(T_ + 1, threads_for(T_ + 1, static_cast<long>(agents_.size())),
                                    [&](int t, int begin, int end) {
                                      for (int k = begin; k < end; ++k)
-                                       c[k] = stage_cost(k, X[k], k < T_ ? &U[k] : nullptr, work_[t]);
+                                       c[k] = stage_cost(k, X[k], k < T_ ? &U[k] : nullptr, work_[t],
+                                                         Z && k < T_ ? &(*Z)[k] : nullptr);
                                    });
   double J = 0.0;
   for (int k = 0; k < T_; ++k) J += c[k];
   return J + c[T_];
 }
 
-double Solver::max_violation(const std::vector<Vec>& X, const std::vector<Vec>& U, std::string* worst) const {
+double Solver::max_violation(const std::vector<Vec>& X, const std::vector<Vec>& U, std::string* worst,
+                             const std::vector<Vec>* Z) const {
   double v = 0.0;
   auto note = [&](double c, const std::string& what) {
     if (c > v) {
@@ -104,7 +106,7 @@ double Solver::max_violation(const std::vector<Vec>& X, const std::vector<Vec>& 
     for (int j = 0; j < r.rows; ++j)
       if (g[j] > v) note(g[j], r.c->name());
   }
-  if (points_ > 0) v = between_violation(X, U, worst, v);
+  if (points_ > 0) v = between_violation(X, U, Z, worst, v);
   return v;
 }
 

@@ -22,11 +22,16 @@ void Solver::linearize() {
         Mat& A = A_[k * N + i];
         Mat& B = B_[k * N + i];
         // rk4_jacobians writes row-major; Eigen's default is column-major.
-        double Ar[kMaxDual * kMaxDual], Br[kMaxDual * kMaxDual];
+        double Ar[kMaxDual * kMaxDual], Br[kMaxDual * kMaxDual], Am[kMaxDual * kMaxDual], Bm[kMaxDual * kMaxDual];
+        const bool mid = kept_mid_jacobians_;
         rk4_jacobians_staged(*a.dyn, X_[k].data() + a.xo, U_[k].data() + a.uo, prob_.tau, prob_.rk4_substeps,
-                             Ar, Br, a.reads);
+                             Ar, Br, a.reads, mid ? Am : nullptr, mid ? Bm : nullptr, prob_.rk4_substeps / 2);
         A = RowMap(Ar, a.n, a.n);
         B = RowMap(Br, a.n, a.m);
+        if (mid) {
+          Amid_[k * N + i] = RowMap(Am, a.n, a.n);
+          Bmid_[k * N + i] = RowMap(Bm, a.n, a.m);
+        }
       }
   });
 }
@@ -174,7 +179,7 @@ bool Solver::backward_group(int gi, double reg, double& dv1, double& dv2) {
         Qx.segment(lo, a.n).noalias() += Ak.transpose() * p.segment(lo, a.n);
         Qu.segment(lu, a.m).noalias() += Bk.transpose() * p.segment(lo, a.n);
       }
-      if (points_ > 0) {
+      if (points_ > 0 && between_set_[k * G + gi]) {
         Quu += Luu_[k * G + gi];
         Qux += Lux_[k * G + gi];
       }
@@ -212,7 +217,8 @@ bool Solver::forward(double dv1, double dv2, double& alpha) {
         for (int k = 0; k < T_; ++k) {
           Un_[k].segment(gr.uo, gr.m) = U_[k].segment(gr.uo, gr.m) + alpha * d_[k * G + gi] +
                                        K_[k * G + gi] * (Xn_[k].segment(gr.xo, gr.n) - X_[k].segment(gr.xo, gr.n));
-          for (int i = gr.first; i < gr.last; ++i) step_agent(agents_[i], Xn_[k], Un_[k], Xn_[k + 1]);
+          for (int i = gr.first; i < gr.last; ++i)
+            step_agent(agents_[i], Xn_[k], Un_[k], Xn_[k + 1], kept_points_ ? &Zn_[k] : nullptr);
           if (!Xn_[k + 1].segment(gr.xo, gr.n).allFinite()) {
             finite_from[gi] = 0;
             break;
@@ -221,13 +227,14 @@ bool Solver::forward(double dv1, double dv2, double& alpha) {
       }
     });
     if (std::find(finite_from.begin(), finite_from.end(), 0) != finite_from.end()) continue;
-    const double J = total_cost(Xn_, Un_);
+    const double J = total_cost(Xn_, Un_, kept(Zn_));
     const double expected = -(alpha * dv1 + alpha * alpha * dv2);
     if (!std::isfinite(J)) continue;
     const double ratio = expected > 0 ? (cost_ - J) / expected : (J < cost_ ? 1.0 : -1.0);
     if (ratio > 1e-4 && ratio < 10.0 && J < cost_) {
       std::swap(X_, Xn_);
       std::swap(U_, Un_);
+      std::swap(Z_, Zn_);
       cost_ = J;
       return true;
     }
@@ -247,6 +254,10 @@ void Solver::prepare() {
   lam_t_ = Vec::Zero(terminal_rows_);
   A_.resize(static_cast<size_t>(T_) * N);
   B_.resize(A_.size());
+  if (kept_mid_jacobians_) {
+    Amid_.resize(A_.size());
+    Bmid_.resize(A_.size());
+  }
   lxx_.resize(static_cast<size_t>(T_ + 1) * G);
   lx_.resize(lxx_.size());
   luu_.resize(lxx_.size());
@@ -257,6 +268,7 @@ void Solver::prepare() {
     lam_b_.assign(T_, Vec::Zero(static_cast<long>(points_) * between_rows_));
     Luu_.resize(lxx_.size());
     Lux_.resize(lxx_.size());
+    between_set_.assign(lxx_.size(), 0);
   }
   rho_ = opt_.penalty_initial;
   threads_ = planner_support::solver_threads(opt_.threads);
@@ -269,7 +281,8 @@ void Solver::prepare() {
   initial_guess();
   Xn_ = X_;
   Un_ = U_;
-  cost_ = total_cost(X_, U_);
+  Zn_ = Z_;
+  cost_ = total_cost(X_, U_, kept(Z_));
 }
 
 void Solver::inner_iterations(const Stopwatch& clock, double tol, double& reg, bool& timed_out, bool& stalled) {
@@ -317,14 +330,14 @@ PlanResult Solver::run() {
   prepare();
   double reg = opt_.reg_initial;
   std::string worst;
-  double viol = max_violation(X_, U_, &worst);
+  double viol = max_violation(X_, U_, &worst, kept(Z_));
   bool timed_out = false, stalled = false, polished = false;
   double polish_below = opt_.polish_start;
   int outer = 0;
   for (; outer < opt_.max_outer; ++outer) {
     const double tol = viol <= 1e2 * opt_.constraint_tolerance ? opt_.cost_tolerance : opt_.cost_tolerance_intermediate;
     inner_iterations(clock, tol, reg, timed_out, stalled);
-    viol = max_violation(X_, U_, &worst);
+    viol = max_violation(X_, U_, &worst, kept(Z_));
     if (run_.progress) run_.progress({iterations_, cost_, viol});
     if (viol <= opt_.constraint_tolerance || timed_out || iterations_ >= opt_.max_iterations) break;
     // Close enough for the projection to finish: cheaper than more penalty rounds. An attempt
@@ -332,14 +345,14 @@ PlanResult Solver::run() {
     // ignore the cost, and continuing from them cost crane_vehicle a second solve. After a
     // failed attempt the next waits for a tenth of its violation.
     if (viol <= polish_below) {
-      const std::vector<Vec> X = X_, U = U_;
+      const std::vector<Vec> X = X_, U = U_, Z = Z_;
       const double v = viol;
       const std::string w = worst;
       if (polish(viol, worst, clock)) {
         polished = true;
         break;
       }
-      X_ = X, U_ = U, viol = v, worst = w;
+      X_ = X, U_ = U, Z_ = Z, viol = v, worst = w;
       polish_below = 0.1 * v;
     }
     if (stalled && rho_ >= opt_.penalty_max) break;
@@ -347,11 +360,11 @@ PlanResult Solver::run() {
     update_multipliers();
     rho_ = std::min(rho_ * opt_.penalty_scaling, opt_.penalty_max);
     reg = std::max(reg, opt_.reg_initial);
-    cost_ = total_cost(X_, U_);
+    cost_ = total_cost(X_, U_, kept(Z_));
   }
   if (viol > opt_.constraint_tolerance && viol <= opt_.polish_max_violation && !timed_out)
     polished = polish(viol, worst, clock);
-  cost_ = total_cost(X_, U_);
+  cost_ = total_cost(X_, U_, kept(Z_));
   return result(viol, worst, outer, timed_out, polished, clock);
 }
 

@@ -52,6 +52,12 @@ void Solver::layout() {
     return r;
   };
   points_ = pp_.between.empty() ? 0 : std::max(0, pp_.between_points);
+  // The rollout's substep states are then interior_points' numbers bit for bit: flow_points
+  // steps substep by substep when there is one point per substep, and one midpoint's partial
+  // step tau / 2 in substeps / 2 substeps has the substep tau / substeps exactly. (Other
+  // splits agree only up to rounding: the points are integrated again.)
+  kept_points_ = points_ > 0 && (points_ + 1 == prob_.rk4_substeps || (points_ == 1 && prob_.rk4_substeps % 2 == 0));
+  kept_mid_jacobians_ = points_ == 1 && prob_.rk4_substeps % 2 == 0;
   if (points_ > 0)
     for (const auto& c : pp_.between) {
       ConstraintRef r = ref(c.get());
@@ -76,9 +82,26 @@ void Solver::layout() {
   screen_b_ = screen(between_);
 }
 
-void Solver::step_agent(const AgentBlock& a, const Vec& x, const Vec& u, Vec& out) const {
-  rk4_step<double>(*a.dyn, x.data() + a.xo, u.data() + a.uo, nullptr, prob_.tau, prob_.rk4_substeps,
-                   out.data() + a.xo);
+void Solver::step_agent(const AgentBlock& a, const Vec& x, const Vec& u, Vec& out, Vec* z) const {
+  if (!z || !kept_points_) {
+    rk4_step<double>(*a.dyn, x.data() + a.xo, u.data() + a.uo, nullptr, prob_.tau, prob_.rk4_substeps,
+                     out.data() + a.xo);
+    return;
+  }
+  // The period in points_ + 1 runs of `per` substeps each: rk4_step's arithmetic (each run
+  // starts from the state the last one ended in), the states between the runs kept.
+  const int per = prob_.rk4_substeps / (points_ + 1);
+  double stack[kMaxDual * 16];
+  std::vector<double> heap;
+  double* buf = points_ * a.n <= kMaxDual * 16 ? stack : (heap.resize(static_cast<size_t>(points_) * a.n), heap.data());
+  const double* from = x.data() + a.xo;
+  for (int j = 0; j < points_; ++j) {
+    rk4_step<double>(*a.dyn, from, u.data() + a.uo, nullptr, prob_.tau, prob_.rk4_substeps, buf + j * a.n, per);
+    from = buf + j * a.n;
+  }
+  rk4_step<double>(*a.dyn, from, u.data() + a.uo, nullptr, prob_.tau, prob_.rk4_substeps, out.data() + a.xo, per);
+  for (int j = 0; j < points_; ++j)
+    for (int c = 0; c < a.n; ++c) (*z)[static_cast<long>(j) * n_ + a.xo + c] = buf[j * a.n + c];
 }
 
 void Solver::initial_guess() {
@@ -206,8 +229,9 @@ double Solver::reference_conflict() const {
 void Solver::rollout_nominal() {
   X_.assign(T_ + 1, Vec(n_));
   X_[0] = pp_.x0;
+  Z_.assign(kept_points_ ? T_ : 0, Vec(static_cast<long>(points_) * n_));
   for (int k = 0; k < T_; ++k)
-    for (const auto& a : agents_) step_agent(a, X_[k], U_[k], X_[k + 1]);
+    for (const auto& a : agents_) step_agent(a, X_[k], U_[k], X_[k + 1], kept_points_ ? &Z_[k] : nullptr);
 }
 
 }  // namespace marsyn::altro::detail

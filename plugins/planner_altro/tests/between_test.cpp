@@ -7,6 +7,8 @@
 #include <cmath>
 
 #include "altro_solver.hpp"
+#include "marsyn/sampled_map.hpp"
+#include "rk4.hpp"
 #include "marsyn/core/planning/plan.hpp"
 #include "test_problems.hpp"
 
@@ -147,4 +149,38 @@ TEST(BetweenSamples, ThePlanIsTheSameForAnyNumberOfThreads) {
       for (size_t k = 0; k < a.plan.u.size(); ++k) ASSERT_EQ(a.plan.u[k], b.plan.u[k]) << coupling << ", step " << k;
     }
   }
+}
+
+// The solver keeps a period's midpoint and its Jacobians from the rollout and the linearization
+// instead of integrating half a period again (solver_setup.cpp, solver_ilqr.cpp): exact only if
+// the first half of the substeps gives flow_point's numbers bit for bit. Unicycle (3 states, 2
+// inputs) and pendulum (2, 1) take the unrolled sweeps; both checked against a separate run.
+TEST(BetweenSamples, TheRolloutsMidpointIsFlowPointsBitForBit) {
+  const Problem uni = testproblems::unicycle_crossing(10), pend = testproblems::pendulum_problem(10);
+  struct Case {
+    const Dynamics* f;
+    Eigen::VectorXd x, u;
+  };
+  const std::vector<Case> cases = {{uni.agents[0].dynamics.get(), Eigen::Vector3d(0.3, -1.7, 2.9), Eigen::Vector2d(0.8, -1.3)},
+                                   {pend.agents[0].dynamics.get(), Eigen::Vector2d(2.1, -0.7), Eigen::VectorXd::Constant(1, 1.9)}};
+  for (const auto& c : cases)
+    for (const double tau : {0.1, 0.3, 0.07})
+      for (const int substeps : {2, 4, 6}) {
+        const int n = c.f->state_dim(), m = c.f->input_dim();
+        std::vector<double> ref(n), mine(n), A(n * n), B(n * m), Am(n * n), Bm(n * m), Ar(n * n), Br(n * m);
+        flow_point(*c.f, c.x.data(), c.u.data(), tau, substeps, 1, 1, ref.data(), nullptr, nullptr);
+        rk4_step<double>(*c.f, c.x.data(), c.u.data(), nullptr, tau, substeps, mine.data(), substeps / 2);
+        EXPECT_EQ(ref, mine) << "tau " << tau << " substeps " << substeps;
+        const FlowPointStep half = flow_point_step(tau, substeps, 1, 1);
+        altro::rk4_jacobians_staged(*c.f, c.x.data(), c.u.data(), half.h, half.substeps, Ar.data(), Br.data());
+        altro::rk4_jacobians_staged(*c.f, c.x.data(), c.u.data(), tau, substeps, A.data(), B.data(), ~0u, Am.data(),
+                                    Bm.data(), substeps / 2);
+        EXPECT_EQ(Ar, Am) << "tau " << tau << " substeps " << substeps;
+        EXPECT_EQ(Br, Bm);
+        // The whole period's Jacobians are unchanged by keeping the midpoint's.
+        std::vector<double> A0(n * n), B0(n * m);
+        altro::rk4_jacobians_staged(*c.f, c.x.data(), c.u.data(), tau, substeps, A0.data(), B0.data());
+        EXPECT_EQ(A0, A);
+        EXPECT_EQ(B0, B);
+      }
 }
