@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "marsyn/core/planning/solver_progress.hpp"
 #include "marsyn/core/tracking/sweep_progress.hpp"
 #include "marsyn/core/mpi/plan_broadcast.hpp"
 #include "marsyn/core/verification/closed_loop.hpp"
@@ -153,6 +154,8 @@ std::vector<NominalTrajectory> straight_line(const Problem& pb) {
 planning::PlanSearchOptions plan_options() {
   planning::PlanSearchOptions po;
   po.log = [](const std::string& s) { log_line("[plan] " + s); };
+  po.progress = [p = std::make_shared<planning::SolverProgress>(log_line, stderr_is_terminal() ? live_line : planning::SolverProgress::Sink{})](
+                    const PlanProgress& x) { (*p)(x); };
   return po;
 }
 

@@ -10,6 +10,7 @@
 
 #include "marsyn/stopwatch.hpp"
 #include "marsyn/core/verification/run_progress.hpp"
+#include "marsyn/core/planning/solver_progress.hpp"
 #include "marsyn/core/planning/goal_room.hpp"
 #include "marsyn/core/planning/workspace_gaps.hpp"
 #include "marsyn/core/mpi/plan_broadcast.hpp"
@@ -172,6 +173,7 @@ Failure Search::plan(SearchRound& round, double time_left) {
   planning::PlanSearchOptions po;
   po.time_limit_s = std::max(1.0, time_left);
   po.log = [&](const std::string& s) { log("[plan] " + s); };
+  po.progress = [p = std::make_shared<planning::SolverProgress>(opt_.log, opt_.live)](const PlanProgress& x) { (*p)(x); };
   po.assembly.extra = extra_;
   log("[plan] " + pb_.planner.name + " on the product system (" + std::to_string(pb_.product_state_dim()) + " state" +
       (pb_.product_state_dim() == 1 ? "" : "s") + ", " + std::to_string(pb_.product_input_dim()) + " input" +
