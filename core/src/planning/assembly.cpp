@@ -9,10 +9,6 @@
 
 namespace marsyn::planning {
 
-std::vector<int> state_offsets(const Problem& problem) { return ProductLayout(problem).state; }
-
-std::vector<int> input_offsets(const Problem& problem) { return ProductLayout(problem).input; }
-
 
 double between_clearance(const Problem& problem, const AgentSpec& a, int horizon, const AssemblyOptions& opt) {
   if (opt.between_points <= 0) return 0.0;
@@ -27,7 +23,7 @@ class Assembly {
  public:
   Assembly(const Problem& problem, int horizon, const AssemblyOptions& opt)
       : problem_(problem), horizon_(horizon), opt_(opt), N_(static_cast<int>(problem.agents.size())),
-        xo_(state_offsets(problem)), uo_(input_offsets(problem)) {}
+        xo_(ProductLayout(problem).state), uo_(ProductLayout(problem).input) {}
 
   PlanningProblem run() {
     bounds();  // first: it refuses an agent of inconsistent dimensions

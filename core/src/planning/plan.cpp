@@ -18,7 +18,7 @@ namespace {
 // Solvers meet bounds only to their tolerance; clamping keeps U exact and the assembly buffer
 // absorbs the resulting state change.
 GlobalPlan clamp_and_resimulate(const Problem& problem, const GlobalPlan& raw) {
-  const auto uo = input_offsets(problem);
+  const auto uo = ProductLayout(problem).input;
   GlobalPlan out;
   out.tau = problem.tau;
   out.u = raw.u;
@@ -444,7 +444,7 @@ PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearc
 }
 
 double input_effort(const Problem& problem, const GlobalPlan& plan) {
-  const auto uo = input_offsets(problem);
+  const auto uo = ProductLayout(problem).input;
   double e = 0.0;
   for (const auto& u : plan.u)
     for (std::size_t i = 0; i < problem.agents.size(); ++i) {

@@ -7,7 +7,8 @@
 namespace marsyn::planning {
 
 std::vector<NominalTrajectory> ProductProjector::project(const Problem& problem, const GlobalPlan& plan) const {
-  const auto xo = state_offsets(problem), uo = input_offsets(problem);
+  const ProductLayout at(problem);
+  const auto &xo = at.state, &uo = at.input;
   if (plan.x.size() != plan.u.size() + 1)
     throw std::invalid_argument("marsyn::planning::ProductProjector: plan needs T+1 states for T inputs");
   std::vector<NominalTrajectory> out;

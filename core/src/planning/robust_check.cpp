@@ -21,7 +21,8 @@
 namespace marsyn::planning {
 
 std::vector<Eigen::VectorXd> rollout(const Problem& problem, const std::vector<Eigen::VectorXd>& inputs) {
-  const auto xo = state_offsets(problem), uo = input_offsets(problem);
+  const ProductLayout at(problem);
+  const auto &xo = at.state, &uo = at.input;
   std::vector<Eigen::VectorXd> x(inputs.size() + 1, Eigen::VectorXd(xo.back()));
   for (size_t i = 0; i < problem.agents.size(); ++i) x[0].segment(xo[i], problem.agents[i].n()) = problem.agents[i].x0;
   for (size_t k = 0; k < inputs.size(); ++k)
@@ -281,7 +282,8 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan, const M
     visits.feasible = false;
     visits.why = !e.empty() ? e : !given.why.empty() ? given.why : "the knots are of horizon " + std::to_string(given.horizon) + ", the plan's is " + std::to_string(T);
   }
-  const auto xo = state_offsets(problem), uo = input_offsets(problem);
+  const ProductLayout at(problem);
+  const auto &xo = at.state, &uo = at.input;
   for (const auto& u : plan.u)
     if (u.size() != uo.back()) {
       r.message = "plan inputs have the wrong dimension";

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "marsyn/planner_support/product_model.hpp"
 #include "marsyn/sampled_map.hpp"
 #include "rk4.hpp"
 
@@ -105,12 +106,7 @@ void Solver::step_agent(const AgentBlock& a, const Vec& x, const Vec& u, Vec& ou
 }
 
 void Solver::initial_guess() {
-  const Box& G = pp_.goal;
-  goal_centre_ = Vec(n_);
-  for (int i = 0; i < n_; ++i) {
-    const bool lo = std::isfinite(G.lo[i]), hi = std::isfinite(G.hi[i]);
-    goal_centre_[i] = lo && hi ? 0.5 * (G.lo[i] + G.hi[i]) : lo ? G.lo[i] : hi ? G.hi[i] : pp_.x0[i];
-  }
+  goal_centre_ = planner_support::goal_centre(pp_);
   q_stage_ = Vec::Constant(n_, opt_.q_track);
   if (!opt_.q_state.empty()) q_stage_ = q_stage_.cwiseProduct(Eigen::Map<const Vec>(opt_.q_state.data(), n_));
   uniform_q_ = opt_.q_state.empty();

@@ -98,6 +98,15 @@ double RowSet::worst(const double* x, std::string* name, int knot) const {
   return v;
 }
 
+Eigen::VectorXd goal_centre(const PlanningProblem& pp) {
+  Eigen::VectorXd c(pp.goal.dim());
+  for (int i = 0; i < c.size(); ++i) {
+    const double lo = pp.goal.lo[i], hi = pp.goal.hi[i];
+    c[i] = std::isfinite(lo) && std::isfinite(hi) ? 0.5 * (lo + hi) : std::isfinite(lo) ? lo : std::isfinite(hi) ? hi : pp.x0[i];
+  }
+  return c;
+}
+
 ProductModel::ProductModel(const PlanningProblem& p) : pp(p) {
   const Problem& prob = *pp.problem;
   tau = prob.tau;
@@ -114,16 +123,11 @@ ProductModel::ProductModel(const PlanningProblem& p) : pp(p) {
     if (std::isfinite(pp.state_bounds.lo[i])) path.add_lower(i, pp.state_bounds.lo[i]);
     if (std::isfinite(pp.state_bounds.hi[i])) path.add_upper(i, pp.state_bounds.hi[i]);
   }
-  goal_centre = Eigen::VectorXd(n);
   for (int i = 0; i < n; ++i) {
-    const double lo = pp.goal.lo[i], hi = pp.goal.hi[i];
-    if (std::isfinite(lo)) terminal.add_lower(i, lo);
-    if (std::isfinite(hi)) terminal.add_upper(i, hi);
-    goal_centre[i] = std::isfinite(lo) && std::isfinite(hi) ? 0.5 * (lo + hi)
-                     : std::isfinite(lo)                    ? lo
-                     : std::isfinite(hi)                    ? hi
-                                                            : pp.x0[i];
+    if (std::isfinite(pp.goal.lo[i])) terminal.add_lower(i, pp.goal.lo[i]);
+    if (std::isfinite(pp.goal.hi[i])) terminal.add_upper(i, pp.goal.hi[i]);
   }
+  goal_centre = planner_support::goal_centre(pp);
   for (const auto& c : pp.constraints) (c->stage() == ConstraintStage::Terminal ? terminal : path).add(c.get());
   points = pp.between.empty() ? 0 : std::max(0, pp.between_points);
   if (points > 0)

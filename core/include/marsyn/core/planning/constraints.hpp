@@ -46,9 +46,6 @@ struct AssemblyOptions {
 // (AssemblyOptions::between_clearance x spacing x estimated speed); 0 without interior points.
 double between_clearance(const Problem& problem, const AgentSpec& a, int horizon, const AssemblyOptions& options);
 
-// First product-state (input) coordinate of each agent; one more entry holds the total.
-std::vector<int> state_offsets(const Problem& problem);
-std::vector<int> input_offsets(const Problem& problem);
 
 // p = workspace point of agent state x; J (2 x n, row-major) = dp/dx when non-null.
 void workspace_point_jacobian(const AgentSpec& agent, const double* x, double* p, double* J);

@@ -43,6 +43,10 @@ class RowSet {
   mutable std::vector<double> scratch_g_, scratch_j_;
 };
 
+// A point of the shrunk goal every planner aims at: its centre where bounded, the bound where
+// half-bounded, x0's coordinate where free.
+Eigen::VectorXd goal_centre(const PlanningProblem& pp);
+
 class ProductModel {
  public:
   explicit ProductModel(const PlanningProblem& pp);
