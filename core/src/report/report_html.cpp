@@ -132,6 +132,9 @@ S.obstacles.forEach(o => o.vertices.forEach(p => { if (p[0] > xmin - 3 && p[0] <
 if (xmin > xmax) { xmin = 0; xmax = 1; ymin = 0; ymax = 1; }
 const pad = 0.05 * Math.max(xmax - xmin, ymax - ymin, 1e-3);
 xmin -= pad; xmax += pad; ymin -= pad; ymax += pad;
+// The frame takes the scene's proportions (a long, flat field fills the width instead of a
+// strip of a square), between a quarter and one and a half of its width high.
+cv.height = Math.round(Math.min(Math.max(cv.width * (ymax - ymin) / (xmax - xmin), 0.25 * cv.width), 1.5 * cv.width));
 const scale = Math.min(cv.width / (xmax - xmin), cv.height / (ymax - ymin));
 const X = x => (x - xmin) * scale, Y = y => cv.height - (y - ymin) * scale;
 return function draw(k) {
