@@ -19,6 +19,7 @@
 
 #include "marsyn/core/verification/closed_loop.hpp"
 #include "marsyn/core/problem/config_error.hpp"
+#include "marsyn/core/planning/solver_progress.hpp"
 #include "marsyn/core/planning/plan_io.hpp"
 #include "marsyn/core/plugins/plugin_registry.hpp"
 #include "marsyn/core/problem/problem_loader.hpp"
@@ -451,11 +452,14 @@ void bind_plan_and_track(py::module_& m) {
         const Problem& pb = setup.problem();
         planning::PlanSearchOptions po;
         po.log = progress(log);
+        po.progress = [p = std::make_shared<planning::SolverProgress>(po.log, planning::SolverProgress::Sink{})](
+                          const PlanProgress& x) { (*p)(x); };
         planning::PlanOutcome out;
         {
           py::gil_scoped_release release;
           out = setup.plan(po);
           po.log = nullptr;
+          po.progress = nullptr;
         }
         py::dict d;
         d["feasible"] = out.feasible;
@@ -489,9 +493,12 @@ void bind_plan_and_track(py::module_& m) {
         if (plan.is_none()) {
           planning::PlanSearchOptions po;
           po.log = progress(log);
+          po.progress = [p = std::make_shared<planning::SolverProgress>(po.log, planning::SolverProgress::Sink{})](
+                            const PlanProgress& x) { (*p)(x); };
           py::gil_scoped_release release;
           nominal = setup.nominal(po);
           po.log = nullptr;
+          po.progress = nullptr;
         } else {
           nominal = nominal_from(pb, plan);
         }
