@@ -8,7 +8,8 @@ and compare what they wrote.
 Each build solves examples/*.yaml and examples/auto/*.yaml (20 verification runs, 2 threads) into
 OUT/ref/<example> and OUT/new/<example>. Then, per example: every controller file (*.ctrl) must be
 byte-identical, and plan.json and result.json identical as JSON once the measured fields are left
-out (keys ending in _s or containing "time": wall-clock times; peak_memory_bytes: measured RSS).
+out (keys ending in _s or containing "time": wall-clock times; peak_memory_bytes: measured RSS;
+in text, a number followed by " s", e.g. "certified after 2 rounds and 2.25 s").
 A binary finds its plugins next to itself (../lib/marsyn/plugins), so copy a reference build's
 bin/ and lib/ together. Exit status 1 on any difference.
 """
@@ -17,6 +18,7 @@ import difflib
 import filecmp
 import json
 import pathlib
+import re
 import subprocess
 import sys
 
@@ -25,11 +27,16 @@ def measured(key):
     return key.endswith("_s") or "time" in key or key == "peak_memory_bytes"
 
 
+SECONDS = re.compile(r"\b\d+(?:\.\d+)?(?:e[-+]?\d+)? s\b")
+
+
 def strip(x):
     if isinstance(x, dict):
         return {k: strip(v) for k, v in x.items() if not measured(k)}
     if isinstance(x, list):
         return [strip(v) for v in x]
+    if isinstance(x, str):
+        return SECONDS.sub("<seconds> s", x)
     return x
 
 
