@@ -104,8 +104,7 @@ py::dict agent_dict(const AgentSpec& a) {
   d["input_bounds"] = py::make_tuple(vector(a.input_bounds.lo), vector(a.input_bounds.hi));
   d["w"] = vector(a.tube.w);
   d["eps"] = vector(a.tube.eps);
-  d["eta_x"] = vector(a.tube.eta_x);
-  d["eta_u"] = vector(a.tube.eta_u);
+  for (const auto& f : a.fields.items) d[f.name.c_str()] = vector(f.value);  // the trackers' own (abcd: eta_x, eta_u)
   d["tracker"] = a.tracker.name;  // resolved per agent (never "auto")
   return d;
 }

@@ -132,8 +132,9 @@ py::list search_changes(const Problem& given, const SolveOutcome& o) {
     else if (u.tracker.params.values() != g.tracker.params.values())
       add_change(out, g.name, "tracker params", py::cast(g.tracker.params.values()), py::cast(u.tracker.params.values()));
     if (!same(g.tube.eps, u.tube.eps)) add_change(out, g.name, "eps", vector(g.tube.eps), vector(u.tube.eps));
-    if (!same(g.tube.eta_x, u.tube.eta_x)) add_change(out, g.name, "eta_x", vector(g.tube.eta_x), vector(u.tube.eta_x));
-    if (!same(g.tube.eta_u, u.tube.eta_u)) add_change(out, g.name, "eta_u", vector(g.tube.eta_u), vector(u.tube.eta_u));
+    for (const auto& f : u.fields.items)  // the trackers' own fields (abcd's grid)
+      if (const Eigen::VectorXd was = g.fields.value(f.name); !same(was, f.value))
+        add_change(out, g.name, f.name.c_str(), vector(was), vector(f.value));
   }
   return out;
 }

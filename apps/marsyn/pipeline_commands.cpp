@@ -306,7 +306,7 @@ void print_search_summary(const SolveOutcome& out) {
                   c.from.c_str(), c.to.c_str(), r.index, r.reason.c_str());
 }
 
-// What the file left to marsyn (eps / eta: auto), the values chosen and why.
+// What the file left to marsyn (eps and the trackers' fields: auto), the values chosen and why.
 void print_auto_values(const SolveOutcome& out) {
   for (std::size_t i = 0; i < out.auto_tube.size() && i < out.problem.agents.size(); ++i) {
     const AutoTube& at = out.auto_tube[i];
@@ -314,8 +314,7 @@ void print_auto_values(const SolveOutcome& out) {
     const AgentSpec& a = out.problem.agents[i];
     auto text = [](const Eigen::VectorXd& v) { return list_text(v, "(", ")", ",", 4); };
     std::string vals = at.eps ? "eps " + text(a.tube.eps) : "";
-    if (at.eta_x) vals += (vals.empty() ? "" : ", ") + std::string("eta_x ") + text(a.tube.eta_x);
-    if (at.eta_u) vals += (vals.empty() ? "" : ", ") + std::string("eta_u ") + text(a.tube.eta_u);
+    for (const auto& f : at.fields) vals += (vals.empty() ? "" : ", ") + f + " " + text(a.fields.value(f));
     const std::string note = i < out.auto_notes.size() && !out.auto_notes[i].empty() ? out.auto_notes[i] : "the first value stood";
     std::printf("auto          %-12s %s: %s\n", a.name.c_str(), vals.c_str(), at.eps ? note.c_str() : "from eps and U");
   }

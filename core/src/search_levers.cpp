@@ -9,6 +9,7 @@
 #include "marsyn/core/planning/goal_room.hpp"
 #include "marsyn/core/planning/workspace_gaps.hpp"
 #include "marsyn/core/problem/agent_checks.hpp"
+#include "marsyn/core/problem/tracker_fields.hpp"
 #include "marsyn/number_text.hpp"
 
 namespace marsyn::search {
@@ -47,10 +48,10 @@ void describe(const AgentSpec& before, const AgentSpec& after, std::vector<Searc
   else if (params_text(before.tracker.params) != params_text(after.tracker.params))
     out.push_back({after.name, "tracker params", params_text(before.tracker.params), params_text(after.tracker.params)});
   if (differ(before.tube.eps, after.tube.eps)) out.push_back({after.name, "eps", vector_text(before.tube.eps), vector_text(after.tube.eps)});
-  if (differ(before.tube.eta_x, after.tube.eta_x))
-    out.push_back({after.name, "eta_x", vector_text(before.tube.eta_x), vector_text(after.tube.eta_x)});
-  if (differ(before.tube.eta_u, after.tube.eta_u))
-    out.push_back({after.name, "eta_u", vector_text(before.tube.eta_u), vector_text(after.tube.eta_u)});
+  // The trackers' own fields (abcd's grid), by name.
+  for (const auto& f : after.fields.items)
+    if (const Eigen::VectorXd was = before.fields.value(f.name); differ(was, f.value))
+      out.push_back({after.name, f.name, vector_text(was), vector_text(f.value)});
 }
 
 }  // namespace
@@ -220,8 +221,8 @@ class Proposer {
     p_.changed.push_back(i);
   }
 
-  // eps times `factor` for the agents `who` (in coordinate `only`, or all when -1); a smaller
-  // tube keeps a grid no coarser than itself.
+  // eps times `factor` for the agents `who` (in coordinate `only`, or all when -1); the trackers
+  // keep their fields within a smaller tube (abcd: a grid no coarser than it).
   void scale_eps(const std::vector<int>& who, double factor, const std::vector<int>& only) {
     for (std::size_t w = 0; w < who.size(); ++w) {
       const int i = who[w];
@@ -230,7 +231,7 @@ class Proposer {
       if (c >= 0 && c < b.n()) b.tube.eps[c] *= factor;
       else if (c < 0) b.tube.eps *= factor;
       else continue;
-      if (factor < 1 && b.tube.eta_x.size() == b.tube.eps.size()) b.tube.eta_x = b.tube.eta_x.cwiseMin(b.tube.eps);
+      if (factor < 1) follow_tube(instances_, b, TubeChange::Narrowed);
       consider(i, b);
     }
     p_.replan = true;
@@ -399,8 +400,7 @@ std::string fingerprint(const std::vector<AgentSpec>& agents, const std::map<std
   for (const auto& a : agents) {
     s << a.name << ":" << a.tracker.name << params_text(a.tracker.params) << ":";
     put(a.tube.eps);
-    put(a.tube.eta_x);
-    put(a.tube.eta_u);
+    for (const auto& f : a.fields.items) put(f.value);
   }
   for (const auto& [name, v] : extra) s << name << "=" << v << ";";
   for (std::size_t i = 0; i < input_share.size(); ++i)

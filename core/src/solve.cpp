@@ -18,6 +18,8 @@
 #include "marsyn/core/search_levers.hpp"
 #include "marsyn/core/setup.hpp"
 #include "marsyn/core/problem/agent_checks.hpp"
+#include "marsyn/core/problem/tracker_fields.hpp"
+#include "marsyn/core/tracking/global_abcd.hpp"
 
 namespace marsyn {
 namespace {
@@ -26,12 +28,13 @@ using search::Failure;
 using search::Lever;
 using search::LeverChoice;
 
-// An attempt's parameters for one agent: its tracker, eps, and the grids when it has them.
+// An attempt's parameters for one agent: its tracker, eps, and the trackers' fields it has
+// (abcd's grid).
 std::string agent_parameters(const AgentSpec& a) {
   std::string p = "tracker=" + a.tracker.name + (a.tracker.params.values().empty() ? "" : search::params_text(a.tracker.params)) +
                   " eps=" + search::vector_text(a.tube.eps);
-  if (a.tube.eta_x.size()) p += " eta_x=" + search::vector_text(a.tube.eta_x);
-  if (a.tube.eta_u.size()) p += " eta_u=" + search::vector_text(a.tube.eta_u);
+  for (const auto& f : a.fields.items)
+    if (f.value.size()) p += " " + f.name + "=" + search::vector_text(f.value);
   return p;
 }
 
@@ -525,12 +528,14 @@ bool Search::narrow_auto_eps(double elapsed, SearchRound& next) {
     if (!eps.size()) continue;
     AgentSpec b = agents[i];
     b.tube.eps = eps;
-    auto_grid(b, {false, at.eta_x, at.eta_u});
+    follow_tube(instances_, b, TubeChange::Set);  // the automatic fields (abcd's grid) follow eps
     if (!agent_consistent(b) || !assess_tracker(instances_, b.tracker, b, ask()).ok) continue;
     changes.push_back({b.name, "eps", search::vector_text(agents[i].tube.eps), search::vector_text(eps)});
-    if (at.eta_x) changes.push_back({b.name, "eta_x", search::vector_text(agents[i].tube.eta_x), search::vector_text(b.tube.eta_x)});
-    if (at.eta_u && b.tube.eta_u != agents[i].tube.eta_u)
-      changes.push_back({b.name, "eta_u", search::vector_text(agents[i].tube.eta_u), search::vector_text(b.tube.eta_u)});
+    for (const auto& f : b.fields.items) {
+      const Eigen::VectorXd before = agents[i].fields.value(f.name);
+      if (f.automatic && (before.size() != f.value.size() || before != f.value))
+        changes.push_back({b.name, f.name, search::vector_text(before), search::vector_text(f.value)});
+    }
     out_.auto_notes.resize(pb_.agents.size());
     out_.auto_notes[i] += (out_.auto_notes[i].empty() ? "" : "; ") + std::string("round ") + std::to_string(next.index - 1) +
                           "'s controller kept " + search::vector_text(kept) + " at the samples: eps " +
@@ -645,12 +650,16 @@ bool Search::run(const Stopwatch& t_start) {
 }
 
 // Each agent's tracker (AgentSpec::tracker, resolved by the loader). An agent without one (a
-// Problem built by hand) gets the top-level tracker, or abcd.
+// Problem built by hand) gets the top-level tracker, or the first installed one (the registry's
+// order: by library name within a folder).
 void resolve_trackers(const LoadedProblem& loaded, SolveOutcome& out) {
   Problem& pb = out.problem;
+  std::string first;
+  if (loaded.registry)
+    if (const auto names = loaded.registry->names(PluginKind<Tracker>::name); !names.empty()) first = names.front();
   for (auto& a : pb.agents)
     if (a.tracker.name.empty())
-      a.tracker = pb.tracker.name.empty() || pb.tracker.name == kAutoTracker ? PluginChoice{"abcd", {}} : pb.tracker;
+      a.tracker = pb.tracker.name.empty() || pb.tracker.name == kAutoTracker ? PluginChoice{first, {}} : pb.tracker;
   out.trackers = loaded.trackers;
   out.trackers.resize(pb.agents.size());
 }
@@ -694,7 +703,7 @@ SolveOutcome Setup::solve(const SolveOptions& opt) {
   // The baseline is a figure for the report: rank 0's alone.
   if (!opt.cluster || opt.cluster->rank() == 0) out.global = global_baseline(out.problem, opt, log);
   if (out.global.attempted)
-    out.attempts.push_back({"global ABCD", "eta_x, eta_u of the agents, product domain", out.global.status, out.global.time_s, 0});
+    out.attempts.push_back({"global ABCD", kGlobalAbcdParameters, out.global.status, out.global.time_s, 0});
 
   if (controllers) verify_controllers(*this, opt, out);
   out.total_time_s = t_start.seconds();

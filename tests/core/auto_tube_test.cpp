@@ -26,7 +26,7 @@ marsyn::SolveOutcome solve_auto(const std::string& name) {
   static std::vector<marsyn::LoadedProblem> kept;
   kept.push_back(marsyn::load_problem(std::string(MARSYN_SOURCE_DIR) + "/examples/auto/" + name + ".yaml"));
   const auto& lp = kept.back();
-  for (const auto& at : lp.auto_tube) EXPECT_TRUE(at.eps && at.eta_x && at.eta_u) << name;
+  for (const auto& at : lp.auto_tube) EXPECT_TRUE(at.eps && at.automatic("eta_x") && at.automatic("eta_u")) << name;
   marsyn::SolveOptions so;
   so.verification_runs = 50;
   so.global_memory_budget_bytes = 0;
@@ -79,9 +79,9 @@ TEST(AutoTube, WrittenAutoAndItsFirstValue) {
       marsyn::test::pendulum_variant("auto_written", "tracker: abcd", {{"eps: [0.2, 0.2]", "eps: auto"}}));
   ASSERT_EQ(lp.auto_tube.size(), 1u);
   EXPECT_TRUE(lp.auto_tube[0].eps);
-  EXPECT_FALSE(lp.auto_tube[0].eta_x || lp.auto_tube[0].eta_u);
+  EXPECT_FALSE(lp.auto_tube[0].automatic("eta_x") || lp.auto_tube[0].automatic("eta_u"));
   EXPECT_NEAR(lp.problem.agents[0].tube.eps[0], 0.15, 1e-12);
-  EXPECT_NEAR(lp.problem.agents[0].tube.eta_x[0], 0.01, 1e-12);
+  EXPECT_NEAR(lp.problem.agents[0].fields.value("eta_x")[0], 0.01, 1e-12);
   // Not a number nor auto: a located error.
   EXPECT_THROW(marsyn::load_problem(marsyn::test::pendulum_variant("auto_bad", "tracker: abcd", {{"eps: [0.2, 0.2]", "eps: automatic"}})),
                marsyn::ConfigError);
@@ -100,7 +100,7 @@ TEST(AutoTube, AFormationBoundsTheFirstValue) {
     EXPECT_NEAR(a.tube.eps[0], cap, 1e-12) << a.name;  // the goal's rule alone gives 0.25
     EXPECT_NEAR(a.tube.eps[1], cap, 1e-12) << a.name;
     EXPECT_NEAR(a.tube.eps[2], 0.15, 1e-12) << a.name;  // velocities: the goal's rule, untouched
-    EXPECT_NEAR(a.tube.eta_x[0], 2 * cap / 16, 1e-12) << a.name;  // the auto grid follows
+    EXPECT_NEAR(a.fields.value("eta_x")[0], 2 * cap / 16, 1e-12) << a.name;  // the auto grid follows
   }
   for (const auto& w : marsyn::advise(lp).warnings) EXPECT_EQ(w.find("formation"), std::string::npos) << w;
   const auto written = marsyn::load_problem(marsyn::test::hovercraft_triangle("written_triangle", "  eps: [0.25, 0.25, 0.15, 0.15]\n"));

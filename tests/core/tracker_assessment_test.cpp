@@ -26,8 +26,8 @@ marsyn::AgentSpec unicycle(const marsyn::PluginRegistry& reg) {
   a.goal = {VectorXd::Constant(3, 4.7), VectorXd::Constant(3, 5.3)};
   a.tube.w = VectorXd::Constant(3, 0.02);
   a.tube.eps = (VectorXd(3) << 0.2, 0.2, 0.24).finished();
-  a.tube.eta_x = (VectorXd(3) << 0.025, 0.025, 0.03).finished();
-  a.tube.eta_u = VectorXd::Constant(2, 0.3);
+  a.fields.set("eta_x", (VectorXd(3) << 0.025, 0.025, 0.03).finished());
+  a.fields.set("eta_u", VectorXd::Constant(2, 0.3));
   return a;
 }
 
@@ -54,7 +54,7 @@ TEST_F(AbcdAssessment, AcceptsAGridInsideTheTubeWithItsFigures) {
 
 TEST_F(AbcdAssessment, X0CellOutsideTheTubeNamesTheCoordinate) {
   auto a = unicycle(reg);
-  a.tube.eta_x[0] = 0.5;
+  a.fields.find("eta_x")->value[0] = 0.5;
   const auto r = abcd->assess(a, 20, 0.1);
   EXPECT_FALSE(r.ok);
   EXPECT_EQ(r.field, "eta_x");
@@ -66,14 +66,14 @@ TEST_F(AbcdAssessment, X0CellOutsideTheTubeNamesTheCoordinate) {
 
 TEST_F(AbcdAssessment, MissingGridsAreRefusedByName) {
   auto a = unicycle(reg);
-  a.tube.eta_u.resize(0);
+  a.fields.find("eta_u")->value.resize(0);
   auto r = abcd->assess(a, 20, 0.1);
   EXPECT_FALSE(r.ok);
   EXPECT_EQ(r.field, "eta_u");
   EXPECT_EQ(r.coordinate, -1);
   EXPECT_NE(r.message.find("the abcd tracker needs 'eta_u'"), std::string::npos) << r.message;
   a = unicycle(reg);
-  a.tube.eta_x.resize(0);
+  a.fields.find("eta_x")->value.resize(0);
   r = abcd->assess(a, 20, 0.1);
   EXPECT_EQ(r.field, "eta_x");
   EXPECT_NE(r.message.find("e.g. eps / 8 = [0.025, 0.025, 0.03]"), std::string::npos) << r.message;
@@ -92,10 +92,55 @@ TEST_F(AbcdAssessment, MemoryBudgetFromTheRequest) {
 TEST_F(AbcdAssessment, RefineMakesBothGridsFiner) {
   auto a = unicycle(reg);
   ASSERT_TRUE(abcd->refine(a));
-  EXPECT_DOUBLE_EQ(a.tube.eta_x[0], 0.025 * 0.75);
-  EXPECT_DOUBLE_EQ(a.tube.eta_x[2], 0.03 * 0.75);
-  EXPECT_DOUBLE_EQ(a.tube.eta_u[1], 0.3 * 0.75);
+  EXPECT_DOUBLE_EQ(a.fields.value("eta_x")[0], 0.025 * 0.75);
+  EXPECT_DOUBLE_EQ(a.fields.value("eta_x")[2], 0.03 * 0.75);
+  EXPECT_DOUBLE_EQ(a.fields.value("eta_u")[1], 0.3 * 0.75);
   EXPECT_EQ(a.tube.eps[0], 0.2);  // eps is the orchestrator's, not the tracker's
+}
+
+// abcd's grid is its own field: it declares it, and keeps it in step with the tube.
+TEST_F(AbcdAssessment, DeclaresItsGridAsAgentFields) {
+  const auto specs = abcd->agent_fields();
+  ASSERT_EQ(specs.size(), 2u);
+  EXPECT_EQ(specs[0].name, "eta_x");
+  EXPECT_FALSE(specs[0].per_input);
+  EXPECT_EQ(specs[1].name, "eta_u");
+  EXPECT_TRUE(specs[1].per_input);
+}
+
+TEST_F(AbcdAssessment, ANarrowedTubeKeepsTheStateGridWithinEps) {
+  auto a = unicycle(reg);
+  a.tube.eps = (VectorXd(3) << 0.02, 0.2, 0.024).finished();
+  EXPECT_EQ(abcd->follow_tube(a, marsyn::TubeChange::Narrowed), "");
+  const VectorXd eta_x = a.fields.value("eta_x");
+  EXPECT_DOUBLE_EQ(eta_x[0], 0.02);   // was 0.025 > eps
+  EXPECT_DOUBLE_EQ(eta_x[1], 0.025);  // within eps: unchanged
+  EXPECT_DOUBLE_EQ(eta_x[2], 0.024);
+  EXPECT_DOUBLE_EQ(a.fields.value("eta_u")[0], 0.3);  // the input grid is not the tube's
+  // Setting eps leaves a given grid as written.
+  auto b = unicycle(reg);
+  b.tube.eps *= 0.1;
+  EXPECT_EQ(abcd->follow_tube(b, marsyn::TubeChange::Set), "");
+  EXPECT_DOUBLE_EQ(b.fields.value("eta_x")[0], 0.025);
+}
+
+TEST_F(AbcdAssessment, AnAutomaticGridFollowsEpsAndU) {
+  auto a = unicycle(reg);
+  a.fields.find("eta_x")->automatic = true;
+  a.fields.find("eta_u")->automatic = true;
+  EXPECT_EQ(abcd->follow_tube(a, marsyn::TubeChange::Set),
+            "eta_x = 2 eps / 16 (cells per coordinate); eta_u = U's range / 20");
+  EXPECT_DOUBLE_EQ(a.fields.value("eta_x")[0], 2 * 0.2 / 16);
+  EXPECT_DOUBLE_EQ(a.fields.value("eta_x")[2], 2 * 0.24 / 16);
+  EXPECT_DOUBLE_EQ(a.fields.value("eta_u")[1], 4.0 / 20);
+}
+
+TEST_F(AbcdAssessment, WarnsWhenTheStateGridIsCoarserThanEps) {
+  auto a = unicycle(reg);
+  a.fields.find("eta_x")->value[2] = 0.3;
+  const auto w = abcd->field_warnings(a);
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0].rfind("eta_x 0.3 in 'theta' exceeds eps 0.24: no grid cell fits the tube", 0), 0u) << w[0];
 }
 
 }  // namespace

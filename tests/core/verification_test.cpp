@@ -48,8 +48,8 @@ struct Fixture {
     a.input_bounds = {VectorXd::Constant(1, -5), VectorXd::Constant(1, 5)};
     a.tube.w = (VectorXd(2) << 0.0, 0.5).finished();
     a.tube.eps = VectorXd::Constant(2, 0.3);
-    a.tube.eta_x = VectorXd::Constant(2, 0.05);
-    a.tube.eta_u = VectorXd::Constant(1, 0.1);
+    a.fields.set("eta_x", VectorXd::Constant(2, 0.05));
+    a.fields.set("eta_u", VectorXd::Constant(1, 0.1));
     a.workspace.index = {0, -1};
     a.workspace.offset = {0.0, 0.0};
     pb.agents.push_back(a);

@@ -46,18 +46,4 @@ bool cap_auto_eps_for_formation(AgentSpec& a, double mu, std::string* why) {
   return changed;
 }
 
-void auto_grid(AgentSpec& a, const AutoTube& which, std::string* why) {
-  const int n = a.n(), m = a.m();
-  const double cells = std::clamp(std::floor(std::pow(2e5, 1.0 / std::max(1, n))), 4.0, 16.0);
-  const double points = std::clamp(std::floor(std::pow(400.0, 1.0 / std::max(1, m))), 4.0, 20.0);
-  if (which.eta_x) a.tube.eta_x = 2 * a.tube.eps / cells;
-  if (which.eta_u) a.tube.eta_u = (a.input_bounds.hi - a.input_bounds.lo) / points;
-  if (why) {
-    std::string w;
-    if (which.eta_x) w = "eta_x = 2 eps / " + std::to_string(static_cast<int>(cells)) + " (cells per coordinate)";
-    if (which.eta_u) w += (w.empty() ? "" : "; ") + std::string("eta_u = U's range / ") + std::to_string(static_cast<int>(points));
-    *why = w;
-  }
-}
-
 }  // namespace marsyn

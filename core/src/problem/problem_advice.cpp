@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "marsyn/core/planning/workspace_gaps.hpp"
+#include "marsyn/core/problem/tracker_fields.hpp"
 #include "marsyn/memory_budget.hpp"
 #include "marsyn/number_text.hpp"
 
@@ -51,15 +52,14 @@ Advice advise(const LoadedProblem& lp) {
     if (i < lp.auto_tube.size() && lp.auto_tube[i].any()) {
       const AutoTube& at = lp.auto_tube[i];
       AgentSpec first = a;
-      std::string eps_rule, grid_rule;
+      std::string eps_rule;
       first.tube.eps = first_auto_eps(first, pb.tau, &eps_rule);
       if (std::string cap; cap_auto_eps_for_formation(first, formation_tolerance(pb, static_cast<int>(i)), &cap))
         eps_rule += "; " + cap;
-      auto_grid(first, {false, at.eta_x, at.eta_u}, &grid_rule);
       std::string v;
       for (Eigen::Index k = 0; k < a.tube.eps.size(); ++k) v += (k ? ", " : "") + number_text(a.tube.eps[k], 4);
       if (at.eps) ad.auto_note = "eps: auto, (" + v + ") to start (" + eps_rule + "); solve narrows it to the tube the controller keeps";
-      if (at.eta_x || at.eta_u) ad.auto_note += (ad.auto_note.empty() ? "" : "; ") + grid_rule;
+      if (!at.fields.empty()) ad.auto_note += (ad.auto_note.empty() ? "" : "; ") + at.field_rule;
     }
     // Warnings with their numbers.
     const std::string who = a.name + ": ";
@@ -70,12 +70,9 @@ Advice advise(const LoadedProblem& lp) {
                                " is at most what the disturbance alone moves the state in one period (w tau = " +
                                number_text(a.tube.w[k], 4) + " x " + number_text(pb.tau, 4) + " = " +
                                number_text(push, 4) + "): no tracker can keep that tube; enlarge eps or shorten tau");
-      if (a.tube.eta_x.size() == a.n() && a.tube.eta_x[k] > a.tube.eps[k])
-        out.warnings.push_back(who + "eta_x " + number_text(a.tube.eta_x[k], 4) + " in " + coordinate(a, k) +
-                               " exceeds eps " + number_text(a.tube.eps[k], 4) +
-                               ": no grid cell fits the tube; a grid tracker (abcd) cannot work " +
-                               "(eps / 8 = " + number_text(a.tube.eps[k] / 8, 4) + " would)");
     }
+    // The trackers' remarks on their own fields (abcd: a grid coarser than the tube).
+    for (const auto& w : field_warnings(instances, a)) out.warnings.push_back(who + w);
     // The chosen tracker, then the fallbacks: each whose estimate is a minute or more.
     std::vector<std::string> order{ad.chosen};
     order.insert(order.end(), ad.fallbacks.begin(), ad.fallbacks.end());

@@ -11,6 +11,7 @@
 #include "marsyn/core/problem/agent_checks.hpp"
 #include "marsyn/core/problem/input_limits.hpp"
 #include "marsyn/core/problem/tracker_assessment.hpp"
+#include "marsyn/core/problem/tracker_fields.hpp"
 #include "agent_fields.hpp"
 #include "marsyn/core/problem/auto_tube.hpp"
 #include "tube_fields.hpp"
@@ -33,10 +34,17 @@ const std::vector<std::string> kTopKeys = {
     "name",  "description", "tau",     "horizon",      "rk4_substeps", "delta",     "delta_norm",
     "pairwise_collision", "guarantee", "planner", "tracker", "collision", "plugin_paths", "defaults", "agents", "obstacles",
     "formation", "search", "regions"};
-const std::vector<std::string> kAgentKeys = {"name",         "dynamics",    "x0",    "goal",
+const std::vector<std::string> kAgentKeys = {"name",         "dynamics",     "x0",          "goal",
                                              "state_bounds", "input_bounds", "disturbance", "eps",
-                                             "eta_x",        "eta_u",        "workspace",   "tracker",
-                                             "stages",       "ltl"};
+                                             "workspace",    "tracker",      "stages",      "ltl"};
+
+// An agent's keys: core's, with the installed trackers' own fields (abcd: eta_x, eta_u) after eps.
+std::vector<std::string> agent_keys(const std::vector<AgentFieldSpec>& fields) {
+  std::vector<std::string> keys = kAgentKeys;
+  auto at = std::find(keys.begin(), keys.end(), "eps") + 1;
+  for (const auto& f : fields) at = keys.insert(at, f.name) + 1;
+  return keys;
+}
 
 // plugin_paths (relative to the file's folder) and the registry they open; a library that failed
 // to load is an error at its entry.
@@ -96,6 +104,8 @@ struct AgentsRead {
   bool spatial;  // obstacles, collisions or a formation: every agent needs a workspace point
   const TrackerRequest& top_tracker;
   TrackerInstances& tracker_instances;
+  const std::vector<AgentFieldSpec>& tracker_fields;  // the installed trackers' own agent fields
+  const std::vector<std::string>& agent_keys;
   std::map<std::string, std::size_t> seen;  // names so far, with their index
   std::vector<Field> x0_fields, stage_fields, ltl_fields;
   std::vector<Field> agent_fields;           // per agent: its own mapping (for a second look at its tracker)
@@ -139,7 +149,7 @@ void read_agent(const Field& af, std::size_t idx, LoadedProblem& out, AgentsRead
   Problem& pb = out.problem;
   const Field& defaults = r.defaults;
   af.expect_map();
-  af.allow_only(kAgentKeys);
+  af.allow_only(r.agent_keys);
   AgentSpec a;
   Field name = af.required("name");
   a.name = name.text();
@@ -160,9 +170,9 @@ void read_agent(const Field& af, std::size_t idx, LoadedProblem& out, AgentsRead
   a.state_bounds = read_box(agent_required(af, defaults, "state_bounds"), n, sn);
   a.input_bounds = read_box(agent_required(af, defaults, "input_bounds"), m, sm);
   a.tube.w = agent_required(af, defaults, "disturbance").non_negative_vector(n, sn);
-  // eps and the grids: numbers, or `auto` (auto_tube.hpp; an absent eps is auto, and so are
-  // then absent grids).
-  const AutoTube at = read_tube(af, defaults, pb.tau, a, sn, sm);
+  // eps and the trackers' fields: numbers, or `auto` (auto_tube.hpp; an absent eps is auto, and
+  // so are then absent fields).
+  const AutoTube at = read_tube(af, defaults, pb.tau, a, sn, sm, r.tracker_fields, r.tracker_instances);
   out.auto_tube.push_back(at);
   if (Field ws = agent_field(af, defaults, "workspace"); ws.present()) {
     a.workspace = read_workspace(ws, *a.dynamics);
@@ -256,10 +266,13 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
   read_plugin_paths(top, path, out);
   read_timing_and_norms(top, out);
 
+  TrackerInstances tracker_instances(out.registry);
+  const std::vector<AgentFieldSpec> tracker_fields = installed_agent_fields(tracker_instances);
+  const std::vector<std::string> keys = agent_keys(tracker_fields);
   const Field defaults = top.child("defaults");
   if (defaults.present()) {
     defaults.expect_map();
-    std::vector<std::string> allowed(kAgentKeys.begin() + 1, kAgentKeys.end());
+    std::vector<std::string> allowed(keys.begin() + 1, keys.end());
     defaults.allow_only(allowed);
   }
   const bool has_obstacles = top.child("obstacles").present() && top.child("obstacles").size() > 0;
@@ -276,8 +289,7 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
   // The top-level tracker (default of every agent without its own): a name, a block, or auto.
   const TrackerRequest top_tracker = read_tracker_request(top.child("tracker"), *out.registry);
   pb.tracker = top_tracker.automatic ? PluginChoice{kAutoTracker, {}} : top_tracker.choice;
-  TrackerInstances tracker_instances(out.registry);
-  AgentsRead r{defaults, regions, spatial, top_tracker, tracker_instances, {}, {}, {}, {}, {}, {}, {}};
+  AgentsRead r{defaults, regions, spatial, top_tracker, tracker_instances, tracker_fields, keys, {}, {}, {}, {}, {}, {}, {}};
   for (std::size_t idx = 0; idx < agent_fields.size(); ++idx) read_agent(agent_fields[idx], idx, out, r);
 
   if (has_obstacles) {
@@ -292,7 +304,7 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
     for (std::size_t i = 0; i < pb.agents.size(); ++i) {
       AgentSpec& a = pb.agents[i];
       if (!out.auto_tube[i].eps || !cap_auto_eps_for_formation(a, formation_tolerance(pb, static_cast<int>(i)))) continue;
-      auto_grid(a, out.auto_tube[i]);
+      follow_tube(r.tracker_instances, a, TubeChange::Set);
       out.trackers[i] = resolve_tracker(a, r.tracker_requests[i], r.tracker_instances, *out.registry, pb, out.memory_budget,
                                         r.agent_fields[i], defaults);
     }

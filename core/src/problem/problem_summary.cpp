@@ -1,7 +1,6 @@
 #include "marsyn/core/problem/problem_summary.hpp"
 
 #include <algorithm>
-#include <array>
 #include <iomanip>
 #include <sstream>
 
@@ -39,8 +38,14 @@ std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& track
     << (pb.warm_start_planner.name.empty() ? "" : pb.warm_start_planner.name + " -> ") << pb.planner.name << ", tracker " << pb.tracker.name << ", obstacle distances "
     << (pb.collision.name.empty() ? "exact (core)" : pb.collision.name) << "\n\n";
   // The agent table: each column as wide as its widest cell plus two spaces, so that no value
-  // (a long eta_x) runs into the next column.
-  std::vector<std::array<std::string, 6>> rows{{"agent", "dynamics", "n x m", "eps", "eta_x", "tracker"}};
+  // (a long vector) runs into the next column. The trackers' own fields (abcd's grid) by name.
+  std::vector<std::string> field_names;
+  for (const auto& a : pb.agents)
+    for (const auto& f : a.fields.items)
+      if (std::find(field_names.begin(), field_names.end(), f.name) == field_names.end()) field_names.push_back(f.name);
+  std::vector<std::vector<std::string>> rows{{"agent", "dynamics", "n x m", "eps"}};
+  rows[0].insert(rows[0].end(), field_names.begin(), field_names.end());
+  rows[0].push_back("tracker");
   for (std::size_t i = 0; i < pb.agents.size(); ++i) {
     const AgentSpec& a = pb.agents[i];
     // The tracker's own figures (abcd: tube cells per step and grid inputs), from its assessment.
@@ -54,10 +59,16 @@ std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& track
       }
       if (!t.assessment.summary.empty()) tracker += ": " + t.assessment.summary;
     }
-    rows.push_back({a.name, a.dynamics_type, std::to_string(a.n()) + " x " + std::to_string(a.m()),
-                    list_text(a.tube.eps), a.tube.eta_x.size() ? list_text(a.tube.eta_x) : std::string("-"), tracker});
+    std::vector<std::string> row{a.name, a.dynamics_type, std::to_string(a.n()) + " x " + std::to_string(a.m()),
+                                 list_text(a.tube.eps)};
+    for (const auto& name : field_names) {
+      const Eigen::VectorXd v = a.fields.value(name);
+      row.push_back(v.size() ? list_text(v) : std::string("-"));
+    }
+    row.push_back(tracker);
+    rows.push_back(std::move(row));
   }
-  std::array<std::size_t, 6> width{};
+  std::vector<std::size_t> width(rows[0].size(), 0);
   for (const auto& r : rows)
     for (std::size_t c = 0; c < r.size(); ++c) width[c] = std::max(width[c], r[c].size() + 2);
   for (const auto& r : rows) {

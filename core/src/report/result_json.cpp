@@ -41,20 +41,19 @@ nlohmann::json auto_json(const SolveOutcome& o, std::size_t i) {
   const AutoTube& at = o.auto_tube[i];
   nlohmann::json fields = nlohmann::json::array();
   if (at.eps) fields.push_back("eps");
-  if (at.eta_x) fields.push_back("eta_x");
-  if (at.eta_u) fields.push_back("eta_u");
+  for (const auto& f : at.fields) fields.push_back(f);
   AgentSpec first = o.problem.agents[i];
-  std::string eps_rule, grid_rule;
+  std::string eps_rule;
   first.tube.eps = first_auto_eps(first, o.problem.tau, &eps_rule);
   if (std::string cap; cap_auto_eps_for_formation(first, formation_tolerance(o.problem, static_cast<int>(i)), &cap))
     eps_rule += "; " + cap;
-  auto_grid(first, {false, at.eta_x, at.eta_u}, &grid_rule);
   nlohmann::json j{{"fields", fields}};
   if (at.eps) j["eps_rule"] = eps_rule + "; then the tube the controller kept at the samples + " +
                               std::to_string(static_cast<int>(100 * kAutoEpsMargin)) + " %, never below " +
                               std::to_string(static_cast<int>(100 * kAutoEpsFloor)) + " % of the first value, at most " +
                               std::to_string(kAutoEpsIterations) + " times";
-  if (at.eta_x || at.eta_u) j["grid_rule"] = grid_rule;
+  // The owners' rule for their automatic fields (abcd: its grid), under the key it always had.
+  if (!at.fields.empty()) j["grid_rule"] = at.field_rule;
   j["search"] = i < o.auto_notes.size() && !o.auto_notes[i].empty() ? o.auto_notes[i] : "the first value stood";
   return j;
 }
@@ -147,10 +146,10 @@ nlohmann::json agent_json(const SolveOutcome& o, std::size_t i) {
   json j = {{"name", a.name},
             {"dynamics", spec.dynamics_type},
             {"eps", std::vector<double>(spec.tube.eps.data(), spec.tube.eps.data() + spec.tube.eps.size())},
-            {"eta_x", std::vector<double>(spec.tube.eta_x.data(), spec.tube.eta_x.data() + spec.tube.eta_x.size())},
-            {"eta_u", std::vector<double>(spec.tube.eta_u.data(), spec.tube.eta_u.data() + spec.tube.eta_u.size())},
             {"tracker", t},
             {"controller", a.controller_file.empty() ? json(nullptr) : json(a.controller_file)}};
+  // The trackers' own fields (abcd: eta_x, eta_u), by name.
+  for (const auto& f : spec.fields.items) j[f.name] = std::vector<double>(f.value.data(), f.value.data() + f.value.size());
   if (i < o.auto_tube.size() && o.auto_tube[i].any()) j["auto"] = auto_json(o, i);
   return j;
 }

@@ -75,9 +75,9 @@ GlobalAbcdRun run_global_abcd(const Problem& pb, const Tracker& tracker, int thr
     rp.domain.hi.segment(xo, a.n()) = a.state_bounds.hi;
     rp.target.lo.segment(xo, a.n()) = a.goal.lo;
     rp.target.hi.segment(xo, a.n()) = a.goal.hi;
-    rp.eta_x.segment(xo, a.n()) = a.tube.eta_x;
+    rp.eta_x.segment(xo, a.n()) = a.fields.value(kStateGridField);
     rp.w.segment(xo, a.n()) = a.tube.w;
-    rp.eta_u.segment(uo, a.m()) = a.tube.eta_u;
+    rp.eta_u.segment(uo, a.m()) = a.fields.value(kInputGridField);
     rp.input_bounds.lo.segment(uo, a.m()) = a.input_bounds.lo;
     rp.input_bounds.hi.segment(uo, a.m()) = a.input_bounds.hi;
   }
@@ -105,15 +105,15 @@ GlobalAbcdRun run_global_abcd(const Problem& pb, const Tracker& tracker, int thr
 GlobalAbcdEstimate estimate_global_abcd(const Problem& pb) {
   GlobalAbcdEstimate g;
   for (const auto& a : pb.agents)
-    if (a.tube.eta_x.size() != a.n() || a.tube.eta_u.size() != a.m()) {
+    if (a.fields.value(kStateGridField).size() != a.n() || a.fields.value(kInputGridField).size() != a.m()) {
       g.status = "skipped: " + a.name + " has no eta_x and eta_u (the baseline abstracts the product on the agents' grids)";
       return g;
     }
   double pairs = 1;
   for (const auto& a : pb.agents) {
-    for (int i = 0; i < a.n(); ++i) pairs *= std::ceil((a.state_bounds.hi[i] - a.state_bounds.lo[i]) / a.tube.eta_x[i]);
-    for (int j = 0; j < a.m(); ++j)
-      pairs *= std::floor((a.input_bounds.hi[j] - a.input_bounds.lo[j]) / a.tube.eta_u[j] + 1e-9) + 1;
+    const Eigen::VectorXd eta_x = a.fields.value(kStateGridField), eta_u = a.fields.value(kInputGridField);
+    for (int i = 0; i < a.n(); ++i) pairs *= std::ceil((a.state_bounds.hi[i] - a.state_bounds.lo[i]) / eta_x[i]);
+    for (int j = 0; j < a.m(); ++j) pairs *= std::floor((a.input_bounds.hi[j] - a.input_bounds.lo[j]) / eta_u[j] + 1e-9) + 1;
   }
   g.state_input_pairs = pairs;
   // A SCOTS-style transition table stores at least one 64-bit successor range per pair.

@@ -22,6 +22,7 @@ TrackingProblem tracking_problem(const Problem& pb, int index, const NominalTraj
   tp.dynamics = a.dynamics;
   tp.nominal = nominal;
   tp.tube = a.tube;
+  tp.fields = a.fields;
   tp.input_bounds = a.input_bounds;
   tp.state_bounds = a.state_bounds;
   tp.tau = pb.tau;

@@ -5,6 +5,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -60,12 +61,47 @@ struct PluginChoice {
 };
 
 // One agent's tube (paper Sec. 3), as the problem file gives it and every stage passes it on:
-// the disturbance bound, the tube's half-width and the grid of grid-based trackers.
+// the disturbance bound and the tube's half-width.
 struct TubeParams {
-  Eigen::VectorXd w;      // disturbance bound: w in [-w, w] componentwise
-  Eigen::VectorXd eps;    // tube half-width per state coordinate (robustness margin)
-  Eigen::VectorXd eta_x;  // state grid cell size (empty when not given: only grid trackers read it)
-  Eigen::VectorXd eta_u;  // input grid spacing (empty when not given)
+  Eigen::VectorXd w;    // disturbance bound: w in [-w, w] componentwise
+  Eigen::VectorXd eps;  // tube half-width per state coordinate (robustness margin)
+};
+
+// An agent-level field that belongs to a tracker, not to the problem: abcd's grid (eta_x,
+// eta_u), written at the agent level in the paper's notation (docs/problem-format.md). The
+// tracker declares it (Tracker::agent_fields); the loader reads it as numbers or `auto`; core
+// carries it and reports it by name without interpreting it; its owner reads it, derives it when
+// automatic and keeps it in step with the tube (Tracker::follow_tube).
+struct AgentField {
+  std::string name;
+  Eigen::VectorXd value;   // empty: not given
+  bool automatic = false;  // `auto` (or absent under an auto eps): its owner derives it from the tube
+};
+
+// An agent's tracker-owned fields, in the order the trackers declare them.
+struct AgentFields {
+  std::vector<AgentField> items;
+
+  const AgentField* find(std::string_view name) const {
+    for (const auto& f : items)
+      if (f.name == name) return &f;
+    return nullptr;
+  }
+  AgentField* find(std::string_view name) {
+    for (auto& f : items)
+      if (f.name == name) return &f;
+    return nullptr;
+  }
+  // The value of `name`; empty when absent or not given.
+  Eigen::VectorXd value(std::string_view name) const {
+    const AgentField* f = find(name);
+    return f ? f->value : Eigen::VectorXd();
+  }
+  // Sets the value of `name` (appended, not automatic, the first time).
+  void set(std::string_view name, Eigen::VectorXd v) {
+    if (AgentField* f = find(name)) f->value = std::move(v);
+    else items.push_back({std::string(name), std::move(v), false});
+  }
 };
 
 // One stage of an agent's mission (docs/tasks.md): a region the agent visits, in the order
@@ -96,7 +132,8 @@ struct AgentSpec {
   Box goal;         // Goal^i, in state coordinates
   Box state_bounds;  // X^i
   Box input_bounds;  // U^i
-  TubeParams tube;  // w, eps, eta_x, eta_u: what the agent's tracker is asked to keep
+  TubeParams tube;  // w, eps: what the agent's tracker is asked to keep
+  AgentFields fields;  // the trackers' own agent-level fields (abcd's grid), core never reads them
   Workspace workspace;
   // The agent's tracker (name and parameters); the name is never "auto" once the problem is
   // loaded: the loader resolves `tracker: auto` per agent from each tracker's assessment.

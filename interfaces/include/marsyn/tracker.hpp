@@ -90,6 +90,7 @@ struct TrackingProblem {
   std::shared_ptr<const Dynamics> dynamics;
   NominalTrajectory nominal;
   TubeParams tube;  // the agent's, unchanged
+  AgentFields fields;  // the agent's tracker-owned fields (abcd: its grid), unchanged
   Box input_bounds;
   Box state_bounds;
   double tau = 0.1;
@@ -97,7 +98,8 @@ struct TrackingProblem {
 };
 
 // Whole-domain mode (global ABCD baseline): reach `target` while staying in `safe`, over the box
-// `domain`, with a time-invariant controller.
+// `domain`, with a time-invariant controller, on the grid eta_x, eta_u over the product (core
+// stacks the agents' own grids, docs/architecture.md).
 struct ReachAvoidProblem {
   std::shared_ptr<const Dynamics> dynamics;
   Box domain, safe, target;
@@ -219,7 +221,7 @@ struct TrackerLever {
 // x_0's cell; funnel: its initial set), so core keeps no copy of any tracker's conventions.
 struct TrackerAssessment {
   bool ok = true;
-  std::string field;    // the agent's field at fault when !ok ("eta_x", "eps", or a tracker parameter)
+  std::string field;    // the agent's field at fault when !ok ("eps", a field or a parameter of the tracker)
   int coordinate = -1;  // the state or input coordinate at fault; -1: the whole field
   std::string message;  // what is wrong and what would do, when !ok
   // Estimated tracking cost, to rank trackers and to spread agents over threads or ranks: seconds
@@ -236,6 +238,21 @@ struct AssessRequest {
   int horizon = 0;
   double tau = 0.1;
   MemoryBudget memory_budget = machine_memory_budget();
+};
+
+// An agent-level field a tracker owns (AgentSpec::fields, e.g. abcd's eta_x): its name, whether
+// it holds one number per input (else one per state), and what it means. The loader accepts it in
+// every agent (and `defaults`) as positive numbers or `auto`.
+struct AgentFieldSpec {
+  std::string name;
+  bool per_input = false;
+  std::string doc;
+};
+
+// How an agent's tube just changed, for Tracker::follow_tube.
+enum class TubeChange {
+  Set,       // eps given or derived (the loader, the search's auto eps): automatic fields follow it
+  Narrowed,  // a search lever narrowed eps: every field is kept within the narrower tube
 };
 
 // What a tracker can do beyond track(), declared so that core asks the tracker rather than
@@ -266,9 +283,26 @@ class Tracker {
     (void)agent, (void)horizon, (void)tau;
     return {};
   }
+  // The agent-level fields this tracker owns (abcd: its grid); none by default.
+  virtual std::vector<AgentFieldSpec> agent_fields() const { return {}; }
+  // Brings the fields this tracker owns (agent.fields) in step with agent.tube after `change`
+  // (abcd: an automatic grid from eps and U; a grid no coarser than a narrowed eps). Core calls it
+  // on every installed tracker, whichever tracks the agent, so that the fields mean the same under
+  // a fallback. Returns the rule that gave the automatic fields their values (empty: none).
+  virtual std::string follow_tube(AgentSpec& agent, TubeChange change) const {
+    (void)agent, (void)change;
+    return {};
+  }
+  // Remarks on the fields this tracker owns that do not stop loading (`marsyn check`), each a
+  // sentence with its numbers, about the agent whichever tracker it has.
+  virtual std::vector<std::string> field_warnings(const AgentSpec& agent) const {
+    (void)agent;
+    return {};
+  }
   // Remark 2, the tracker's own knobs: after "no controller" at the agent's eps, change what this
-  // tracker controls (abcd: finer grids; funnel: its parameters in agent.tracker.params) and
-  // return true, or return false when nothing is left to refine.
+  // tracker owns on the agent, never its tube: its parameters (agent.tracker.params; funnel: the
+  // enclosure and the weights) or its fields (agent.fields; abcd: finer grids). Returns true, or
+  // false when nothing is left to refine.
   virtual bool refine(AgentSpec& agent) const {
     (void)agent;
     return false;

@@ -78,16 +78,22 @@ TrackResult AbcdTracker::reach_avoid(const ReachAvoidProblem& problem, const Tra
 namespace {
 
 bool has_grid(const AgentSpec& a) {
-  return a.tube.eta_x.size() == a.n() && a.tube.eta_u.size() == a.m() && a.n() > 0;
+  return a.fields.value(kEtaX).size() == a.n() && a.fields.value(kEtaU).size() == a.m() && a.n() > 0;
 }
 
 // The first coordinate whose x0 cell leaves [x0 - eps, x0 + eps], or -1.
 int x0_cell_defect(const AgentSpec& a) {
+  const Eigen::VectorXd eta_x = a.fields.value(kEtaX);
   for (int i = 0; i < a.n(); ++i) {
-    const CellBounds cell = x0_cell(a, i);
+    const CellBounds cell = x0_cell(a, eta_x, i);
     if (cell.lo < a.x0[i] - a.tube.eps[i] || cell.hi > a.x0[i] + a.tube.eps[i]) return i;
   }
   return -1;
+}
+
+// The grid field `name` times `factor` (a finer grid).
+void scale_field(AgentSpec& a, const char* name, double factor) {
+  if (AgentField* f = a.fields.find(name)) f->value *= factor;
 }
 
 TrackerAssessment refuse(const std::string& field, int coordinate, const std::string& message) {
@@ -111,9 +117,10 @@ TrackerAssessment AbcdTracker::assess(const AgentSpec& a, int horizon, double ta
 TrackerAssessment AbcdTracker::assess(const AgentSpec& a, const AssessRequest& req) const {
   const int horizon = req.horizon;
   const int n = a.n(), m = a.m();
+  const Eigen::VectorXd eta_x = a.fields.value(kEtaX), eta_u = a.fields.value(kEtaU);
   for (const auto& [field, size, what, eps] :
-       {std::tuple{"eta_x", n, "the cell size of its state grid", true}, std::tuple{"eta_u", m, "the spacing of its input grid", false}}) {
-    const Eigen::Index have = std::string(field) == "eta_x" ? a.tube.eta_x.size() : a.tube.eta_u.size();
+       {std::tuple{kEtaX, n, "the cell size of its state grid", true}, std::tuple{kEtaU, m, "the spacing of its input grid", false}}) {
+    const Eigen::Index have = std::string(field) == kEtaX ? eta_x.size() : eta_u.size();
     if (have != size)
       return refuse(field, -1,
                     std::string("the abcd tracker needs '") + field + "', " + what + " (" + std::to_string(size) +
@@ -123,7 +130,7 @@ TrackerAssessment AbcdTracker::assess(const AgentSpec& a, const AssessRequest& r
   }
   const auto names = a.dynamics ? a.dynamics->state_names() : std::vector<std::string>(n, "?");
   if (const int i = x0_cell_defect(a); i >= 0) {
-    const CellBounds cell = x0_cell(a, i);
+    const CellBounds cell = x0_cell(a, eta_x, i);
     return refuse("eta_x", i,
                   "x0's grid cell [" + number_text(cell.lo) + ", " + number_text(cell.hi) + "] in '" + names[i] +
                       "' does not fit inside the tube [x0 - eps, x0 + eps] = [" + number_text(a.x0[i] - a.tube.eps[i]) +
@@ -131,10 +138,10 @@ TrackerAssessment AbcdTracker::assess(const AgentSpec& a, const AssessRequest& r
                       number_text(a.tube.eps[i]) + ")");
   }
   for (int i = 0; i < n; ++i) {
-    const double cells = (a.state_bounds.hi[i] - a.state_bounds.lo[i]) / a.tube.eta_x[i];
+    const double cells = (a.state_bounds.hi[i] - a.state_bounds.lo[i]) / eta_x[i];
     if (!(cells <= kMaxGridCellsPerCoordinate))
       return refuse("eta_x", i,
-                    "eta_x = " + number_text(a.tube.eta_x[i]) + " makes " + number_text(cells) +
+                    "eta_x = " + number_text(eta_x[i]) + " makes " + number_text(cells) +
                         " grid cells across the state bounds in '" + names[i] + "'; at most " +
                         number_text(kMaxGridCellsPerCoordinate) + " are supported");
   }
@@ -142,12 +149,12 @@ TrackerAssessment AbcdTracker::assess(const AgentSpec& a, const AssessRequest& r
   // U. Tube cells per step: prod_i (floor(2 eps_i / eta_x_i) + 1) at most.
   double tube = 1, tube_upper = 1, work_cells = 1, inputs = 1;
   for (int i = 0; i < n; ++i) {
-    const double c = std::floor(2 * a.tube.eps[i] / a.tube.eta_x[i]);
+    const double c = std::floor(2 * a.tube.eps[i] / eta_x[i]);
     tube *= c + 1;
     tube_upper *= c;  // cells lying entirely inside one eps-box: at most floor(2 eps / eta)
     work_cells *= std::max(1.0, c);
   }
-  for (int j = 0; j < m; ++j) inputs *= std::floor((a.input_bounds.hi[j] - a.input_bounds.lo[j]) / a.tube.eta_u[j] + 1e-9) + 1;
+  for (int j = 0; j < m; ++j) inputs *= std::floor((a.input_bounds.hi[j] - a.input_bounds.lo[j]) / eta_u[j] + 1e-9) + 1;
   const double budget = req.memory_budget.bytes;
   const std::string& source = req.memory_budget.source;
   const double state_bytes = (static_cast<double>(horizon) + 1) * tube * 2 + 2 * tube * 8;
@@ -173,8 +180,8 @@ TrackerAssessment AbcdTracker::assess(const AgentSpec& a, const AssessRequest& r
 bool AbcdTracker::refine(AgentSpec& agent) const {
   if (!has_grid(agent)) return false;
   AgentSpec b = agent;
-  b.tube.eta_x *= 0.75;
-  b.tube.eta_u *= 0.75;
+  scale_field(b, kEtaX, 0.75);
+  scale_field(b, kEtaU, 0.75);
   if (x0_cell_defect(b) >= 0) return false;
   agent = b;
   return true;
@@ -202,8 +209,8 @@ bool AbcdTracker::apply_lever(const std::string& name, const TrackFailure& failu
   (void)failure;
   if (!has_grid(agent)) return false;
   AgentSpec b = agent;
-  if (name == "finer state grid") b.tube.eta_x *= 0.75;
-  else if (name == "finer input grid") b.tube.eta_u *= 0.75;
+  if (name == "finer state grid") scale_field(b, kEtaX, 0.75);
+  else if (name == "finer input grid") scale_field(b, kEtaU, 0.75);
   else if (name == "more substeps") {
     const long sub = b.tracker.params.integer("substeps", base_.successor.substeps);
     if (sub * 2 > kMaxLeverSubsteps) return false;

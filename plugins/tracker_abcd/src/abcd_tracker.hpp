@@ -7,6 +7,7 @@
 
 #include "marsyn/params.hpp"
 #include "marsyn/tracker.hpp"
+#include "grid_fields.hpp"
 #include "synthesis.hpp"
 
 namespace marsyn::abcd {
@@ -22,10 +23,10 @@ inline constexpr double kSecondsPerStateInputPair = 1e-8;
 struct CellBounds {
   double lo, hi;
 };
-inline CellBounds x0_cell(const AgentSpec& a, int i) {
+inline CellBounds x0_cell(const AgentSpec& a, const Eigen::VectorXd& eta_x, int i) {
   const double lo = a.state_bounds.lo[i];
-  const double cell_lo = lo + std::floor((a.x0[i] - lo) / a.tube.eta_x[i]) * a.tube.eta_x[i];
-  return {cell_lo, cell_lo + a.tube.eta_x[i]};
+  const double cell_lo = lo + std::floor((a.x0[i] - lo) / eta_x[i]) * eta_x[i];
+  return {cell_lo, cell_lo + eta_x[i]};
 }
 
 class AbcdTracker : public marsyn::Tracker {
@@ -44,8 +45,12 @@ class AbcdTracker : public marsyn::Tracker {
   TrackerAssessment assess(const AgentSpec& agent, const AssessRequest& request) const override;
   // The same against the machine's default budget (machine_memory_budget()).
   TrackerAssessment assess(const AgentSpec& agent, int horizon, double tau) const override;
-  // Remark 2: eta_x and eta_u times 0.75, refused (false, agent unchanged) when x0's cell would
-  // no longer fit the tube or the agent has no grid.
+  // The grid, eta_x and eta_u, as the agent's fields (grid_fields.hpp).
+  std::vector<AgentFieldSpec> agent_fields() const override { return grid_field_specs(); }
+  std::string follow_tube(AgentSpec& agent, TubeChange change) const override { return abcd::follow_tube(agent, change); }
+  std::vector<std::string> field_warnings(const AgentSpec& agent) const override { return grid_warnings(agent); }
+  // Remark 2: eta_x and eta_u (its fields) times 0.75, refused (false, agent unchanged) when x0's
+  // cell would no longer fit the tube or the agent has no grid.
   bool refine(AgentSpec& agent) const override;
   // The outer search's knobs (docs/search.md): "finer state grid" (eta_x x 0.75), "finer input
   // grid" (eta_u x 0.75), "more substeps" (the enclosure's substeps x 2, up to 64), each

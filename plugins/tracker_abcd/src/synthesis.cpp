@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "marsyn/stopwatch.hpp"
+#include "grid_fields.hpp"
 #include "period_enclosure.hpp"
 #include "split_sweep.hpp"
 #include "synthesis_setup.hpp"
@@ -40,16 +41,17 @@ std::string check_track(const TrackingProblem& p, UniformGrid& g, InputGrid& ug)
   if (p.nominal.x.size() < 2) return "the nominal trajectory needs at least two states";
   for (const auto& x : p.nominal.x)
     if (x.size() != n || !x.allFinite()) return "a nominal state has the wrong dimension or is not finite";
+  const Eigen::VectorXd eta_x = p.fields.value(kEtaX), eta_u = p.fields.value(kEtaU);  // the agent's grid
   if (std::string e = check_vectors({{&p.tube.eps, n, "eps", true},
-                                     {&p.tube.eta_x, n, "eta_x", true},
+                                     {&eta_x, n, "eta_x", true},
                                      {&p.tube.w, n, "W", false},
-                                     {&p.tube.eta_u, m, "eta_u", true}});
+                                     {&eta_u, m, "eta_u", true}});
       !e.empty())
     return e;
   if (p.state_bounds.lo.size() != n) return "state bounds have the wrong dimension";
   if (p.input_bounds.lo.size() != m || p.input_bounds.hi.size() != m) return "input bounds have the wrong dimension";
   if (!(p.tau > 0)) return "tau must be positive";
-  return make_grids(p.state_bounds.lo, p.tube.eta_x, p.input_bounds, p.tube.eta_u, g, ug);
+  return make_grids(p.state_bounds.lo, eta_x, p.input_bounds, eta_u, g, ug);
 }
 
 // The tube's boxes for steps 0..T and the tables' offsets for steps 0..T-1, with their counts;

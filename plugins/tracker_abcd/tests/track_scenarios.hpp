@@ -44,8 +44,8 @@ inline TrackingProblem drone(int steps = 103) {
   p.agent = "drone";
   p.dynamics = std::make_shared<models::Unicycle>();
   p.tube.eps = vec({0.2, 0.2, 0.24});
-  p.tube.eta_x = vec({0.025, 0.025, 0.03});
-  p.tube.eta_u = vec({0.3, 0.3});
+  p.fields.set("eta_x", vec({0.025, 0.025, 0.03}));
+  p.fields.set("eta_u", vec({0.3, 0.3}));
   p.tube.w = vec({0.0, 0.025, 0.025});
   p.input_bounds = {vec({-2.4, -2.4}), vec({2.4, 2.4})};
   p.state_bounds = {vec({-1, -1, -2}), vec({11, 11, 3.3})};
@@ -61,8 +61,8 @@ inline TrackingProblem lane_merging() {
   p.agent = "lane_car";
   p.dynamics = std::make_shared<models::Unicycle>();
   p.tube.eps = vec({0.16, 0.16, 0.16});
-  p.tube.eta_x = vec({0.02, 0.02, 0.02});
-  p.tube.eta_u = vec({0.3, 0.15});
+  p.fields.set("eta_x", vec({0.02, 0.02, 0.02}));
+  p.fields.set("eta_u", vec({0.3, 0.15}));
   p.tube.w = vec({0.03, 0.03, 0.03});
   p.input_bounds = {vec({-0.9, -2.1}), vec({3, 2.1})};
   p.state_bounds = {vec({-0.5, 0.1, -1}), vec({15, 7.4, 0.4})};
@@ -78,8 +78,8 @@ inline TrackingProblem formation() {
   p.agent = "formation_drone";
   p.dynamics = std::make_shared<models::Unicycle>();
   p.tube.eps = vec({0.24, 0.24, 0.24});
-  p.tube.eta_x = vec({0.03, 0.03, 0.03});
-  p.tube.eta_u = vec({0.3, 0.15});
+  p.fields.set("eta_x", vec({0.03, 0.03, 0.03}));
+  p.fields.set("eta_u", vec({0.3, 0.15}));
   p.tube.w = vec({0.03, 0.03, 0.03});
   p.input_bounds = {vec({-0.9, -3}), vec({4.8, 3})};
   p.state_bounds = {vec({-2, -2, 0.6}), vec({17, 17, 1.6})};
@@ -95,8 +95,8 @@ inline TrackingProblem crane(int steps = 70) {
   p.agent = "crane";
   p.dynamics = std::make_shared<models::CartPole>();
   p.tube.eps = vec({0.135, 0.385, 0.176, 0.768});
-  p.tube.eta_x = vec({0.015, 0.035, 0.016, 0.064});
-  p.tube.eta_u = vec({0.2});
+  p.fields.set("eta_x", vec({0.015, 0.035, 0.016, 0.064}));
+  p.fields.set("eta_u", vec({0.2}));
   p.tube.w = vec({0, 0.05, 0, 0});
   p.input_bounds = {vec({-7}), vec({7})};
   p.state_bounds = {vec({-0.195, -1.99, 1.20, -5.44}), vec({5.49, 4.37, 4.68, 5.28})};
@@ -115,8 +115,8 @@ inline TrackingProblem vehicle() {
   p.agent = "vehicle";
   p.dynamics = std::make_shared<models::DoubleIntegrator>();
   p.tube.eps = vec({0.08, 0.12});
-  p.tube.eta_x = vec({0.01, 0.015});
-  p.tube.eta_u = vec({0.1});
+  p.fields.set("eta_x", vec({0.01, 0.015}));
+  p.fields.set("eta_u", vec({0.1}));
   p.tube.w = vec({0, 0.1});
   p.input_bounds = {vec({-3}), vec({3})};
   p.state_bounds = {vec({3, -3}), vec({9, 1.995})};
@@ -132,8 +132,8 @@ inline TrackingProblem pendulum(int steps = 160) {
   p.agent = "pendulum";
   p.dynamics = std::make_shared<models::Pendulum>();
   p.tube.eps = vec({0.2, 0.2});
-  p.tube.eta_x = vec({0.02, 0.02});
-  p.tube.eta_u = vec({0.25});
+  p.fields.set("eta_x", vec({0.02, 0.02}));
+  p.fields.set("eta_u", vec({0.25}));
   p.tube.w = vec({0, 0.01});
   p.input_bounds = {vec({-4}), vec({4})};
   p.state_bounds = {vec({-4, -4}), vec({4, 4})};

@@ -10,7 +10,7 @@ namespace marsyn {
 // One parameter the search changed for one agent ("" for the whole team), as text.
 struct SearchChange {
   std::string agent;
-  std::string what;  // "eps", "eta_x", "tracker", "tracker params", "clearance"
+  std::string what;  // "eps", a tracker's field ("eta_x"), "tracker", "tracker params", "clearance"
   std::string from, to;
 };
 

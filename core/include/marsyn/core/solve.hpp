@@ -48,7 +48,7 @@ struct SolveOutcome {
   std::vector<AgentTrackers> trackers;
   std::vector<Attempt> attempts;
   SearchReport search;  // the rounds, why it stopped, and the time per round
-  // Per agent: which of eps, eta_x, eta_u were auto (docs/parameters.md), and how the search
+  // Per agent: whether eps and which trackers' fields were auto (docs/parameters.md), and how the search
   // narrowed an auto eps (empty when it did not).
   std::vector<AutoTube> auto_tube;
   std::vector<std::string> auto_notes;

@@ -1,10 +1,12 @@
 #pragma once
-// `eps: auto`, `eta_x: auto`, `eta_u: auto` (docs/parameters.md): the tube and the grids derived
-// instead of guessed. The loader gives an auto eps a first value from the agent's own numbers
-// (the goal's size, the room around x0, the disturbance); the search then plans with it, asks the
-// tracker's controller how wide a tube it actually keeps, and plans again with that tube plus a
-// stated margin (solve.cpp, search_auto.cpp). An auto grid follows eps.
+// `eps: auto` and the trackers' automatic fields (abcd's `eta_x: auto`, docs/parameters.md): the
+// tube derived instead of guessed. The loader gives an auto eps a first value from the agent's own
+// numbers (the goal's size, the room around x0, the disturbance); the search then plans with it,
+// asks the tracker's controller how wide a tube it actually keeps, and plans again with that tube
+// plus a stated margin (solve.cpp, search_auto.cpp). An automatic field follows eps by its
+// owner's rule (Tracker::follow_tube).
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "marsyn/problem.hpp"
@@ -12,8 +14,15 @@
 namespace marsyn {
 
 struct AutoTube {
-  bool eps = false, eta_x = false, eta_u = false;
-  bool any() const { return eps || eta_x || eta_u; }
+  bool eps = false;
+  std::vector<std::string> fields;  // the tracker-owned fields left to marsyn (abcd: eta_x, eta_u)
+  std::string field_rule;           // how their owners derive them (Tracker::follow_tube)
+  bool automatic(std::string_view field) const {
+    for (const auto& f : fields)
+      if (f == field) return true;
+    return false;
+  }
+  bool any() const { return eps || !fields.empty(); }
 };
 
 // The margin an auto eps keeps over the tube the controller was seen to keep (25 %).
@@ -40,10 +49,5 @@ double formation_tolerance(const Problem& problem, int i);
 // Caps the position coordinates (a linear workspace's indices) of an auto eps for a formation of
 // tolerance `mu` (above). Returns whether eps changed; `why` (may be null) receives the rule.
 bool cap_auto_eps_for_formation(AgentSpec& agent, double mu, std::string* why = nullptr);
-
-// Fills the agent's auto grids from its eps (and U): eta_x = 2 eps / c with c cells per
-// coordinate (16, fewer above 4 states so the tube stays near 2e5 cells per step), eta_u = the
-// input range / k with k points per input (20, fewer above 2 inputs). `why` receives the rule.
-void auto_grid(AgentSpec& agent, const AutoTube& which, std::string* why = nullptr);
 
 }  // namespace marsyn

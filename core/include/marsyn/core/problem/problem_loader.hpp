@@ -24,7 +24,8 @@ struct LoadedProblem {
   // The budget the loader judged every estimate against (LoadOptions::memory_budget); the
   // stages after it (solve, track) judge theirs against the same value.
   MemoryBudget memory_budget;
-  // Per agent: which of eps, eta_x, eta_u the file leaves to marsyn (`auto`, docs/parameters.md).
+  // Per agent: whether eps and which trackers' fields (abcd's grid) the file leaves to marsyn
+  // (`auto`, docs/parameters.md), and the owners' rule for those fields.
   std::vector<AutoTube> auto_tube;
   // The file's `search:` block (docs/search.md); unset fields keep SolveOptions' values.
   std::optional<double> search_time_limit_s;

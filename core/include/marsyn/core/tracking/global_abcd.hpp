@@ -12,6 +12,14 @@
 
 namespace marsyn {
 
+// The baseline abstracts the product on the agents' own grids, abcd's fields (AgentSpec::fields),
+// read here by name: the one place in core that reads a tracker's field (docs/architecture.md,
+// "The global ABCD baseline").
+inline constexpr const char* kStateGridField = "eta_x";
+inline constexpr const char* kInputGridField = "eta_u";
+// What the baseline's attempt says it abstracts (SolveOutcome::attempts).
+inline constexpr const char* kGlobalAbcdParameters = "eta_x, eta_u of the agents, product domain";
+
 // True when the product cell [lo, hi] may meet the avoid set: interval workspace boxes of every
 // agent against each obstacle's bounding box and against each other, in the problem's norm.
 // An over-approximation, as a sound controller needs. Formation constraints are not supported.
