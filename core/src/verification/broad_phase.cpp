@@ -285,6 +285,11 @@ bool BroadPhase::nearest_target(int i, planning::Point& target) const {
         if (j != i) consider(j);
     } else {
       // (The reach, ad plus the slack, is recomputed only when ad falls.)
+      // Warm start: the agent nearest at the last call is usually still near, so the sweep's
+      // reach is short from its first step (the result is the same from any start: an agent is
+      // passed over only when its x or y gap alone exceeds the nearest distance found).
+      if (static_cast<int>(last_nearest_.size()) != n) last_nearest_.assign(static_cast<size_t>(n), -1);
+      if (const int j0 = last_nearest_[static_cast<size_t>(i)]; j0 >= 0 && j0 != i) consider(j0);
       const int mine = place_[static_cast<size_t>(i)];
       const int* order = order_.data();
       const double ax = at.x();
@@ -304,6 +309,7 @@ bool BroadPhase::nearest_target(int i, planning::Point& target) const {
         consider(order[b]);
         if (ad != before) reach = ad + slack(ad, 0);
       }
+      last_nearest_[static_cast<size_t>(i)] = bj;
     }
   }
   // An obstacle wins at a distance up to the agent's (the full search scans obstacles first and

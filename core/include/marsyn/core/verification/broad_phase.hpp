@@ -74,6 +74,7 @@ class BroadPhase {
   std::vector<int> order_;             // agents by increasing x
   std::vector<int> place_;             // place_[i]: agent i's position in order_
   bool finite_ = true;                 // else every pair is visited (NaN cannot be sorted)
+  mutable std::vector<int> last_nearest_;  // nearest_target's last answer per agent: its warm start
   // window(): the states, each agent's box over them (x_lo, y_lo, x_hi, y_hi), the agents by
   // increasing x_lo, and the obstacle and collision requirements left to fold.
   const std::vector<std::vector<planning::Point>>* window_ = nullptr;
