@@ -66,11 +66,25 @@ class DisturbanceSource {
 
  private:
   void vertex(Eigen::VectorXd& d) {
-    for (Eigen::Index i = 0; i < d.size(); ++i) d[i] = (rng_() & 1u) ? w_[i] : -w_[i];
+    for (Eigen::Index i = 0; i < d.size(); ++i) d[i] = bit() ? w_[i] : -w_[i];
+  }
+  // A vertex takes one random bit per coordinate: each 64-bit draw gives 64 of them (one draw
+  // per bit was most of the adversary's random cost, which re-chooses at every substep).
+  bool bit() {
+    if (bits_left_ == 0) {
+      bits_ = rng_();
+      bits_left_ = 64;
+    }
+    const bool b = (bits_ & 1u) != 0;
+    bits_ >>= 1;
+    --bits_left_;
+    return b;
   }
   Eigen::VectorXd w_, fixed_;
   DisturbanceMode mode_;
   std::mt19937_64 rng_;
+  std::uint64_t bits_ = 0;
+  int bits_left_ = 0;
 };
 
 // The adversary's vertex for an agent at p: on the coordinates its workspace point reads
@@ -136,6 +150,8 @@ class Batch {
     if (s.between)
       for (Lane& r : lanes_) r.broad.windows(&s.between->windows());
     any_adversary_ = std::any_of(lanes_.begin(), lanes_.end(), [](const Lane& r) { return r.adversary; });
+    for (int l = 0; l < Lanes::kWidth; ++l)
+      if (run_of(l).adversary) adversary_lanes_.push_back(l);
     track_points_ = s.between || any_adversary_ || s.keep_dense;
     // The dense check a period at a time (BroadPhase::window): the plain verification runs. The
     // kept runs keep every substep's margins, the reference checks every pair, and a stage
@@ -378,11 +394,10 @@ class Batch {
       // Within a period only the adversary's disturbances change.
       if (sub == 0) pack(W_[i], &Lane::w, i);
       else
-        for (int l = 0; l < Lanes::kWidth; ++l)
-          if (run_of(l).adversary) {
-            const Eigen::VectorXd& w = run_of(l).w[static_cast<size_t>(i)];
-            for (Eigen::Index c = 0; c < w.size(); ++c) W_[i][static_cast<size_t>(c)][l] = w[c];
-          }
+        for (int l : adversary_lanes_) {
+          const Eigen::VectorXd& w = run_of(l).w[static_cast<size_t>(i)];
+          for (Eigen::Index c = 0; c < w.size(); ++c) W_[i][static_cast<size_t>(c)][l] = w[c];
+        }
       rk_[static_cast<size_t>(i)].step(X_[i].data(), U_[i].data(), W_[i].data(), pb_.tau, S_, next_[i].data());
       X_[i].swap(next_[i]);
     }
@@ -396,6 +411,7 @@ class Batch {
   const bool closed_;
   std::vector<Lane> lanes_;
   bool any_adversary_ = false, track_points_ = false, windowed_ = false;
+  std::vector<int> adversary_lanes_;  // the integrator's lanes whose run is adversarial
   std::vector<std::vector<Lanes>> X_, U_, W_, next_;
   std::vector<verification_detail::LanesRk4> rk_;  // per agent
   std::vector<double> lane_x_;                     // one lane's state of one agent
