@@ -162,6 +162,17 @@ class Batch {
         r.window.assign(static_cast<size_t>(S_ - 1), std::vector<planning::Point>(static_cast<size_t>(N_)));
     // The integrator's view: per agent, its state, input and disturbance as Lanes (one lane per
     // run; lanes past L repeat run 0 so that they compute ordinary numbers, which are dropped).
+    for (int i = 0; i < N_; ++i) {
+      const Workspace& ws = pb_.agents[i].workspace;
+      PointMap m;
+      m.linear = ws.linear();
+      m.dim = ws.dim();
+      for (int c = 0; m.linear && c < m.dim; ++c) {
+        m.index[c] = ws.index[static_cast<size_t>(c)];
+        m.offset[c] = ws.offset[static_cast<size_t>(c)];
+      }
+      maps_.push_back(m);
+    }
     rk_.reserve(static_cast<size_t>(N_));
     for (int i = 0; i < N_; ++i) rk_.emplace_back(*pb_.agents[i].dynamics);
     int n_max = 0;
@@ -193,12 +204,11 @@ class Batch {
         for (Lane& r : lanes_)
           if (r.adversary) push_adversary(r, sub);
         integrate(sub);
-        for (int l = 0; l < L_; ++l) {
-          Lane& r = lanes_[static_cast<size_t>(l)];
-          if (windowed_ && sub + 1 < S_) {
-            window_points(l, sub);
-            continue;
-          }
+        if (windowed_ && sub + 1 < S_) {
+          window_points(sub);
+          continue;
+        }
+        for (Lane& r : lanes_) {
           points(r);
           if (sub + 1 < S_) between(r, k, sub);
         }
@@ -251,28 +261,30 @@ class Batch {
     r.broad.update(r.pts);
   }
 
-  // The points at substep sub into the lane's window; the adversary also needs them now.
-  // Read from the integrator's lanes: the lanes' own states are unpacked at the sample only.
-  void window_points(int l, int sub) {
-    Lane& r = lanes_[static_cast<size_t>(l)];
-    std::vector<planning::Point>& p = r.window[static_cast<size_t>(sub)];
+  // The points at substep sub into every lane's window (agents outer: each agent's map is read
+  // once for all lanes); the adversary also needs them now. Read from the integrator's lanes: the
+  // lanes' own states are unpacked at the sample only.
+  void window_points(int sub) {
     for (int i = 0; i < N_; ++i) {
       const std::vector<Lanes>& x = X_[static_cast<size_t>(i)];
-      const Workspace& ws = pb_.agents[i].workspace;
-      planning::Point& q = p[static_cast<size_t>(i)];
-      if (ws.linear()) {  // workspace_point3's formula, read in place
-        q.z() = 0.0;
-        for (int c = 0; c < ws.dim(); ++c)
-          q[c] = ws.index[c] >= 0 ? x[static_cast<size_t>(ws.index[c])][l] + ws.offset[c] : ws.offset[c];
-        continue;
+      const PointMap& m = maps_[static_cast<size_t>(i)];
+      for (int l = 0; l < L_; ++l) {
+        planning::Point& q = lanes_[static_cast<size_t>(l)].window[static_cast<size_t>(sub)][static_cast<size_t>(i)];
+        if (m.linear) {  // workspace_point3's formula, read in place
+          q.z() = 0.0;
+          for (int c = 0; c < m.dim; ++c)
+            q[c] = m.index[c] >= 0 ? x[static_cast<size_t>(m.index[c])][l] + m.offset[c] : m.offset[c];
+          continue;
+        }
+        for (std::size_t c = 0; c < x.size(); ++c) lane_x_[c] = x[c][l];
+        workspace_point3<double>(*pb_.agents[i].dynamics, pb_.agents[i].workspace, lane_x_.data(), q.data());
       }
-      for (std::size_t c = 0; c < x.size(); ++c) lane_x_[c] = x[c][l];
-      workspace_point3<double>(*pb_.agents[i].dynamics, ws, lane_x_.data(), q.data());
     }
-    if (r.adversary) {
-      r.now = &p;
-      r.broad.update(p);
-    }
+    for (Lane& r : lanes_)
+      if (r.adversary) {
+        r.now = &r.window[static_cast<size_t>(sub)];
+        r.broad.update(*r.now);
+      }
   }
 
   // The dense check of the substeps between samples k and k + 1, in order, over the window's
@@ -412,6 +424,14 @@ class Batch {
   std::vector<Lane> lanes_;
   bool any_adversary_ = false, track_points_ = false, windowed_ = false;
   std::vector<int> adversary_lanes_;  // the integrator's lanes whose run is adversarial
+  // Each agent's linear workspace map (Workspace's index and offset), read in the inner loop.
+  struct PointMap {
+    bool linear = true;
+    int dim = 0;
+    int index[kMaxWorkspaceDim] = {-1, -1, -1};
+    double offset[kMaxWorkspaceDim] = {0, 0, 0};
+  };
+  std::vector<PointMap> maps_;
   std::vector<std::vector<Lanes>> X_, U_, W_, next_;
   std::vector<verification_detail::LanesRk4> rk_;  // per agent
   std::vector<double> lane_x_;                     // one lane's state of one agent
