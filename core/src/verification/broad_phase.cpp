@@ -88,6 +88,18 @@ void BroadPhase::update(const std::vector<planning::Point>& p) {
     place_.assign(static_cast<size_t>(n), 0);
   }
   finite_ = std::all_of(p.begin(), p.end(), [](const planning::Point& q) { return q.allFinite(); });
+  // The adversary's lists (nearest_target) stand while every agent stays within moved_ of its
+  // anchor; a list that could not decide, or a point not finite, has them rebuilt.
+  if (lists_ready_) {
+    if (stale_ || !finite_ || static_cast<int>(anchor_.size()) != n) {
+      lists_ready_ = false;
+    } else {
+      double moved = 0;
+      for (int i = 0; i < n; ++i)
+        moved = std::max(moved, planning::distance2(p[static_cast<size_t>(i)] - anchor_[static_cast<size_t>(i)]));
+      moved_ = moved;
+    }
+  }
   if (!finite_) return;
   for (int a = 1; a < n; ++a) {
     const int v = order_[static_cast<size_t>(a)];
@@ -264,6 +276,98 @@ bool BroadPhase::accumulate_window(int s, StepMargins& run, Requirement* worst) 
   return best_rank >= 0;
 }
 
+namespace {
+
+// Agent j at q as the nearest so far to a point at `at` (ad its distance2, bj its index): smallest
+// distance, then smallest index.
+void consider(const planning::Point& at, const planning::Point& q, int j, double& ad, int& bj) {
+  const planning::Point e = q - at;
+  // No square root where the squared distance alone is above ad^2 by far more than the rounding
+  // of either sum (ad^2 normal: no underflow); the square root is monotone, so such an agent is
+  // strictly farther in distance2() too.
+  if (ad > 1e-100 && e.x() * e.x() + e.y() * e.y() + e.z() * e.z() > ad * ad * (1.0 + 1e-12)) return;
+  const double d = planning::distance2(e);
+  if (d < ad || (d == ad && j < bj)) {
+    ad = d;
+    bj = j;
+  }
+}
+
+}  // namespace
+
+void BroadPhase::sweep_nearest(int i, double& ad, int& bj) const {
+  const std::vector<planning::Point>& p = *pts_;
+  const planning::Point& at = p[static_cast<size_t>(i)];
+  const int n = static_cast<int>(p.size());
+  // Warm start: the agent nearest at the last sweep is usually still near, so the reach is short
+  // from the first step (the result is the same from any start: an agent is passed over only when
+  // its x or y gap alone exceeds the nearest distance found, plus the slack).
+  if (static_cast<int>(last_nearest_.size()) != n) last_nearest_.assign(static_cast<size_t>(n), -1);
+  if (const int j0 = last_nearest_[static_cast<size_t>(i)]; j0 >= 0 && j0 != i) consider(at, p[static_cast<size_t>(j0)], j0, ad, bj);
+  const int mine = place_[static_cast<size_t>(i)];
+  const int* order = order_.data();
+  const double ax = at.x(), ay = at.y();
+  // (The reach, ad plus the slack, is recomputed only when ad falls.) An agent farther along y
+  // than the reach is passed over too (a crowd at one x is then not a distance each).
+  double reach = ad + slack(ad, 0);
+  for (int b = mine + 1; b < n && p[static_cast<size_t>(order[b])].x() - ax <= reach; ++b) {
+    const planning::Point& q = p[static_cast<size_t>(order[b])];
+    if (std::abs(q.y() - ay) > reach) continue;
+    const double before = ad;
+    consider(at, q, order[b], ad, bj);
+    if (ad != before) reach = ad + slack(ad, 0);
+  }
+  for (int b = mine - 1; b >= 0 && ax - p[static_cast<size_t>(order[b])].x() <= reach; --b) {
+    const planning::Point& q = p[static_cast<size_t>(order[b])];
+    if (std::abs(q.y() - ay) > reach) continue;
+    const double before = ad;
+    consider(at, q, order[b], ad, bj);
+    if (ad != before) reach = ad + slack(ad, 0);
+  }
+  last_nearest_[static_cast<size_t>(i)] = bj;
+}
+
+void BroadPhase::build_lists() const {
+  const std::vector<planning::Point>& p = *pts_;
+  const int n = static_cast<int>(p.size());
+  anchor_ = p;
+  mag_ = 0;
+  for (const planning::Point& q : p) mag_ = std::max(mag_, q.cwiseAbs().maxCoeff());
+  radius_.assign(static_cast<size_t>(n), 0.0);
+  list_start_.assign(static_cast<size_t>(n) + 1, 0);
+  list_.clear();
+  for (int i = 0; i < n; ++i) {
+    double ad = 1e300;
+    int bj = -1;
+    sweep_nearest(i, ad, bj);
+    // Room for the agents to move before the list must be rebuilt: half the nearest distance.
+    const double r = 1.5 * ad;
+    radius_[static_cast<size_t>(i)] = r;
+    const planning::Point& at = p[static_cast<size_t>(i)];
+    const int mine = place_[static_cast<size_t>(i)];
+    for (int b = mine + 1; b < n && p[static_cast<size_t>(order_[static_cast<size_t>(b)])].x() - at.x() <= r; ++b)
+      if (std::abs(p[static_cast<size_t>(order_[static_cast<size_t>(b)])].y() - at.y()) <= r) list_.push_back(order_[static_cast<size_t>(b)]);
+    for (int b = mine - 1; b >= 0 && at.x() - p[static_cast<size_t>(order_[static_cast<size_t>(b)])].x() <= r; --b)
+      if (std::abs(p[static_cast<size_t>(order_[static_cast<size_t>(b)])].y() - at.y()) <= r) list_.push_back(order_[static_cast<size_t>(b)]);
+    list_start_[static_cast<size_t>(i) + 1] = static_cast<int>(list_.size());
+  }
+  moved_ = 0;
+  lists_ready_ = true;
+  stale_ = false;
+}
+
+bool BroadPhase::nearest_from_list(int i, double& ad, int& bj) const {
+  const std::vector<planning::Point>& p = *pts_;
+  const planning::Point& at = p[static_cast<size_t>(i)];
+  for (int k = list_start_[static_cast<size_t>(i)]; k < list_start_[static_cast<size_t>(i) + 1]; ++k)
+    consider(at, p[static_cast<size_t>(list_[static_cast<size_t>(k)])], list_[static_cast<size_t>(k)], ad, bj);
+  // An agent off the list was farther than the radius along x or y at the anchor, and each of
+  // the two has moved at most moved_ since: it is now farther than radius - 2 moved_, which
+  // must clear the nearest distance on the list by the slack (then it can neither win nor tie).
+  const double r = radius_[static_cast<size_t>(i)];
+  return bj >= 0 && r - 2.0 * moved_ > ad + slack(ad, mag_ + moved_ + r);
+}
+
 bool BroadPhase::nearest_target(int i, planning::Point& target) const {
   const std::vector<planning::Point>& p = *pts_;
   const planning::Point& at = p[static_cast<size_t>(i)];
@@ -272,37 +376,20 @@ bool BroadPhase::nearest_target(int i, planning::Point& target) const {
   double ad = 1e300;
   int bj = -1;
   if (pb_.pairwise_collision) {
-    auto consider = [&](int j) {
-      const double d = planning::distance2(p[static_cast<size_t>(j)] - at);
-      if (d < ad || (d == ad && j < bj)) {
-        ad = d;
-        bj = j;
-      }
-    };
     const int n = static_cast<int>(p.size());
     if (!finite_) {
       for (int j = 0; j < n; ++j)
-        if (j != i) consider(j);
+        if (j != i) consider(at, p[static_cast<size_t>(j)], j, ad, bj);
     } else {
-      // (The reach, ad plus the slack, is recomputed only when ad falls.)
-      const int mine = place_[static_cast<size_t>(i)];
-      const int* order = order_.data();
-      const double ax = at.x();
-      double reach = ad + slack(ad, 0);
-      // An agent farther along y than the reach is passed over (a crowd at one x is then not
-      // a distance each).
-      const double ay = at.y();
-      for (int b = mine + 1; b < n && p[static_cast<size_t>(order[b])].x() - ax <= reach; ++b) {
-        if (std::abs(p[static_cast<size_t>(order[b])].y() - ay) > reach) continue;
-        const double before = ad;
-        consider(order[b]);
-        if (ad != before) reach = ad + slack(ad, 0);
-      }
-      for (int b = mine - 1; b >= 0 && ax - p[static_cast<size_t>(order[b])].x() <= reach; --b) {
-        if (std::abs(p[static_cast<size_t>(order[b])].y() - ay) > reach) continue;
-        const double before = ad;
-        consider(order[b]);
-        if (ad != before) reach = ad + slack(ad, 0);
+      // Each agent's list of the agents near it (a Verlet list), kept while the agents move
+      // little; the sorted sweep where the list cannot decide, and the lists rebuilt at the next
+      // substep.
+      if (!lists_ready_ && n >= 2) build_lists();
+      if (!(lists_ready_ && nearest_from_list(i, ad, bj))) {
+        ad = 1e300;
+        bj = -1;
+        sweep_nearest(i, ad, bj);
+        stale_ = true;
       }
     }
   }

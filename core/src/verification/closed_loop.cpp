@@ -66,11 +66,25 @@ class DisturbanceSource {
 
  private:
   void vertex(Eigen::VectorXd& d) {
-    for (Eigen::Index i = 0; i < d.size(); ++i) d[i] = (rng_() & 1u) ? w_[i] : -w_[i];
+    for (Eigen::Index i = 0; i < d.size(); ++i) d[i] = bit() ? w_[i] : -w_[i];
+  }
+  // A vertex takes one random bit per coordinate: each 64-bit draw gives 64 of them (one draw
+  // per bit was most of the adversary's random cost, which re-chooses at every substep).
+  bool bit() {
+    if (bits_left_ == 0) {
+      bits_ = rng_();
+      bits_left_ = 64;
+    }
+    const bool b = (bits_ & 1u) != 0;
+    bits_ >>= 1;
+    --bits_left_;
+    return b;
   }
   Eigen::VectorXd w_, fixed_;
   DisturbanceMode mode_;
   std::mt19937_64 rng_;
+  std::uint64_t bits_ = 0;
+  int bits_left_ = 0;
 };
 
 // The adversary's vertex for an agent at p: on the coordinates its workspace point reads
@@ -136,6 +150,8 @@ class Batch {
     if (s.between)
       for (Lane& r : lanes_) r.broad.windows(&s.between->windows());
     any_adversary_ = std::any_of(lanes_.begin(), lanes_.end(), [](const Lane& r) { return r.adversary; });
+    for (int l = 0; l < Lanes::kWidth; ++l)
+      if (run_of(l).adversary) adversary_lanes_.push_back(l);
     track_points_ = s.between || any_adversary_ || s.keep_dense;
     // The dense check a period at a time (BroadPhase::window): the plain verification runs. The
     // kept runs keep every substep's margins, the reference checks every pair, and a stage
@@ -146,6 +162,17 @@ class Batch {
         r.window.assign(static_cast<size_t>(S_ - 1), std::vector<planning::Point>(static_cast<size_t>(N_)));
     // The integrator's view: per agent, its state, input and disturbance as Lanes (one lane per
     // run; lanes past L repeat run 0 so that they compute ordinary numbers, which are dropped).
+    for (int i = 0; i < N_; ++i) {
+      const Workspace& ws = pb_.agents[i].workspace;
+      PointMap m;
+      m.linear = ws.linear();
+      m.dim = ws.dim();
+      for (int c = 0; m.linear && c < m.dim; ++c) {
+        m.index[c] = ws.index[static_cast<size_t>(c)];
+        m.offset[c] = ws.offset[static_cast<size_t>(c)];
+      }
+      maps_.push_back(m);
+    }
     rk_.reserve(static_cast<size_t>(N_));
     for (int i = 0; i < N_; ++i) rk_.emplace_back(*pb_.agents[i].dynamics);
     int n_max = 0;
@@ -177,12 +204,11 @@ class Batch {
         for (Lane& r : lanes_)
           if (r.adversary) push_adversary(r, sub);
         integrate(sub);
-        for (int l = 0; l < L_; ++l) {
-          Lane& r = lanes_[static_cast<size_t>(l)];
-          if (windowed_ && sub + 1 < S_) {
-            window_points(l, sub);
-            continue;
-          }
+        if (windowed_ && sub + 1 < S_) {
+          window_points(sub);
+          continue;
+        }
+        for (Lane& r : lanes_) {
           points(r);
           if (sub + 1 < S_) between(r, k, sub);
         }
@@ -235,28 +261,30 @@ class Batch {
     r.broad.update(r.pts);
   }
 
-  // The points at substep sub into the lane's window; the adversary also needs them now.
-  // Read from the integrator's lanes: the lanes' own states are unpacked at the sample only.
-  void window_points(int l, int sub) {
-    Lane& r = lanes_[static_cast<size_t>(l)];
-    std::vector<planning::Point>& p = r.window[static_cast<size_t>(sub)];
+  // The points at substep sub into every lane's window (agents outer: each agent's map is read
+  // once for all lanes); the adversary also needs them now. Read from the integrator's lanes: the
+  // lanes' own states are unpacked at the sample only.
+  void window_points(int sub) {
     for (int i = 0; i < N_; ++i) {
       const std::vector<Lanes>& x = X_[static_cast<size_t>(i)];
-      const Workspace& ws = pb_.agents[i].workspace;
-      planning::Point& q = p[static_cast<size_t>(i)];
-      if (ws.linear()) {  // workspace_point3's formula, read in place
-        q.z() = 0.0;
-        for (int c = 0; c < ws.dim(); ++c)
-          q[c] = ws.index[c] >= 0 ? x[static_cast<size_t>(ws.index[c])][l] + ws.offset[c] : ws.offset[c];
-        continue;
+      const PointMap& m = maps_[static_cast<size_t>(i)];
+      for (int l = 0; l < L_; ++l) {
+        planning::Point& q = lanes_[static_cast<size_t>(l)].window[static_cast<size_t>(sub)][static_cast<size_t>(i)];
+        if (m.linear) {  // workspace_point3's formula, read in place
+          q.z() = 0.0;
+          for (int c = 0; c < m.dim; ++c)
+            q[c] = m.index[c] >= 0 ? x[static_cast<size_t>(m.index[c])][l] + m.offset[c] : m.offset[c];
+          continue;
+        }
+        for (std::size_t c = 0; c < x.size(); ++c) lane_x_[c] = x[c][l];
+        workspace_point3<double>(*pb_.agents[i].dynamics, pb_.agents[i].workspace, lane_x_.data(), q.data());
       }
-      for (std::size_t c = 0; c < x.size(); ++c) lane_x_[c] = x[c][l];
-      workspace_point3<double>(*pb_.agents[i].dynamics, ws, lane_x_.data(), q.data());
     }
-    if (r.adversary) {
-      r.now = &p;
-      r.broad.update(p);
-    }
+    for (Lane& r : lanes_)
+      if (r.adversary) {
+        r.now = &r.window[static_cast<size_t>(sub)];
+        r.broad.update(*r.now);
+      }
   }
 
   // The dense check of the substeps between samples k and k + 1, in order, over the window's
@@ -378,11 +406,10 @@ class Batch {
       // Within a period only the adversary's disturbances change.
       if (sub == 0) pack(W_[i], &Lane::w, i);
       else
-        for (int l = 0; l < Lanes::kWidth; ++l)
-          if (run_of(l).adversary) {
-            const Eigen::VectorXd& w = run_of(l).w[static_cast<size_t>(i)];
-            for (Eigen::Index c = 0; c < w.size(); ++c) W_[i][static_cast<size_t>(c)][l] = w[c];
-          }
+        for (int l : adversary_lanes_) {
+          const Eigen::VectorXd& w = run_of(l).w[static_cast<size_t>(i)];
+          for (Eigen::Index c = 0; c < w.size(); ++c) W_[i][static_cast<size_t>(c)][l] = w[c];
+        }
       rk_[static_cast<size_t>(i)].step(X_[i].data(), U_[i].data(), W_[i].data(), pb_.tau, S_, next_[i].data());
       X_[i].swap(next_[i]);
     }
@@ -396,6 +423,15 @@ class Batch {
   const bool closed_;
   std::vector<Lane> lanes_;
   bool any_adversary_ = false, track_points_ = false, windowed_ = false;
+  std::vector<int> adversary_lanes_;  // the integrator's lanes whose run is adversarial
+  // Each agent's linear workspace map (Workspace's index and offset), read in the inner loop.
+  struct PointMap {
+    bool linear = true;
+    int dim = 0;
+    int index[kMaxWorkspaceDim] = {-1, -1, -1};
+    double offset[kMaxWorkspaceDim] = {0, 0, 0};
+  };
+  std::vector<PointMap> maps_;
   std::vector<std::vector<Lanes>> X_, U_, W_, next_;
   std::vector<verification_detail::LanesRk4> rk_;  // per agent
   std::vector<double> lane_x_;                     // one lane's state of one agent

@@ -31,12 +31,26 @@ class Unicycle : public DynamicsModel<Unicycle> {
   // Four verification runs at once: sine and cosine from one argument reduction (lanes.hpp), the
   // values sin() and cos() give apart.
   void vector_field(const Lanes* x, const Lanes* u, Lanes* dx) const {
+#ifdef MARSYN_LANES_VECTOR_MATH
+    if (lanes_vector_math()) return field_avx2(x, u, dx);
+#endif
     Lanes s, c;
     sincos(x[2], s, c);
     dx[0] = u[0] * c;
     dx[1] = u[0] * s;
     dx[2] = u[1];
   }
+#ifdef MARSYN_LANES_VECTOR_MATH
+  // The same values with the library's calls inline (lanes.hpp's wrappers are a call each, since a
+  // function built for AVX2 cannot be inlined into one built without): the products are IEEE
+  // per lane (-ffp-contract=off: not fused), as Lanes' operator* computes them.
+  __attribute__((target("avx2,fma"))) static void field_avx2(const Lanes* x, const Lanes* u, Lanes* dx) {
+    const __m256d th = _mm256_loadu_pd(x[2].v), v = _mm256_loadu_pd(u[0].v);
+    _mm256_storeu_pd(dx[0].v, _mm256_mul_pd(v, lanes_detail::_ZGVdN4v_cos(th)));
+    _mm256_storeu_pd(dx[1].v, _mm256_mul_pd(v, lanes_detail::_ZGVdN4v_sin(th)));
+    dx[2] = u[1];
+  }
+#endif
   // The planner's Jacobians evaluate this once per RK4 stage and agent: one sine and cosine and
   // no dual temporaries, with the arithmetic of the generic form above (same values bit for bit).
   void vector_field(const DualD* x, const DualD* u, DualD* dx) const {

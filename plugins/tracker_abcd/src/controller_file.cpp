@@ -102,8 +102,9 @@ ControllerData deserialize(const std::string& s, const std::string& what) {
       const std::int64_t cells = b.size();
       r.need(static_cast<size_t>(cells) * 2);
       d.offsets.push_back(total);
-      d.inputs.reserve(static_cast<size_t>(total + cells));
-      for (std::int64_t c = 0; c < cells; ++c) d.inputs.push_back(r.u16());
+      // resize grows geometrically; an exact reserve per step copied every earlier table again.
+      d.inputs.resize(static_cast<size_t>(total + cells));
+      for (std::int64_t c = 0; c < cells; ++c) d.inputs[static_cast<size_t>(total + c)] = r.u16();
       total += cells;
     }
   }

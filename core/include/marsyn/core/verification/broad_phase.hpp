@@ -74,6 +74,19 @@ class BroadPhase {
   std::vector<int> order_;             // agents by increasing x
   std::vector<int> place_;             // place_[i]: agent i's position in order_
   bool finite_ = true;                 // else every pair is visited (NaN cannot be sorted)
+  // nearest_target(): the sorted sweep for agent i from its last answer (last_nearest_), and the
+  // agents' lists: per agent, every agent within radius_ along x and y of it at the anchor
+  // positions (list_[list_start_[i] .. list_start_[i + 1])), moved_ the farthest any agent has
+  // moved from its anchor since, mag_ the anchors' largest coordinate (the slack's scale).
+  void sweep_nearest(int i, double& ad, int& bj) const;
+  void build_lists() const;
+  bool nearest_from_list(int i, double& ad, int& bj) const;
+  mutable std::vector<int> last_nearest_;
+  mutable std::vector<planning::Point> anchor_;
+  mutable std::vector<double> radius_;
+  mutable std::vector<int> list_start_, list_;
+  mutable double moved_ = 0, mag_ = 0;
+  mutable bool lists_ready_ = false, stale_ = false;
   // window(): the states, each agent's box over them (x_lo, y_lo, x_hi, y_hi), the agents by
   // increasing x_lo, and the obstacle and collision requirements left to fold.
   const std::vector<std::vector<planning::Point>>* window_ = nullptr;
