@@ -116,6 +116,58 @@ std::vector<double> planes(std::vector<double> at, double lo, double hi, double 
   return refined;
 }
 
+// The lattice's planes per axis: about 16 intervals per axis at least, the obstacles' planes (a
+// hair beyond their boxes) on top. Lattices beyond a few hundred thousand points are coarsened (a
+// hint is not worth seconds): first the refinement, then, with many obstacles, their planes thinned
+// to a spacing that fits. Every lattice edge is still checked exactly, so a route stays clear; only
+// narrow openings may be missed. Empty when even the coarsest lattice is too large.
+std::optional<std::array<std::vector<double>, 3>> lattice_axes(const Scene& scene, size_t obstacles,
+                                                               const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                                                               const Eigen::Vector3d& from, const Eigen::Vector3d& to,
+                                                               double hair) {
+  constexpr size_t kMaxPoints = 300000;
+  std::array<std::vector<double>, 3> axis;
+  size_t points = 0;
+  for (double parts = 16; parts >= 2; parts /= 2) {
+    points = 1;
+    for (int c = 0; c < 3; ++c) {
+      std::vector<double> at{lo[c], hi[c], from[c], to[c]};
+      for (size_t i = 0; i < obstacles; ++i)
+        for (double v : {scene.box(i).lo[c] - hair, scene.box(i).hi[c] + hair})
+          if (v > lo[c] && v < hi[c]) at.push_back(v);
+      axis[c] = planes(at, lo[c], hi[c], std::max((hi[c] - lo[c]) / parts, 1e-12));
+      points *= axis[c].size();
+    }
+    if (points <= kMaxPoints) break;
+  }
+  for (double share = 256; points > kMaxPoints && share >= 4; share /= 2) {
+    points = 1;
+    for (int c = 0; c < 3; ++c) {
+      std::vector<double> kept;
+      const double gap = (hi[c] - lo[c]) / share;
+      for (double v : axis[c])
+        if (kept.empty() || v == hi[c] || v == from[c] || v == to[c] || v - kept.back() >= gap) kept.push_back(v);
+      axis[c] = std::move(kept);
+      points *= axis[c].size();
+    }
+  }
+  if (points > kMaxPoints) return std::nullopt;
+  return axis;
+}
+
+// The lattice path's corners shortened: from each corner straight to the farthest one still in
+// sight (the start left out, the end kept).
+std::vector<Eigen::Vector3d> shortened(const Scene& scene, const std::vector<Eigen::Vector3d>& path) {
+  std::vector<Eigen::Vector3d> corners;
+  for (size_t at = 0; at + 1 < path.size();) {
+    size_t next = path.size() - 1;
+    while (next > at + 1 && !scene.visible(path[at], path[next])) --next;
+    if (next + 1 < path.size()) corners.push_back(path[next]);
+    at = next;
+  }
+  return corners;
+}
+
 }  // namespace
 
 std::vector<Eigen::Vector3d> route_in_space(const std::vector<Prism>& prisms, const Eigen::Vector3d& lo_in,
@@ -136,38 +188,9 @@ std::vector<Eigen::Vector3d> route_in_space(const std::vector<Prism>& prisms, co
     if (found) *found = true;
     return {};
   }
-  // About 16 lattice intervals per axis at least; the obstacles' planes come on top. Lattices
-  // beyond a few hundred thousand points are coarsened (a hint is not worth seconds): first the
-  // refinement, then, with many obstacles, their planes thinned to a spacing that fits. Every
-  // lattice edge is still checked exactly, so a route stays clear; only narrow openings may be
-  // missed.
-  constexpr size_t kMaxPoints = 300000;
-  std::array<std::vector<double>, 3> axis;
-  size_t points = 0;
-  for (double parts = 16; parts >= 2; parts /= 2) {
-    points = 1;
-    for (int c = 0; c < 3; ++c) {
-      std::vector<double> at{lo[c], hi[c], from[c], to[c]};
-      for (size_t i = 0; i < prisms.size(); ++i)
-        for (double v : {scene.box(i).lo[c] - hair, scene.box(i).hi[c] + hair})
-          if (v > lo[c] && v < hi[c]) at.push_back(v);
-      axis[c] = planes(at, lo[c], hi[c], std::max((hi[c] - lo[c]) / parts, 1e-12));
-      points *= axis[c].size();
-    }
-    if (points <= kMaxPoints) break;
-  }
-  for (double share = 256; points > kMaxPoints && share >= 4; share /= 2) {
-    points = 1;
-    for (int c = 0; c < 3; ++c) {
-      std::vector<double> kept;
-      const double gap = (hi[c] - lo[c]) / share;
-      for (double v : axis[c])
-        if (kept.empty() || v == hi[c] || v == from[c] || v == to[c] || v - kept.back() >= gap) kept.push_back(v);
-      axis[c] = std::move(kept);
-      points *= axis[c].size();
-    }
-  }
-  if (points > kMaxPoints) return {};
+  const auto lattice = lattice_axes(scene, prisms.size(), lo, hi, from, to, hair);
+  if (!lattice) return {};
+  const auto& axis = *lattice;
   const size_t nx = axis[0].size(), ny = axis[1].size(), nz = axis[2].size();
   auto id = [&](size_t i, size_t j, size_t k) { return (k * ny + j) * nx + i; };
   auto point = [&](size_t v) {
@@ -219,16 +242,8 @@ std::vector<Eigen::Vector3d> route_in_space(const std::vector<Prism>& prisms, co
   std::reverse(path.begin(), path.end());
   path.front() = from;
   path.back() = to;
-  // Shortened: from each corner straight to the farthest corner still in sight.
-  std::vector<Eigen::Vector3d> corners;
-  for (size_t at = 0; at + 1 < path.size();) {
-    size_t next = path.size() - 1;
-    while (next > at + 1 && !scene.visible(path[at], path[next])) --next;
-    if (next + 1 < path.size()) corners.push_back(path[next]);
-    at = next;
-  }
   if (found) *found = true;
-  return corners;
+  return shortened(scene, path);
 }
 
 std::optional<Prism> other_side_barrier(const std::vector<Prism>& prisms, const Eigen::Vector3d& from,
