@@ -423,22 +423,32 @@ void bind_controller(py::module_& m) {
 
   m.def(
       "read_controller",
-      [](const py::object& path, const std::string& tracker_name) {
+      [](const py::object& path, const py::object& tracker_name) {
         const std::string file = py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
         auto registry = std::make_shared<PluginRegistry>();
-        auto tracker = registry->create<Tracker>(tracker_name);
-        PyController pc;
-        try {
-          pc.c = tracker->read_controller(file);
-        } catch (const std::exception& e) {
-          throw ConfigError(file, 0, 0, "", e.what());
+        // Without a name, every installed tracker is asked in turn: each recognises its own files
+        // (their first bytes), so the caller need not know which tracker wrote one.
+        const std::vector<std::string> names =
+            tracker_name.is_none() ? registry->names("tracker") : std::vector<std::string>{tracker_name.cast<std::string>()};
+        std::string errors;
+        for (const auto& name : names) {
+          auto tracker = registry->create<Tracker>(name);
+          PyController pc;
+          try {
+            pc.c = tracker->read_controller(file);
+          } catch (const std::exception& e) {
+            errors += (errors.empty() ? "" : "; ") + (names.size() > 1 ? name + ": " : std::string()) + e.what();
+            continue;
+          }
+          pc.keep = tracker;
+          pc.agent = fs::path(file).stem().string();
+          return pc;
         }
-        pc.keep = tracker;
-        pc.agent = fs::path(file).stem().string();
-        return pc;
+        throw ConfigError(file, 0, 0, "", names.empty() ? std::string("no tracker plugin is installed") : errors);
       },
-      py::arg("path"), py::arg("tracker") = "abcd",
-      "Read a controller file written by a tracker plugin (default abcd); a corrupt file raises ConfigError.");
+      py::arg("path"), py::arg("tracker") = py::none(),
+      "Read a controller file written by a tracker plugin (by default the installed tracker that recognises it); "
+      "a corrupt file raises ConfigError.");
 }
 
 #ifdef MARSYN_HAVE_PLANNING

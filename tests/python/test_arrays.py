@@ -8,10 +8,12 @@ against the figures result.json computes on its own from the same runs:
   `open_loop.by_run`; the worst closed-loop run's dense minimum is the verification's dense min_margin;
 - tubes: nominal -+ eps around solve()'s nominal, and simulated closed loops lie in each agent's
   period enclosures at the samples;
-- changes: none, the file's parameters verify as given.
+- changes: none, the file's parameters verify as given;
+- the funnel's controller files read back without naming the tracker answer as solve()'s.
 """
 import os
 import sys
+import tempfile
 
 import numpy as np
 
@@ -20,7 +22,8 @@ from checks import check, finish
 
 source = sys.argv[1]
 problem = marsyn.load(os.path.join(source, "examples", "bicycles.yaml"))
-res = marsyn.solve(problem, runs=5, global_budget=0, log=lambda s: None)
+out = tempfile.mkdtemp(prefix="marsyn_arrays_")
+res = marsyn.solve(problem, runs=5, global_budget=0, out=out, log=lambda s: None)
 check(res["verified"], "the bicycles verify: %s" % res.get("failure"))
 T = res["plan"]["horizon"]
 
@@ -70,5 +73,24 @@ for a in problem.agents:
         check(bool(np.all((xs >= enc["state_lo"][starts]) & (xs <= enc["state_hi"][starts]))),
               "%s: closed loop (%s) in the period enclosures at the samples" % (name, sim["disturbance"]))
 check(res["changes"] == [], "the search changed nothing: %s" % res["changes"])
+
+# read_controller without a tracker name asks every installed tracker; the one whose file it is
+# (the funnel here) reads it, and the controller answers as the one solve() returned.
+rng = np.random.default_rng(7)
+for a in problem.agents:
+    name = a["name"]
+    read = marsyn.read_controller(os.path.join(out, name + ".ctrl"))
+    x = res["nominal"][name]["x"][:T]
+    X = x + rng.uniform(-0.5, 0.5, size=x.shape) * a["eps"]
+    k = np.arange(T)
+    u_file, s_file = read.input(X, k)
+    u_mem, s_mem = res["controllers"][name].input(X, k)
+    check(np.array_equal(s_file, s_mem) and np.array_equal(u_file, u_mem, equal_nan=True),
+          "%s: the controller file read back answers as solve()'s controller" % name)
+try:
+    marsyn.read_controller(os.path.join(out, "result.json"))
+    check(False, "a result.json is not read as a controller")
+except marsyn.ConfigError as e:
+    check("abcd" in str(e) and "funnel" in str(e), "a file no tracker recognises names every tracker's reason: %s" % e)
 
 finish("ok: %d margin figures equal result.json's, %d agents' tubes" % (compared, len(problem.agents)))
