@@ -16,7 +16,7 @@ void add_export(CLI::App& app, CliOptions& o) {
   o.export_cmd->add_option("--encoding", o.export_encoding, "C tables: auto (the smaller), dense (bit-packed) or rle (default auto)");
   o.export_cmd->add_option("--tracker", o.export_tracker,
                            "the tracker plugin that wrote the controllers (default: per file, the agent's tracker in the "
-                           "result.json beside it, else abcd)");
+                           "result.json beside it, else the installed tracker that recognises the file)");
 }
 
 #ifdef MARSYN_WITH_PIPELINE
