@@ -39,9 +39,6 @@ std::string params_text(const Params& p) {
   return s.str() + "}";
 }
 
-namespace {
-
-// The changes between an agent before and after a lever, field by field.
 void describe(const AgentSpec& before, const AgentSpec& after, std::vector<SearchChange>& out) {
   auto differ = [](const Eigen::VectorXd& a, const Eigen::VectorXd& b) { return a.size() != b.size() || a != b; };
   if (before.tracker.name != after.tracker.name) out.push_back({after.name, "tracker", before.tracker.name, after.tracker.name});
@@ -53,8 +50,6 @@ void describe(const AgentSpec& before, const AgentSpec& after, std::vector<Searc
     if (const Eigen::VectorXd was = before.fields.value(f.name); differ(was, f.value))
       out.push_back({after.name, f.name, vector_text(was), vector_text(f.value)});
 }
-
-}  // namespace
 
 std::string lever_name(const LeverChoice& l) {
   switch (l.lever) {

@@ -530,12 +530,7 @@ bool Search::narrow_auto_eps(double elapsed, SearchRound& next) {
     b.tube.eps = eps;
     follow_tube(instances_, b, TubeChange::Set);  // the automatic fields (abcd's grid) follow eps
     if (!agent_consistent(b) || !assess_tracker(instances_, b.tracker, b, ask()).ok) continue;
-    changes.push_back({b.name, "eps", search::vector_text(agents[i].tube.eps), search::vector_text(eps)});
-    for (const auto& f : b.fields.items) {
-      const Eigen::VectorXd before = agents[i].fields.value(f.name);
-      if (f.automatic && (before.size() != f.value.size() || before != f.value))
-        changes.push_back({b.name, f.name, search::vector_text(before), search::vector_text(f.value)});
-    }
+    search::describe(agents[i], b, changes);  // eps and the automatic fields that follow it
     out_.auto_notes.resize(pb_.agents.size());
     out_.auto_notes[i] += (out_.auto_notes[i].empty() ? "" : "; ") + std::string("round ") + std::to_string(next.index - 1) +
                           "'s controller kept " + search::vector_text(kept) + " at the samples: eps " +

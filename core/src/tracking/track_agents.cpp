@@ -10,6 +10,7 @@
 #include <sstream>
 #include <thread>
 
+#include "marsyn/core/parallel_tasks.hpp"
 #include "marsyn/core/tracking/tracker_choice.hpp"
 #include "marsyn/stopwatch.hpp"
 
@@ -57,43 +58,41 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
   TrackOptions topt;
   topt.threads = dominated ? opt.threads : 1;
   topt.memory_budget_bytes = budget.bytes;
-  std::atomic<int> next{0}, done{0};
+  std::atomic<int> done{0};
   std::mutex log_mutex;
   std::vector<char> running(N, 0);
-  auto work = [&] {
-    for (int i = next++; i < N; i = next++) {
-      {
-        std::lock_guard<std::mutex> lock(log_mutex);
-        running[i] = 1;
+  auto track_one = [&](int i) {
+    {
+      std::lock_guard<std::mutex> lock(log_mutex);
+      running[i] = 1;
+    }
+    const AgentSpec& a = pb.agents[i];
+    const TrackingProblem tp = tracking_problem(pb, i, nominal[i]);
+    const Stopwatch t0;
+    out[i].name = a.name;
+    out[i].tracker = a.tracker.name;
+    try {
+      TrackOptions o = topt;
+      // One agent at a time with all threads: its sweep step by step (sweep_progress.hpp).
+      if (dominated && (opt.log || opt.live)) {
+        auto p = std::make_shared<SweepProgress>(a.name, opt.log, opt.live);
+        o.progress = [p](int done, int total) { (*p)(done, total); };
       }
-      const AgentSpec& a = pb.agents[i];
-      const TrackingProblem tp = tracking_problem(pb, i, nominal[i]);
-      const Stopwatch t0;
-      out[i].name = a.name;
-      out[i].tracker = a.tracker.name;
-      try {
-        TrackOptions o = topt;
-        // One agent at a time with all threads: its sweep step by step (sweep_progress.hpp).
-        if (dominated && (opt.log || opt.live)) {
-          auto p = std::make_shared<SweepProgress>(a.name, opt.log, opt.live);
-          o.progress = [p](int done, int total) { (*p)(done, total); };
-        }
-        out[i].track = trackers[i]->track(tp, o);
-      } catch (const std::exception& e) {
-        out[i].track.status = TrackerStatus::InvalidInput;
-        out[i].track.message = e.what();
-      }
-      const int d = ++done;
-      if (opt.log) {
-        std::lock_guard<std::mutex> lock(log_mutex);
-        running[i] = 0;
-        std::ostringstream s;
-        s << "[track " << d << "/" << N << "] " << a.name << " (" << a.tracker.name
-          << "): " << to_string(out[i].track.status) << ", " << stats_text(out[i].track.stats) << ", " << t0.seconds()
-          << " s";
-        if (!out[i].track.message.empty()) s << " (" << out[i].track.message << ")";
-        opt.log(s.str());
-      }
+      out[i].track = trackers[i]->track(tp, o);
+    } catch (const std::exception& e) {
+      out[i].track.status = TrackerStatus::InvalidInput;
+      out[i].track.message = e.what();
+    }
+    const int d = ++done;
+    if (opt.log) {
+      std::lock_guard<std::mutex> lock(log_mutex);
+      running[i] = 0;
+      std::ostringstream s;
+      s << "[track " << d << "/" << N << "] " << a.name << " (" << a.tracker.name
+        << "): " << to_string(out[i].track.status) << ", " << stats_text(out[i].track.stats) << ", " << t0.seconds()
+        << " s";
+      if (!out[i].track.message.empty()) s << " (" << out[i].track.message << ")";
+      opt.log(s.str());
     }
   };
   // A heartbeat, so that a long abstraction (minutes for a 4-dimensional agent) is visibly alive.
@@ -115,16 +114,21 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
       opt.log(s.str());
     }
   });
-  std::vector<std::thread> pool;
-  for (int t = 1; t < workers; ++t) pool.emplace_back(work);
-  work();
-  for (auto& t : pool) t.join();
-  {
-    std::lock_guard<std::mutex> lock(beat_mutex);
-    finished = true;
+  auto stop_heartbeat = [&] {
+    {
+      std::lock_guard<std::mutex> lock(beat_mutex);
+      finished = true;
+    }
+    beat_cv.notify_all();
+    heartbeat.join();
+  };
+  try {
+    parallel_tasks(N, workers, track_one);
+  } catch (...) {
+    stop_heartbeat();  // a joinable thread left behind would end the program
+    throw;
   }
-  beat_cv.notify_all();
-  heartbeat.join();
+  stop_heartbeat();
   return out;
 }
 

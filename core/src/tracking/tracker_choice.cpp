@@ -1,13 +1,13 @@
 #include "marsyn/core/tracking/tracker_choice.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <thread>
 
 #include <nlohmann/json.hpp>
 
+#include "marsyn/core/parallel_tasks.hpp"
 #include "marsyn/core/problem/config_error.hpp"
 
 namespace marsyn {
@@ -70,28 +70,17 @@ std::vector<std::shared_ptr<const Controller>> read_agent_controllers(const Prob
   // agents on several threads). The first agent's error in problem order is the one reported.
   const int n = static_cast<int>(pb.agents.size());
   std::vector<std::shared_ptr<const Controller>> out(static_cast<size_t>(n));
-  std::vector<std::string> errors(static_cast<size_t>(n));
-  std::atomic<int> next{0};
-  auto worker = [&] {
-    for (int i = next++; i < n; i = next++) {
-      const std::string file = (std::filesystem::path(dir) / (pb.agents[i].name + ".ctrl")).string();
-      try {
-        out[static_cast<size_t>(i)] = by_agent[static_cast<size_t>(i)]->read_controller(file);
-      } catch (const std::exception& e) {
-        errors[static_cast<size_t>(i)] = e.what();
-        if (errors[static_cast<size_t>(i)].empty()) errors[static_cast<size_t>(i)] = "unreadable controller file";
-      }
+  parallel_tasks(n, static_cast<int>(std::thread::hardware_concurrency()), [&](int i) {
+    const std::string file = (std::filesystem::path(dir) / (pb.agents[i].name + ".ctrl")).string();
+    try {
+      out[static_cast<size_t>(i)] = by_agent[static_cast<size_t>(i)]->read_controller(file);
+    } catch (const std::exception& e) {
+      throw ConfigError(file, 0, 0, "", *e.what() ? e.what() : "unreadable controller file");
     }
-  };
-  const int threads = std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, std::max(1, n));
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
+  });
   for (int i = 0; i < n; ++i) {
     const AgentSpec& a = pb.agents[i];
     const std::string file = (std::filesystem::path(dir) / (a.name + ".ctrl")).string();
-    if (!errors[static_cast<size_t>(i)].empty()) throw ConfigError(file, 0, 0, "", errors[static_cast<size_t>(i)]);
     const std::shared_ptr<const Controller>& c = out[static_cast<size_t>(i)];
     // A controller of another problem (or a renamed file) must not be run on this agent's vectors.
     if (!c || c->state_dim() != a.n() || c->input_dim() != a.m())

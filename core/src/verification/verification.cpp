@@ -2,8 +2,8 @@
 
 #include <atomic>
 #include <mutex>
-#include <thread>
 
+#include "marsyn/core/parallel_tasks.hpp"
 #include "mpi_runs.hpp"
 #include "marsyn/stopwatch.hpp"
 
@@ -157,36 +157,30 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
     if (mpi::owns_run(opt.collective, r)) owned.push_back(r);
   const int batches = (static_cast<int>(owned.size()) + Lanes::kWidth - 1) / Lanes::kWidth;
   const Stopwatch runs_clock;
-  std::atomic<int> next{0}, done{0};
+  std::atomic<int> done{0};
   std::mutex progress_mutex;
-  auto worker = [&] {
-    for (int task = next++; task < n_kept + batches; task = next++) {
-      if (task < n_kept) {
-        Kept& k = kept[static_cast<size_t>(task)];
-        k.runs = simulate(*k.setup, k.scenarios);
-        continue;
-      }
-      const int first = (task - n_kept) * Lanes::kWidth;
-      const int count = std::min(Lanes::kWidth, static_cast<int>(owned.size()) - first);
-      std::vector<Scenario> batch;
-      for (int b = 0; b < count; ++b) batch.push_back(scenarios[owned[first + b]]);
-      const std::vector<ClosedLoopRun> runs = simulate(closed, batch);
-      for (int b = 0; b < count; ++b) {
-        const int r = owned[first + b];
-        results[r] = summarize_run(problem, rep.continuous, scenarios[r], runs[b]);
-      }
-      // All ranks: about as far as this one.
-      const int d = (done += count) * (opt.collective ? opt.collective->size() : 1);
-      if (opt.progress) {
-        std::lock_guard<std::mutex> lock(progress_mutex);
-        opt.progress(std::min(d, static_cast<int>(scenarios.size())), static_cast<int>(scenarios.size()));
-      }
+  parallel_tasks(n_kept + batches, opt.threads, [&](int task) {
+    if (task < n_kept) {
+      Kept& k = kept[static_cast<size_t>(task)];
+      k.runs = simulate(*k.setup, k.scenarios);
+      return;
     }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < std::max(1, opt.threads); ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
+    const int first = (task - n_kept) * Lanes::kWidth;
+    const int count = std::min(Lanes::kWidth, static_cast<int>(owned.size()) - first);
+    std::vector<Scenario> batch;
+    for (int b = 0; b < count; ++b) batch.push_back(scenarios[owned[first + b]]);
+    const std::vector<ClosedLoopRun> runs = simulate(closed, batch);
+    for (int b = 0; b < count; ++b) {
+      const int r = owned[first + b];
+      results[r] = summarize_run(problem, rep.continuous, scenarios[r], runs[b]);
+    }
+    // All ranks: about as far as this one.
+    const int d = (done += count) * (opt.collective ? opt.collective->size() : 1);
+    if (opt.progress) {
+      std::lock_guard<std::mutex> lock(progress_mutex);
+      opt.progress(std::min(d, static_cast<int>(scenarios.size())), static_cast<int>(scenarios.size()));
+    }
+  });
   if (opt.collective) mpi::exchange_runs(*opt.collective, results);
   rep.runs_time_s = runs_clock.seconds();
 

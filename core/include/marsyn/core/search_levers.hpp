@@ -37,6 +37,9 @@ struct LeverChoice {
 std::string vector_text(const Eigen::VectorXd& v);
 // "{substeps: 4}": a tracker's parameters as attempts and changes print them.
 std::string params_text(const Params& p);
+// What a lever (or the automatic eps) changed in an agent, field by field, appended to `out`:
+// the tracker or its parameters, eps, and the trackers' own fields by name.
+void describe(const AgentSpec& before, const AgentSpec& after, std::vector<SearchChange>& out);
 
 // "shrink eps by 0.8 and re-plan", "the tracker's finer state grid", ...
 std::string lever_name(const LeverChoice& lever);

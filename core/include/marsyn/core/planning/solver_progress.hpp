@@ -5,30 +5,25 @@
 // through `log` at most every 10 s, so that a log file shows a long solve advancing and a short
 // one says nothing.
 #include <cstdio>
-#include <functional>
 #include <string>
 
+#include "marsyn/core/progress_line.hpp"
 #include "marsyn/planner.hpp"
-#include "marsyn/stopwatch.hpp"
 
 namespace marsyn::planning {
 
-class SolverProgress {
+class SolverProgress : public ProgressLine {
  public:
-  using Sink = std::function<void(const std::string&)>;
-  SolverProgress(Sink log, Sink live) : log_(std::move(log)), live_(std::move(live)) {}
+  SolverProgress(Sink log, Sink live) : ProgressLine(std::move(log), std::move(live)) {}
 
   // Called from the planner's own thread, one solve at a time.
   void operator()(const PlanProgress& p) {
-    const double t = clock_.seconds();
     if (p.max_violation >= 0) violation_ = p.max_violation;  // planners report -1 between measurements
-    if (t - drawn_ < (live_ ? 0.1 : 10.0)) return;
-    drawn_ = t;
     const std::string line = "[plan] solving: iteration " + std::to_string(p.iteration) + ", cost " + short_number(p.cost) +
                              (violation_ >= 0 ? ", violation " + short_number(violation_) : "") + " after " +
-                             std::to_string(static_cast<long>(t)) + " s";
-    if (live_) live_(line);
-    else if (log_) log_(line);
+                             std::to_string(static_cast<long>(seconds())) + " s";
+    if (on_terminal()) draw(line, 0.1);
+    else log_every(line, 10.0);
   }
 
  private:
@@ -37,9 +32,7 @@ class SolverProgress {
     std::snprintf(s, sizeof s, "%.4g", v);
     return s;
   }
-  Sink log_, live_;
-  Stopwatch clock_;
-  double drawn_ = 0.0, violation_ = -1.0;
+  double violation_ = -1.0;
 };
 
 }  // namespace marsyn::planning
