@@ -31,7 +31,9 @@ bool flow_boxes(const Dynamics& f, const Box& start, const Eigen::VectorXd& u, c
   for (int j = 0; j < m; ++j) U[j] = FastInterval(u[j]);
   const FastInterval h = FastInterval(tau) / FastInterval(static_cast<double>(parts));
   const FastInterval t(0.0, h.upper());
-  out.assign(static_cast<size_t>(parts), Box{Eigen::VectorXd(n), Eigen::VectorXd(n)});
+  // Every entry is written below: a caller's boxes of the right shape are reused as they are.
+  if (out.size() != static_cast<size_t>(parts) || out[0].lo.size() != n || out[0].hi.size() != n)
+    out.assign(static_cast<size_t>(parts), Box{Eigen::VectorXd(n), Eigen::VectorXd(n)});
   for (int s = 0; s < parts; ++s) {
     f.field(X.data(), U.data(), FB.data());
     for (int i = 0; i < n; ++i) B[i] = X[i] + t * (FB[i] + W[i]);

@@ -8,6 +8,7 @@
 #include <boost/multiprecision/cpp_bin_float.hpp>
 #include <boost/multiprecision/cpp_int.hpp>
 #include <algorithm>
+#include <bit>
 #include <cfenv>
 #include <cmath>
 #include <limits>
@@ -264,4 +265,35 @@ TEST(FastInterval, ExpAndAtanEncloseHighPrecisionValues) {
     EXPECT_LE(Big(t.lower()), atan(Big(a)));
     EXPECT_GE(Big(t.upper()), atan(Big(b)));
   }
+}
+
+// The libm widening (interval.hpp) takes kTranscUlps nextafter steps; its integer shortcut must
+// give the same double, bit for bit, everywhere: near zero, across binades, at the largest
+// doubles, on infinities and NaN (those keep the steps themselves).
+TEST(FastInterval, WideningEqualsTheNextafterSteps) {
+  auto steps = [](double v, double towards) {
+    for (int i = 0; i < detail::kTranscUlps; ++i) v = std::nextafter(v, towards);
+    return v;
+  };
+  const double inf = std::numeric_limits<double>::infinity(), tiny = std::numeric_limits<double>::denorm_min();
+  const double big = std::numeric_limits<double>::max();
+  std::vector<double> values{0.0, -0.0, tiny, -tiny, 3 * tiny, -3 * tiny, 4 * tiny, -4 * tiny, 5 * tiny, -5 * tiny,
+                             std::numeric_limits<double>::min(), -std::numeric_limits<double>::min(), 1.0, -1.0,
+                             0.5, -0.5, 2.0, -2.0, big, -big, std::nextafter(big, 0.0), steps(big, 0.0),
+                             steps(steps(big, 0.0), 0.0), -steps(big, 0.0), inf, -inf};
+  std::mt19937_64 rng(7);
+  for (int i = 0; i < 100000; ++i) {
+    double v;
+    do v = std::bit_cast<double>(rng()); while (std::isnan(v));
+    values.push_back(v);
+    values.push_back(std::ldexp(std::uniform_real_distribution<double>(-1, 1)(rng), -1 + static_cast<int>(rng() % 3)));
+  }
+  for (const double v : values) {
+    const double down = detail::widen_down(v), up = detail::widen_up(v);
+    const double want_down = steps(v, -inf), want_up = steps(v, inf);
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(down), std::bit_cast<std::uint64_t>(want_down)) << v;
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(up), std::bit_cast<std::uint64_t>(want_up)) << v;
+  }
+  EXPECT_TRUE(std::isnan(detail::widen_down(std::nan(""))));
+  EXPECT_TRUE(std::isnan(detail::widen_up(std::nan(""))));
 }
