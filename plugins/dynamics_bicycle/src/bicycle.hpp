@@ -34,8 +34,9 @@ class Bicycle : public DynamicsModel<Bicycle> {
     using std::cos;
     using std::sin;
     using std::tan;
-    dx[0] = x[3] * cos(x[2]);
-    dx[1] = x[3] * sin(x[2]);
+    const S c = cos(x[2]), s = sin(x[2]);  // before any store to dx, which may alias x: one sincos
+    dx[0] = x[3] * c;
+    dx[1] = x[3] * s;
     dx[2] = x[3] * tan(x[4]) / wheelbase_;
     dx[3] = u[0];
     dx[4] = u[1];

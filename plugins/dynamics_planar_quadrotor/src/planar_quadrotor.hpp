@@ -36,8 +36,9 @@ class PlanarQuadrotor : public DynamicsModel<PlanarQuadrotor> {
     dx[0] = x[3];
     dx[1] = x[4];
     dx[2] = x[5];
-    dx[3] = -(u[0] * sin(x[2]));
-    dx[4] = u[0] * cos(x[2]) - g_;
+    const S s = sin(x[2]), c = cos(x[2]);  // before any store to dx, which may alias x: one sincos
+    dx[3] = -(u[0] * s);
+    dx[4] = u[0] * c - g_;
     dx[5] = u[1];
   }
 

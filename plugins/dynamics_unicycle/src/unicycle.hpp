@@ -24,8 +24,11 @@ class Unicycle : public DynamicsModel<Unicycle> {
   void vector_field(const S* x, const S* u, S* dx) const {
     using std::cos;
     using std::sin;
-    dx[0] = u[0] * cos(x[2]);
-    dx[1] = u[0] * sin(x[2]);
+    // Both from one read of theta: after a store to dx the compiler must assume x changed (dx
+    // may alias it) and would call sin and cos apart instead of one sincos.
+    const S c = cos(x[2]), s = sin(x[2]);
+    dx[0] = u[0] * c;
+    dx[1] = u[0] * s;
     dx[2] = u[1];
   }
   // Four verification runs at once: sine and cosine from one argument reduction (lanes.hpp), the
