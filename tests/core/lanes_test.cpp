@@ -250,11 +250,13 @@ TEST(ClosedLoopBatch, ARunInABatchIsTheRunAlone) {
 // double integrator take stage 3's field from stage 2, the others cannot), with per-lane states,
 // inputs and disturbances. Fails when the field is reused where a column it reads differs (a
 // heading or velocity not held, as for the pendulum), or when the stage arithmetic is reordered.
+// The input changes every tenth substep (a new sample): stage 1's field taken from the last
+// stage 4 under the old input fails here too.
 TEST(LanesRk4, EveryModelStepsAsRk4StepLanesBitForBit) {
   marsyn::PluginRegistry registry;
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> d(-1.5, 1.5);
-  int reusing = 0;
+  int reusing = 0, reusing_last = 0;
   for (const char* name : {"unicycle", "bicycle", "cartpole", "double_integrator", "pendulum", "planar_quadrotor", "quadrotor"}) {
     SCOPED_TRACE(name);
     const auto f = registry.create<marsyn::Dynamics>(name);
@@ -271,6 +273,9 @@ TEST(LanesRk4, EveryModelStepsAsRk4StepLanesBitForBit) {
       if (s % 5 == 0)
         for (auto& v : w)
           for (int l = 0; l < marsyn::Lanes::kWidth; ++l) v[l] = 0.1 * d(rng);
+      if (s % 10 == 0 && s > 0)
+        for (auto& v : u)
+          for (int l = 0; l < marsyn::Lanes::kWidth; ++l) v[l] = d(rng);
       rk.step(mine.data(), u.data(), w.data(), 0.1, 20, a.data());
       marsyn::rk4_step_lanes(*f, ref.data(), u.data(), w.data(), 0.1, 20, b.data(), 1);
       mine = a;
@@ -280,8 +285,10 @@ TEST(LanesRk4, EveryModelStepsAsRk4StepLanesBitForBit) {
           ASSERT_TRUE(same_bits(mine[i][l], ref[i][l])) << "substep " << s << ", state " << i << ", lane " << l;
     }
     reusing += rk.reuses_stage_two() ? 1 : 0;
+    reusing_last += rk.reuses_stage_four() ? 1 : 0;
   }
   EXPECT_GE(reusing, 2);  // the unicycle and the double integrator at least: the saving is exercised
+  EXPECT_GE(reusing_last, 2);
 }
 
 }  // namespace
