@@ -1,6 +1,7 @@
 #include "marsyn/core/verification/closed_loop.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <stdexcept>
 
 #include "marsyn/core/verification/broad_phase.hpp"
@@ -65,8 +66,15 @@ class DisturbanceSource {
   }
 
  private:
+  // d[i] = bit ? w[i] : -w[i], as a flip of the sign bit (negation's own bits): a branch on a
+  // random bit is mispredicted half the time, and the adversary draws a vertex at every substep.
   void vertex(Eigen::VectorXd& d) {
-    for (Eigen::Index i = 0; i < d.size(); ++i) d[i] = bit() ? w_[i] : -w_[i];
+    for (Eigen::Index i = 0; i < d.size(); ++i) {
+      std::uint64_t b;
+      std::memcpy(&b, &w_[i], sizeof b);
+      b ^= static_cast<std::uint64_t>(!bit()) << 63;
+      std::memcpy(&d[i], &b, sizeof b);
+    }
   }
   // A vertex takes one random bit per coordinate: each 64-bit draw gives 64 of them (one draw
   // per bit was most of the adversary's random cost, which re-chooses at every substep).
@@ -410,7 +418,13 @@ class Batch {
           const Eigen::VectorXd& w = run_of(l).w[static_cast<size_t>(i)];
           for (Eigen::Index c = 0; c < w.size(); ++c) W_[i][static_cast<size_t>(c)][l] = w[c];
         }
-      rk_[static_cast<size_t>(i)].step(X_[i].data(), U_[i].data(), W_[i].data(), pb_.tau, S_, next_[i].data());
+      rk_[static_cast<size_t>(i)].start(X_[i].data(), U_[i].data(), W_[i].data(), pb_.tau, S_);
+    }
+    // One stage of every agent before the next (lanes_rk4.hpp): the agents' fields overlap.
+    for (auto& rk : rk_) rk.second();
+    for (auto& rk : rk_) rk.third();
+    for (int i = 0; i < N_; ++i) {
+      rk_[static_cast<size_t>(i)].finish(next_[i].data());
       X_[i].swap(next_[i]);
     }
     // The windowed check reads the substeps' points from the lanes (window_points).
