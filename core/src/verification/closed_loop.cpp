@@ -377,10 +377,12 @@ class Batch {
     }
   }
 
-  // Zero-order hold: every agent's input is fixed at the sample from its own state.
+  // Zero-order hold: every agent's input is fixed at the sample from its own state. Agents
+  // outer: one controller's tables at step k serve the batch's runs one after the other, while
+  // in cache (each run's draws and first failing agent are the same in either order).
   void hold_inputs(int k) {
-    for (Lane& r : lanes_)
-      for (int i = 0; i < N_; ++i) {
+    for (int i = 0; i < N_; ++i)
+      for (Lane& r : lanes_) {
         r.u[i] = s_.nominal[i].u[k];
         if (closed_) {
           const ControlStatus st = s_.controllers[i]->input(r.x[i].data(), k, r.uc[i].data());

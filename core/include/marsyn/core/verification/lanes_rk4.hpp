@@ -125,7 +125,8 @@ class LanesRk4 {
     };
     if constexpr (P == 1) {
       // y still holds the last substep's stage-4 point, f4 its field under the input u4.
-      bool same = have_f4_ && std::memcmp(u4, u_, static_cast<size_t>(m_) * sizeof(Lanes)) == 0;
+      bool same = have_f4_;
+      for (int i = 0; same && i < m_; ++i) same = std::memcmp(u4[i].v, u_[i].v, sizeof(Lanes)) == 0;
       for (int c : reads_) same = same && std::memcmp(x[c].v, y[c].v, sizeof(Lanes)) == 0;
       if (same) {
         reused_last_ = true;
@@ -159,8 +160,8 @@ class LanesRk4 {
       point(full, k3);
     } else {
       f_.field(y, u_, f4);
-      for (int i = 0; i < n; ++i) k4[i] = f4[i];
-      add_w(k4);
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < kParts; ++j) MARSYN_PUT(k4[i], j, MARSYN_AT(f4[i], j) + MARSYN_AT(w[i], j));
       for (int i = 0; i < m_; ++i) u4[i] = u_[i];
       have_f4_ = true;
       for (int i = 0; i < n; ++i)
