@@ -412,22 +412,27 @@ class Batch {
   // One substep of h = tau / S for every run at once: lane by lane the arithmetic of rk4_step
   // over tau with S substeps.
   void integrate(int sub) {
-    for (int i = 0; i < N_; ++i) {
-      // Within a period only the adversary's disturbances change.
-      if (sub == 0) pack(W_[i], &Lane::w, i);
-      else
-        for (int l : adversary_lanes_) {
-          const Eigen::VectorXd& w = run_of(l).w[static_cast<size_t>(i)];
-          for (Eigen::Index c = 0; c < w.size(); ++c) W_[i][static_cast<size_t>(c)][l] = w[c];
-        }
-      rk_[static_cast<size_t>(i)].start(X_[i].data(), U_[i].data(), W_[i].data(), pb_.tau, S_);
-    }
-    // One stage of every agent before the next (lanes_rk4.hpp): the agents' fields overlap.
-    for (auto& rk : rk_) rk.second();
-    for (auto& rk : rk_) rk.third();
-    for (int i = 0; i < N_; ++i) {
-      rk_[static_cast<size_t>(i)].finish(next_[i].data());
-      X_[i].swap(next_[i]);
+    // One stage of each agent of a group before the next (lanes_rk4.hpp): the agents' fields are
+    // independent, so their latencies overlap; groups of a few agents keep the scratch in cache.
+    constexpr int kGroup = 8;
+    for (int g = 0; g < N_; g += kGroup) {
+      const int end = std::min(N_, g + kGroup);
+      for (int i = g; i < end; ++i) {
+        // Within a period only the adversary's disturbances change.
+        if (sub == 0) pack(W_[i], &Lane::w, i);
+        else
+          for (int l : adversary_lanes_) {
+            const Eigen::VectorXd& w = run_of(l).w[static_cast<size_t>(i)];
+            for (Eigen::Index c = 0; c < w.size(); ++c) W_[i][static_cast<size_t>(c)][l] = w[c];
+          }
+        rk_[static_cast<size_t>(i)].start(X_[i].data(), U_[i].data(), W_[i].data(), pb_.tau, S_);
+      }
+      for (int i = g; i < end; ++i) rk_[static_cast<size_t>(i)].second();
+      for (int i = g; i < end; ++i) rk_[static_cast<size_t>(i)].third();
+      for (int i = g; i < end; ++i) {
+        rk_[static_cast<size_t>(i)].finish(next_[i].data());
+        X_[i].swap(next_[i]);
+      }
     }
     // The windowed check reads the substeps' points from the lanes (window_points).
     if (!windowed_ || sub + 1 == S_) unpack();
