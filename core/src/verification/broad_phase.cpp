@@ -94,10 +94,15 @@ void BroadPhase::update(const std::vector<planning::Point>& p) {
     if (stale_ || !finite_ || static_cast<int>(anchor_.size()) != n) {
       lists_ready_ = false;
     } else {
-      double moved = 0;
-      for (int i = 0; i < n; ++i)
-        moved = std::max(moved, planning::distance2(p[static_cast<size_t>(i)] - anchor_[static_cast<size_t>(i)]));
-      moved_ = moved;
+      // The largest distance as the square root of the largest sum of squares (one root, not
+      // one per agent; the correctly rounded root is monotone): distance2()'s own value in the
+      // plane, within its rounding in space, far inside the slack the bounds carry.
+      double moved2 = 0;
+      for (int i = 0; i < n; ++i) {
+        const planning::Point e = p[static_cast<size_t>(i)] - anchor_[static_cast<size_t>(i)];
+        moved2 = std::max(moved2, e.x() * e.x() + e.y() * e.y() + e.z() * e.z());
+      }
+      moved_ = std::sqrt(moved2);
     }
   }
   if (!finite_) return;
