@@ -1,4 +1,4 @@
-// Four runs in lockstep (lanes.hpp, closed_loop.hpp): a lane computes what double computes
+// Lanes::kWidth runs in lockstep (lanes.hpp, closed_loop.hpp): a lane computes what double computes
 // (arithmetic bit for bit, elementary functions within libmvec's documented 4 ulp), and a run
 // simulated in a batch is, to the last bit, the run simulated alone, whatever the other lanes
 // hold: the verification's results must not depend on how runs were grouped (threads, ranks).
@@ -208,13 +208,21 @@ TEST(ClosedLoopBatch, ARunInABatchIsTheRunAlone) {
   const std::vector<marsyn::Scenario> scenarios = {{marsyn::DisturbanceMode::Adversarial, 1, 0},
                                                    {marsyn::DisturbanceMode::UniformRandom, 2, 0},
                                                    {marsyn::DisturbanceMode::VertexSwitching, 3, 0},
-                                                   {marsyn::DisturbanceMode::PaperConstant, 4, 1}};
+                                                   {marsyn::DisturbanceMode::PaperConstant, 4, 1},
+                                                   {marsyn::DisturbanceMode::ConstantVertex, 5, 0},
+                                                   {marsyn::DisturbanceMode::Adversarial, 6, 0},
+                                                   {marsyn::DisturbanceMode::None, 7, 0},
+                                                   {marsyn::DisturbanceMode::PaperConstant, 8, 2}};
+  static_assert(marsyn::Lanes::kWidth <= 8);
   for (bool closed : {false, true}) {
     marsyn::SimulationSetup setup{&pb, nominal, {}, 20, &monitor};
     if (closed) setup.controllers = controllers;
     setup.keep_dense = true;
-    // Batches of four, of three (the fourth lane padded) and in another order.
-    const std::vector<std::vector<int>> groups = {{0, 1, 2, 3}, {2, 0, 3}, {3, 2, 1, 0}};
+    // Full batches, batches of three and four (the other lanes padded), in other orders.
+    std::vector<std::vector<int>> groups = {{0, 1, 2, 3}, {2, 0, 3}, {3, 2, 1, 0}, {7, 5, 6, 4}};
+    groups.push_back({});
+    for (int r = 0; r < marsyn::Lanes::kWidth; ++r) groups.back().push_back(r);
+    groups.push_back(std::vector<int>(groups.back().rbegin(), groups.back().rend()));
     for (const auto& g : groups) {
       std::vector<marsyn::Scenario> batch;
       for (int r : g) batch.push_back(scenarios[r]);
@@ -240,9 +248,9 @@ TEST(ClosedLoopBatch, ARunInABatchIsTheRunAlone) {
   // The runs differ from each other (a batch that copied one lane into all would pass the above
   // only if the runs were equal).
   marsyn::SimulationSetup setup{&pb, nominal, controllers, 20, &monitor};
-  const auto four = marsyn::simulate(setup, scenarios);
-  for (std::size_t a = 0; a < four.size(); ++a)
-    for (std::size_t b = a + 1; b < four.size(); ++b) EXPECT_FALSE(four[a].states.back() == four[b].states.back());
+  const auto all = marsyn::simulate(setup, std::span(scenarios).first(marsyn::Lanes::kWidth));
+  for (std::size_t a = 0; a < all.size(); ++a)
+    for (std::size_t b = a + 1; b < all.size(); ++b) EXPECT_FALSE(all[a].states.back() == all[b].states.back());
 }
 
 // The runs' own integrator (lanes_rk4.hpp) against rk4_step_lanes, the reference it replaces: the

@@ -4,8 +4,9 @@
 // (LanesRk4 in tests/core/lanes_test.cpp), with savings that cannot change a bit:
 // - the stage arithmetic on packed vectors (GCC vector extensions: a packed add or multiply rounds
 //   each lane as the scalar operation does; the interfaces' -ffp-contract=off keeps them from
-//   fusing), where rk4_detail's generic code goes through Lanes' lane loops: the four lanes in one
-//   AVX2 vector where the CPU has AVX2 (chosen at run time), two SSE2 vectors otherwise;
+//   fusing), where rk4_detail's generic code goes through Lanes' lane loops: the eight lanes in
+//   one AVX-512 vector or two AVX2 vectors where the CPU has them (chosen at run time), four SSE2
+//   vectors otherwise;
 // - a field value taken from an earlier evaluation when every column the field reads
 //   (Dynamics::field_independent_of) holds the same bits, in every lane, and so does the input:
 //   a field is a function of those columns and the input, so it would give the same bits.
@@ -32,6 +33,7 @@ namespace marsyn::verification_detail {
 #pragma GCC diagnostic ignored "-Wpsabi"
 using Double2 = double __attribute__((vector_size(2 * sizeof(double))));
 using Double4 = double __attribute__((vector_size(4 * sizeof(double))));
+using Double8 = double __attribute__((vector_size(8 * sizeof(double))));
 
 class LanesRk4 {
  public:
@@ -70,6 +72,14 @@ class LanesRk4 {
   template <int P>
   void run(Lanes* out) {
 #if defined(__x86_64__) && defined(__GNUC__)
+    if (avx512_) {
+      switch (n_) {
+        case 3: return stage_avx512<P, 3>(out);
+        case 4: return stage_avx512<P, 4>(out);
+        case 6: return stage_avx512<P, 6>(out);
+        default: return stage_avx512<P, 0>(out);
+      }
+    }
     if (avx_) {
       switch (n_) {
         case 3: return stage_avx<P, 3>(out);
@@ -89,11 +99,17 @@ class LanesRk4 {
   }
 
 #if defined(__x86_64__) && defined(__GNUC__)
-  // All four lanes in one 256-bit vector where the CPU has AVX2 (the same per-lane IEEE adds and
+  // Four lanes per 256-bit vector where the CPU has AVX2 (the same per-lane IEEE adds and
   // multiplies, unfused: -ffp-contract=off, and no FMA in the target): half the instructions.
   template <int P, int N>
   __attribute__((target("avx2"))) void stage_avx(Lanes* out) {
     stage<P, N, 4>(out);
+  }
+  // Eight lanes in one 512-bit vector where the CPU has AVX-512 (the same per-lane operations).
+  template <int P, int N>
+  __attribute__((target("avx512f"))) void stage_avx512(Lanes* out) {
+    if constexpr (Lanes::kWidth % 8 == 0) stage<P, N, 8>(out);
+    else stage<P, N, 4>(out);
   }
 #endif
 
@@ -103,7 +119,7 @@ class LanesRk4 {
   template <int P, int N, int VW>
   __attribute__((always_inline)) inline void stage(Lanes* out) {
     // (A vector_size that depends on a template parameter is dropped by GCC: V would be double.)
-    using V = std::conditional_t<VW == 2, Double2, Double4>;
+    using V = std::conditional_t<VW == 2, Double2, std::conditional_t<VW == 4, Double4, Double8>>;
     static_assert(sizeof(V) == VW * sizeof(double) && Lanes::kWidth % VW == 0);
     constexpr int kParts = Lanes::kWidth / VW;
 #define MARSYN_AT(a, j) load<V>((a).v + VW * (j))
@@ -196,6 +212,7 @@ class LanesRk4 {
   bool reused_ = false, reused_last_ = false;
 #if defined(__x86_64__) && defined(__GNUC__)
   bool avx_ = __builtin_cpu_supports("avx2");
+  bool avx512_ = Lanes::kWidth % 8 == 0 && __builtin_cpu_supports("avx512f");
 #endif
 };
 
