@@ -280,6 +280,52 @@ TEST(BroadPhase, NearestTargetIsTheFullSearchsOnRandomTeams) {
   }
 }
 
+// One broad phase kept across the states of a motion (its lists and last answers carried from
+// state to state, as in a run): every agent's target is the full search's at every state.
+void expect_same_targets_along(const Team& t, const std::vector<std::vector<Point>>& states) {
+  marsyn::BroadPhase broad(t.pb);
+  for (std::size_t s = 0; s < states.size(); ++s) {
+    const std::vector<Point>& p = states[s];
+    broad.update(p);
+    for (int i = 0; i < static_cast<int>(p.size()); ++i) {
+      Point fast(7, 7, 7), slow(7, 7, 7);
+      const bool f = broad.nearest_target(i, fast), sr = marsyn::nearest_by_search(t.pb, i, p, slow);
+      ASSERT_EQ(f, sr) << "state " << s << ", agent " << i;
+      if (f) ASSERT_TRUE(same_bits(fast.x(), slow.x()) && same_bits(fast.y(), slow.y())) << "state " << s << ", agent " << i;
+    }
+  }
+}
+
+TEST(BroadPhase, NearestTargetFollowsMovingTeams) {
+  // Random teams drifting for 300 states (steps up to 0.05, new velocities now and then): the
+  // last answer kept while it provably stays nearest must be the search's at every state.
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> at(-6, 6), vel(-0.05, 0.05);
+  for (int team = 0; team < 30; ++team) {
+    Team t(2 + static_cast<int>(rng() % 25), rng, static_cast<int>(rng() % 3), team % 2 == 0, 0);
+    std::vector<Point> p(t.pb.agents.size()), v(p.size());
+    for (auto& q : p) q = {at(rng), at(rng), 0};
+    for (auto& q : v) q = {vel(rng), vel(rng), 0};
+    std::vector<std::vector<Point>> states;
+    for (int s = 0; s < 300; ++s) {
+      if (s % 50 == 49)
+        for (auto& q : v) q = {vel(rng), vel(rng), 0};
+      for (std::size_t i = 0; i < p.size(); ++i) p[i] += v[i];
+      states.push_back(p);
+    }
+    SCOPED_TRACE("team " + std::to_string(team));
+    expect_same_targets_along(t, states);
+  }
+  // Agent 2 overtakes agent 1 as agent 0's nearest by a thousandth per state, tying it once
+  // (agent 1 wins the tie by its index), while agent 1 stays put: fails when the last answer is
+  // kept with no bound on how far the others moved.
+  Team t(3, rng, 0, false, 0);
+  std::vector<std::vector<Point>> states;
+  for (int s = 0; s <= 200; ++s) states.push_back({{0, 0, 0}, {1, 0, 0}, {-1.1 + 0.001 * s, 0, 0}});
+  states[100][2] = {-1, 0, 0};
+  expect_same_targets_along(t, states);
+}
+
 TEST(BroadPhase, AnObstacleAsNearAsTheNearestAgentIsTheTarget) {
   // Agent 0 is 1 m from agent 1 and 1 m from the block's face, whose bounding box is as near as
   // the block itself: the obstacle must still be searched (and wins the tie); then a hair

@@ -1,4 +1,4 @@
-// Four runs in lockstep (lanes.hpp, closed_loop.hpp): a lane computes what double computes
+// Lanes::kWidth runs in lockstep (lanes.hpp, closed_loop.hpp): a lane computes what double computes
 // (arithmetic bit for bit, elementary functions within libmvec's documented 4 ulp), and a run
 // simulated in a batch is, to the last bit, the run simulated alone, whatever the other lanes
 // hold: the verification's results must not depend on how runs were grouped (threads, ranks).
@@ -208,13 +208,21 @@ TEST(ClosedLoopBatch, ARunInABatchIsTheRunAlone) {
   const std::vector<marsyn::Scenario> scenarios = {{marsyn::DisturbanceMode::Adversarial, 1, 0},
                                                    {marsyn::DisturbanceMode::UniformRandom, 2, 0},
                                                    {marsyn::DisturbanceMode::VertexSwitching, 3, 0},
-                                                   {marsyn::DisturbanceMode::PaperConstant, 4, 1}};
+                                                   {marsyn::DisturbanceMode::PaperConstant, 4, 1},
+                                                   {marsyn::DisturbanceMode::ConstantVertex, 5, 0},
+                                                   {marsyn::DisturbanceMode::Adversarial, 6, 0},
+                                                   {marsyn::DisturbanceMode::None, 7, 0},
+                                                   {marsyn::DisturbanceMode::PaperConstant, 8, 2}};
+  static_assert(marsyn::Lanes::kWidth <= 8);
   for (bool closed : {false, true}) {
     marsyn::SimulationSetup setup{&pb, nominal, {}, 20, &monitor};
     if (closed) setup.controllers = controllers;
     setup.keep_dense = true;
-    // Batches of four, of three (the fourth lane padded) and in another order.
-    const std::vector<std::vector<int>> groups = {{0, 1, 2, 3}, {2, 0, 3}, {3, 2, 1, 0}};
+    // Full batches, batches of three and four (the other lanes padded), in other orders.
+    std::vector<std::vector<int>> groups = {{0, 1, 2, 3}, {2, 0, 3}, {3, 2, 1, 0}, {7, 5, 6, 4}};
+    groups.push_back({});
+    for (int r = 0; r < marsyn::Lanes::kWidth; ++r) groups.back().push_back(r);
+    groups.push_back(std::vector<int>(groups.back().rbegin(), groups.back().rend()));
     for (const auto& g : groups) {
       std::vector<marsyn::Scenario> batch;
       for (int r : g) batch.push_back(scenarios[r]);
@@ -240,9 +248,9 @@ TEST(ClosedLoopBatch, ARunInABatchIsTheRunAlone) {
   // The runs differ from each other (a batch that copied one lane into all would pass the above
   // only if the runs were equal).
   marsyn::SimulationSetup setup{&pb, nominal, controllers, 20, &monitor};
-  const auto four = marsyn::simulate(setup, scenarios);
-  for (std::size_t a = 0; a < four.size(); ++a)
-    for (std::size_t b = a + 1; b < four.size(); ++b) EXPECT_FALSE(four[a].states.back() == four[b].states.back());
+  const auto all = marsyn::simulate(setup, std::span(scenarios).first(marsyn::Lanes::kWidth));
+  for (std::size_t a = 0; a < all.size(); ++a)
+    for (std::size_t b = a + 1; b < all.size(); ++b) EXPECT_FALSE(all[a].states.back() == all[b].states.back());
 }
 
 // The runs' own integrator (lanes_rk4.hpp) against rk4_step_lanes, the reference it replaces: the
@@ -250,11 +258,13 @@ TEST(ClosedLoopBatch, ARunInABatchIsTheRunAlone) {
 // double integrator take stage 3's field from stage 2, the others cannot), with per-lane states,
 // inputs and disturbances. Fails when the field is reused where a column it reads differs (a
 // heading or velocity not held, as for the pendulum), or when the stage arithmetic is reordered.
+// The input changes every tenth substep (a new sample): stage 1's field taken from the last
+// stage 4 under the old input fails here too.
 TEST(LanesRk4, EveryModelStepsAsRk4StepLanesBitForBit) {
   marsyn::PluginRegistry registry;
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> d(-1.5, 1.5);
-  int reusing = 0;
+  int reusing = 0, reusing_last = 0;
   for (const char* name : {"unicycle", "bicycle", "cartpole", "double_integrator", "pendulum", "planar_quadrotor", "quadrotor"}) {
     SCOPED_TRACE(name);
     const auto f = registry.create<marsyn::Dynamics>(name);
@@ -271,6 +281,9 @@ TEST(LanesRk4, EveryModelStepsAsRk4StepLanesBitForBit) {
       if (s % 5 == 0)
         for (auto& v : w)
           for (int l = 0; l < marsyn::Lanes::kWidth; ++l) v[l] = 0.1 * d(rng);
+      if (s % 10 == 0 && s > 0)
+        for (auto& v : u)
+          for (int l = 0; l < marsyn::Lanes::kWidth; ++l) v[l] = d(rng);
       rk.step(mine.data(), u.data(), w.data(), 0.1, 20, a.data());
       marsyn::rk4_step_lanes(*f, ref.data(), u.data(), w.data(), 0.1, 20, b.data(), 1);
       mine = a;
@@ -280,8 +293,10 @@ TEST(LanesRk4, EveryModelStepsAsRk4StepLanesBitForBit) {
           ASSERT_TRUE(same_bits(mine[i][l], ref[i][l])) << "substep " << s << ", state " << i << ", lane " << l;
     }
     reusing += rk.reuses_stage_two() ? 1 : 0;
+    reusing_last += rk.reuses_stage_four() ? 1 : 0;
   }
   EXPECT_GE(reusing, 2);  // the unicycle and the double integrator at least: the saving is exercised
+  EXPECT_GE(reusing_last, 2);
 }
 
 }  // namespace

@@ -94,10 +94,15 @@ void BroadPhase::update(const std::vector<planning::Point>& p) {
     if (stale_ || !finite_ || static_cast<int>(anchor_.size()) != n) {
       lists_ready_ = false;
     } else {
-      double moved = 0;
-      for (int i = 0; i < n; ++i)
-        moved = std::max(moved, planning::distance2(p[static_cast<size_t>(i)] - anchor_[static_cast<size_t>(i)]));
-      moved_ = moved;
+      // The largest distance as the square root of the largest sum of squares (one root, not
+      // one per agent; the correctly rounded root is monotone): distance2()'s own value in the
+      // plane, within its rounding in space, far inside the slack the bounds carry.
+      double moved2 = 0;
+      for (int i = 0; i < n; ++i) {
+        const planning::Point e = p[static_cast<size_t>(i)] - anchor_[static_cast<size_t>(i)];
+        moved2 = std::max(moved2, e.x() * e.x() + e.y() * e.y() + e.z() * e.z());
+      }
+      moved_ = std::sqrt(moved2);
     }
   }
   if (!finite_) return;
@@ -351,6 +356,8 @@ void BroadPhase::build_lists() const {
       if (std::abs(p[static_cast<size_t>(order_[static_cast<size_t>(b)])].y() - at.y()) <= r) list_.push_back(order_[static_cast<size_t>(b)]);
     list_start_[static_cast<size_t>(i) + 1] = static_cast<int>(list_.size());
   }
+  answer_.assign(static_cast<size_t>(n), -1);
+  others_.assign(static_cast<size_t>(n), 0.0);
   moved_ = 0;
   lists_ready_ = true;
   stale_ = false;
@@ -359,13 +366,48 @@ void BroadPhase::build_lists() const {
 bool BroadPhase::nearest_from_list(int i, double& ad, int& bj) const {
   const std::vector<planning::Point>& p = *pts_;
   const planning::Point& at = p[static_cast<size_t>(i)];
-  for (int k = list_start_[static_cast<size_t>(i)]; k < list_start_[static_cast<size_t>(i) + 1]; ++k)
-    consider(at, p[static_cast<size_t>(list_[static_cast<size_t>(k)])], list_[static_cast<size_t>(k)], ad, bj);
+  const double r = radius_[static_cast<size_t>(i)];
+  // The last answer stands while it is nearer, by the slack, than a lower bound of every other
+  // agent's distance: an agent on the list was at least others_ away when the list was last
+  // scanned, and each of the two has moved at most moved_ from the anchor since, so at most
+  // moved_ + (moved_ then) from where it was (folded into others_); one off the list is farther
+  // than r - 2 moved_. Then no other agent can win or tie, and the scan would give this answer.
+  if (const int j0 = answer_[static_cast<size_t>(i)]; j0 >= 0) {
+    const double d = planning::distance2(p[static_cast<size_t>(j0)] - at);
+    const double others = std::min(others_[static_cast<size_t>(i)], r) - 2.0 * moved_;
+    if (d + slack(d, mag_ + moved_ + r) < others) {
+      ad = d;
+      bj = j0;
+      return true;
+    }
+  }
+  // The two smallest squared distances on the list and whose the smallest is (a lower bound of
+  // the others' distances for the test above).
+  double s1 = std::numeric_limits<double>::infinity(), s2 = s1;
+  int j1 = -1;
+  for (int k = list_start_[static_cast<size_t>(i)]; k < list_start_[static_cast<size_t>(i) + 1]; ++k) {
+    const int j = list_[static_cast<size_t>(k)];
+    const planning::Point& q = p[static_cast<size_t>(j)];
+    const planning::Point e = q - at;
+    const double e2 = e.x() * e.x() + e.y() * e.y() + e.z() * e.z();
+    if (e2 < s1) {
+      s2 = s1;
+      s1 = e2;
+      j1 = j;
+    } else if (e2 < s2) {
+      s2 = e2;
+    }
+    consider(at, q, j, ad, bj);
+  }
   // An agent off the list was farther than the radius along x or y at the anchor, and each of
   // the two has moved at most moved_ since: it is now farther than radius - 2 moved_, which
   // must clear the nearest distance on the list by the slack (then it can neither win nor tie).
-  const double r = radius_[static_cast<size_t>(i)];
-  return bj >= 0 && r - 2.0 * moved_ > ad + slack(ad, mag_ + moved_ + r);
+  const bool decided = bj >= 0 && r - 2.0 * moved_ > ad + slack(ad, mag_ + moved_ + r);
+  // (The square root of a rounded sum of squares is within a few ulp of the distance: 1e-12 below
+  // it is a lower bound, far inside the slack.)
+  answer_[static_cast<size_t>(i)] = decided ? bj : -1;
+  if (decided) others_[static_cast<size_t>(i)] = std::sqrt(bj == j1 ? s2 : s1) * (1.0 - 1e-12) - 2.0 * moved_;
+  return decided;
 }
 
 bool BroadPhase::nearest_target(int i, planning::Point& target) const {

@@ -1,6 +1,7 @@
 #include "marsyn/core/verification/closed_loop.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <stdexcept>
 
 #include "marsyn/core/verification/broad_phase.hpp"
@@ -65,8 +66,15 @@ class DisturbanceSource {
   }
 
  private:
+  // d[i] = bit ? w[i] : -w[i], as a flip of the sign bit (negation's own bits): a branch on a
+  // random bit is mispredicted half the time, and the adversary draws a vertex at every substep.
   void vertex(Eigen::VectorXd& d) {
-    for (Eigen::Index i = 0; i < d.size(); ++i) d[i] = bit() ? w_[i] : -w_[i];
+    for (Eigen::Index i = 0; i < d.size(); ++i) {
+      std::uint64_t b;
+      std::memcpy(&b, &w_[i], sizeof b);
+      b ^= static_cast<std::uint64_t>(!bit()) << 63;
+      std::memcpy(&d[i], &b, sizeof b);
+    }
   }
   // A vertex takes one random bit per coordinate: each 64-bit draw gives 64 of them (one draw
   // per bit was most of the adversary's random cost, which re-chooses at every substep).
@@ -369,10 +377,12 @@ class Batch {
     }
   }
 
-  // Zero-order hold: every agent's input is fixed at the sample from its own state.
+  // Zero-order hold: every agent's input is fixed at the sample from its own state. Agents
+  // outer: one controller's tables at step k serve the batch's runs one after the other, while
+  // in cache (each run's draws and first failing agent are the same in either order).
   void hold_inputs(int k) {
-    for (Lane& r : lanes_)
-      for (int i = 0; i < N_; ++i) {
+    for (int i = 0; i < N_; ++i)
+      for (Lane& r : lanes_) {
         r.u[i] = s_.nominal[i].u[k];
         if (closed_) {
           const ControlStatus st = s_.controllers[i]->input(r.x[i].data(), k, r.uc[i].data());
@@ -402,16 +412,27 @@ class Batch {
   // One substep of h = tau / S for every run at once: lane by lane the arithmetic of rk4_step
   // over tau with S substeps.
   void integrate(int sub) {
-    for (int i = 0; i < N_; ++i) {
-      // Within a period only the adversary's disturbances change.
-      if (sub == 0) pack(W_[i], &Lane::w, i);
-      else
-        for (int l : adversary_lanes_) {
-          const Eigen::VectorXd& w = run_of(l).w[static_cast<size_t>(i)];
-          for (Eigen::Index c = 0; c < w.size(); ++c) W_[i][static_cast<size_t>(c)][l] = w[c];
-        }
-      rk_[static_cast<size_t>(i)].step(X_[i].data(), U_[i].data(), W_[i].data(), pb_.tau, S_, next_[i].data());
-      X_[i].swap(next_[i]);
+    // One stage of each agent of a group before the next (lanes_rk4.hpp): the agents' fields are
+    // independent, so their latencies overlap; groups of a few agents keep the scratch in cache.
+    constexpr int kGroup = 8;
+    for (int g = 0; g < N_; g += kGroup) {
+      const int end = std::min(N_, g + kGroup);
+      for (int i = g; i < end; ++i) {
+        // Within a period only the adversary's disturbances change.
+        if (sub == 0) pack(W_[i], &Lane::w, i);
+        else
+          for (int l : adversary_lanes_) {
+            const Eigen::VectorXd& w = run_of(l).w[static_cast<size_t>(i)];
+            for (Eigen::Index c = 0; c < w.size(); ++c) W_[i][static_cast<size_t>(c)][l] = w[c];
+          }
+        rk_[static_cast<size_t>(i)].start(X_[i].data(), U_[i].data(), W_[i].data(), pb_.tau, S_);
+      }
+      for (int i = g; i < end; ++i) rk_[static_cast<size_t>(i)].second();
+      for (int i = g; i < end; ++i) rk_[static_cast<size_t>(i)].third();
+      for (int i = g; i < end; ++i) {
+        rk_[static_cast<size_t>(i)].finish(next_[i].data());
+        X_[i].swap(next_[i]);
+      }
     }
     // The windowed check reads the substeps' points from the lanes (window_points).
     if (!windowed_ || sub + 1 == S_) unpack();

@@ -1,7 +1,7 @@
 #pragma once
 // Lanes: kWidth doubles computed together, the scalar type of the closed-loop verification's
-// integrator. Four runs of one agent advance in lockstep, so a model's vector field (written once
-// as a template over the scalar type) is evaluated once for four runs instead of four times.
+// integrator. Eight runs of one agent advance in lockstep, so a model's vector field (written once
+// as a template over the scalar type) is evaluated once for eight runs instead of eight times.
 //
 // The arithmetic is lane by lane IEEE double, the scalar's own (the interfaces compile with
 // -ffp-contract=off: no contraction into FMA), so a lane computes what `double` computes, except
@@ -10,7 +10,7 @@
 // found at build time and the CPU has AVX2 and FMA, and lane by lane to libm otherwise (a
 // hand-written sin/cos kernel sharing one argument reduction saved 6 % of the 10 drones'
 // verification instructions; the library was kept instead). Each lane's result depends on
-// that lane's argument only, so a run gives the same states in any batch (alone or with three
+// that lane's argument only, so a run gives the same states in any batch (alone or with seven
 // others). Simulation only: no enclosure, certificate or guarantee uses this type.
 #include <cmath>
 
@@ -22,11 +22,14 @@
 namespace marsyn {
 
 struct Lanes {
-  static constexpr int kWidth = 4;
+  // Eight runs: two AVX2 vectors (or one AVX-512) per state coordinate, so every call into a
+  // model's field and into the vector math library serves twice the runs of four lanes (the
+  // library's calls stay four lanes each: the same values as before, lane by lane).
+  static constexpr int kWidth = 8;
   double v[kWidth];
 
   Lanes() = default;  // like double: `Lanes x{}` is zero, `Lanes x;` uninitialized (RK4's scratch)
-  Lanes(double a) : v{a, a, a, a} {}  // NOLINT: a constant broadcasts, as for every scalar type
+  Lanes(double a) : v{a, a, a, a, a, a, a, a} {}  // NOLINT: a constant broadcasts, as for every scalar type
   double& operator[](int i) { return v[i]; }
   double operator[](int i) const { return v[i]; }
 
@@ -94,9 +97,11 @@ inline bool vector_math() {
   return ok;
 }
 
+// All lanes, four at a time (independent calls: the processor overlaps them).
 #define MARSYN_LANES_KERNEL(name)                                                    \
   MARSYN_LANES_AVX2 inline void name##4(const double* x, double* y) { \
-    _mm256_storeu_pd(y, _ZGVdN4v_##name(_mm256_loadu_pd(x)));                        \
+    for (int i = 0; i < Lanes::kWidth; i += 4)                                       \
+      _mm256_storeu_pd(y + i, _ZGVdN4v_##name(_mm256_loadu_pd(x + i)));              \
   }
 MARSYN_LANES_KERNEL(sin)
 MARSYN_LANES_KERNEL(cos)
@@ -142,7 +147,7 @@ MARSYN_LANES_FUNCTION(cos)
 
 }  // namespace lanes_detail
 
-// Sine and cosine of four angles at once. sin() and cos() compute one function each (before,
+// Sine and cosine of the lanes at once. sin() and cos() compute one function each (before,
 // each called sincos() and dropped half of it: every model with the generic field paid for four
 // vector calls where two do) and give sincos()'s halves bit for bit: the same library calls.
 // (libmvec's own vector sincos was measured: not faster than its sin and cos apart, and other bits.)

@@ -31,7 +31,7 @@ class Unicycle : public DynamicsModel<Unicycle> {
     dx[1] = u[0] * s;
     dx[2] = u[1];
   }
-  // Four verification runs at once: sine and cosine from one argument reduction (lanes.hpp), the
+  // The verification's runs at once (Lanes::kWidth): sine and cosine from one argument reduction (lanes.hpp), the
   // values sin() and cos() give apart.
   void vector_field(const Lanes* x, const Lanes* u, Lanes* dx) const {
 #ifdef MARSYN_LANES_VECTOR_MATH
@@ -48,9 +48,11 @@ class Unicycle : public DynamicsModel<Unicycle> {
   // function built for AVX2 cannot be inlined into one built without): the products are IEEE
   // per lane (-ffp-contract=off: not fused), as Lanes' operator* computes them.
   __attribute__((target("avx2,fma"))) static void field_avx2(const Lanes* x, const Lanes* u, Lanes* dx) {
-    const __m256d th = _mm256_loadu_pd(x[2].v), v = _mm256_loadu_pd(u[0].v);
-    _mm256_storeu_pd(dx[0].v, _mm256_mul_pd(v, lanes_detail::_ZGVdN4v_cos(th)));
-    _mm256_storeu_pd(dx[1].v, _mm256_mul_pd(v, lanes_detail::_ZGVdN4v_sin(th)));
+    for (int i = 0; i < Lanes::kWidth; i += 4) {
+      const __m256d th = _mm256_loadu_pd(x[2].v + i), v = _mm256_loadu_pd(u[0].v + i);
+      _mm256_storeu_pd(dx[0].v + i, _mm256_mul_pd(v, lanes_detail::_ZGVdN4v_cos(th)));
+      _mm256_storeu_pd(dx[1].v + i, _mm256_mul_pd(v, lanes_detail::_ZGVdN4v_sin(th)));
+    }
     dx[2] = u[1];
   }
 #endif

@@ -85,6 +85,10 @@ class BroadPhase {
   mutable std::vector<planning::Point> anchor_;
   mutable std::vector<double> radius_;
   mutable std::vector<int> list_start_, list_;
+  // nearest_from_list()'s last decided answer per agent (-1: none since the lists were built) and
+  // a lower bound of every other list agent's distance then, less twice moved_ then.
+  mutable std::vector<int> answer_;
+  mutable std::vector<double> others_;
   mutable double moved_ = 0, mag_ = 0;
   mutable bool lists_ready_ = false, stale_ = false;
   // window(): the states, each agent's box over them (x_lo, y_lo, x_hi, y_hi), the agents by
