@@ -31,8 +31,8 @@ class Unicycle : public DynamicsModel<Unicycle> {
     dx[1] = u[0] * s;
     dx[2] = u[1];
   }
-  // The verification's runs at once (Lanes::kWidth): sine and cosine from one argument reduction (lanes.hpp), the
-  // values sin() and cos() give apart.
+  // The verification's runs at once (Lanes::kWidth): sine and cosine from one argument
+  // reduction (lanes.hpp), the values sin() and cos() give apart.
   void vector_field(const Lanes* x, const Lanes* u, Lanes* dx) const {
 #ifdef MARSYN_LANES_VECTOR_MATH
     if (lanes_vector_math()) return field_avx2(x, u, dx);
