@@ -92,15 +92,15 @@ class NamedTally : public Tally {
   std::map<std::string, BetweenShortfall> negative;
 };
 
-// The eps-box around the exact flow between samples k and k+1 (every agent, `parts` parts),
-// against bounds, obstacles, the other agents in the same part of the period, and formation.
-// Returns false when a part has no enclosure (recorded as -inf).
 // The boxes' heap vectors, kept from one period to the next (they were a tenth of the check).
 struct PeriodScratch {
   std::vector<std::vector<Box>> ws;
   std::vector<Box> flow;
 };
 
+// The eps-box around the exact flow between samples k and k+1 (every agent, `parts` parts),
+// against bounds, obstacles, the other agents in the same part of the period, and formation.
+// Returns false when a part has no enclosure (recorded as -inf).
 bool check_period(const Problem& problem, const ProductLayout& at, const std::vector<Eigen::VectorXd>& x,
                   const std::vector<Eigen::VectorXd>& u, int k, int parts, const ObstacleWindows& windows,
                   PeriodScratch& scratch, NamedTally& t) {

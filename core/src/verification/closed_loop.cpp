@@ -1,7 +1,8 @@
 #include "marsyn/core/verification/closed_loop.hpp"
 
 #include <algorithm>
-#include <cstring>
+#include <bit>
+#include <cstdint>
 #include <stdexcept>
 
 #include "marsyn/core/verification/broad_phase.hpp"
@@ -69,12 +70,8 @@ class DisturbanceSource {
   // d[i] = bit ? w[i] : -w[i], as a flip of the sign bit (negation's own bits): a branch on a
   // random bit is mispredicted half the time, and the adversary draws a vertex at every substep.
   void vertex(Eigen::VectorXd& d) {
-    for (Eigen::Index i = 0; i < d.size(); ++i) {
-      std::uint64_t b;
-      std::memcpy(&b, &w_[i], sizeof b);
-      b ^= static_cast<std::uint64_t>(!bit()) << 63;
-      std::memcpy(&d[i], &b, sizeof b);
-    }
+    for (Eigen::Index i = 0; i < d.size(); ++i)
+      d[i] = std::bit_cast<double>(std::bit_cast<std::uint64_t>(w_[i]) ^ (static_cast<std::uint64_t>(!bit()) << 63));
   }
   // A vertex takes one random bit per coordinate: each 64-bit draw gives 64 of them (one draw
   // per bit was most of the adversary's random cost, which re-chooses at every substep).
