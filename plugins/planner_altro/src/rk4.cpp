@@ -39,6 +39,9 @@ void staged_impl(const Dynamics& f, const double* x, const double* u, double tau
     for (int j = 0; j < w; ++j) S[i * w + j] = i == j ? 1.0 : 0.0;
   }
   for (int j = 0; j < m; ++j) ud[j] = DualD::variable(u[j], n + j, w);
+  // The stage points' seeds once: each stage then writes only their values (the field reads its
+  // arguments and never writes them; a fresh DualD per stage cost more than the field).
+  for (int i = 0; i < n; ++i) yd[i] = DualD::variable(0.0, i, w);
   const double h = tau / substeps;
   auto stage = [&](const double* pt, const double* dpt, int s) {
     bool same = have_last;
@@ -46,7 +49,7 @@ void staged_impl(const Dynamics& f, const double* x, const double* u, double tau
     if (same) {
       for (int i = 0; i < n; ++i) kv[s][i] = last_k[i];  // and Jf is still that point's
     } else {
-      for (int i = 0; i < n; ++i) yd[i] = DualD::variable(pt[i], i, w);
+      for (int i = 0; i < n; ++i) yd[i].v = pt[i];
       f.field(yd, ud, kd);
       for (int i = 0; i < n; ++i) {
         kv[s][i] = kd[i].v;
@@ -95,6 +98,40 @@ void rk4_jacobians_staged(const Dynamics& f, const double* x, const double* u, d
   if (n == 2 && m == 1) return staged_impl<2, 3>(f, x, u, tau, substeps, A, B, reads, Amid, Bmid, mid);
   if (n == 4 && m == 1) return staged_impl<4, 5>(f, x, u, tau, substeps, A, B, reads, Amid, Bmid, mid);
   staged_impl<0, 0>(f, x, u, tau, substeps, A, B, reads, Amid, Bmid, mid);
+}
+
+KeptField::KeptField(const Dynamics& f, const double* u, unsigned reads) : f_(f), u_(u), n_(f.state_dim()) {
+  for (int l = 0; l < n_ && l < kMaxDual; ++l)  // (larger models do not use it)
+    if (reads >> l & 1u) dep_[nd_++] = l;
+}
+
+void KeptField::operator()(const double* pt, double* k) {
+  bool same = have_;
+  for (int t = 0; t < nd_ && same; ++t) same = pt[dep_[t]] == last_[dep_[t]];
+  if (!same) {
+    f_.field(pt, u_, last_k_);
+    for (int t = 0; t < nd_; ++t) last_[dep_[t]] = pt[dep_[t]];
+    have_ = true;
+  }
+  for (int i = 0; i < n_; ++i) k[i] = last_k_[i];
+}
+
+void rk4_step_kept(KeptField& field, int n, const double* x, double tau, int substeps, double* out, int steps) {
+  double k1[kMaxDual], k2[kMaxDual], k3[kMaxDual], k4[kMaxDual], y[kMaxDual], xs[kMaxDual];
+  for (int i = 0; i < n; ++i) xs[i] = x[i];
+  const double h = tau / substeps;
+  const int count = steps < 0 ? substeps : steps;
+  for (int s = 0; s < count; ++s) {
+    field(xs, k1);
+    for (int i = 0; i < n; ++i) y[i] = xs[i] + (0.5 * h) * k1[i];
+    field(y, k2);
+    for (int i = 0; i < n; ++i) y[i] = xs[i] + (0.5 * h) * k2[i];
+    field(y, k3);
+    for (int i = 0; i < n; ++i) y[i] = xs[i] + h * k3[i];
+    field(y, k4);
+    for (int i = 0; i < n; ++i) xs[i] = xs[i] + (h / 6.0) * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+  }
+  for (int i = 0; i < n; ++i) out[i] = xs[i];
 }
 
 unsigned field_reads(const Dynamics& f) {

@@ -1,7 +1,9 @@
 #pragma once
 // The solver's internal state and steps (not part of the plugin's interface). One Solver lives
 // for one solve() call, so Planner::solve stays const and thread-safe.
+#include <algorithm>
 #include <functional>
+#include <iterator>
 #include <limits>
 #include <memory>
 #include <string>
@@ -41,14 +43,13 @@ struct ConstraintRef {
   int groups_touched;
 };
 
-// Whether constraint i of a list can add anything where `near` was marked (ProximityScreen):
-// it is near, or one of its multipliers (lam: the step's block) is set. A satisfied row with a
-// zero multiplier adds nothing to the cost, the expansion, the violation or the update.
-inline bool needed(const std::vector<char>& near, int i, const ConstraintRef& r, const double* lam) {
-  if (near[i]) return true;
-  for (int j = 0; j < r.rows; ++j)
-    if (lam[r.lam_offset + j] != 0.0) return true;
-  return false;
+// The constraints of a list that can add anything at a point, in list order: the screen's near
+// ones (ProximityScreen::near) and those holding a multiplier at the step (held: Solver::hold()).
+// A satisfied row with a zero multiplier adds nothing to the cost, the expansion, the violation
+// or the update, so visiting these alone gives the same sums as visiting the whole list.
+inline void needed(const std::vector<int>& near, const std::vector<int>& held, std::vector<int>& out) {
+  out.clear();
+  std::set_union(near.begin(), near.end(), held.begin(), held.end(), std::back_inserter(out));
 }
 
 // PHR augmented-Lagrangian term for c <= 0: (max(0, lam + rho c)^2 - lam^2) / (2 rho).
@@ -81,7 +82,7 @@ class Solver {
   // several threads; everything else they read is fixed during the phase).
   struct Scratch {
     std::vector<double> g = std::vector<double>(64);
-    std::vector<char> near;
+    std::vector<int> near, cand;  // ProximityScreen::near's list, needed()'s
     Vec z;
     planner_support::ProximityScreen::Buffers screen;
     std::vector<double> jac;
@@ -100,6 +101,8 @@ class Solver {
   double max_violation(const std::vector<Vec>& X, const std::vector<Vec>& U, std::string* worst,
                        const std::vector<Vec>* Z = nullptr) const;
   void update_multipliers();
+  // held_c_, held_b_ from the multipliers as they now stand.
+  void hold();
   // Between the samples (PlanningProblem::between, solver_between.cpp): rows at the interior
   // points of each period, functions of (x_k, u_k) through the partial RK4 step.
   // Z: the interior points of the period from x under u, point-major (points_ x n_).
@@ -164,7 +167,7 @@ class Solver {
   int stage_rows_ = 0, terminal_rows_ = 0, between_rows_ = 0;
   // Broad phase over the pair rows of stage_ and between_: which may be near at a point.
   std::unique_ptr<planner_support::ProximityScreen> screen_, screen_b_;
-  mutable std::vector<char> near_;
+  mutable std::vector<int> near_, cand_;  // the single-threaded callers' lists
   int points_ = 0;                     // interior points per period (0: samples only)
   std::vector<int> agent_of_;          // product state index -> agent
   std::vector<Vec> lam_b_;             // [k]: multipliers of the between rows, point-major
@@ -187,6 +190,9 @@ class Solver {
   Vec q_stage_;  // stage tracking weight per product coordinate: q_track x q_state
   // Multipliers: state bounds (lo, hi), input bounds, generic constraints, goal (terminal).
   std::vector<Vec> lam_xlo_, lam_xhi_, lam_ulo_, lam_uhi_, lam_c_;
+  // The constraints holding a nonzero multiplier, in list order: stage_ at step k (held_c_[k]),
+  // between_ at period k's point j (held_b_[k * points_ + j - 1]).
+  std::vector<std::vector<int>> held_c_, held_b_;
   Vec lam_glo_, lam_ghi_, lam_t_;
   double rho_ = 1.0;
   // Per step: agent Jacobians; per step and group: cost expansion and gains.

@@ -41,10 +41,10 @@ double Solver::between_cost(int k, const Vec& x, const Vec& u, Scratch& s, const
   for (int j = 1; j <= points_; ++j) {
     const double* z = Z.data() + static_cast<long>(j - 1) * n_;
     const double* lam = lam_b_[k].data() + static_cast<long>(j - 1) * between_rows_;
-    screen_b_->mark(z, s.near, s.screen);
-    for (int c = 0; c < static_cast<int>(between_.size()); ++c) {
+    screen_b_->near(z, s.near, s.screen);
+    needed(s.near, held_b_[static_cast<std::size_t>(k) * points_ + j - 1], s.cand);
+    for (int c : s.cand) {
       const auto& r = between_[c];
-      if (!needed(s.near, c, r, lam)) continue;
       if (static_cast<int>(g.size()) < r.rows) g.resize(r.rows);
       r.c->evaluate(z, g.data(), nullptr);
       for (int i = 0; i < r.rows; ++i) J += phr(g[i], lam[r.lam_offset + i], rho_);
@@ -62,11 +62,10 @@ void Solver::for_each_between_row(const std::vector<Vec>& X, const std::vector<V
     const Vec& Z = points_at(k, X, U, Zs, tmp);
     for (int j = 1; j <= points_; ++j) {
       const double* z = Z.data() + static_cast<long>(j - 1) * n_;
-      screen_b_->mark(z, near_);
-      const double* lam = lam_b_[k].data() + static_cast<long>(j - 1) * between_rows_;
-      for (int c = 0; c < static_cast<int>(between_.size()); ++c) {
+      screen_b_->near(z, near_);
+      needed(near_, held_b_[static_cast<std::size_t>(k) * points_ + j - 1], cand_);
+      for (int c : cand_) {
         const auto& r = between_[c];
-        if (!needed(near_, c, r, lam)) continue;
         g.resize(std::max<size_t>(g.size(), r.rows));
         r.c->evaluate(z, g.data(), nullptr);
         f(k, j, r, g.data());
@@ -141,10 +140,10 @@ void Solver::expand_between(int k, Scratch& s) {
     const double* z = Z.data() + static_cast<long>(j - 1) * n_;
     std::fill(s.have_jac.begin(), s.have_jac.end(), 0);
     const double* lam = lam_b_[k].data() + static_cast<long>(j - 1) * between_rows_;
-    screen_b_->mark(z, s.near, s.screen);
-    for (int c = 0; c < static_cast<int>(between_.size()); ++c) {
+    screen_b_->near(z, s.near, s.screen);
+    needed(s.near, held_b_[static_cast<std::size_t>(k) * points_ + j - 1], s.cand);
+    for (int c : s.cand) {
       const auto& r = between_[c];
-      if (!needed(s.near, c, r, lam)) continue;
       g.resize(std::max<size_t>(g.size(), r.rows));
       r.c->evaluate(z, g.data(), nullptr);
       bool any = false;

@@ -27,11 +27,11 @@ double Solver::stage_cost(int k, const Vec& x, const Vec* u, Scratch& s, const V
     if (std::isfinite(pp_.state_bounds.hi[i])) J += phr(x[i] - pp_.state_bounds.hi[i], lam_xhi_[k][i], rho_);
   }
   std::vector<double>& g = s.g;
-  screen_->mark(x.data(), s.near, s.screen);
-  for (int i = 0; i < static_cast<int>(stage_.size()); ++i) {
+  screen_->near(x.data(), s.near, s.screen);
+  needed(s.near, held_c_[k], s.cand);
+  for (int i : s.cand) {
     const auto& r = stage_[i];
     if (!applies_at(*r.c, k, T_)) continue;  // a mission stage's rows: at its visit knots only
-    if (!needed(s.near, i, r, lam_c_[k].data())) continue;
     if (static_cast<int>(g.size()) < r.rows) g.resize(r.rows);
     r.c->evaluate(x.data(), g.data(), nullptr);
     for (int j = 0; j < r.rows; ++j) J += phr(g[j], lam_c_[k][r.lam_offset + j], rho_);
@@ -85,11 +85,10 @@ double Solver::max_violation(const std::vector<Vec>& X, const std::vector<Vec>& 
       note(pp_.state_bounds.lo[i] - X[k][i], "state bound");
       note(X[k][i] - pp_.state_bounds.hi[i], "state bound");
     }
-    screen_->mark(X[k].data(), near_);
-    for (int c = 0; c < static_cast<int>(stage_.size()); ++c) {
+    screen_->near(X[k].data(), near_);  // every other row is satisfied
+    for (int c : near_) {
       const auto& r = stage_[c];
       if (!applies_at(*r.c, k, T_)) continue;  // a mission stage's rows: at its visit knots only
-      if (!near_[c]) continue;  // every row satisfied
       g.resize(std::max<size_t>(g.size(), r.rows));
       r.c->evaluate(X[k].data(), g.data(), nullptr);
       for (int j = 0; j < r.rows; ++j)
@@ -123,11 +122,11 @@ void Solver::update_multipliers() {
       if (std::isfinite(pp_.state_bounds.lo[i])) upd(lam_xlo_[k][i], pp_.state_bounds.lo[i] - X_[k][i]);
       if (std::isfinite(pp_.state_bounds.hi[i])) upd(lam_xhi_[k][i], X_[k][i] - pp_.state_bounds.hi[i]);
     }
-    screen_->mark(X_[k].data(), near_);
-    for (int c = 0; c < static_cast<int>(stage_.size()); ++c) {
+    screen_->near(X_[k].data(), near_);
+    needed(near_, held_c_[k], cand_);
+    for (int c : cand_) {
       const auto& r = stage_[c];
       if (!applies_at(*r.c, k, T_)) continue;  // a mission stage's rows: at its visit knots only
-      if (!needed(near_, c, r, lam_c_[k].data())) continue;
       g.resize(std::max<size_t>(g.size(), r.rows));
       r.c->evaluate(X_[k].data(), g.data(), nullptr);
       for (int j = 0; j < r.rows; ++j) upd(lam_c_[k][r.lam_offset + j], g[j]);
@@ -143,6 +142,25 @@ void Solver::update_multipliers() {
     for (int j = 0; j < r.rows; ++j) upd(lam_t_[r.lam_offset + j], g[j]);
   }
   if (points_ > 0) update_between_multipliers();
+  hold();
+}
+
+void Solver::hold() {
+  auto held = [](const std::vector<ConstraintRef>& list, const double* lam, std::vector<int>& out) {
+    out.clear();
+    for (int c = 0; c < static_cast<int>(list.size()); ++c)
+      for (int j = 0; j < list[c].rows; ++j)
+        if (lam[list[c].lam_offset + j] != 0.0) {
+          out.push_back(c);
+          break;
+        }
+  };
+  held_c_.resize(lam_c_.size());
+  for (std::size_t k = 0; k < lam_c_.size(); ++k) held(stage_, lam_c_[k].data(), held_c_[k]);
+  held_b_.resize(lam_b_.size() * static_cast<std::size_t>(points_));
+  for (std::size_t k = 0; k < lam_b_.size(); ++k)
+    for (int j = 0; j < points_; ++j)
+      held(between_, lam_b_[k].data() + static_cast<long>(j) * between_rows_, held_b_[k * points_ + j]);
 }
 
 }  // namespace marsyn::altro::detail

@@ -118,10 +118,10 @@ void Solver::expand_knot(int k, Scratch& s) {
         }
       }
     };
-    screen_->mark(x.data(), s.near, s.screen);
-    for (int c = 0; c < static_cast<int>(stage_.size()); ++c)
-      if (applies_at(*stage_[c].c, k, T_) && needed(s.near, c, stage_[c], lam_c_[k].data()))
-        add(stage_[c], lam_c_[k].data());
+    screen_->near(x.data(), s.near, s.screen);
+    needed(s.near, held_c_[k], s.cand);
+    for (int c : s.cand)
+      if (applies_at(*stage_[c].c, k, T_)) add(stage_[c], lam_c_[k].data());
     if (term)
       for (const auto& r : terminal_) add(r, lam_t_.data());
   }
@@ -270,6 +270,7 @@ void Solver::prepare() {
     Lux_.resize(lxx_.size());
     between_set_.assign(lxx_.size(), 0);
   }
+  hold();
   rho_ = opt_.penalty_initial;
   threads_ = planner_support::solver_threads(opt_.threads);
   work_.assign(threads_, Scratch{});

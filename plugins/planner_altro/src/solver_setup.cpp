@@ -84,9 +84,15 @@ void Solver::layout() {
 }
 
 void Solver::step_agent(const AgentBlock& a, const Vec& x, const Vec& u, Vec& out, Vec* z) const {
+  // Agent-sized models keep their last field evaluation (KeptField: the same states); a larger
+  // one takes the generic step.
+  KeptField field(*a.dyn, u.data() + a.uo, a.reads);
+  auto step = [&](const double* from, double* to, int steps) {
+    if (a.n <= kMaxDual) rk4_step_kept(field, a.n, from, prob_.tau, prob_.rk4_substeps, to, steps);
+    else rk4_step<double>(*a.dyn, from, u.data() + a.uo, nullptr, prob_.tau, prob_.rk4_substeps, to, steps);
+  };
   if (!z || !kept_points_) {
-    rk4_step<double>(*a.dyn, x.data() + a.xo, u.data() + a.uo, nullptr, prob_.tau, prob_.rk4_substeps,
-                     out.data() + a.xo);
+    step(x.data() + a.xo, out.data() + a.xo, -1);
     return;
   }
   // The period in points_ + 1 runs of `per` substeps each: rk4_step's arithmetic (each run
@@ -97,10 +103,10 @@ void Solver::step_agent(const AgentBlock& a, const Vec& x, const Vec& u, Vec& ou
   double* buf = points_ * a.n <= kMaxDual * 16 ? stack : (heap.resize(static_cast<size_t>(points_) * a.n), heap.data());
   const double* from = x.data() + a.xo;
   for (int j = 0; j < points_; ++j) {
-    rk4_step<double>(*a.dyn, from, u.data() + a.uo, nullptr, prob_.tau, prob_.rk4_substeps, buf + j * a.n, per);
+    step(from, buf + j * a.n, per);
     from = buf + j * a.n;
   }
-  rk4_step<double>(*a.dyn, from, u.data() + a.uo, nullptr, prob_.tau, prob_.rk4_substeps, out.data() + a.xo, per);
+  step(from, out.data() + a.xo, per);
   for (int j = 0; j < points_; ++j)
     for (int c = 0; c < a.n; ++c) (*z)[static_cast<long>(j) * n_ + a.xo + c] = buf[j * a.n + c];
 }
@@ -210,10 +216,10 @@ double Solver::reference_conflict() const {
   double sum = 0.0;
   std::vector<double>& g = scratch_;
   for (int k = 1; k <= T_; ++k) {
-    screen_->mark(ref_[k].data(), near_);
-    for (int c = 0; c < static_cast<int>(stage_.size()); ++c) {
+    screen_->near(ref_[k].data(), near_);
+    for (int c : near_) {
       const auto& r = stage_[c];
-      if (!near_[c] || !std::isfinite(r.c->pair_reach())) continue;
+      if (!std::isfinite(r.c->pair_reach())) continue;
       if (static_cast<int>(g.size()) < r.rows) g.resize(r.rows);
       r.c->evaluate(ref_[k].data(), g.data(), nullptr);
       for (int j = 0; j < r.rows; ++j) sum += g[j] > 0 ? g[j] * g[j] : 0.0;

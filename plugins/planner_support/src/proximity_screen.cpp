@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <numeric>
 
 namespace marsyn::planner_support {
@@ -15,16 +16,17 @@ ProximityScreen::ProximityScreen(const Problem& problem, const std::vector<const
   std::vector<int> agent_of(layout.state_dim());
   for (int i = 0; i < N; ++i)
     for (int c = layout.state[i]; c < layout.state[i + 1]; ++c) agent_of[c] = i;
-  unscreened_.assign(constraints.size(), 1);
-  for (int i = 0; i < static_cast<int>(constraints.size()); ++i) {
+  size_ = static_cast<int>(constraints.size());
+  for (int i = 0; i < size_; ++i) {
     const Constraint& c = *constraints[i];
     const double reach = c.pair_reach();
     const auto& s = c.support();
-    if (!enabled || !std::isfinite(reach) || s.empty()) continue;
-    const int a = agent_of.at(s.front()), b = agent_of.at(s.back());
-    if (a == b) continue;
+    const int a = s.empty() ? 0 : agent_of.at(s.front()), b = s.empty() ? 0 : agent_of.at(s.back());
+    if (!enabled || !std::isfinite(reach) || s.empty() || a == b) {
+      unscreened_.push_back(i);
+      continue;
+    }
     pairs_.push_back({std::min(a, b), std::max(a, b), reach, i});
-    unscreened_[i] = 0;
     widest_ = std::max(widest_, reach);
   }
   std::sort(pairs_.begin(), pairs_.end(),
@@ -38,46 +40,59 @@ ProximityScreen::ProximityScreen(const Problem& problem, const std::vector<const
   }
 }
 
-void ProximityScreen::mark(const double* x, std::vector<char>& near) const { mark(x, near, own_); }
-
-void ProximityScreen::mark(const double* x, std::vector<char>& near, Buffers& b) const {
-  near = unscreened_;
-  if (pairs_.empty()) return;
+void ProximityScreen::near(const double* x, std::vector<int>& out, Buffers& b) const {
+  out.clear();
+  if (pairs_.empty()) {
+    out = unscreened_;
+    return;
+  }
   const int N = static_cast<int>(offsets_.size());
   b.px.resize(N);
   b.py.resize(N);
-  b.order.resize(N);
-  std::vector<double>& px_ = b.px;
-  std::vector<double>& py_ = b.py;
-  std::vector<int>& order_ = b.order;
   bool finite = true;
   for (int i = 0; i < N; ++i) {
     const AgentSpec& a = problem_.agents[i];
     double p[kMaxWorkspaceDim];  // x-y only: the max norm in x-y never exceeds the 3-D one
     workspace_point(*a.dynamics, a.workspace, x + offsets_[i], p);
-    px_[i] = p[0];
-    py_[i] = p[1];
+    b.px[i] = p[0];
+    b.py[i] = p[1];
     finite = finite && std::isfinite(p[0]) && std::isfinite(p[1]);
   }
   if (!finite) {  // no ordering to sweep: nothing is skipped
-    std::fill(near.begin(), near.end(), 1);
+    out.resize(size_);
+    std::iota(out.begin(), out.end(), 0);
     return;
   }
-  std::iota(order_.begin(), order_.end(), 0);
-  std::sort(order_.begin(), order_.end(), [&](int i, int j) { return px_[i] < px_[j]; });
+  // By x, by insertion from the last call's order (the set of pairs within reach does not
+  // depend on how agents at equal x are ordered).
+  std::vector<int>& order = b.order;
+  if (static_cast<int>(order.size()) != N) {
+    order.resize(N);
+    std::iota(order.begin(), order.end(), 0);
+  }
+  for (int s = 1; s < N; ++s) {
+    const int v = order[s];
+    int t = s;
+    for (; t > 0 && b.px[order[t - 1]] > b.px[v]; --t) order[t] = order[t - 1];
+    order[t] = v;
+  }
+  b.hits.clear();
   for (int s = 0; s < N; ++s) {
-    const int i = order_[s];
+    const int i = order[s];
     for (int t = s + 1; t < N; ++t) {
-      const int j = order_[t];
-      const double dx = px_[j] - px_[i];
+      const int j = order[t];
+      const double dx = b.px[j] - b.px[i];
       if (dx > widest_) break;  // sorted: every later agent is farther along x
-      const double d = std::max(dx, std::abs(py_[j] - py_[i]));
+      const double d = std::max(dx, std::abs(b.py[j] - b.py[i]));
       if (d > widest_) continue;
       const std::size_t key = static_cast<std::size_t>(std::min(i, j)) * N + std::max(i, j);
       for (int r = first_[key], e = r + count_[key]; r < e; ++r)
-        if (d <= pairs_[r].reach) near[pairs_[r].index] = 1;
+        if (d <= pairs_[r].reach) b.hits.push_back(pairs_[r].index);
     }
   }
+  // Each pair is met once in the sweep: no index repeats.
+  std::sort(b.hits.begin(), b.hits.end());
+  std::merge(unscreened_.begin(), unscreened_.end(), b.hits.begin(), b.hits.end(), std::back_inserter(out));
 }
 
 }  // namespace marsyn::planner_support

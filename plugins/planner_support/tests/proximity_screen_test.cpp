@@ -56,6 +56,22 @@ class ScaledReach final : public Constraint {
   double s_;
 };
 
+// The screen's list as one flag per constraint; the list must be strictly increasing (the order
+// a solver visits the whole list in).
+std::vector<char> near_flags(const ProximityScreen& screen, const double* x, std::size_t size,
+                             ProximityScreen::Buffers* buffers = nullptr) {
+  std::vector<int> list;
+  if (buffers) screen.near(x, list, *buffers);
+  else screen.near(x, list);
+  std::vector<char> flags(size, 0);
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    EXPECT_TRUE(list[i] >= 0 && static_cast<std::size_t>(list[i]) < size) << list[i];
+    if (i > 0) EXPECT_LT(list[i - 1], list[i]);
+    flags[static_cast<std::size_t>(list[i])] = 1;
+  }
+  return flags;
+}
+
 struct Tally {
   long skipped = 0, near = 0, violated_skipped = 0;
 };
@@ -73,7 +89,7 @@ Tally probe(const Problem& p, const std::vector<const Constraint*>& cs, const Pr
     Eigen::VectorXd x(L.state_dim());
     for (size_t i = 0; i < p.agents.size(); ++i)
       for (int c = 0; c < 3; ++c) x[L.state[i] + c] = (c < 2 ? p.agents[i].x0[c] : 0.0) + jitter(rng) * (c < 2 ? 1 : 3);
-    screen.mark(x.data(), near);
+    near = near_flags(screen, x.data(), cs.size());
     for (size_t i = 0; i < cs.size(); ++i) {
       if (near[i]) {
         ++t.near;
@@ -146,7 +162,7 @@ TEST(ProximityScreen, ObstaclesFormationsAndFootprintsAreNeverLeftOut) {
   std::vector<char> near;
   Eigen::VectorXd x = Eigen::VectorXd::Zero(p.product_state_dim());
   for (int i = 0; i < 6; ++i) x[3 * i] = 100.0 * i;  // every pair far apart
-  screen.mark(x.data(), near);
+  near = near_flags(screen, x.data(), cs.size());
   int pairs_left_out = 0;
   for (size_t i = 0; i < cs.size(); ++i) {
     const bool pair = cs[i]->name().rfind("collision", 0) == 0;
@@ -156,6 +172,35 @@ TEST(ProximityScreen, ObstaclesFormationsAndFootprintsAreNeverLeftOut) {
   EXPECT_EQ(pairs_left_out, 6 * 5 / 2 - 0);  // the formation pair is a collision pair too
   // A disabled screen marks everything near.
   const ProximityScreen off(p, cs, false);
-  off.mark(x.data(), near);
+  near = near_flags(off, x.data(), cs.size());
   for (char c : near) EXPECT_TRUE(c);
+}
+
+// A solver's thread keeps its buffers from one knot to the next, and the agents' order along x
+// starts from the last call's: over a walk in which agents overtake each other along x, the
+// lists must be those of fresh buffers (a stale order would end the sweep early and drop pairs).
+TEST(ProximityScreen, KeptBuffersGiveTheListsOfFreshOnes) {
+  std::mt19937 rng(5);
+  const Problem p = team(16, 3.0, Norm::Inf, rng);
+  const auto pp = planning::assemble(p, p.horizon);
+  const auto cs = pair_rows(pp.constraints);
+  const ProximityScreen screen(p, cs);
+  const ProductLayout L(p);
+  Eigen::VectorXd x(L.state_dim());
+  for (size_t i = 0; i < p.agents.size(); ++i) x.segment(L.state[i], 3) = p.agents[i].x0;
+  std::normal_distribution<double> step(0.0, 0.3);
+  ProximityScreen::Buffers kept;
+  long near_pairs = 0;
+  for (int k = 0; k < 200; ++k) {
+    for (size_t i = 0; i < p.agents.size(); ++i) {
+      x[L.state[i]] += step(rng);
+      x[L.state[i] + 1] += step(rng);
+    }
+    ProximityScreen::Buffers fresh;
+    const std::vector<char> a = near_flags(screen, x.data(), cs.size(), &kept);
+    const std::vector<char> b = near_flags(screen, x.data(), cs.size(), &fresh);
+    ASSERT_EQ(a, b) << "step " << k;
+    for (char c : a) near_pairs += c;
+  }
+  EXPECT_GT(near_pairs, 200) << "the walk should keep some pairs within reach";
 }

@@ -16,20 +16,22 @@ namespace marsyn::planner_support {
 class ProximityScreen {
  public:
   // `constraints` in the solver's own order; the screen's answers index into it. Disabled, it
-  // marks every constraint near (a solver's switch for comparing plans).
+  // finds every constraint near (a solver's switch for comparing plans).
   ProximityScreen(const Problem& problem, const std::vector<const Constraint*>& constraints, bool enabled = true);
 
   // True when at least one constraint of the list can be skipped somewhere.
   bool active() const { return !pairs_.empty(); }
-  // near[i] = 1 when constraint i may have a row above zero at product state x (every
-  // constraint without a reach, and every pair within its reach), 0 otherwise.
-  void mark(const double* x, std::vector<char>& near) const;
-  // The same for concurrent callers: each thread brings its own buffers.
+  // The constraints that may have a row above zero at product state x (every constraint without
+  // a reach, and every pair within its reach), as indices into the list in increasing order: a
+  // solver visits them alone, in the order it would visit the whole list.
+  // One thread's buffers, kept between calls: the agents' order along x from the last call is
+  // the next one's start (consecutive knots are nearly sorted already).
   struct Buffers {
     std::vector<double> px, py;
-    std::vector<int> order;
+    std::vector<int> order, hits;
   };
-  void mark(const double* x, std::vector<char>& near, Buffers& buffers) const;
+  void near(const double* x, std::vector<int>& out, Buffers& buffers) const;
+  void near(const double* x, std::vector<int>& out) const { near(x, out, own_); }
 
  private:
   struct Pair {
@@ -39,11 +41,12 @@ class ProximityScreen {
   };
   const Problem& problem_;
   std::vector<int> offsets_;         // product state offset per agent
-  std::vector<char> unscreened_;     // per constraint: 1 when it has no reach
+  int size_ = 0;                     // constraints in the list
+  std::vector<int> unscreened_;      // the constraints without a reach, in increasing order
   std::vector<Pair> pairs_;
   std::vector<int> first_, count_;   // pairs_ sorted by (a, b): the run of agent pair a * N + b
   double widest_ = 0.0;              // the largest reach
-  mutable Buffers own_;  // the single-threaded mark's
+  mutable Buffers own_;  // near(x, out)'s
 };
 
 }  // namespace marsyn::planner_support
