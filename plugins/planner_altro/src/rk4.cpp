@@ -27,10 +27,25 @@ void staged_impl(const Dynamics& f, const double* x, const double* u, double tau
     if (reads >> l & 1u) dep[nd++] = l;
   double last[kMaxDual], last_k[kMaxDual];  // the last evaluated point and its field value
   bool have_last = false;
-  // Sized to the model when it is known at compile time: a DualD zeroes all its kMaxDual slots
-  // on construction, which for kMaxDual-long arrays cost more than the field itself.
+  // The field's dual arguments and results, per thread and kept from call to call: a DualD
+  // zeroes all its kMaxDual slots on construction, which at every call cost more than the field
+  // (sized to the model when it is known at compile time). The seeds (derivative 1 in their own
+  // slot) are set when the width changes; a call writes only their values.
   constexpr int kN = NX > 0 ? NX : kMaxDual, kM = W > 0 ? (W - NX > 0 ? W - NX : 1) : kMaxDual;
-  DualD yd[kN], ud[kM], kd[kN];
+  struct DualArgs {
+    DualD yd[kN], ud[kM], kd[kN];
+    int n = -1, w = -1;
+  };
+  static thread_local DualArgs args;
+  DualArgs& da = args;
+  if (da.n != n || da.w != w) {
+    for (int i = 0; i < n; ++i) da.yd[i] = DualD::variable(0.0, i, w);
+    for (int j = 0; j < m; ++j) da.ud[j] = DualD::variable(0.0, n + j, w);
+    da.n = n;
+    da.w = w;
+  }
+  DualD *yd = da.yd, *kd = da.kd;
+  for (int j = 0; j < m; ++j) da.ud[j].v = u[j];
   double xs[kMaxDual], y[kMaxDual], kv[4][kMaxDual];
   // S = d xs / d(x0, u): n x w; dk[s] = d k_s / d(x0, u); Jf = [f_x f_u] at the stage point.
   double S[kMaxDual * kMaxDual], Y[kMaxDual * kMaxDual], dk[4][kMaxDual * kMaxDual], Jf[kMaxDual * kMaxDual];
@@ -38,10 +53,6 @@ void staged_impl(const Dynamics& f, const double* x, const double* u, double tau
     xs[i] = x[i];
     for (int j = 0; j < w; ++j) S[i * w + j] = i == j ? 1.0 : 0.0;
   }
-  for (int j = 0; j < m; ++j) ud[j] = DualD::variable(u[j], n + j, w);
-  // The stage points' seeds once: each stage then writes only their values (the field reads its
-  // arguments and never writes them; a fresh DualD per stage cost more than the field).
-  for (int i = 0; i < n; ++i) yd[i] = DualD::variable(0.0, i, w);
   const double h = tau / substeps;
   auto stage = [&](const double* pt, const double* dpt, int s) {
     bool same = have_last;
@@ -50,10 +61,10 @@ void staged_impl(const Dynamics& f, const double* x, const double* u, double tau
       for (int i = 0; i < n; ++i) kv[s][i] = last_k[i];  // and Jf is still that point's
     } else {
       for (int i = 0; i < n; ++i) yd[i].v = pt[i];
-      f.field(yd, ud, kd);
+      f.field(yd, da.ud, kd);
       for (int i = 0; i < n; ++i) {
         kv[s][i] = kd[i].v;
-        for (int j = 0; j < w; ++j) Jf[i * w + j] = kd[i].d[j];  // slots >= kd[i].n are zero
+        for (int j = 0; j < w; ++j) Jf[i * w + j] = kd[i].derivative(j);  // (kd outlives the call)
       }
       for (int t = 0; t < nd; ++t) last[dep[t]] = pt[dep[t]];
       for (int i = 0; i < n; ++i) last_k[i] = kv[s][i];

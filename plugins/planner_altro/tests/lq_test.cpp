@@ -84,7 +84,9 @@ TEST(Ilqr, MatchesTheLinearQuadraticOptimum) {
   for (int k = 0; k < T; ++k) EXPECT_NEAR(r.plan.u[k][0], U[k], 1e-6) << "k = " << k;
 }
 
+#include "dynamics_bicycle/src/bicycle.hpp"
 #include "dynamics_cartpole/src/cartpole.hpp"
+#include "dynamics_planar_quadrotor/src/planar_quadrotor.hpp"
 #include "dynamics_unicycle/src/unicycle.hpp"
 
 TEST(Jacobians, StagedRk4DerivativeEqualsForwardAd) {
@@ -119,5 +121,42 @@ TEST(Jacobians, StagedRk4WithTheFieldsReadsIsTheSame) {
                                   altro::field_reads(*dyn));
       for (int i = 0; i < n * n; ++i) EXPECT_EQ(A1[i], A2[i]) << dyn->type() << " A " << i;
       for (int i = 0; i < n * m; ++i) EXPECT_EQ(B1[i], B2[i]) << dyn->type() << " B " << i;
+    }
+}
+
+// The staged sweep keeps its dual arguments per thread between calls (seeded when the model's
+// width changes): calls that alternate between models of different sizes, through the generic
+// sweep (bicycle 5 + 2, planar quadrotor 6 + 2) and the unrolled ones, must each give what a
+// first call on that model gives, and forward AD's derivative.
+TEST(Jacobians, StagedRk4AlternatingModelsKeepTheirOwnDerivatives) {
+  const models::Bicycle bike;
+  const models::PlanarQuadrotor quad;
+  const models::CartPole crane;
+  const models::Unicycle uni;
+  struct Case {
+    const Dynamics* dyn;
+    std::vector<double> xu;
+    std::vector<double> A, B;  // the first call's
+  };
+  std::vector<Case> cases = {{&bike, {0.4, -1.1, 0.3, 1.2, -0.2, 0.8, 0.1}, {}, {}},
+                             {&quad, {0.1, 0.2, -0.3, 0.4, 0.05, -0.6, 5.1, 4.7}, {}, {}},
+                             {&crane, {0.3, -0.7, 2.9, 1.3, 4.2}, {}, {}},
+                             {&uni, {1.0, -2.0, 0.7, 1.5, -0.8}, {}, {}}};
+  for (int round = 0; round < 3; ++round)
+    for (auto& c : cases) {
+      const int n = c.dyn->state_dim(), m = c.dyn->input_dim();
+      std::vector<double> A(n * n), B(n * m), A1(n * n), B1(n * m);
+      altro::rk4_jacobians_staged(*c.dyn, c.xu.data(), c.xu.data() + n, 0.1, 4, A.data(), B.data(),
+                                  altro::field_reads(*c.dyn));
+      if (round == 0) {
+        rk4_jacobians(*c.dyn, c.xu.data(), c.xu.data() + n, 0.1, 4, nullptr, A1.data(), B1.data());
+        for (int i = 0; i < n * n; ++i) EXPECT_NEAR(A1[i], A[i], 1e-12) << c.dyn->type() << " A " << i;
+        for (int i = 0; i < n * m; ++i) EXPECT_NEAR(B1[i], B[i], 1e-12) << c.dyn->type() << " B " << i;
+        c.A = A;
+        c.B = B;
+        continue;
+      }
+      EXPECT_EQ(c.A, A) << c.dyn->type() << " round " << round;
+      EXPECT_EQ(c.B, B) << c.dyn->type() << " round " << round;
     }
 }
