@@ -83,7 +83,7 @@ class Solver {
   struct Scratch {
     std::vector<double> g = std::vector<double>(64);
     std::vector<int> near, cand;  // ProximityScreen::near's list, needed()'s
-    Vec z;
+    Vec z, dx, Kdx;  // (dx, Kdx: the forward pass's feedback term)
     planner_support::ProximityScreen::Buffers screen;
     std::vector<double> jac;
     std::vector<AgentGradient> grads;

@@ -152,8 +152,11 @@ bool Solver::backward_group(int gi, double reg, double& dv1, double& dv2) {
     const auto& gr = groups_[gi];
     Mat P = lxx_[T_ * G + gi];
     Vec p = lx_[T_ * G + gi];
-    Mat PA(gr.n, gr.n), PB(gr.n, gr.m), Qxx, Qux(gr.m, gr.n), Quu(gr.m, gr.m);
-    Vec Qx, Qu(gr.m);
+    Mat PA(gr.n, gr.n), PB(gr.n, gr.m), Qxx, Qux(gr.m, gr.n), Quu(gr.m, gr.m), Pt(gr.n, gr.n);
+    Vec Qx, Qu(gr.m), Quu_d(gr.m);
+    // One factorization's storage for the whole horizon (compute() reuses it: no allocation per
+    // knot; the same arithmetic as a fresh LLT).
+    Eigen::LLT<Mat> llt(gr.m);
     for (int k = T_ - 1; k >= 0; --k) {
       // A and B are block diagonal over the group's agents: multiply block by block (lazy,
       // coefficient-wise products: the blocks are too thin for Eigen's blocked GEMM to pay off).
@@ -183,18 +186,22 @@ bool Solver::backward_group(int gi, double reg, double& dv1, double& dv2) {
         Quu += Luu_[k * G + gi];
         Qux += Lux_[k * G + gi];
       }
-      Eigen::LLT<Mat> llt(Quu);
+      llt.compute(Quu);
       if (llt.info() != Eigen::Success) return false;
       Mat& K = K_[k * G + gi];
       Vec& d = d_[k * G + gi];
-      K = -llt.solve(Qux);
-      d = -llt.solve(Qu);
+      K = llt.solve(Qux);
+      K = -K;
+      d = llt.solve(Qu);
+      d = -d;
       dv1 += d.dot(Qu);
-      dv2 += 0.5 * d.dot(Quu * d);
+      Quu_d.noalias() = Quu * d;
+      dv2 += 0.5 * d.dot(Quu_d);
       // With K = -Quu^-1 Qux the usual update collapses to these two lines.
       P = Qxx;
       P.noalias() += Qux.transpose() * K;
-      P = 0.5 * (P + P.transpose()).eval();
+      Pt = P.transpose();
+      P = 0.5 * (P + Pt);
       p = Qx;
       p.noalias() += Qux.transpose() * d;
       if (!P.allFinite()) return false;
@@ -211,12 +218,16 @@ bool Solver::forward(double dv1, double dv2, double& alpha) {
     // Each group's rollout reads only its own states and gains: groups on several threads, each
     // writing its own segments of Xn_ and Un_.
     std::vector<char> finite_from(G, 1);
-    planner_support::parallel_chunks(G, G > 1 ? threads_for(G, T_) : 1, [&](int, int begin, int end) {
+    planner_support::parallel_chunks(G, G > 1 ? threads_for(G, T_) : 1, [&](int t, int begin, int end) {
+      Vec& dx = work_[t].dx;
+      Vec& Kdx = work_[t].Kdx;
       for (int gi = begin; gi < end; ++gi) {
         const auto& gr = groups_[gi];
         for (int k = 0; k < T_; ++k) {
-          Un_[k].segment(gr.uo, gr.m) = U_[k].segment(gr.uo, gr.m) + alpha * d_[k * G + gi] +
-                                       K_[k * G + gi] * (Xn_[k].segment(gr.xo, gr.n) - X_[k].segment(gr.xo, gr.n));
+          // The expression's own temporaries, kept per thread (the same product and sum).
+          dx = Xn_[k].segment(gr.xo, gr.n) - X_[k].segment(gr.xo, gr.n);
+          Kdx.noalias() = K_[k * G + gi] * dx;
+          Un_[k].segment(gr.uo, gr.m) = U_[k].segment(gr.uo, gr.m) + alpha * d_[k * G + gi] + Kdx;
           for (int i = gr.first; i < gr.last; ++i)
             step_agent(agents_[i], Xn_[k], Un_[k], Xn_[k + 1], kept_points_ ? &Zn_[k] : nullptr);
           if (!Xn_[k + 1].segment(gr.xo, gr.n).allFinite()) {
