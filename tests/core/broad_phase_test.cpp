@@ -4,6 +4,7 @@
 // just inside what the broad phase may skip.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -324,6 +325,57 @@ TEST(BroadPhase, NearestTargetFollowsMovingTeams) {
   for (int s = 0; s <= 200; ++s) states.push_back({{0, 0, 0}, {1, 0, 0}, {-1.1 + 0.001 * s, 0, 0}});
   states[100][2] = {-1, 0, 0};
   expect_same_targets_along(t, states);
+}
+
+TEST(BroadPhase, NearestTargetKeepsTwoNearlyTiedCandidates) {
+  // Agents 1 and 2 on either side of agent 0, nearly tied (the symmetric neighbours of a circle
+  // swap), taking turns as the nearer by a millionth; agent 3 approaches from 1.5 away by a
+  // thousandth per state and overtakes both: fails when the two candidates are kept with no bound
+  // on how far the third has moved, or when the nearer of the two is misjudged.
+  std::mt19937_64 rng(17);
+  Team t(4, rng, 0, false, 0);
+  std::vector<std::vector<Point>> states;
+  for (int s = 0; s <= 700; ++s) {
+    const double wobble = (s % 2 == 0 ? 1e-6 : -1e-6) * (s % 7 == 3 ? 0.0 : 1.0);  // exact ties now and then
+    states.push_back({{0, 0, 0}, {1 + wobble, 0, 0}, {-1, 0, 0}, {0, 1.5 - 0.001 * s, 0}});
+  }
+  expect_same_targets_along(t, states);
+}
+
+TEST(BroadPhase, NearestTargetBreaksARoundingTieByIndex) {
+  // Two candidates whose sums of squares differ in the last bit while their distances (the
+  // square roots distance2() takes) are equal: the tie goes to the smaller index, as in the full
+  // search. Agent 2's sum is the smaller one: fails when the candidates are ordered by their sums
+  // with no margin for the root's rounding.
+  std::mt19937_64 rng(19);
+  Team t(4, rng, 0, false, 0);
+  const Point one(0.5, 0.7, 0);
+  Point two(-0.7, 0.5, 0);
+  auto sum = [](const Point& e) { return e.x() * e.x() + e.y() * e.y(); };
+  auto ulps = [](double v, int k) {
+    for (; k > 0; --k) v = std::nextafter(v, 10.0);
+    for (; k < 0; ++k) v = std::nextafter(v, -10.0);
+    return v;
+  };
+  bool found = false;
+  for (int dx = -20; dx <= 20 && !found; ++dx)
+    for (int dy = -20; dy <= 20 && !found; ++dy) {
+      const Point c(ulps(-0.7, dx), ulps(0.5, dy), 0);
+      if (sum(c) < sum(one) && marsyn::planning::distance2(c) == marsyn::planning::distance2(one)) {
+        two = c;
+        found = true;
+      }
+    }
+  ASSERT_TRUE(found);
+  std::vector<std::vector<Point>> states(4, std::vector<Point>{{0, 0, 0}, one, two, {3, 3, 0}});
+  expect_same_targets_along(t, states);
+  marsyn::BroadPhase broad(t.pb);
+  for (const auto& p : states) {
+    broad.update(p);
+    Point target;
+    ASSERT_TRUE(broad.nearest_target(0, target));
+    EXPECT_EQ(target, one);
+  }
 }
 
 TEST(BroadPhase, AnObstacleAsNearAsTheNearestAgentIsTheTarget) {

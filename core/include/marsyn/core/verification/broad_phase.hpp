@@ -71,8 +71,10 @@ class BroadPhase {
   const planning::ObstacleWindows* windows_ = nullptr;
   std::vector<Eigen::Vector4d> bbox_;  // per obstacle: x_lo, y_lo, x_hi, y_hi
   double scale_ = 0;                   // largest obstacle coordinate: the slack's scale
-  std::vector<int> order_;             // agents by increasing x
-  std::vector<int> place_;             // place_[i]: agent i's position in order_
+  mutable std::vector<int> order_;     // agents by increasing x (when sorted_)
+  mutable std::vector<int> place_;     // place_[i]: agent i's position in order_
+  mutable bool sorted_ = false;
+  void sort() const;                   // order_ and place_ for the current points
   bool finite_ = true;                 // else every pair is visited (NaN cannot be sorted)
   // nearest_target(): the sorted sweep for agent i from its last answer (last_nearest_), and the
   // agents' lists: per agent, every agent within radius_ along x and y of it at the anchor
@@ -80,14 +82,20 @@ class BroadPhase {
   // moved from its anchor since, mag_ the anchors' largest coordinate (the slack's scale).
   void sweep_nearest(int i, double& ad, int& bj) const;
   void build_lists() const;
+  // (ad < 0 when the answer was decided without its distance: nearest_target computes it where an
+  // obstacle needs it.)
   bool nearest_from_list(int i, double& ad, int& bj) const;
+  bool nearest_from_candidates(int i, double& ad, int& bj) const;
   mutable std::vector<int> last_nearest_;
   mutable std::vector<planning::Point> anchor_;
   mutable std::vector<double> radius_;
   mutable std::vector<int> list_start_, list_;
-  // nearest_from_list()'s last decided answer per agent (-1: none since the lists were built) and
-  // a lower bound of every other list agent's distance then, less twice moved_ then.
-  mutable std::vector<int> answer_;
+  // nearest_from_list()'s last decided answer per agent (-1: none since the lists were built), the
+  // list's next nearest agent then (-1: none), and a lower bound of every other list agent's
+  // distance then, less twice moved_ then. Two candidates, since neighbours placed symmetrically
+  // (a circle swap) are nearly tied: which of the two is nearer is then decided afresh at each
+  // state, and only a third agent's approach sends the agent back to its list.
+  mutable std::vector<int> answer_, second_;
   mutable std::vector<double> others_;
   mutable double moved_ = 0, mag_ = 0;
   mutable bool lists_ready_ = false, stale_ = false;
