@@ -390,7 +390,7 @@ double sum_squares(const planning::Point& e) { return e.x() * e.x() + e.y() * e.
 
 }  // namespace
 
-bool BroadPhase::nearest_from_candidates(int i, double& ad, int& bj) const {
+bool BroadPhase::nearest_from_candidates(int i, double& ad, double& e2, int& bj) const {
   const int j0 = answer_[static_cast<size_t>(i)], j1 = second_[static_cast<size_t>(i)];
   if (j0 < 0) return false;
   const std::vector<planning::Point>& p = *pts_;
@@ -428,12 +428,13 @@ bool BroadPhase::nearest_from_candidates(int i, double& ad, int& bj) const {
   const double a = others - 1e-9 * (1.0 + mag_ + moved_ + r);
   if (!(a > 1e-100 && eb < 1e200 && eb * (1.0 + 3e-9) < a * a)) return false;
   ad = exact;
+  e2 = eb;
   bj = b;
   return true;
 }
 
-bool BroadPhase::nearest_from_list(int i, double& ad, int& bj) const {
-  if (nearest_from_candidates(i, ad, bj)) return true;
+bool BroadPhase::nearest_from_list(int i, double& ad, double& e2, int& bj) const {
+  if (nearest_from_candidates(i, ad, e2, bj)) return true;
   const std::vector<planning::Point>& p = *pts_;
   const planning::Point& at = p[static_cast<size_t>(i)];
   const double r = radius_[static_cast<size_t>(i)];
@@ -445,19 +446,19 @@ bool BroadPhase::nearest_from_list(int i, double& ad, int& bj) const {
   for (int k = list_start_[static_cast<size_t>(i)]; k < list_start_[static_cast<size_t>(i) + 1]; ++k) {
     const int j = list_[static_cast<size_t>(k)];
     const planning::Point& q = p[static_cast<size_t>(j)];
-    const double e2 = sum_squares(q - at);
-    if (e2 < s1) {
+    const double eq = sum_squares(q - at);
+    if (eq < s1) {
       s3 = s2;
       s2 = s1;
       j2 = j1;
-      s1 = e2;
+      s1 = eq;
       j1 = j;
-    } else if (e2 < s2) {
+    } else if (eq < s2) {
       s3 = s2;
-      s2 = e2;
+      s2 = eq;
       j2 = j;
-    } else if (e2 < s3) {
-      s3 = e2;
+    } else if (eq < s3) {
+      s3 = eq;
     }
     consider(at, q, j, ad, bj);
   }
@@ -484,7 +485,7 @@ bool BroadPhase::nearest_target(int i, planning::Point& target) const {
   const planning::Point& at = p[static_cast<size_t>(i)];
   // The nearest other agent first (smallest distance, then smallest index): its distance bounds
   // the obstacles worth a polygon search, which is most of the cost where an agent is near.
-  double ad = 1e300;
+  double ad = 1e300, e2 = 0;
   int bj = -1;
   if (pb_.pairwise_collision) {
     const int n = static_cast<int>(p.size());
@@ -496,7 +497,7 @@ bool BroadPhase::nearest_target(int i, planning::Point& target) const {
       // little; the sorted sweep where the list cannot decide, and the lists rebuilt at the next
       // substep.
       if (!lists_ready_ && n >= 2) build_lists();
-      if (!(lists_ready_ && nearest_from_list(i, ad, bj))) {
+      if (!(lists_ready_ && nearest_from_list(i, ad, e2, bj))) {
         ad = 1e300;
         bj = -1;
         sweep_nearest(i, ad, bj);
@@ -504,28 +505,38 @@ bool BroadPhase::nearest_target(int i, planning::Point& target) const {
       }
     }
   }
-  // (The list may decide the nearest agent without its distance: then only for the obstacles.)
-  if (bj >= 0 && ad < 0) ad = bbox_.empty() ? 1e300 : planning::distance2(p[static_cast<size_t>(bj)] - at);
   // An obstacle wins at a distance up to the agent's (the full search scans obstacles first and
   // takes an agent only when strictly nearer); among obstacles, the first of the smallest. One
   // whose bounding box is farther than the agent by more than the slack cannot win.
   double bd = 1e300;
   bool found = false;
-  const double scale = bbox_.empty() ? 0.0 : scale_ + at.cwiseAbs().maxCoeff();
-  for (std::size_t o = 0; o < bbox_.size(); ++o) {
-    const double lb = outside(bbox_[o], at).norm();
-    const double bound = std::min(bd, ad);
-    if (lb > bound + slack(bound, scale)) continue;
-    const planning::Point q = nearest_on_obstacle(pb_.obstacles[o], at);
-    if (planning::distance2(q - at) < bd) {
-      bd = planning::distance2(q - at);
-      target = q;
-      found = true;
+  if (!bbox_.empty()) {
+    // The agent's squared distance (or, decided without it, its sum of squares: within ulps).
+    const double agent2 = ad >= 0 ? ad * ad : e2;
+    const double c = 1e-9 * (1.0 + scale_ + at.cwiseAbs().maxCoeff());
+    for (std::size_t o = 0; o < bbox_.size(); ++o) {
+      // Skipped when the box's distance lb > B + slack(B, scale) = B (1 + 1e-9) + c for some B at
+      // least the nearest so far (the slack grows with B, so this is the test on min(bd, ad) or
+      // stronger), squared without a root: (B (1 + 1e-9) + c)^2 <= B^2 ((1 + 1e-9)^2 + 2c) + 2c + c^2
+      // (2B <= 1 + B^2, (1 + 1e-9) c <= 2c), and the factor 1 + 1e-12 for the sums' rounding.
+      const double g2 = outside(bbox_[o], at).squaredNorm();
+      const double b2 = std::min(bd * bd, agent2);
+      if (g2 > (b2 * (1.0 + 3e-9 + 2.0 * c) + 2.0 * c + c * c) * (1.0 + 1e-12)) continue;
+      const planning::Point q = nearest_on_obstacle(pb_.obstacles[o], at);
+      if (planning::distance2(q - at) < bd) {
+        bd = planning::distance2(q - at);
+        target = q;
+        found = true;
+      }
     }
   }
-  if (bj >= 0 && !(found && bd <= ad)) {
-    target = p[static_cast<size_t>(bj)];
-    return true;
+  if (bj >= 0) {
+    // (The list may decide the nearest agent without its distance: only an obstacle needs it.)
+    if (found && ad < 0) ad = planning::distance2(p[static_cast<size_t>(bj)] - at);
+    if (!(found && bd <= ad)) {
+      target = p[static_cast<size_t>(bj)];
+      return true;
+    }
   }
   return found;
 }

@@ -270,19 +270,28 @@ class Batch {
   // once for all lanes); the adversary also needs them now. Read from the integrator's lanes: the
   // lanes' own states are unpacked at the sample only.
   void window_points(int sub) {
+    // Each lane's points at this substep, looked up once (not per agent).
+    planning::Point* to[Lanes::kWidth];
+    for (int l = 0; l < L_; ++l) to[l] = lanes_[static_cast<size_t>(l)].window[static_cast<size_t>(sub)].data();
     for (int i = 0; i < N_; ++i) {
       const std::vector<Lanes>& x = X_[static_cast<size_t>(i)];
       const PointMap& m = maps_[static_cast<size_t>(i)];
-      for (int l = 0; l < L_; ++l) {
-        planning::Point& q = lanes_[static_cast<size_t>(l)].window[static_cast<size_t>(sub)][static_cast<size_t>(i)];
-        if (m.linear) {  // workspace_point3's formula, read in place
-          q.z() = 0.0;
-          for (int c = 0; c < m.dim; ++c)
-            q[c] = m.index[c] >= 0 ? x[static_cast<size_t>(m.index[c])][l] + m.offset[c] : m.offset[c];
-          continue;
+      if (m.linear) {  // workspace_point3's formula, read in place: a coordinate a column plus an offset, or the offset
+        for (int l = 0; l < L_; ++l) to[l][i].z() = 0.0;
+        for (int c = 0; c < m.dim; ++c) {
+          const double off = m.offset[c];
+          if (m.index[c] < 0) {
+            for (int l = 0; l < L_; ++l) to[l][i][c] = off;
+            continue;
+          }
+          const Lanes& col = x[static_cast<size_t>(m.index[c])];
+          for (int l = 0; l < L_; ++l) to[l][i][c] = col[l] + off;
         }
+        continue;
+      }
+      for (int l = 0; l < L_; ++l) {
         for (std::size_t c = 0; c < x.size(); ++c) lane_x_[c] = x[c][l];
-        workspace_point3<double>(*pb_.agents[i].dynamics, pb_.agents[i].workspace, lane_x_.data(), q.data());
+        workspace_point3<double>(*pb_.agents[i].dynamics, pb_.agents[i].workspace, lane_x_.data(), to[l][i].data());
       }
     }
     for (Lane& r : lanes_)
