@@ -401,6 +401,50 @@ TEST(BroadPhase, AnObstacleAsNearAsTheNearestAgentIsTheTarget) {
   }
 }
 
+TEST(BroadPhase, AnObstacleAsNearAsAKeptNearestAgentIsTheTarget) {
+  // Agent 0 and agent 1 (1 m above it) approach the block's face together, so that agent 0's
+  // nearest agent is kept from state to state (decided without its distance) while the face comes
+  // from 1.5 m to 0.5 m, as near as the agent exactly at one state: the obstacle must be searched
+  // then and win the tie. Fails when the obstacle's squared bound is compared against anything
+  // but the nearest agent's squared distance.
+  std::mt19937_64 rng(23);
+  for (bool inf : {true, false}) {
+    Team t(3, rng, 0, inf, 0);
+    t.pb.obstacles.push_back({"block", {{0, 0}, {4, 0}, {4, 4}, {0, 4}}});
+    for (double gap : {1.0, 0.5}) {
+      std::vector<std::vector<Point>> states;
+      for (int s = 0; s <= 200; ++s) {
+        const double d = s == 100 ? gap : gap + 0.5 - 0.005 * s;
+        states.push_back({{4 + d, 2, 0}, {4 + d, 2 + gap, 0}, {-20, -20, 0}});
+      }
+      SCOPED_TRACE("gap " + std::to_string(gap));
+      expect_same_targets_along(t, states);
+      marsyn::BroadPhase broad(t.pb);
+      for (int s = 0; s <= 100; ++s) {
+        broad.update(states[static_cast<size_t>(s)]);
+        Point target;
+        ASSERT_TRUE(broad.nearest_target(0, target));
+        if (s == 100) EXPECT_EQ(target, Point(4, 2, 0));
+      }
+    }
+  }
+}
+
+TEST(BroadPhase, PointsOutOfRangeGiveTheAllPairsAnswers) {
+  // A point whose squares overflow (1e200) and one not finite at all: the broad phase falls back
+  // to visiting everything, and still answers as the all-pairs check and the full search.
+  std::mt19937_64 rng(29);
+  for (bool inf : {true, false}) {
+    Team t(6, rng, 2, inf, 1);
+    std::vector<std::vector<Point>> states = random_walks(rng, 6, 30);
+    states[10][2] = {1e200, -1e200, 0};
+    states[11][2] = {1e200, 1e200, 0};
+    states[20][4] = {std::numeric_limits<double>::quiet_NaN(), 0, 0};
+    expect_same_targets_along(t, states);
+    expect_same_folds(t, std::vector<std::vector<Point>>(states.begin(), states.begin() + 15));
+  }
+}
+
 TEST(BroadPhase, AdversaryTargetsTheSameAsTheFullSearch) {
   // End to end: open loop under the adversary (re-chosen at every substep), all pairs vs the
   // broad phase: the same trajectories (so the same targets) and the same margins.
