@@ -205,12 +205,9 @@ bool BroadPhase::accumulate(StepMargins& run, Requirement* worst, planning::Mome
 
 void BroadPhase::window(const std::vector<std::vector<planning::Point>>& states, int count, const StepMargins& run,
                         planning::Moment when) {
-  window_ = &states;
-  candidates_.clear();
   const int n = static_cast<int>(pb_.agents.size());
   boxes_.resize(static_cast<size_t>(n));
   bool finite = true;
-  double mag = 0;  // the largest coordinate: the slack's scale for a difference of two
   for (int i = 0; i < n; ++i) {
     constexpr double kInf = std::numeric_limits<double>::infinity();
     double xl = kInf, yl = kInf, xh = -kInf, yh = -kInf;
@@ -227,8 +224,23 @@ void BroadPhase::window(const std::vector<std::vector<planning::Point>>& states,
     }
     finite = finite && sum - sum == 0;
     boxes_[static_cast<size_t>(i)] = {xl, yl, xh, yh};
-    mag = std::max({mag, std::abs(xl), std::abs(yl), std::abs(xh), std::abs(yh)});
   }
+  window_from_boxes(states, finite, run, when);
+}
+
+void BroadPhase::window(const std::vector<std::vector<planning::Point>>& states, std::span<const Eigen::Vector4d> boxes,
+                        bool finite, const StepMargins& run, planning::Moment when) {
+  boxes_.assign(boxes.begin(), boxes.end());
+  window_from_boxes(states, finite, run, when);
+}
+
+void BroadPhase::window_from_boxes(const std::vector<std::vector<planning::Point>>& states, bool finite,
+                                   const StepMargins& run, planning::Moment when) {
+  window_ = &states;
+  candidates_.clear();
+  const int n = static_cast<int>(pb_.agents.size());
+  double mag = 0;  // the largest coordinate: the slack's scale for a difference of two
+  for (const Eigen::Vector4d& b : boxes_) mag = std::max(mag, b.cwiseAbs().maxCoeff());
   const bool inf = pb_.delta_norm == Norm::Inf;
   const double delta = pb_.delta;
   const bool windowed = when.k >= 0 && windows_ && windows_->any();
@@ -405,15 +417,18 @@ bool BroadPhase::nearest_from_candidates(int i, double& ad, double& e2, int& bj)
   if (j1 >= 0) {
     const double e1 = sum_squares(p[static_cast<size_t>(j1)] - at);
     const bool normal = eb > 1e-200 && e1 > 1e-200 && eb < 1e200 && e1 < 1e200;
-    if (normal && e1 * (1.0 + 1e-12) < eb) {
-      b = j1;
-      eb = e1;
-    } else if (!(normal && eb * (1.0 + 1e-12) < e1)) {
+    const bool first = eb * (1.0 + 1e-12) < e1, second = e1 * (1.0 + 1e-12) < eb;
+    if (normal && (first || second)) {
+      // Without a branch on which (a coin toss between symmetric neighbours): the smaller sum,
+      // and j1 where it is j1's.
+      b = j0 ^ ((j0 ^ j1) & -static_cast<int>(second));
+      eb = std::min(eb, e1);
+    } else {
       const double d0 = planning::distance2(p[static_cast<size_t>(j0)] - at), d1 = planning::distance2(p[static_cast<size_t>(j1)] - at);
-      const bool second = d1 < d0 || (d1 == d0 && j1 < j0);
-      b = second ? j1 : j0;
-      eb = second ? e1 : eb;
-      exact = second ? d1 : d0;
+      const bool one = d1 < d0 || (d1 == d0 && j1 < j0);
+      b = one ? j1 : j0;
+      eb = one ? e1 : eb;
+      exact = one ? d1 : d0;
     }
   }
   // The answer stands while it is nearer, by the slack, than a lower bound of every other agent's

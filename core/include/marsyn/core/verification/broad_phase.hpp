@@ -10,6 +10,7 @@
 // requirement can therefore neither lower nor tie the minimum, and the minima, the step where
 // they fall and the requirement named there are bit for bit those of the all-pairs check
 // (SpecMonitor::step), which tests/core/broad_phase_test.cpp compares.
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -46,6 +47,11 @@ class BroadPhase {
   // minimum by the slack; the minima only fall, so it could not lower or tie them at any state.
   void window(const std::vector<std::vector<planning::Point>>& states, int count, const StepMargins& running,
               planning::Moment when);
+  // The same with each agent's box over the window's states given (x_lo, y_lo, x_hi, y_hi, every
+  // state's point inside; found where the states were written), finite false unless every
+  // coordinate of every state is finite.
+  void window(const std::vector<std::vector<planning::Point>>& states, std::span<const Eigen::Vector4d> boxes,
+              bool finite, const StepMargins& running, planning::Moment when);
   bool accumulate_window(int s, StepMargins& running, planning::Requirement* worst) const;
   // The staged obstacles' windows (SpecMonitor::windows(), kept by pointer); none: all bind.
   void windows(const planning::ObstacleWindows* w) { windows_ = w; }
@@ -62,6 +68,9 @@ class BroadPhase {
   // `at`; a pair farther apart than pair_reach(run) along x or y cannot lower run.collision.
   bool obstacle_clears(const StepMargins& run, int o, const planning::Point& at) const;
   double pair_reach(const StepMargins& run) const;
+  // window()'s candidates from boxes_.
+  void window_from_boxes(const std::vector<std::vector<planning::Point>>& states, bool finite, const StepMargins& run,
+                         planning::Moment when);
   // q's margin at the points p folded into its part `slot`; (best, best_rank) is the smallest
   // (margin, rank) so far below the minimum the state started from, and *worst its requirement.
   void fold_one(const planning::Requirement& q, const std::vector<planning::Point>& p, double& slot, double& best,
