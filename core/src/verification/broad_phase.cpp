@@ -160,7 +160,8 @@ bool BroadPhase::obstacle_clears(const StepMargins& run, int o, const planning::
   return (g.x() > 0 || g.y() > 0) && lb > run.obstacle + slack(run.obstacle, scale_ + at.cwiseAbs().maxCoeff());
 }
 
-double BroadPhase::pair_reach(const StepMargins& run) const {
+// (Inlined: it is read once per candidate pair, and its call cost more than its arithmetic.)
+[[gnu::always_inline]] inline double BroadPhase::pair_reach(const StepMargins& run) const {
   return run.collision + pb_.delta + slack(run.collision, pb_.delta);
 }
 
@@ -402,7 +403,8 @@ double sum_squares(const planning::Point& e) { return e.x() * e.x() + e.y() * e.
 
 }  // namespace
 
-bool BroadPhase::nearest_from_candidates(int i, double& ad, double& e2, int& bj) const {
+// (Inlined into nearest_target: the adversary asks it for every agent at every substep.)
+[[gnu::always_inline]] inline bool BroadPhase::nearest_from_candidates(int i, double& ad, double& e2, int& bj) const {
   const int j0 = answer_[static_cast<size_t>(i)], j1 = second_[static_cast<size_t>(i)];
   if (j0 < 0) return false;
   const std::vector<planning::Point>& p = *pts_;
@@ -448,8 +450,7 @@ bool BroadPhase::nearest_from_candidates(int i, double& ad, double& e2, int& bj)
   return true;
 }
 
-bool BroadPhase::nearest_from_list(int i, double& ad, double& e2, int& bj) const {
-  if (nearest_from_candidates(i, ad, e2, bj)) return true;
+bool BroadPhase::nearest_from_list(int i, double& ad, int& bj) const {
   const std::vector<planning::Point>& p = *pts_;
   const planning::Point& at = p[static_cast<size_t>(i)];
   const double r = radius_[static_cast<size_t>(i)];
@@ -512,7 +513,7 @@ bool BroadPhase::nearest_target(int i, planning::Point& target) const {
       // little; the sorted sweep where the list cannot decide, and the lists rebuilt at the next
       // substep.
       if (!lists_ready_ && n >= 2) build_lists();
-      if (!(lists_ready_ && nearest_from_list(i, ad, e2, bj))) {
+      if (!(lists_ready_ && (nearest_from_candidates(i, ad, e2, bj) || nearest_from_list(i, ad, bj)))) {
         ad = 1e300;
         bj = -1;
         sweep_nearest(i, ad, bj);

@@ -91,10 +91,11 @@ class BroadPhase {
   // moved from its anchor since, mag_ the anchors' largest coordinate (the slack's scale).
   void sweep_nearest(int i, double& ad, int& bj) const;
   void build_lists() const;
-  // (ad < 0 when the answer was decided without its distance, e2 then its sum of squares:
-  // nearest_target computes the distance where an obstacle needs it.)
-  bool nearest_from_list(int i, double& ad, double& e2, int& bj) const;
+  // The last answer's two candidates first (ad < 0 when decided without the distance, e2 then its
+  // sum of squares: nearest_target computes the distance where an obstacle needs it), the list
+  // where they cannot decide.
   bool nearest_from_candidates(int i, double& ad, double& e2, int& bj) const;
+  bool nearest_from_list(int i, double& ad, int& bj) const;
   mutable std::vector<int> last_nearest_;
   mutable std::vector<planning::Point> anchor_;
   mutable std::vector<double> radius_;
