@@ -4,6 +4,7 @@
 // just inside what the broad phase may skip.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -326,6 +327,57 @@ TEST(BroadPhase, NearestTargetFollowsMovingTeams) {
   expect_same_targets_along(t, states);
 }
 
+TEST(BroadPhase, NearestTargetKeepsTwoNearlyTiedCandidates) {
+  // Agents 1 and 2 on either side of agent 0, nearly tied (the symmetric neighbours of a circle
+  // swap), taking turns as the nearer by a millionth; agent 3 approaches from 1.5 away by a
+  // thousandth per state and overtakes both: fails when the two candidates are kept with no bound
+  // on how far the third has moved, or when the nearer of the two is misjudged.
+  std::mt19937_64 rng(17);
+  Team t(4, rng, 0, false, 0);
+  std::vector<std::vector<Point>> states;
+  for (int s = 0; s <= 700; ++s) {
+    const double wobble = (s % 2 == 0 ? 1e-6 : -1e-6) * (s % 7 == 3 ? 0.0 : 1.0);  // exact ties now and then
+    states.push_back({{0, 0, 0}, {1 + wobble, 0, 0}, {-1, 0, 0}, {0, 1.5 - 0.001 * s, 0}});
+  }
+  expect_same_targets_along(t, states);
+}
+
+TEST(BroadPhase, NearestTargetBreaksARoundingTieByIndex) {
+  // Two candidates whose sums of squares differ in the last bit while their distances (the
+  // square roots distance2() takes) are equal: the tie goes to the smaller index, as in the full
+  // search. Agent 2's sum is the smaller one: fails when the candidates are ordered by their sums
+  // with no margin for the root's rounding.
+  std::mt19937_64 rng(19);
+  Team t(4, rng, 0, false, 0);
+  const Point one(0.5, 0.7, 0);
+  Point two(-0.7, 0.5, 0);
+  auto sum = [](const Point& e) { return e.x() * e.x() + e.y() * e.y(); };
+  auto ulps = [](double v, int k) {
+    for (; k > 0; --k) v = std::nextafter(v, 10.0);
+    for (; k < 0; ++k) v = std::nextafter(v, -10.0);
+    return v;
+  };
+  bool found = false;
+  for (int dx = -20; dx <= 20 && !found; ++dx)
+    for (int dy = -20; dy <= 20 && !found; ++dy) {
+      const Point c(ulps(-0.7, dx), ulps(0.5, dy), 0);
+      if (sum(c) < sum(one) && marsyn::planning::distance2(c) == marsyn::planning::distance2(one)) {
+        two = c;
+        found = true;
+      }
+    }
+  ASSERT_TRUE(found);
+  std::vector<std::vector<Point>> states(4, std::vector<Point>{{0, 0, 0}, one, two, {3, 3, 0}});
+  expect_same_targets_along(t, states);
+  marsyn::BroadPhase broad(t.pb);
+  for (const auto& p : states) {
+    broad.update(p);
+    Point target;
+    ASSERT_TRUE(broad.nearest_target(0, target));
+    EXPECT_EQ(target, one);
+  }
+}
+
 TEST(BroadPhase, AnObstacleAsNearAsTheNearestAgentIsTheTarget) {
   // Agent 0 is 1 m from agent 1 and 1 m from the block's face, whose bounding box is as near as
   // the block itself: the obstacle must still be searched (and wins the tie); then a hair
@@ -346,6 +398,50 @@ TEST(BroadPhase, AnObstacleAsNearAsTheNearestAgentIsTheTarget) {
     ASSERT_TRUE(broad.nearest_target(0, target));
     EXPECT_EQ(target, p[1]);
     expect_same_targets(t, p);
+  }
+}
+
+TEST(BroadPhase, AnObstacleAsNearAsAKeptNearestAgentIsTheTarget) {
+  // Agent 0 and agent 1 (1 m above it) approach the block's face together, so that agent 0's
+  // nearest agent is kept from state to state (decided without its distance) while the face comes
+  // from 1.5 m to 0.5 m, as near as the agent exactly at one state: the obstacle must be searched
+  // then and win the tie. Fails when the obstacle's squared bound is compared against anything
+  // but the nearest agent's squared distance.
+  std::mt19937_64 rng(23);
+  for (bool inf : {true, false}) {
+    Team t(3, rng, 0, inf, 0);
+    t.pb.obstacles.push_back({"block", {{0, 0}, {4, 0}, {4, 4}, {0, 4}}});
+    for (double gap : {1.0, 0.5}) {
+      std::vector<std::vector<Point>> states;
+      for (int s = 0; s <= 200; ++s) {
+        const double d = s == 100 ? gap : gap + 0.5 - 0.005 * s;
+        states.push_back({{4 + d, 2, 0}, {4 + d, 2 + gap, 0}, {-20, -20, 0}});
+      }
+      SCOPED_TRACE("gap " + std::to_string(gap));
+      expect_same_targets_along(t, states);
+      marsyn::BroadPhase broad(t.pb);
+      for (int s = 0; s <= 100; ++s) {
+        broad.update(states[static_cast<size_t>(s)]);
+        Point target;
+        ASSERT_TRUE(broad.nearest_target(0, target));
+        if (s == 100) EXPECT_EQ(target, Point(4, 2, 0));
+      }
+    }
+  }
+}
+
+TEST(BroadPhase, PointsOutOfRangeGiveTheAllPairsAnswers) {
+  // A point whose squares overflow (1e200) and one not finite at all: the broad phase falls back
+  // to visiting everything, and still answers as the all-pairs check and the full search.
+  std::mt19937_64 rng(29);
+  for (bool inf : {true, false}) {
+    Team t(6, rng, 2, inf, 1);
+    std::vector<std::vector<Point>> states = random_walks(rng, 6, 30);
+    states[10][2] = {1e200, -1e200, 0};
+    states[11][2] = {1e200, 1e200, 0};
+    states[20][4] = {std::numeric_limits<double>::quiet_NaN(), 0, 0};
+    expect_same_targets_along(t, states);
+    expect_same_folds(t, std::vector<std::vector<Point>>(states.begin(), states.begin() + 15));
   }
 }
 
@@ -391,6 +487,90 @@ TEST(BroadPhase, AdversaryTargetsTheSameAsTheFullSearch) {
       EXPECT_EQ(f.sampled.worst, ev.worst);
     }
   }
+}
+
+TEST(BroadPhase, WindowedRunsGiveTheAllPairsMargins) {
+  // The verification runs' own path (no dense states kept: the dense check a period at a time,
+  // boxes found as the substeps' points are written, several runs in one batch) against the
+  // all-pairs reference: the same minima bit for bit, the same requirement named at the same time.
+  std::mt19937_64 rng(31);
+  for (int team = 0; team < 8; ++team) {
+    const int dim = team % 4 == 3 ? 3 : 2;
+    Team t(6 + 3 * team, rng, team % 4, team % 2 == 1, team % 3, dim);
+    std::uniform_real_distribution<double> start(-5, 5), in(-1.5, 1.5);
+    std::vector<marsyn::NominalTrajectory> nominal;
+    for (auto& a : t.pb.agents) {
+      a.x0 = VectorXd(3);
+      a.x0 << start(rng), start(rng), start(rng);
+      marsyn::NominalTrajectory nt;
+      nt.agent = a.name;
+      for (int k = 0; k <= 12; ++k) nt.x.push_back(a.x0);
+      for (int k = 0; k < 12; ++k) nt.u.push_back((VectorXd(2) << in(rng), in(rng)).finished());
+      nominal.push_back(nt);
+    }
+    const marsyn::SpecMonitor monitor(t.pb);
+    marsyn::SimulationSetup fast{&t.pb, nominal, {}, 20, &monitor};
+    fast.keep_states = false;
+    marsyn::SimulationSetup slow = fast;
+    slow.all_pairs = true;
+    std::vector<marsyn::Scenario> batch;
+    for (auto mode : {marsyn::DisturbanceMode::Adversarial, marsyn::DisturbanceMode::UniformRandom,
+                      marsyn::DisturbanceMode::VertexSwitching, marsyn::DisturbanceMode::Adversarial,
+                      marsyn::DisturbanceMode::PaperConstant, marsyn::DisturbanceMode::None})
+      batch.push_back({mode, static_cast<std::uint64_t>(team * 10 + batch.size()), 0});
+    const std::vector<marsyn::ClosedLoopRun> f = marsyn::simulate(fast, batch), s = marsyn::simulate(slow, batch);
+    for (std::size_t r = 0; r < batch.size(); ++r) {
+      SCOPED_TRACE("team " + std::to_string(team) + ", run " + std::to_string(r));
+      EXPECT_TRUE(same_bits(f[r].between.obstacle, s[r].between.obstacle));
+      EXPECT_TRUE(same_bits(f[r].between.collision, s[r].between.collision));
+      EXPECT_TRUE(same_bits(f[r].between.formation, s[r].between.formation));
+      EXPECT_EQ(f[r].between_worst, s[r].between_worst);
+      EXPECT_TRUE(same_bits(f[r].between_worst_t, s[r].between_worst_t));
+      EXPECT_TRUE(same_bits(f[r].sampled.min_margin, s[r].sampled.min_margin));
+      EXPECT_EQ(f[r].sampled.worst, s[r].sampled.worst);
+      EXPECT_TRUE(same_bits(f[r].max_tube_excess, s[r].max_tube_excess));
+    }
+  }
+}
+
+TEST(BroadPhase, AWindowedRunsCrossingInsideAPeriodIsNotSkipped) {
+  // Agent 0 drives at 2 m/s straight at agent 1, from 1 m away: 0.6 m at sample 2, 0.4 m at
+  // sample 3, where it backs away, while agents 2 and 3 stand 0.5 m apart from the start. In the period between samples
+  // 2 and 3 agent 0 starts farther than the running minimum's reach and ends nearer: only its box
+  // over the whole period (its far side included) keeps the pair. In each of the four directions
+  // (a box's every side), both norms: the windowed runs' minimum and name are the all-pairs ones.
+  std::mt19937_64 rng(37);
+  for (bool inf : {true, false})
+    for (int dir = 0; dir < 4; ++dir) {
+      Team t(4, rng, 0, inf, 0);
+      const double th = dir * std::acos(-1.0) / 2;
+      const Vector2d u(std::cos(th), std::sin(th)), at(1.5, -2.0);
+      const Vector2d p0 = at - u, p2(8, 8), p3(8.5, 8);
+      const Vector2d starts[4] = {p0, at, p2, p3};
+      std::vector<marsyn::NominalTrajectory> nominal;
+      for (int i = 0; i < 4; ++i) {
+        auto& a = t.pb.agents[static_cast<size_t>(i)];
+        a.x0 = (VectorXd(3) << starts[i].x(), starts[i].y(), i == 0 ? th : 0.0).finished();
+        marsyn::NominalTrajectory nt;
+        nt.agent = a.name;
+        for (int k = 0; k <= 5; ++k) nt.x.push_back(a.x0);
+        for (int k = 0; k < 5; ++k) nt.u.push_back((VectorXd(2) << (i == 0 ? (k < 3 ? 2.0 : -2.0) : 0.0), 0.0).finished());
+        nominal.push_back(nt);
+      }
+      const marsyn::SpecMonitor monitor(t.pb);
+      marsyn::SimulationSetup fast{&t.pb, nominal, {}, 20, &monitor};
+      fast.keep_states = false;
+      marsyn::SimulationSetup slow = fast;
+      slow.all_pairs = true;
+      const marsyn::Scenario sc{marsyn::DisturbanceMode::None, 1, 0};
+      const marsyn::ClosedLoopRun f = marsyn::simulate(fast, sc), s = marsyn::simulate(slow, sc);
+      SCOPED_TRACE("direction " + std::to_string(dir) + (inf ? ", inf-norm" : ", 2-norm"));
+      EXPECT_EQ(s.between_worst, "collision a0 vs a1");
+      EXPECT_LT(s.between.collision, 0.5 - t.pb.delta - 0.05);
+      EXPECT_TRUE(same_bits(f.between.collision, s.between.collision));
+      EXPECT_EQ(f.between_worst, s.between_worst);
+      EXPECT_TRUE(same_bits(f.between_worst_t, s.between_worst_t));
+    }
 }
 
 }  // namespace

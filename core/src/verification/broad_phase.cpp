@@ -87,25 +87,39 @@ void BroadPhase::update(const std::vector<planning::Point>& p) {
     std::iota(order_.begin(), order_.end(), 0);
     place_.assign(static_cast<size_t>(n), 0);
   }
-  finite_ = std::all_of(p.begin(), p.end(), [](const planning::Point& q) { return q.allFinite(); });
   // The adversary's lists (nearest_target) stand while every agent stays within moved_ of its
   // anchor; a list that could not decide, or a point not finite, has them rebuilt.
+  if (lists_ready_ && (stale_ || static_cast<int>(anchor_.size()) != n)) lists_ready_ = false;
+  // One pass: the points' finiteness (a sum of the coordinates minus itself is 0 only when every
+  // one is finite; a sum that overflows on finite points also fails, which only costs the
+  // skipping) and, while the lists stand, the farthest move from the anchors. The largest
+  // distance as the square root of the largest sum of squares (one root, not one per agent; the
+  // correctly rounded root is monotone): distance2()'s own value in the plane, within its
+  // rounding in space, far inside the slack the bounds carry.
+  double sum = 0, moved2 = 0;
   if (lists_ready_) {
-    if (stale_ || !finite_ || static_cast<int>(anchor_.size()) != n) {
-      lists_ready_ = false;
-    } else {
-      // The largest distance as the square root of the largest sum of squares (one root, not
-      // one per agent; the correctly rounded root is monotone): distance2()'s own value in the
-      // plane, within its rounding in space, far inside the slack the bounds carry.
-      double moved2 = 0;
-      for (int i = 0; i < n; ++i) {
-        const planning::Point e = p[static_cast<size_t>(i)] - anchor_[static_cast<size_t>(i)];
-        moved2 = std::max(moved2, e.x() * e.x() + e.y() * e.y() + e.z() * e.z());
-      }
-      moved_ = std::sqrt(moved2);
+    for (int i = 0; i < n; ++i) {
+      const planning::Point& q = p[static_cast<size_t>(i)];
+      const planning::Point e = q - anchor_[static_cast<size_t>(i)];
+      sum += q.x() + q.y() + q.z();
+      moved2 = std::max(moved2, e.x() * e.x() + e.y() * e.y() + e.z() * e.z());
     }
+  } else {
+    for (int i = 0; i < n; ++i) sum += p[static_cast<size_t>(i)].x() + p[static_cast<size_t>(i)].y() + p[static_cast<size_t>(i)].z();
   }
-  if (!finite_) return;
+  finite_ = sum - sum == 0;
+  if (!finite_) lists_ready_ = false;
+  if (lists_ready_) moved_ = std::sqrt(moved2);
+  // The order along x is brought up to date where it is read (sort()): the adversary's lists
+  // mostly decide without it.
+  sorted_ = false;
+}
+
+void BroadPhase::sort() const {
+  if (sorted_ || !finite_) return;
+  const std::vector<planning::Point>& p = *pts_;
+  const int n = static_cast<int>(p.size());
+  // Insertion sort from the last order (about linear: the points move little between sorts).
   for (int a = 1; a < n; ++a) {
     const int v = order_[static_cast<size_t>(a)];
     int b = a;
@@ -114,6 +128,7 @@ void BroadPhase::update(const std::vector<planning::Point>& p) {
     order_[static_cast<size_t>(b)] = v;
   }
   for (int a = 0; a < n; ++a) place_[static_cast<size_t>(order_[static_cast<size_t>(a)])] = a;
+  sorted_ = true;
 }
 
 long BroadPhase::rank(const Requirement& q) const {
@@ -145,11 +160,13 @@ bool BroadPhase::obstacle_clears(const StepMargins& run, int o, const planning::
   return (g.x() > 0 || g.y() > 0) && lb > run.obstacle + slack(run.obstacle, scale_ + at.cwiseAbs().maxCoeff());
 }
 
-double BroadPhase::pair_reach(const StepMargins& run) const {
+// (Inlined: it is read once per candidate pair, and its call cost more than its arithmetic.)
+[[gnu::always_inline]] inline double BroadPhase::pair_reach(const StepMargins& run) const {
   return run.collision + pb_.delta + slack(run.collision, pb_.delta);
 }
 
 bool BroadPhase::accumulate(StepMargins& run, Requirement* worst, planning::Moment when) const {
+  sort();
   const std::vector<planning::Point>& p = *pts_;
   const int n = static_cast<int>(p.size());
   // The lexicographically smallest (margin, rank) evaluated below the minimum before this state:
@@ -189,12 +206,9 @@ bool BroadPhase::accumulate(StepMargins& run, Requirement* worst, planning::Mome
 
 void BroadPhase::window(const std::vector<std::vector<planning::Point>>& states, int count, const StepMargins& run,
                         planning::Moment when) {
-  window_ = &states;
-  candidates_.clear();
   const int n = static_cast<int>(pb_.agents.size());
   boxes_.resize(static_cast<size_t>(n));
   bool finite = true;
-  double mag = 0;  // the largest coordinate: the slack's scale for a difference of two
   for (int i = 0; i < n; ++i) {
     constexpr double kInf = std::numeric_limits<double>::infinity();
     double xl = kInf, yl = kInf, xh = -kInf, yh = -kInf;
@@ -211,8 +225,23 @@ void BroadPhase::window(const std::vector<std::vector<planning::Point>>& states,
     }
     finite = finite && sum - sum == 0;
     boxes_[static_cast<size_t>(i)] = {xl, yl, xh, yh};
-    mag = std::max({mag, std::abs(xl), std::abs(yl), std::abs(xh), std::abs(yh)});
   }
+  window_from_boxes(states, finite, run, when);
+}
+
+void BroadPhase::window(const std::vector<std::vector<planning::Point>>& states, std::span<const Eigen::Vector4d> boxes,
+                        bool finite, const StepMargins& run, planning::Moment when) {
+  boxes_.assign(boxes.begin(), boxes.end());
+  window_from_boxes(states, finite, run, when);
+}
+
+void BroadPhase::window_from_boxes(const std::vector<std::vector<planning::Point>>& states, bool finite,
+                                   const StepMargins& run, planning::Moment when) {
+  window_ = &states;
+  candidates_.clear();
+  const int n = static_cast<int>(pb_.agents.size());
+  double mag = 0;  // the largest coordinate: the slack's scale for a difference of two
+  for (const Eigen::Vector4d& b : boxes_) mag = std::max(mag, b.cwiseAbs().maxCoeff());
   const bool inf = pb_.delta_norm == Norm::Inf;
   const double delta = pb_.delta;
   const bool windowed = when.k >= 0 && windows_ && windows_->any();
@@ -301,6 +330,7 @@ void consider(const planning::Point& at, const planning::Point& q, int j, double
 }  // namespace
 
 void BroadPhase::sweep_nearest(int i, double& ad, int& bj) const {
+  sort();
   const std::vector<planning::Point>& p = *pts_;
   const planning::Point& at = p[static_cast<size_t>(i)];
   const int n = static_cast<int>(p.size());
@@ -333,6 +363,7 @@ void BroadPhase::sweep_nearest(int i, double& ad, int& bj) const {
 }
 
 void BroadPhase::build_lists() const {
+  sort();
   const std::vector<planning::Point>& p = *pts_;
   const int n = static_cast<int>(p.size());
   anchor_ = p;
@@ -357,45 +388,93 @@ void BroadPhase::build_lists() const {
     list_start_[static_cast<size_t>(i) + 1] = static_cast<int>(list_.size());
   }
   answer_.assign(static_cast<size_t>(n), -1);
+  second_.assign(static_cast<size_t>(n), -1);
   others_.assign(static_cast<size_t>(n), 0.0);
   moved_ = 0;
   lists_ready_ = true;
   stale_ = false;
 }
 
+namespace {
+
+// The squared length of e in the order of additions the bounds below assume; within a few ulps of
+// the sum distance2() roots (its own order may differ in space), far inside their margins.
+double sum_squares(const planning::Point& e) { return e.x() * e.x() + e.y() * e.y() + e.z() * e.z(); }
+
+}  // namespace
+
+// (Inlined into nearest_target: the adversary asks it for every agent at every substep.)
+[[gnu::always_inline]] inline bool BroadPhase::nearest_from_candidates(int i, double& ad, double& e2, int& bj) const {
+  const int j0 = answer_[static_cast<size_t>(i)], j1 = second_[static_cast<size_t>(i)];
+  if (j0 < 0) return false;
+  const std::vector<planning::Point>& p = *pts_;
+  const planning::Point& at = p[static_cast<size_t>(i)];
+  // The nearer of the two candidates, without a square root where their sums of squares differ by
+  // a relative 1e-12: far above the sums' few ulps of rounding, and the correctly rounded root is
+  // monotone and halves a relative gap, so the smaller sum's distance2() is then strictly smaller.
+  // Otherwise (near ties, or sums out of the normal range) both distances as distance2() gives
+  // them, the smaller index winning a tie.
+  int b = j0;
+  double eb = sum_squares(p[static_cast<size_t>(j0)] - at), exact = -1.0;
+  if (j1 >= 0) {
+    const double e1 = sum_squares(p[static_cast<size_t>(j1)] - at);
+    const bool normal = eb > 1e-200 && e1 > 1e-200 && eb < 1e200 && e1 < 1e200;
+    const bool first = eb * (1.0 + 1e-12) < e1, second = e1 * (1.0 + 1e-12) < eb;
+    if (normal && (first || second)) {
+      // Without a branch on which (a coin toss between symmetric neighbours): the smaller sum,
+      // and j1 where it is j1's.
+      b = j0 ^ ((j0 ^ j1) & -static_cast<int>(second));
+      eb = std::min(eb, e1);
+    } else {
+      const double d0 = planning::distance2(p[static_cast<size_t>(j0)] - at), d1 = planning::distance2(p[static_cast<size_t>(j1)] - at);
+      const bool one = d1 < d0 || (d1 == d0 && j1 < j0);
+      b = one ? j1 : j0;
+      eb = one ? e1 : eb;
+      exact = one ? d1 : d0;
+    }
+  }
+  // The answer stands while it is nearer, by the slack, than a lower bound of every other agent's
+  // distance: an agent on the list (other than the two) was at least others_ away when the list
+  // was last scanned, and each of the two has moved at most moved_ from the anchor since, so at
+  // most moved_ + (moved_ then) from where it was (folded into others_); one off the list is
+  // farther than r - 2 moved_. Then no other agent can win or tie, and the scan would give this
+  // answer. The test d + slack(d, M) < others, i.e. d (1 + 1e-9) < a, on the sum of squares:
+  // d^2 (1 + 1e-9)^2 < a^2 with room to spare for the sum's and the products' rounding.
+  const double r = radius_[static_cast<size_t>(i)];
+  const double others = std::min(others_[static_cast<size_t>(i)], r) - 2.0 * moved_;
+  const double a = others - 1e-9 * (1.0 + mag_ + moved_ + r);
+  if (!(a > 1e-100 && eb < 1e200 && eb * (1.0 + 3e-9) < a * a)) return false;
+  ad = exact;
+  e2 = eb;
+  bj = b;
+  return true;
+}
+
 bool BroadPhase::nearest_from_list(int i, double& ad, int& bj) const {
   const std::vector<planning::Point>& p = *pts_;
   const planning::Point& at = p[static_cast<size_t>(i)];
   const double r = radius_[static_cast<size_t>(i)];
-  // The last answer stands while it is nearer, by the slack, than a lower bound of every other
-  // agent's distance: an agent on the list was at least others_ away when the list was last
-  // scanned, and each of the two has moved at most moved_ from the anchor since, so at most
-  // moved_ + (moved_ then) from where it was (folded into others_); one off the list is farther
-  // than r - 2 moved_. Then no other agent can win or tie, and the scan would give this answer.
-  if (const int j0 = answer_[static_cast<size_t>(i)]; j0 >= 0) {
-    const double d = planning::distance2(p[static_cast<size_t>(j0)] - at);
-    const double others = std::min(others_[static_cast<size_t>(i)], r) - 2.0 * moved_;
-    if (d + slack(d, mag_ + moved_ + r) < others) {
-      ad = d;
-      bj = j0;
-      return true;
-    }
-  }
-  // The two smallest squared distances on the list and whose the smallest is (a lower bound of
-  // the others' distances for the test above).
-  double s1 = std::numeric_limits<double>::infinity(), s2 = s1;
-  int j1 = -1;
+  // The three smallest sums of squares on the list and whose the first two are (the candidates
+  // and a lower bound of the others' distances for the test above).
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  double s1 = kInf, s2 = kInf, s3 = kInf;
+  int j1 = -1, j2 = -1;
   for (int k = list_start_[static_cast<size_t>(i)]; k < list_start_[static_cast<size_t>(i) + 1]; ++k) {
     const int j = list_[static_cast<size_t>(k)];
     const planning::Point& q = p[static_cast<size_t>(j)];
-    const planning::Point e = q - at;
-    const double e2 = e.x() * e.x() + e.y() * e.y() + e.z() * e.z();
-    if (e2 < s1) {
+    const double eq = sum_squares(q - at);
+    if (eq < s1) {
+      s3 = s2;
       s2 = s1;
-      s1 = e2;
+      j2 = j1;
+      s1 = eq;
       j1 = j;
-    } else if (e2 < s2) {
-      s2 = e2;
+    } else if (eq < s2) {
+      s3 = s2;
+      s2 = eq;
+      j2 = j;
+    } else if (eq < s3) {
+      s3 = eq;
     }
     consider(at, q, j, ad, bj);
   }
@@ -403,10 +482,17 @@ bool BroadPhase::nearest_from_list(int i, double& ad, int& bj) const {
   // the two has moved at most moved_ since: it is now farther than radius - 2 moved_, which
   // must clear the nearest distance on the list by the slack (then it can neither win nor tie).
   const bool decided = bj >= 0 && r - 2.0 * moved_ > ad + slack(ad, mag_ + moved_ + r);
-  // (The square root of a rounded sum of squares is within a few ulp of the distance: 1e-12 below
-  // it is a lower bound, far inside the slack.)
   answer_[static_cast<size_t>(i)] = decided ? bj : -1;
-  if (decided) others_[static_cast<size_t>(i)] = std::sqrt(bj == j1 ? s2 : s1) * (1.0 - 1e-12) - 2.0 * moved_;
+  if (decided) {
+    // The candidates: the answer and the nearest other by sum of squares. Every other list agent's
+    // sum is at least the smallest of the first three's that is neither (j1 is always one). (The
+    // square root of a rounded sum of squares is within a few ulp of the distance: 1e-12 below it
+    // is a lower bound, far inside the slack.)
+    const int c1 = j1 != bj ? j1 : j2;
+    const double rest = j2 == bj || j2 == c1 ? s3 : s2;
+    second_[static_cast<size_t>(i)] = c1;
+    others_[static_cast<size_t>(i)] = std::sqrt(rest) * (1.0 - 1e-12) - 2.0 * moved_;
+  }
   return decided;
 }
 
@@ -415,7 +501,7 @@ bool BroadPhase::nearest_target(int i, planning::Point& target) const {
   const planning::Point& at = p[static_cast<size_t>(i)];
   // The nearest other agent first (smallest distance, then smallest index): its distance bounds
   // the obstacles worth a polygon search, which is most of the cost where an agent is near.
-  double ad = 1e300;
+  double ad = 1e300, e2 = 0;
   int bj = -1;
   if (pb_.pairwise_collision) {
     const int n = static_cast<int>(p.size());
@@ -427,7 +513,7 @@ bool BroadPhase::nearest_target(int i, planning::Point& target) const {
       // little; the sorted sweep where the list cannot decide, and the lists rebuilt at the next
       // substep.
       if (!lists_ready_ && n >= 2) build_lists();
-      if (!(lists_ready_ && nearest_from_list(i, ad, bj))) {
+      if (!(lists_ready_ && (nearest_from_candidates(i, ad, e2, bj) || nearest_from_list(i, ad, bj)))) {
         ad = 1e300;
         bj = -1;
         sweep_nearest(i, ad, bj);
@@ -440,21 +526,33 @@ bool BroadPhase::nearest_target(int i, planning::Point& target) const {
   // whose bounding box is farther than the agent by more than the slack cannot win.
   double bd = 1e300;
   bool found = false;
-  const double scale = bbox_.empty() ? 0.0 : scale_ + at.cwiseAbs().maxCoeff();
-  for (std::size_t o = 0; o < bbox_.size(); ++o) {
-    const double lb = outside(bbox_[o], at).norm();
-    const double bound = std::min(bd, ad);
-    if (lb > bound + slack(bound, scale)) continue;
-    const planning::Point q = nearest_on_obstacle(pb_.obstacles[o], at);
-    if (planning::distance2(q - at) < bd) {
-      bd = planning::distance2(q - at);
-      target = q;
-      found = true;
+  if (!bbox_.empty()) {
+    // The agent's squared distance (or, decided without it, its sum of squares: within ulps).
+    const double agent2 = ad >= 0 ? ad * ad : e2;
+    const double c = 1e-9 * (1.0 + scale_ + at.cwiseAbs().maxCoeff());
+    for (std::size_t o = 0; o < bbox_.size(); ++o) {
+      // Skipped when the box's distance lb > B + slack(B, scale) = B (1 + 1e-9) + c for some B at
+      // least the nearest so far (the slack grows with B, so this is the test on min(bd, ad) or
+      // stronger), squared without a root: (B (1 + 1e-9) + c)^2 <= B^2 ((1 + 1e-9)^2 + 2c) + 2c + c^2
+      // (2B <= 1 + B^2, (1 + 1e-9) c <= 2c), and the factor 1 + 1e-12 for the sums' rounding.
+      const double g2 = outside(bbox_[o], at).squaredNorm();
+      const double b2 = std::min(bd * bd, agent2);
+      if (g2 > (b2 * (1.0 + 3e-9 + 2.0 * c) + 2.0 * c + c * c) * (1.0 + 1e-12)) continue;
+      const planning::Point q = nearest_on_obstacle(pb_.obstacles[o], at);
+      if (planning::distance2(q - at) < bd) {
+        bd = planning::distance2(q - at);
+        target = q;
+        found = true;
+      }
     }
   }
-  if (bj >= 0 && !(found && bd <= ad)) {
-    target = p[static_cast<size_t>(bj)];
-    return true;
+  if (bj >= 0) {
+    // (The list may decide the nearest agent without its distance: only an obstacle needs it.)
+    if (found && ad < 0) ad = planning::distance2(p[static_cast<size_t>(bj)] - at);
+    if (!(found && bd <= ad)) {
+      target = p[static_cast<size_t>(bj)];
+      return true;
+    }
   }
   return found;
 }

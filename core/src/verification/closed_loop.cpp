@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <bit>
 #include <cstdint>
+#include <cstring>
+#include <limits>
 #include <stdexcept>
 
 #include "marsyn/core/verification/broad_phase.hpp"
@@ -70,8 +72,18 @@ class DisturbanceSource {
   // d[i] = bit ? w[i] : -w[i], as a flip of the sign bit (negation's own bits): a branch on a
   // random bit is mispredicted half the time, and the adversary draws a vertex at every substep.
   void vertex(Eigen::VectorXd& d) {
-    for (Eigen::Index i = 0; i < d.size(); ++i)
-      d[i] = std::bit_cast<double>(std::bit_cast<std::uint64_t>(w_[i]) ^ (static_cast<std::uint64_t>(!bit()) << 63));
+    const Eigen::Index n = d.size();
+    if (bits_left_ < n) {
+      for (Eigen::Index i = 0; i < n; ++i)
+        d[i] = std::bit_cast<double>(std::bit_cast<std::uint64_t>(w_[i]) ^ (static_cast<std::uint64_t>(!bit()) << 63));
+      return;
+    }
+    // The same bits, lowest first, without bit()'s refill test per coordinate.
+    std::uint64_t b = bits_;
+    for (Eigen::Index i = 0; i < n; ++i, b >>= 1)
+      d[i] = std::bit_cast<double>(std::bit_cast<std::uint64_t>(w_[i]) ^ ((~b & 1u) << 63));
+    bits_ = b;
+    bits_left_ -= static_cast<int>(n);
   }
   // A vertex takes one random bit per coordinate: each 64-bit draw gives 64 of them (one draw
   // per bit was most of the adversary's random cost, which re-chooses at every substep).
@@ -99,7 +111,10 @@ void push_toward(const AgentSpec& a, const planning::Point& p, const planning::P
     const int s = a.workspace.index[c];
     if (s < 0) continue;
     const double d = target[c] - p[c];
-    if (d != 0) w[s] = d > 0 ? a.tube.w[s] : -a.tube.w[s];
+    // (d > 0 ? w : -w) as a flip of the sign bit, negation's own bits: the direction to the
+    // target is a coin toss between near-tied neighbours, and a branch on it is mispredicted.
+    if (d != 0)
+      w[s] = std::bit_cast<double>(std::bit_cast<std::uint64_t>(a.tube.w[s]) ^ (static_cast<std::uint64_t>(!(d > 0)) << 63));
   }
 }
 
@@ -162,9 +177,12 @@ class Batch {
     // kept runs keep every substep's margins, the reference checks every pair, and a stage
     // dwelling over a period is judged against the minima as they stand at each substep.
     windowed_ = s.between && !s.keep_dense && !s.all_pairs && !s.between->has_stages() && S_ > 1;
-    if (windowed_)
+    if (windowed_) {
       for (Lane& r : lanes_)
         r.window.assign(static_cast<size_t>(S_ - 1), std::vector<planning::Point>(static_cast<size_t>(N_)));
+      boxes_.resize(static_cast<size_t>(N_));
+      lane_boxes_.resize(static_cast<size_t>(N_));
+    }
     // The integrator's view: per agent, its state, input and disturbance as Lanes (one lane per
     // run; lanes past L repeat run 0 so that they compute ordinary numbers, which are dropped).
     for (int i = 0; i < N_; ++i) {
@@ -219,7 +237,7 @@ class Batch {
         }
       }
       if (windowed_)
-        for (Lane& r : lanes_) fold_window(r, k);
+        for (int l = 0; l < L_; ++l) fold_window(l, k);
       for (Lane& r : lanes_) record(r, k + 1);
     }
     std::vector<ClosedLoopRun> out;
@@ -266,23 +284,46 @@ class Batch {
     r.broad.update(r.pts);
   }
 
+  // An agent's box over the current window in every lane, and the sum of its coordinates.
+  struct WindowBox {
+    Lanes xl, yl, xh, yh, sum;
+  };
+
   // The points at substep sub into every lane's window (agents outer: each agent's map is read
   // once for all lanes); the adversary also needs them now. Read from the integrator's lanes: the
   // lanes' own states are unpacked at the sample only.
   void window_points(int sub) {
+    // Each lane's points at this substep, looked up once (not per agent).
+    planning::Point* to[Lanes::kWidth];
+    for (int l = 0; l < L_; ++l) to[l] = lanes_[static_cast<size_t>(l)].window[static_cast<size_t>(sub)].data();
+    constexpr double kInf = std::numeric_limits<double>::infinity();
     for (int i = 0; i < N_; ++i) {
       const std::vector<Lanes>& x = X_[static_cast<size_t>(i)];
       const PointMap& m = maps_[static_cast<size_t>(i)];
+      // The agent's box over the window so far and the sum of its coordinates (finite only when
+      // every one is), all lanes at once: BroadPhase::window's, without reading the states again.
+      WindowBox& box = boxes_[static_cast<size_t>(i)];
+      if (sub == 0) box = {Lanes(kInf), Lanes(kInf), Lanes(-kInf), Lanes(-kInf), Lanes(0.0)};
+      if (m.linear && m.dim >= 2) {
+        // workspace_point3's formula, read in place: a coordinate is a column plus an offset, or
+        // the offset (the same addition lane by lane).
+        Lanes c[kMaxWorkspaceDim];
+        c[2] = Lanes(0.0);
+        for (int d = 0; d < m.dim; ++d)
+          c[d] = m.index[d] >= 0 ? x[static_cast<size_t>(m.index[d])] + m.offset[d] : Lanes(m.offset[d]);
+        add_to_box(box, c);
+        for (int l = 0; l < L_; ++l) to[l][i] = {c[0][l], c[1][l], c[2][l]};
+        continue;
+      }
       for (int l = 0; l < L_; ++l) {
-        planning::Point& q = lanes_[static_cast<size_t>(l)].window[static_cast<size_t>(sub)][static_cast<size_t>(i)];
-        if (m.linear) {  // workspace_point3's formula, read in place
-          q.z() = 0.0;
-          for (int c = 0; c < m.dim; ++c)
-            q[c] = m.index[c] >= 0 ? x[static_cast<size_t>(m.index[c])][l] + m.offset[c] : m.offset[c];
-          continue;
-        }
-        for (std::size_t c = 0; c < x.size(); ++c) lane_x_[c] = x[c][l];
+        for (std::size_t d = 0; d < x.size(); ++d) lane_x_[d] = x[d][l];
+        planning::Point& q = to[l][i];
         workspace_point3<double>(*pb_.agents[i].dynamics, pb_.agents[i].workspace, lane_x_.data(), q.data());
+        box.xl[l] = std::min(box.xl[l], q.x());
+        box.yl[l] = std::min(box.yl[l], q.y());
+        box.xh[l] = std::max(box.xh[l], q.x());
+        box.yh[l] = std::max(box.yh[l], q.y());
+        box.sum[l] += q.x() + q.y() + q.z();
       }
     }
     for (Lane& r : lanes_)
@@ -292,10 +333,39 @@ class Batch {
       }
   }
 
+  // box = box extended by the points c (x, y, z per lane), two lanes per packed operation (SSE2).
+  static void add_to_box(WindowBox& box, const Lanes* c) {
+    using V = verification_detail::Double2;
+    auto at = [](const Lanes& a, int j) {
+      V v;
+      std::memcpy(&v, a.v + 2 * j, sizeof v);
+      return v;
+    };
+    auto put = [](Lanes& a, int j, const V& v) { std::memcpy(a.v + 2 * j, &v, sizeof v); };
+    for (int j = 0; j < Lanes::kWidth / 2; ++j) {
+      const V px = at(c[0], j), py = at(c[1], j), pz = at(c[2], j);
+      const V xl = at(box.xl, j), yl = at(box.yl, j), xh = at(box.xh, j), yh = at(box.yh, j);
+      put(box.xl, j, px < xl ? px : xl);
+      put(box.yl, j, py < yl ? py : yl);
+      put(box.xh, j, px > xh ? px : xh);
+      put(box.yh, j, py > yh ? py : yh);
+      put(box.sum, j, at(box.sum, j) + (px + py + pz));
+    }
+  }
+
   // The dense check of the substeps between samples k and k + 1, in order, over the window's
   // candidates: what between() finds at each of them.
-  void fold_window(Lane& r, int k) const {
-    r.broad.window(r.window, S_ - 1, r.run.between, {k, true});
+  void fold_window(int l, int k) {
+    Lane& r = lanes_[static_cast<size_t>(l)];
+    bool finite = true;
+    for (int i = 0; i < N_; ++i) {
+      const WindowBox& b = boxes_[static_cast<size_t>(i)];
+      lane_boxes_[static_cast<size_t>(i)] = {b.xl[l], b.yl[l], b.xh[l], b.yh[l]};
+      // sum - sum is 0 only when every coordinate is finite (a sum that overflows on finite
+      // points also fails, which only costs the skipping).
+      finite = finite && b.sum[l] - b.sum[l] == 0;
+    }
+    r.broad.window(r.window, lane_boxes_, finite, r.run.between, {k, true});
     for (int sub = 0; sub + 1 < S_; ++sub) {
       planning::Requirement q{planning::Requirement::Obstacle, -1, -1};
       if (!r.broad.accumulate_window(sub, r.run.between, &q)) continue;
@@ -450,6 +520,8 @@ class Batch {
     double offset[kMaxWorkspaceDim] = {0, 0, 0};
   };
   std::vector<PointMap> maps_;
+  std::vector<WindowBox> boxes_;  // per agent
+  std::vector<Eigen::Vector4d> lane_boxes_;  // one lane's boxes (x_lo, y_lo, x_hi, y_hi) per agent
   std::vector<std::vector<Lanes>> X_, U_, W_, next_;
   std::vector<verification_detail::LanesRk4> rk_;  // per agent
   std::vector<double> lane_x_;                     // one lane's state of one agent

@@ -10,6 +10,7 @@
 // requirement can therefore neither lower nor tie the minimum, and the minima, the step where
 // they fall and the requirement named there are bit for bit those of the all-pairs check
 // (SpecMonitor::step), which tests/core/broad_phase_test.cpp compares.
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -46,6 +47,11 @@ class BroadPhase {
   // minimum by the slack; the minima only fall, so it could not lower or tie them at any state.
   void window(const std::vector<std::vector<planning::Point>>& states, int count, const StepMargins& running,
               planning::Moment when);
+  // The same with each agent's box over the window's states given (x_lo, y_lo, x_hi, y_hi, every
+  // state's point inside; found where the states were written), finite false unless every
+  // coordinate of every state is finite.
+  void window(const std::vector<std::vector<planning::Point>>& states, std::span<const Eigen::Vector4d> boxes,
+              bool finite, const StepMargins& running, planning::Moment when);
   bool accumulate_window(int s, StepMargins& running, planning::Requirement* worst) const;
   // The staged obstacles' windows (SpecMonitor::windows(), kept by pointer); none: all bind.
   void windows(const planning::ObstacleWindows* w) { windows_ = w; }
@@ -62,6 +68,9 @@ class BroadPhase {
   // `at`; a pair farther apart than pair_reach(run) along x or y cannot lower run.collision.
   bool obstacle_clears(const StepMargins& run, int o, const planning::Point& at) const;
   double pair_reach(const StepMargins& run) const;
+  // window()'s candidates from boxes_.
+  void window_from_boxes(const std::vector<std::vector<planning::Point>>& states, bool finite, const StepMargins& run,
+                         planning::Moment when);
   // q's margin at the points p folded into its part `slot`; (best, best_rank) is the smallest
   // (margin, rank) so far below the minimum the state started from, and *worst its requirement.
   void fold_one(const planning::Requirement& q, const std::vector<planning::Point>& p, double& slot, double& best,
@@ -71,8 +80,10 @@ class BroadPhase {
   const planning::ObstacleWindows* windows_ = nullptr;
   std::vector<Eigen::Vector4d> bbox_;  // per obstacle: x_lo, y_lo, x_hi, y_hi
   double scale_ = 0;                   // largest obstacle coordinate: the slack's scale
-  std::vector<int> order_;             // agents by increasing x
-  std::vector<int> place_;             // place_[i]: agent i's position in order_
+  mutable std::vector<int> order_;     // agents by increasing x (when sorted_)
+  mutable std::vector<int> place_;     // place_[i]: agent i's position in order_
+  mutable bool sorted_ = false;
+  void sort() const;                   // order_ and place_ for the current points
   bool finite_ = true;                 // else every pair is visited (NaN cannot be sorted)
   // nearest_target(): the sorted sweep for agent i from its last answer (last_nearest_), and the
   // agents' lists: per agent, every agent within radius_ along x and y of it at the anchor
@@ -80,14 +91,21 @@ class BroadPhase {
   // moved from its anchor since, mag_ the anchors' largest coordinate (the slack's scale).
   void sweep_nearest(int i, double& ad, int& bj) const;
   void build_lists() const;
+  // The last answer's two candidates first (ad < 0 when decided without the distance, e2 then its
+  // sum of squares: nearest_target computes the distance where an obstacle needs it), the list
+  // where they cannot decide.
+  bool nearest_from_candidates(int i, double& ad, double& e2, int& bj) const;
   bool nearest_from_list(int i, double& ad, int& bj) const;
   mutable std::vector<int> last_nearest_;
   mutable std::vector<planning::Point> anchor_;
   mutable std::vector<double> radius_;
   mutable std::vector<int> list_start_, list_;
-  // nearest_from_list()'s last decided answer per agent (-1: none since the lists were built) and
-  // a lower bound of every other list agent's distance then, less twice moved_ then.
-  mutable std::vector<int> answer_;
+  // nearest_from_list()'s last decided answer per agent (-1: none since the lists were built), the
+  // list's next nearest agent then (-1: none), and a lower bound of every other list agent's
+  // distance then, less twice moved_ then. Two candidates, since neighbours placed symmetrically
+  // (a circle swap) are nearly tied: which of the two is nearer is then decided afresh at each
+  // state, and only a third agent's approach sends the agent back to its list.
+  mutable std::vector<int> answer_, second_;
   mutable std::vector<double> others_;
   mutable double moved_ = 0, mag_ = 0;
   mutable bool lists_ready_ = false, stale_ = false;
