@@ -445,23 +445,30 @@ TEST(BroadPhase, PointsOutOfRangeGiveTheAllPairsAnswers) {
   }
 }
 
+// Random starts in [-spread, spread]^3 for the team's agents and random inputs for `steps` steps:
+// the open loop the end-to-end comparisons run (the nominal states are the starts).
+std::vector<marsyn::NominalTrajectory> random_open_loop(Team& t, std::mt19937_64& rng, double spread, int steps) {
+  std::uniform_real_distribution<double> start(-spread, spread), in(-1.5, 1.5);
+  std::vector<marsyn::NominalTrajectory> nominal;
+  for (auto& a : t.pb.agents) {
+    a.x0 = VectorXd(3);
+    a.x0 << start(rng), start(rng), start(rng);
+    marsyn::NominalTrajectory nt;
+    nt.agent = a.name;
+    for (int k = 0; k <= steps; ++k) nt.x.push_back(a.x0);
+    for (int k = 0; k < steps; ++k) nt.u.push_back((VectorXd(2) << in(rng), in(rng)).finished());
+    nominal.push_back(nt);
+  }
+  return nominal;
+}
+
 TEST(BroadPhase, AdversaryTargetsTheSameAsTheFullSearch) {
   // End to end: open loop under the adversary (re-chosen at every substep), all pairs vs the
   // broad phase: the same trajectories (so the same targets) and the same margins.
   std::mt19937_64 rng(7);
   for (int team = 0; team < 6; ++team) {
     Team t(8 + 4 * team, rng, team % 3, team % 2 == 1, team % 2);
-    std::uniform_real_distribution<double> start(-6, 6), in(-1.5, 1.5);
-    std::vector<marsyn::NominalTrajectory> nominal;
-    for (auto& a : t.pb.agents) {
-      a.x0 = VectorXd(3);
-      a.x0 << start(rng), start(rng), start(rng);
-      marsyn::NominalTrajectory nt;
-      nt.agent = a.name;
-      for (int k = 0; k <= 15; ++k) nt.x.push_back(a.x0);
-      for (int k = 0; k < 15; ++k) nt.u.push_back((VectorXd(2) << in(rng), in(rng)).finished());
-      nominal.push_back(nt);
-    }
+    const std::vector<marsyn::NominalTrajectory> nominal = random_open_loop(t, rng, 6.0, 15);
     const marsyn::SpecMonitor monitor(t.pb);
     marsyn::SimulationSetup fast{&t.pb, nominal, {}, 20, &monitor};
     fast.keep_dense = true;
@@ -497,17 +504,7 @@ TEST(BroadPhase, WindowedRunsGiveTheAllPairsMargins) {
   for (int team = 0; team < 8; ++team) {
     const int dim = team % 4 == 3 ? 3 : 2;
     Team t(6 + 3 * team, rng, team % 4, team % 2 == 1, team % 3, dim);
-    std::uniform_real_distribution<double> start(-5, 5), in(-1.5, 1.5);
-    std::vector<marsyn::NominalTrajectory> nominal;
-    for (auto& a : t.pb.agents) {
-      a.x0 = VectorXd(3);
-      a.x0 << start(rng), start(rng), start(rng);
-      marsyn::NominalTrajectory nt;
-      nt.agent = a.name;
-      for (int k = 0; k <= 12; ++k) nt.x.push_back(a.x0);
-      for (int k = 0; k < 12; ++k) nt.u.push_back((VectorXd(2) << in(rng), in(rng)).finished());
-      nominal.push_back(nt);
-    }
+    const std::vector<marsyn::NominalTrajectory> nominal = random_open_loop(t, rng, 5.0, 12);
     const marsyn::SpecMonitor monitor(t.pb);
     marsyn::SimulationSetup fast{&t.pb, nominal, {}, 20, &monitor};
     fast.keep_states = false;
