@@ -60,6 +60,10 @@ namespace {
 // distance that matters: a lower bound must clear the running minimum by this much to skip.
 double slack(double a, double b) { return 1e-9 * (1.0 + std::abs(a) + std::abs(b)); }
 
+// The squared length of e in the order of additions the bounds below assume; within a few ulps of
+// the sum distance2() roots (its own order may differ in space), far inside their margins.
+double sum_squares(const planning::Point& e) { return e.x() * e.x() + e.y() * e.y() + e.z() * e.z(); }
+
 // How far p is outside an axis-aligned box along x and y (0 inside along that axis): a lower
 // bound of the distance to a prism over the box in 3-D too.
 Eigen::Vector2d outside(const Eigen::Vector4d& box, const planning::Point& p) {
@@ -102,7 +106,7 @@ void BroadPhase::update(const std::vector<planning::Point>& p) {
       const planning::Point& q = p[static_cast<size_t>(i)];
       const planning::Point e = q - anchor_[static_cast<size_t>(i)];
       sum += q.x() + q.y() + q.z();
-      moved2 = std::max(moved2, e.x() * e.x() + e.y() * e.y() + e.z() * e.z());
+      moved2 = std::max(moved2, sum_squares(e));
     }
   } else {
     for (int i = 0; i < n; ++i) sum += p[static_cast<size_t>(i)].x() + p[static_cast<size_t>(i)].y() + p[static_cast<size_t>(i)].z();
@@ -319,7 +323,7 @@ void consider(const planning::Point& at, const planning::Point& q, int j, double
   // No square root where the squared distance alone is above ad^2 by far more than the rounding
   // of either sum (ad^2 normal: no underflow); the square root is monotone, so such an agent is
   // strictly farther in distance2() too.
-  if (ad > 1e-100 && e.x() * e.x() + e.y() * e.y() + e.z() * e.z() > ad * ad * (1.0 + 1e-12)) return;
+  if (ad > 1e-100 && sum_squares(e) > ad * ad * (1.0 + 1e-12)) return;
   const double d = planning::distance2(e);
   if (d < ad || (d == ad && j < bj)) {
     ad = d;
@@ -394,14 +398,6 @@ void BroadPhase::build_lists() const {
   lists_ready_ = true;
   stale_ = false;
 }
-
-namespace {
-
-// The squared length of e in the order of additions the bounds below assume; within a few ulps of
-// the sum distance2() roots (its own order may differ in space), far inside their margins.
-double sum_squares(const planning::Point& e) { return e.x() * e.x() + e.y() * e.y() + e.z() * e.z(); }
-
-}  // namespace
 
 // (Inlined into nearest_target: the adversary asks it for every agent at every substep.)
 [[gnu::always_inline]] inline bool BroadPhase::nearest_from_candidates(int i, double& ad, double& e2, int& bj) const {
