@@ -10,9 +10,14 @@
 namespace marsyn::planning {
 
 
-double between_clearance(const Problem& problem, const AgentSpec& a, int horizon, const AssemblyOptions& opt) {
+double between_clearance(const Problem& problem, int agent, const MissionSchedule& visits, int horizon,
+                         const AssemblyOptions& opt) {
   if (opt.between_points <= 0) return 0.0;
-  return opt.between_clearance * problem.tau / (opt.between_points + 1) * workspace_speed_bound(a, problem.tau * horizon);
+  const AgentSpec& a = problem.agents[static_cast<std::size_t>(agent)];
+  const double leg = a.stages.empty() || static_cast<int>(visits.visit.size()) <= agent
+                         ? 0.0
+                         : fastest_leg_speed(a, visits.visit[static_cast<std::size_t>(agent)], horizon, problem.tau);
+  return opt.between_clearance * problem.tau / (opt.between_points + 1) * workspace_speed_bound(a, problem.tau * horizon, leg);
 }
 
 namespace {
@@ -150,7 +155,7 @@ class Assembly {
     std::vector<double> clear(N_);
     for (int i = 0; i < N_; ++i) {
       const auto& a = problem_.agents[i];
-      clear[i] = between_clearance(problem_, a, horizon_, opt_);
+      clear[i] = between_clearance(problem_, i, sched_, horizon_, opt_);
       pp_.between.push_back(std::make_shared<StateBoxConstraint>(
           "state bounds of " + a.name, xo_[i],
           Box{pp_.state_bounds.lo.segment(xo_[i], a.n()), pp_.state_bounds.hi.segment(xo_[i], a.n())}));

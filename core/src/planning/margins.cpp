@@ -148,7 +148,7 @@ WorkspaceMargin global_margin(const AgentSpec& a, const Box& region, int cells_p
   return MarginTable(a, region, cells_per_dim).max();
 }
 
-double workspace_speed_bound(const AgentSpec& a, double horizon_s) {
+double workspace_speed_bound(const AgentSpec& a, double horizon_s, double leg_speed) {
   const int n = a.n(), m = a.m();
   std::vector<Interval> x(n), u(m), f(n);
   Eigen::VectorXd centre(n);
@@ -182,14 +182,15 @@ double workspace_speed_bound(const AgentSpec& a, double horizon_s) {
   }
   if (!std::isfinite(out)) return 0.0;
   // The box's worst case is far above what a plan does where the state box is wide (the crane's
-  // rates): at most twice the average speed from the start to the goal over the horizon.
+  // rates): at most twice the average speed from the start to the goal over the horizon, or
+  // twice the fastest leg of a mission where that is faster.
   if (horizon_s > 0) {
     double p0[kMaxWorkspaceDim] = {}, p1[kMaxWorkspaceDim] = {};
     if (goal.allFinite()) {
       workspace_point_jacobian(a, a.x0.data(), p0, nullptr);
       workspace_point_jacobian(a, goal.data(), p1, nullptr);
       const double mean = std::max({std::abs(p1[0] - p0[0]), std::abs(p1[1] - p0[1]), std::abs(p1[2] - p0[2])}) / horizon_s;
-      out = std::min(out, 2.0 * mean);
+      out = std::min(out, 2.0 * std::max(mean, leg_speed));
     }
   }
   return out;

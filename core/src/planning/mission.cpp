@@ -215,6 +215,24 @@ MissionSchedule retime_missions(const Problem& problem, const MissionSchedule& c
   return place_all(problem, T, f);
 }
 
+double fastest_leg_speed(const AgentSpec& a, const std::vector<int>& visits, int horizon, double tau) {
+  const int S = static_cast<int>(a.stages.size());
+  if (S == 0 || static_cast<int>(visits.size()) != S || !(tau > 0)) return 0.0;
+  const Eigen::VectorXd gc = a.goal.center();
+  Eigen::Vector2d from = xy_point(a, a.x0.data());
+  int since = 0;  // the knot the leg starts at
+  double fastest = 0.0;
+  for (int s = 0; s <= S; ++s) {
+    const Eigen::Vector2d to = s < S ? region_centre(a, a.stages[s]) : xy_point(a, gc.data());
+    const int until = s < S ? visits[s] : horizon;
+    const double d = (to - from).cwiseAbs().maxCoeff();
+    if (until > since && std::isfinite(d)) fastest = std::max(fastest, d / ((until - since) * tau));
+    if (s < S) since = visits[s] + a.stages[s].dwell;
+    from = to;
+  }
+  return fastest;
+}
+
 std::string schedule_error(const Problem& problem, const MissionSchedule& s, int horizon) {
   const int N = static_cast<int>(problem.agents.size());
   if (static_cast<int>(s.visit.size()) != N) return "the schedule has " + std::to_string(s.visit.size()) + " agents, the problem " + std::to_string(N);

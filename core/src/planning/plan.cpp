@@ -46,7 +46,9 @@ GlobalPlan extend(const Problem& problem, const GlobalPlan& p, int horizon) {
 // The largest clearance the assembly keeps between the samples.
 double largest_clearance(const Problem& problem, int horizon, const AssemblyOptions& o) {
   double c = 0.0;
-  for (const auto& a : problem.agents) c = std::max(c, between_clearance(problem, a, horizon, o));
+  const MissionSchedule visits = schedule_or_initial(problem, o.visits, horizon);
+  for (int i = 0; i < static_cast<int>(problem.agents.size()); ++i)
+    c = std::max(c, between_clearance(problem, i, visits, horizon, o));
   return c;
 }
 

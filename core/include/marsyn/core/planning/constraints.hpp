@@ -42,9 +42,11 @@ struct AssemblyOptions {
   MissionSchedule visits;
 };
 
-// The clearance agent `a`'s requirements keep at the interior points beyond the buffer
-// (AssemblyOptions::between_clearance x spacing x estimated speed); 0 without interior points.
-double between_clearance(const Problem& problem, const AgentSpec& a, int horizon, const AssemblyOptions& options);
+// The clearance agent `agent`'s requirements keep at the interior points beyond the buffer
+// (AssemblyOptions::between_clearance x spacing x estimated speed, its mission's legs timed by
+// `visits`); 0 without interior points.
+double between_clearance(const Problem& problem, int agent, const MissionSchedule& visits, int horizon,
+                         const AssemblyOptions& options);
 
 
 // p = workspace point of agent state x; J (2 x n, row-major) = dp/dx when non-null.

@@ -63,9 +63,10 @@ WorkspaceMargin global_margin(const AgentSpec& agent, const Box& region, int cel
 // the two): the field's bound over its state bounds (coordinates without finite bounds: the hull
 // of x0 and the goal, widened by their distance) and input bounds, by interval arithmetic (a
 // footprint's Jacobian at the box centre), and with horizon_s > 0 at most twice the average speed
-// from the start to the goal centre over that time. An estimate that sizes the planner's
-// clearance between the samples (AssemblyOptions::between_clearance), not a bound anything sound
-// rests on: 0 if not finite.
-double workspace_speed_bound(const AgentSpec& agent, double horizon_s = 0.0);
+// from the start to the goal centre over that time, or twice `leg_speed` (a mission's fastest
+// leg, fastest_leg_speed) where that is larger. An estimate that sizes the planner's clearance
+// between the samples (AssemblyOptions::between_clearance), not a bound anything sound rests on:
+// 0 if not finite.
+double workspace_speed_bound(const AgentSpec& agent, double horizon_s = 0.0, double leg_speed = 0.0);
 
 }  // namespace marsyn::planning

@@ -61,6 +61,13 @@ Problem with_visits(const Problem& problem, const MissionSchedule& s);
 // The schedule a plan of horizon T is judged at: `s` when it is one at T, else the initial one.
 MissionSchedule schedule_or_initial(const Problem& problem, const MissionSchedule& s, int horizon);
 
+// The fastest leg of an agent's mission at schedule `s`: straight lines from the start's workspace
+// point through the stages' region centres to the goal's (x-y, the larger coordinate), each over
+// the knots between its ends (after the previous stage's dwell), in distance per second. A team
+// stage fixes when an agent arrives, so one leg can be much faster than the whole path's average
+// (the rendezvous: a robot that waits for the others, then crosses the room). 0 without stages.
+double fastest_leg_speed(const AgentSpec& agent, const std::vector<int>& visits, int horizon, double tau);
+
 // A sound lower bound (rounding included) of how deep every state of the box `state` (whose
 // workspace points lie in `workspace`, 2 coordinates) lies inside the stage's region: >= 0
 // implies all of them are inside. Box regions read the state box, polygons the workspace box.
