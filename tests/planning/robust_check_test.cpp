@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "dynamics_quadrotor/src/quadrotor.hpp"
 #include "dynamics_unicycle/src/unicycle.hpp"
 #include "marsyn/core/planning/constraints.hpp"
@@ -212,6 +214,72 @@ TEST(RobustCheck, RejectsInputsOutsideUAndAMissedGoal) {
   const auto r = check_robust(p, straight(10, 1));
   EXPECT_FALSE(r.passed);
   EXPECT_EQ(r.worst, "goal x of car");
+}
+
+// Between the samples each requirement is first judged on its agents' boxes over the whole
+// period and its parts are skipped where that floor decides. The result must be the one every
+// part of every requirement gives, bit for bit: random crowded teams (pairs, a formation, a box
+// and a polygon obstacle, both norms) whose plans violate and pass, with many near-ties.
+TEST(RobustCheck, PeriodFloorsGiveTheEveryPartResultBitForBit) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> pos(-2.0, 2.0), speed(-1.5, 2.0), turn(-3.0, 3.0), ang(-3.0, 3.0);
+  int violated = 0, passed = 0, skipped_some = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    Problem p;
+    const int N = 3 + trial % 4;
+    // Every other trial a calm team: spread along x, slow and nearly straight (plans that pass,
+    // whose minima are positive margins with many near-ties).
+    const bool calm = trial % 4 >= 2;
+    for (int i = 0; i < N; ++i)
+      p.agents.push_back(unicycle("u" + std::to_string(i), calm ? Eigen::Vector3d(-8.0 + 2.5 * i, 3.0 + 0.3 * pos(rng), 1.5)
+                                                                 : Eigen::Vector3d(pos(rng), pos(rng), ang(rng))));
+    Obstacle box;
+    box.name = "box";
+    box.is_box = true;
+    box.vertices = {{0.5, 0.5}, {1.5, 0.5}, {1.5, 1.2}, {0.5, 1.2}};
+    Obstacle tri;
+    tri.name = "tri";
+    tri.vertices = {{-2.0, -1.0}, {-0.8, -1.4}, {-1.2, 0.2}};
+    p.obstacles = {box, tri};
+    p.formation.push_back({0, 1, calm ? 2.5 : 1.0, calm ? 1.5 : 0.6});
+    p.delta = 0.1 + 0.05 * (trial % 3);
+    p.delta_norm = trial % 2 ? Norm::Inf : Norm::Two;
+    p.tau = 0.2;
+    p.horizon = 12;
+    GlobalPlan plan;
+    for (int k = 0; k < p.horizon; ++k) {
+      Eigen::VectorXd u(2 * N);
+      for (int i = 0; i < N; ++i)
+        u.segment<2>(2 * i) = calm ? Eigen::Vector2d(0.4 + 0.1 * speed(rng), 0.1 * turn(rng)) : Eigen::Vector2d(speed(rng), turn(rng));
+      plan.u.push_back(u);
+    }
+    const MissionSchedule none = schedule_missions(p, p.horizon);
+    const RobustCheck fast = check_robust(p, plan, none, RobustCheckOptions{true});
+    const RobustCheck ref = check_robust(p, plan, none, RobustCheckOptions{false});
+    ASSERT_TRUE(ref.continuous);
+    EXPECT_EQ(fast.passed, ref.passed) << trial;
+    EXPECT_EQ(fast.min_margin, ref.min_margin) << trial;  // bit for bit
+    EXPECT_EQ(fast.worst, ref.worst) << trial;
+    EXPECT_EQ(fast.worst_step, ref.worst_step) << trial;
+    EXPECT_EQ(fast.worst_agents, ref.worst_agents) << trial;
+    EXPECT_EQ(fast.between_margin, ref.between_margin) << trial;
+    EXPECT_EQ(fast.worst_between, ref.worst_between) << trial;
+    EXPECT_EQ(fast.worst_between_step, ref.worst_between_step) << trial;
+    ASSERT_EQ(fast.between_shortfalls.size(), ref.between_shortfalls.size()) << trial;
+    for (const auto& [name, b] : ref.between_shortfalls) {
+      const auto it = fast.between_shortfalls.find(name);
+      ASSERT_NE(it, fast.between_shortfalls.end()) << name;
+      EXPECT_EQ(it->second.margin, b.margin) << name;
+      EXPECT_EQ(it->second.motion, b.motion) << name;
+    }
+    EXPECT_EQ(fast.message, ref.message);
+    (ref.passed ? passed : violated)++;
+    skipped_some += !ref.between_shortfalls.empty();
+  }
+  // Both outcomes occur, and shortfalls between the samples are compared, not only minima.
+  EXPECT_GT(passed, 5);
+  EXPECT_GT(violated, 5);
+  EXPECT_GT(skipped_some, 5);
 }
 
 TEST(Assembly, SolverConstraintsAreNoWeakerThanTheCheck) {

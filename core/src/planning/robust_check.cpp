@@ -96,14 +96,27 @@ class NamedTally : public Tally {
 struct PeriodScratch {
   std::vector<std::vector<Box>> ws;
   std::vector<Box> flow;
+  std::vector<Box> hull;       // per agent, its workspace boxes over the whole period
+  std::vector<double> floor;   // per requirement (visiting order), its margin on those hulls
 };
+
+// A requirement's margin over a part is at least its margin over the period's hull boxes (the
+// box margins are distances between boxes, or tight lower bounds of them, and shrink as the
+// boxes grow). Where that floor is above the period's smallest margin so far by more than any
+// rounding of the two computations, the part cannot change the tally: its margin would not be a
+// new minimum nor negative. kFloorSlack is that rounding allowance, relative to the margin.
+constexpr double kFloorSlack = 1e-9;
+bool floor_decides(double floor, double min_so_far) {
+  const double slack = kFloorSlack * (1.0 + std::abs(floor));
+  return floor > slack && floor > min_so_far + slack;
+}
 
 // The eps-box around the exact flow between samples k and k+1 (every agent, `parts` parts),
 // against bounds, obstacles, the other agents in the same part of the period, and formation.
 // Returns false when a part has no enclosure (recorded as -inf).
 bool check_period(const Problem& problem, const ProductLayout& at, const std::vector<Eigen::VectorXd>& x,
                   const std::vector<Eigen::VectorXd>& u, int k, int parts, const ObstacleWindows& windows,
-                  PeriodScratch& scratch, NamedTally& t) {
+                  bool floors, PeriodScratch& scratch, NamedTally& t) {
   const auto &xo = at.state, &uo = at.input;
   const int N = static_cast<int>(problem.agents.size());
   const int P = parts;
@@ -176,10 +189,27 @@ bool check_period(const Problem& problem, const ProductLayout& at, const std::ve
     const Point d = step[q.a] - step[q.b];
     return q.kind == Requirement::Collision ? size(d) : distance2(d);
   };
-  for (int s = 0; s < P; ++s)
+  // Each requirement once on the hull of its agents' boxes over the period, then part by part
+  // where that floor leaves the outcome open (same tally as every part of every requirement).
+  auto& hull = scratch.hull;
+  if (floors) hull.assign(ws[0].begin(), ws[0].begin() + N);
+  for (int s = 1; floors && s < P; ++s)
+    for (int i = 0; i < N; ++i) {
+      hull[i].lo = hull[i].lo.cwiseMin(ws[s][i].lo);
+      hull[i].hi = hull[i].hi.cwiseMax(ws[s][i].hi);
+    }
+  auto& floor = scratch.floor;
+  floor.clear();
+  if (floors)
+    for_each_requirement(problem, windows, Moment{k, true},
+                         [&](const Requirement& q) { floor.push_back(box_requirement_margin(problem, q, hull)); });
+  for (int s = 0; s < P; ++s) {
+    std::size_t r = 0;
     for_each_requirement(problem, windows, Moment{k, true}, [&](const Requirement& q) {
+      if (floors && floor_decides(floor[r++], t.min_)) return;
       t.record(box_requirement_margin(problem, q, ws[s]), k, [&] { return q.name(problem); }, motion(q), agents_of(q));
     });
+  }
   return true;
 }
 
@@ -188,7 +218,8 @@ bool check_period(const Problem& problem, const ProductLayout& at, const std::ve
 // flow over that part, so the finer verdict is as sound and less pessimistic by the motion over
 // a part that a coarse box adds.
 void check_between_samples(const Problem& problem, const std::vector<Eigen::VectorXd>& x,
-                           const std::vector<Eigen::VectorXd>& u, const ObstacleWindows& windows, NamedTally& t) {
+                           const std::vector<Eigen::VectorXd>& u, const ObstacleWindows& windows, bool floors,
+                           NamedTally& t) {
   const int T = static_cast<int>(u.size());
   const ProductLayout at(problem);
   // The periods are independent: checked on every core (on one, the check was a fourteenth of
@@ -205,11 +236,11 @@ void check_between_samples(const Problem& problem, const std::vector<Eigen::Vect
     for (int k = begin; k < end; ++k) {
       NamedTally& period = periods[static_cast<size_t>(k)];
       int parts = kFlowParts;
-      bool ok = check_period(problem, at, x, u, k, parts, windows, scratch, period);
+      bool ok = check_period(problem, at, x, u, k, parts, windows, floors, scratch, period);
       while (ok && !(period.min_ >= 0) && parts * kFlowRefinement <= kFlowMaxParts) {
         parts *= kFlowRefinement;
         period = NamedTally();
-        ok = check_period(problem, at, x, u, k, parts, windows, scratch, period);
+        ok = check_period(problem, at, x, u, k, parts, windows, floors, scratch, period);
       }
       enclosed[static_cast<size_t>(k)] = ok;
     }
@@ -294,6 +325,11 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan) {
 }
 
 RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan, const MissionSchedule& given) {
+  return check_robust(problem, plan, given, RobustCheckOptions{});
+}
+
+RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan, const MissionSchedule& given,
+                         const RobustCheckOptions& options) {
   RobustCheck r;
   const int T = plan.horizon();
   // Knots that are no schedule at this horizon fail the check (named); the stages are then
@@ -362,7 +398,7 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan, const M
   r.worst_input = tu.name_;
   if (problem.guarantee == Guarantee::Continuous) {
     r.continuous = true;
-    check_between_samples(problem, x, plan.u, windows, b);
+    check_between_samples(problem, x, plan.u, windows, options.period_floors, b);
     r.between_shortfalls = b.negative;
     r.between_margin = b.min_;
     r.worst_between = b.name_;

@@ -70,4 +70,14 @@ std::vector<Eigen::VectorXd> rollout(const Problem& problem, const std::vector<E
 RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan, const MissionSchedule& visits);
 RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan);
 
+// How the check between the samples is carried out; the result does not depend on it.
+struct RobustCheckOptions {
+  // Each requirement is first judged on its agents' boxes over the whole period, and its parts
+  // are skipped where that margin leaves no part able to change the outcome (robust_check.cpp,
+  // floor_decides). false: every part of every requirement, the reference the tests compare with.
+  bool period_floors = true;
+};
+RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan, const MissionSchedule& visits,
+                         const RobustCheckOptions& options);
+
 }  // namespace marsyn::planning
