@@ -140,6 +140,7 @@ ObstacleConstraint::ObstacleConstraint(std::string name, const AgentSpec& agent,
       obstacle_(std::move(obstacle)), margins_(std::move(margins)), grow_(grow), clearance_(clearance) {
   if (margins_->constant()) {
     grown_ = grow_by_box(obstacle_, margins_->max().x + grow_, margins_->max().y + grow_);
+    grown_edges_ = PolygonEdges(grown_);
     if (distance) distance_ = distance({grown_});
   }
 }
@@ -163,7 +164,7 @@ void ObstacleConstraint::evaluate(const double* x, double* g, double* jac) const
     const double zg = m.z + grow_;
     Eigen::Vector3d grad;
     const double sd = margins_->constant()
-                          ? signed_distance(grown_, z_lo_ - zg, z_hi_ + zg, Eigen::Vector3d(p[0], p[1], p[2]), &grad)
+                          ? signed_distance(grown_edges_, z_lo_ - zg, z_hi_ + zg, Eigen::Vector3d(p[0], p[1], p[2]), &grad)
                           : signed_distance(grow_by_box(obstacle_, m.x + grow_, m.y + grow_), z_lo_ - zg, z_hi_ + zg,
                                             Eigen::Vector3d(p[0], p[1], p[2]), &grad);
     g[0] = clearance_ - sd;
@@ -176,7 +177,7 @@ void ObstacleConstraint::evaluate(const double* x, double* g, double* jac) const
   if (distance_) {
     sd = distance_->distance(0, p, grad.data());
   } else if (margins_->constant()) {
-    sd = signed_distance(grown_, Eigen::Vector2d(p[0], p[1]), &grad);
+    sd = signed_distance(grown_edges_, Eigen::Vector2d(p[0], p[1]), &grad);
   } else {
     const WorkspaceMargin m = margins_->at(xa);
     sd = signed_distance(grow_by_box(obstacle_, m.x + grow_, m.y + grow_), Eigen::Vector2d(p[0], p[1]), &grad);
@@ -200,7 +201,7 @@ bool ObstacleConstraint::hessian(const double* x, const double* w, double* H) co
   // v outside, where it is |p - v|. The Hessian is taken on core's grown polygon also when a
   // distance plugin supplies the value: both describe the same polygon.
   const Eigen::Vector2d q(p[0], p[1]);
-  const double sd = signed_distance(grown_, q);
+  const double sd = signed_distance(grown_edges_, q);
   if (sd <= 0) return true;
   double best = std::numeric_limits<double>::infinity();
   Eigen::Vector2d nearest;

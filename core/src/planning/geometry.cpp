@@ -40,8 +40,23 @@ Polygon grow_by_box(const Polygon& poly, double rx, double ry) {
   return convex_hull(std::move(pts));
 }
 
-double signed_distance(const Polygon& poly, const Eigen::Vector2d& p, Eigen::Vector2d* grad) {
+PolygonEdges::PolygonEdges(const Polygon& poly) {
   const size_t n = poly.size();
+  a.reserve(n), e.reserve(n), normal.reserve(n), len2.reserve(n);
+  for (size_t i = 0; i < n; ++i) {
+    a.push_back(poly[i]);
+    e.push_back(poly[(i + 1) % n] - poly[i]);
+    len2.push_back(e.back().squaredNorm());
+    normal.push_back(Eigen::Vector2d(e.back().y(), -e.back().x()) / std::sqrt(len2.back()));  // outward
+  }
+}
+
+double signed_distance(const Polygon& poly, const Eigen::Vector2d& p, Eigen::Vector2d* grad) {
+  return signed_distance(PolygonEdges(poly), p, grad);
+}
+
+double signed_distance(const PolygonEdges& poly, const Eigen::Vector2d& p, Eigen::Vector2d* grad) {
+  const size_t n = poly.a.size();
   double best = std::numeric_limits<double>::infinity();
   Eigen::Vector2d best_dir(1, 0);
   // For a convex CCW polygon p is inside iff it is left of every edge; the largest signed edge
@@ -49,16 +64,15 @@ double signed_distance(const Polygon& poly, const Eigen::Vector2d& p, Eigen::Vec
   double max_edge = -std::numeric_limits<double>::infinity();
   Eigen::Vector2d max_normal(1, 0);
   for (size_t i = 0; i < n; ++i) {
-    const Eigen::Vector2d a = poly[i], b = poly[(i + 1) % n];
-    const Eigen::Vector2d e = b - a;
-    const double len2 = e.squaredNorm();
-    const Eigen::Vector2d normal = Eigen::Vector2d(e.y(), -e.x()) / std::sqrt(len2);  // outward
+    const Eigen::Vector2d& a = poly.a[i];
+    const Eigen::Vector2d& e = poly.e[i];
+    const Eigen::Vector2d& normal = poly.normal[i];
     const double side = normal.dot(p - a);
     if (side > max_edge) {
       max_edge = side;
       max_normal = normal;
     }
-    const double t = std::clamp((p - a).dot(e) / len2, 0.0, 1.0);
+    const double t = std::clamp((p - a).dot(e) / poly.len2[i], 0.0, 1.0);
     const Eigen::Vector2d diff = p - (a + t * e);
     const double d = diff.norm();
     if (d < best) {
@@ -160,6 +174,10 @@ double signed_distance_two(const Polygon& poly, double z_lo, double z_hi, const 
 }
 
 double signed_distance(const Polygon& poly, double z_lo, double z_hi, const Eigen::Vector3d& p, Eigen::Vector3d* grad) {
+  return signed_distance(PolygonEdges(poly), z_lo, z_hi, p, grad);
+}
+
+double signed_distance(const PolygonEdges& poly, double z_lo, double z_hi, const Eigen::Vector3d& p, Eigen::Vector3d* grad) {
   Eigen::Vector2d g2;
   const double s = signed_distance(poly, Eigen::Vector2d(p.x(), p.y()), &g2);
   const double h = z_gap(p.z(), z_lo, z_hi);

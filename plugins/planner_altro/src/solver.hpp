@@ -13,7 +13,7 @@
 
 #include "altro_solver.hpp"
 #include "marsyn/stopwatch.hpp"
-#include "marsyn/planner_support/parallel_chunks.hpp"
+#include "marsyn/planner_support/chunk_pool.hpp"
 #include "marsyn/planner_support/proximity_screen.hpp"
 
 namespace marsyn::altro::detail {
@@ -204,6 +204,7 @@ class Solver {
   double cost_ = kInf;
   mutable std::vector<double> scratch_ = std::vector<double>(64);
   int threads_ = 1;                  // Options::threads resolved
+  std::unique_ptr<planner_support::ChunkPool> pool_;  // threads_ threads for this solve's loops
   mutable std::vector<Scratch> work_;  // [thread]
   mutable std::vector<double> knot_cost_;  // total_cost's per-knot terms, summed in knot order
   // Threads for a loop over `items` of `weight` agent-steps each: one for small work, where

@@ -15,7 +15,7 @@ namespace marsyn::altro::detail {
 
 void Solver::linearize() {
   const int N = static_cast<int>(agents_.size());
-  planner_support::parallel_chunks(T_, threads_for(T_, N), [&](int, int begin, int end) {
+  pool_->run(T_, threads_for(T_, N), [&](int, int begin, int end) {
     for (int k = begin; k < end; ++k)
       for (int i = 0; i < N; ++i) {
         const auto& a = agents_[i];
@@ -38,7 +38,7 @@ void Solver::linearize() {
 
 void Solver::expand_costs() {
   // Knots on several threads: knot k writes only its own blocks of the expansion.
-  planner_support::parallel_chunks(T_ + 1, threads_for(T_ + 1, static_cast<long>(agents_.size())),
+  pool_->run(T_ + 1, threads_for(T_ + 1, static_cast<long>(agents_.size())),
                                    [&](int t, int begin, int end) {
                                      for (int k = begin; k < end; ++k) expand_knot(k, work_[t]);
                                    });
@@ -133,7 +133,7 @@ bool Solver::backward(double reg, double& dv1, double& dv2) {
   // kept apart and summed in group order (the same sums for any number of threads).
   std::vector<double> e1(G, 0.0), e2(G, 0.0);
   std::vector<char> ok(G, 1);
-  planner_support::parallel_chunks(G, G > 1 ? threads_for(G, T_) : 1, [&](int, int begin, int end) {
+  pool_->run(G, G > 1 ? threads_for(G, T_) : 1, [&](int, int begin, int end) {
     for (int gi = begin; gi < end; ++gi) ok[gi] = backward_group(gi, reg, e1[gi], e2[gi]);
   });
   dv1 = dv2 = 0.0;
@@ -218,7 +218,7 @@ bool Solver::forward(double dv1, double dv2, double& alpha) {
     // Each group's rollout reads only its own states and gains: groups on several threads, each
     // writing its own segments of Xn_ and Un_.
     std::vector<char> finite_from(G, 1);
-    planner_support::parallel_chunks(G, G > 1 ? threads_for(G, T_) : 1, [&](int t, int begin, int end) {
+    pool_->run(G, G > 1 ? threads_for(G, T_) : 1, [&](int t, int begin, int end) {
       Vec& dx = work_[t].dx;
       Vec& Kdx = work_[t].Kdx;
       for (int gi = begin; gi < end; ++gi) {
@@ -284,6 +284,7 @@ void Solver::prepare() {
   hold();
   rho_ = opt_.penalty_initial;
   threads_ = planner_support::solver_threads(opt_.threads);
+  pool_ = std::make_unique<planner_support::ChunkPool>(threads_);
   work_.assign(threads_, Scratch{});
   for (auto& w : work_) {
     w.Az.resize(N);

@@ -85,6 +85,7 @@ class ObstacleConstraint final : public Constraint {
   const AgentSpec* agent_;
   std::vector<int> support_;
   Polygon obstacle_, grown_;  // grown_: precomputed for a constant margin
+  PolygonEdges grown_edges_;  // and its edges
   std::shared_ptr<const MarginTable> margins_;
   double grow_, clearance_;
   std::shared_ptr<const DistanceModel> distance_;

@@ -33,6 +33,17 @@ Polygon grow_by_box(const Polygon& poly, double rx, double ry);
 // (a unit vector; for points inside, the outward normal of the nearest edge).
 double signed_distance(const Polygon& poly, const Eigen::Vector2d& p, Eigen::Vector2d* grad = nullptr);
 
+// A polygon's edges (start a, direction e = b - a, |e|^2) and outward unit normals, computed
+// once for a polygon evaluated many times (an obstacle row at every knot and interior point):
+// the per-edge square root and divisions were most of signed_distance. Same values bit for bit.
+struct PolygonEdges {
+  PolygonEdges() = default;
+  explicit PolygonEdges(const Polygon& poly);
+  std::vector<Eigen::Vector2d> a, e, normal;
+  std::vector<double> len2;
+};
+double signed_distance(const PolygonEdges& edges, const Eigen::Vector2d& p, Eigen::Vector2d* grad = nullptr);
+
 // Signed distance from p to a convex polygon (negative inside) in the inf-norm, exactly.
 double signed_distance_inf(const Polygon& ccw_polygon, const Eigen::Vector2d& p);
 // The same in the Euclidean norm.
@@ -55,6 +66,8 @@ double signed_distance_two(const Polygon& ccw_polygon, double z_lo, double z_hi,
 // The planners' Euclidean signed distance to the prism and its gradient in p (3 coordinates);
 // C1 outside except where the polygon's own distance is not (its vertices' normals).
 double signed_distance(const Polygon& poly, double z_lo, double z_hi, const Eigen::Vector3d& p,
+                       Eigen::Vector3d* grad = nullptr);
+double signed_distance(const PolygonEdges& edges, double z_lo, double z_hi, const Eigen::Vector3d& p,
                        Eigen::Vector3d* grad = nullptr);
 
 }  // namespace marsyn::planning
