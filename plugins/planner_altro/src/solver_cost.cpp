@@ -54,12 +54,10 @@ double Solver::total_cost(const std::vector<Vec>& X, const std::vector<Vec>& U, 
   // Knots on several threads, summed in knot order: the same sum for any number of threads.
   std::vector<double>& c = knot_cost_;
   c.resize(T_ + 1);
-  pool_->run(T_ + 1, threads_for(T_ + 1, static_cast<long>(agents_.size())),
-                                   [&](int t, int begin, int end) {
-                                     for (int k = begin; k < end; ++k)
-                                       c[k] = stage_cost(k, X[k], k < T_ ? &U[k] : nullptr, work_[t],
-                                                         Z && k < T_ ? &(*Z)[k] : nullptr);
-                                   });
+  pool_->run(T_ + 1, threads_for(T_ + 1, static_cast<long>(agents_.size())), [&](int t, int begin, int end) {
+    for (int k = begin; k < end; ++k)
+      c[k] = stage_cost(k, X[k], k < T_ ? &U[k] : nullptr, work_[t], Z && k < T_ ? &(*Z)[k] : nullptr);
+  });
   double J = 0.0;
   for (int k = 0; k < T_; ++k) J += c[k];
   return J + c[T_];

@@ -38,10 +38,9 @@ void Solver::linearize() {
 
 void Solver::expand_costs() {
   // Knots on several threads: knot k writes only its own blocks of the expansion.
-  pool_->run(T_ + 1, threads_for(T_ + 1, static_cast<long>(agents_.size())),
-                                   [&](int t, int begin, int end) {
-                                     for (int k = begin; k < end; ++k) expand_knot(k, work_[t]);
-                                   });
+  pool_->run(T_ + 1, threads_for(T_ + 1, static_cast<long>(agents_.size())), [&](int t, int begin, int end) {
+    for (int k = begin; k < end; ++k) expand_knot(k, work_[t]);
+  });
 }
 
 void Solver::expand_knot(int k, Scratch& s) {

@@ -1,14 +1,14 @@
 // ChunkPool: the planners' fork-join on threads started once per solve. Every index is visited
 // once, in the chunks the split promises; nested and concurrent calls run serially instead of
 // deadlocking; the lowest failing chunk's exception comes back; the pool is reusable after one.
+#include "marsyn/planner_support/chunk_pool.hpp"
+
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <stdexcept>
 #include <thread>
 #include <vector>
-
-#include "marsyn/planner_support/chunk_pool.hpp"
 
 using marsyn::planner_support::ChunkPool;
 
