@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
 
 #include "dynamics_unicycle/src/unicycle.hpp"
 #include "marsyn/core/planning/constraints.hpp"
@@ -169,25 +170,26 @@ TEST(Mission, ADwellKeepsTheAgentInside) {
 // by the fastest leg: the car covers 1 m to the stage by knot 10, dwells until knot 25, then 3 m
 // in 15 knots (2 m/s against the path's 1 m/s).
 TEST(Mission, ClearanceBetweenTheSamplesFollowsTheFastestLeg) {
-  MissionStage st = square("a", 1, 0, 0.2);
-  st.not_before = st.by = 10;
-  st.dwell = 15;
-  const Problem p = drive({st}, Guarantee::Continuous);
-  const MissionSchedule sched = schedule_missions(p, 40);
-  ASSERT_EQ(sched.visit[0][0], 10);
-  EXPECT_NEAR(fastest_leg_speed(p.agents[0], sched.visit[0], 40, 0.1), 2.0, 1e-12);
+  // The car with stage a at a fixed knot and dwell: the problem and its schedule at T = 40.
+  auto visit_at = [](int knot, int dwell) {
+    MissionStage st = square("a", 1, 0, 0.2);
+    st.not_before = st.by = knot;
+    st.dwell = dwell;
+    Problem p = drive({st}, Guarantee::Continuous);
+    MissionSchedule sched = schedule_missions(p, 40);
+    EXPECT_EQ(sched.visit[0][0], knot);
+    return std::make_pair(p, sched);
+  };
   const AssemblyOptions o;  // the midpoint, clearance 1: tau / 2 x (twice the speed)
+  const auto [p, sched] = visit_at(10, 15);
+  EXPECT_NEAR(fastest_leg_speed(p.agents[0], sched.visit[0], 40, 0.1), 2.0, 1e-12);
   EXPECT_NEAR(between_clearance(p, 0, sched, 40, o), 0.05 * 2 * 2.0, 1e-12);
   // Without stages: twice the path's average, as before.
   const Problem plain = drive({}, Guarantee::Continuous);
   EXPECT_EQ(fastest_leg_speed(plain.agents[0], {}, 40, 0.1), 0.0);
   EXPECT_NEAR(between_clearance(plain, 0, schedule_missions(plain, 40), 40, o), 0.05 * 2 * 1.0, 1e-12);
-  // Capped by the field's bound (20 m/s here): a leg of one knot asks no more than that.
-  st.not_before = st.by = 1;
-  st.dwell = 38;
-  const Problem rush = drive({st}, Guarantee::Continuous);
-  const MissionSchedule fast = schedule_missions(rush, 40);
-  ASSERT_EQ(fast.visit[0][0], 1);
+  // Capped by the field's bound (20 m/s here): legs of one knot (10 and 30 m/s) ask no more.
+  const auto [rush, fast] = visit_at(1, 38);
   EXPECT_NEAR(fastest_leg_speed(rush.agents[0], fast.visit[0], 40, 0.1), 30.0, 1e-9);
   EXPECT_NEAR(between_clearance(rush, 0, fast, 40, o), 0.05 * 20.0, 1e-12);
 }
