@@ -331,6 +331,10 @@ class HorizonSearch {
       visits_ = next;
       retimed_ = true;
       assembly_.extra = best_.extra;
+      // Said first: this round's solves try to lower the effort of a plan already found.
+      log("robust plan found; re-timing round " + std::to_string(r + 1) + ": knots re-timed along it (" +
+          knots_text(problem_, next) + "), T = " + std::to_string(horizon_) +
+          " solved again from it, kept only if robust with less input effort");
       Solved one = solve_once(best_.plan, left);
       best_.attempts.push_back(one.a);
       // Short only between the samples: more clearance at the same knots, as in the search.
@@ -338,6 +342,8 @@ class HorizonSearch {
                           options_.time_limit_s - clock_.seconds() > 0;
            ++retry) {
         more_clearance(assembly_, one.a.check);
+        log("re-timed plan short by " + std::to_string(-one.a.check.between_margin) +
+            " between the samples: the same knots again with more clearance for the requirements short there");
         one = solve_once(one.clean, options_.time_limit_s - clock_.seconds());
         best_.attempts.push_back(one.a);
       }
