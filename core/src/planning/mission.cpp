@@ -5,7 +5,7 @@
 #include <limits>
 #include <map>
 
-#include "marsyn/interval.hpp"
+#include "marsyn/fast_interval.hpp"
 
 namespace marsyn::planning {
 
@@ -278,40 +278,46 @@ MissionSchedule schedule_or_initial(const Problem& problem, const MissionSchedul
   return schedule_missions(problem, horizon);
 }
 
+// Directed rounding from error-free transformations in round-to-nearest (fast_interval.hpp): the
+// same bounds as Boost.Interval's, without its two rounding-mode switches per operation, which
+// were a third of a mission's closed-loop verification (the spec monitor asks at every substep).
 Box linear_workspace_box(const Workspace& ws, const Box& state) {
+  const RoundToNearestScope nearest;
   Box out{Eigen::VectorXd(2), Eigen::VectorXd(2)};
   for (int c = 0; c < 2; ++c) {
     const int at = ws.index[c];
-    const Interval v = at >= 0 ? Interval(state.lo[at], state.hi[at]) + Interval(ws.offset[c]) : Interval(ws.offset[c]);
-    out.lo[c] = v.lower();
-    out.hi[c] = v.upper();
+    out.lo[c] = at >= 0 ? fast_detail::add_down(state.lo[at], ws.offset[c]) : ws.offset[c];
+    out.hi[c] = at >= 0 ? fast_detail::add_up(state.hi[at], ws.offset[c]) : ws.offset[c];
   }
   return out;
 }
 
 double stage_margin(const MissionStage& stage, const Box& state, const Box& workspace) {
+  using fast_detail::sub_down;
+  const RoundToNearestScope nearest;
   double m = std::numeric_limits<double>::infinity();
   if (!stage.is_polygon()) {
     for (int c = 0; c < stage.box.dim(); ++c) {
       if (!std::isfinite(state.lo[c]) || !std::isfinite(state.hi[c])) return -std::numeric_limits<double>::infinity();
-      m = std::min({m, (Interval(state.lo[c]) - Interval(stage.box.lo[c])).lower(),
-                    (Interval(stage.box.hi[c]) - Interval(state.hi[c])).lower()});
+      m = std::min({m, sub_down(state.lo[c], stage.box.lo[c]), sub_down(stage.box.hi[c], state.hi[c])});
     }
     return m;
   }
   // Distance of the box's worst corner to each edge line, inward positive: cross(e, p - v) / |e|
   // for the counter-clockwise polygon, in interval arithmetic over the whole box.
-  const Interval px(workspace.lo[0], workspace.hi[0]), py(workspace.lo[1], workspace.hi[1]);
   if (!std::isfinite(workspace.lo[0]) || !std::isfinite(workspace.hi[0]) || !std::isfinite(workspace.lo[1]) ||
       !std::isfinite(workspace.hi[1]))
     return -std::numeric_limits<double>::infinity();
+  const FastInterval px(workspace.lo[0], workspace.hi[0]), py(workspace.lo[1], workspace.hi[1]);
   const std::size_t V = stage.polygon.size();
   for (std::size_t i = 0; i < V; ++i) {
     const auto& v = stage.polygon[i];
     const auto& w = stage.polygon[(i + 1) % V];
-    const Interval ex = Interval(w.x()) - Interval(v.x()), ey = Interval(w.y()) - Interval(v.y());
-    const Interval len = sqrt(ex * ex + ey * ey);
-    const Interval d = (ex * (py - Interval(v.y())) - ey * (px - Interval(v.x()))) / len;
+    const FastInterval ex = FastInterval(w.x()) - FastInterval(v.x()), ey = FastInterval(w.y()) - FastInterval(v.y());
+    const FastInterval len2 = ex * ex + ey * ey;
+    const FastInterval len = FastInterval::raw(fast_detail::sqrt_down(std::max(0.0, len2.lower())),
+                                               fast_detail::sqrt_up(len2.upper()));
+    const FastInterval d = (ex * (py - FastInterval(v.y())) - ey * (px - FastInterval(v.x()))) / len;
     m = std::min(m, d.lower());
   }
   return m;

@@ -3,16 +3,31 @@
 #include <cstdint>
 #include <vector>
 
+#include "marsyn/fast_interval.hpp"
 #include "uniform_grid.hpp"
 
 namespace marsyn::abcd {
 
-// Step k's tube: the cells lying entirely in [x_k - eps, x_k + eps] (rounding included).
+// Step k's tube: the cells lying entirely in [x_k - eps, x_k + eps] (rounding included). The
+// bounds x_k -+ eps by directed rounding in round-to-nearest (fast_interval.hpp), not by
+// Boost.Interval on point intervals: GCC computes both ends of one such expression once, in the
+// mode it set first, so x_k + eps's lower end came out rounded up (a cell one ulp outside).
+struct TubeBounds {
+  Interval lo, hi;  // enclose x - eps and x + eps
+};
+inline TubeBounds tube_bounds(double x, double eps) {
+  const RoundToNearestScope nearest;
+  return {Interval(fast_detail::sub_down(x, eps), fast_detail::sub_up(x, eps)),
+          Interval(fast_detail::add_down(x, eps), fast_detail::add_up(x, eps))};
+}
+
 inline IndexBox tube_box(const UniformGrid& g, const double* xk, const double* eps) {
   IndexBox b;
   b.n = g.dim();
-  for (int i = 0; i < b.n; ++i)
-    g.inner_range(i, Interval(xk[i]) - Interval(eps[i]), Interval(xk[i]) + Interval(eps[i]), b.lo[i], b.hi[i]);
+  for (int i = 0; i < b.n; ++i) {
+    const TubeBounds t = tube_bounds(xk[i], eps[i]);
+    g.inner_range(i, t.lo, t.hi, b.lo[i], b.hi[i]);
+  }
   return b;
 }
 

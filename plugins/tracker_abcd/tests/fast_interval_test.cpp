@@ -13,6 +13,7 @@
 #include "marsyn/fast_interval.hpp"
 #include "track_scenarios.hpp"
 #include "successor_box.hpp"
+#include "tube.hpp"
 
 using namespace marsyn;
 using Big = boost::multiprecision::cpp_bin_float_100;
@@ -169,4 +170,21 @@ TEST(FastInterval, HandWrittenDynamicsUsesTheConversionPath) {
   }
   EXPECT_EQ(std::fegetround(), FE_UPWARD);
   std::fesetround(FE_TONEAREST);
+}
+
+// The tube's bounds x -+ eps enclose the exact values (100 digits). Boost.Interval on the two
+// point intervals did not: GCC computed both ends of the one expression once, in the rounding
+// mode it set first, and the lower end of x + eps came out rounded up in about 8 % of cases.
+TEST(FastInterval, TubeBoundsEncloseTheExactEnds) {
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> x(-50, 50), e(1e-3, 2);
+  for (int it = 0; it < 20000; ++it) {
+    const double xk = x(rng), eps = e(rng);
+    const abcd::TubeBounds t = abcd::tube_bounds(xk, eps);
+    const Big lo = Big(xk) - Big(eps), hi = Big(xk) + Big(eps);
+    ASSERT_LE(Big(t.lo.lower()), lo) << it;
+    ASSERT_GE(Big(t.lo.upper()), lo) << it;
+    ASSERT_LE(Big(t.hi.lower()), hi) << it;
+    ASSERT_GE(Big(t.hi.upper()), hi) << it;
+  }
 }
