@@ -3,6 +3,8 @@
 // the samples.
 #include <gtest/gtest.h>
 
+#include <boost/multiprecision/cpp_bin_float.hpp>
+
 #include <cmath>
 #include <vector>
 #include <algorithm>
@@ -13,7 +15,6 @@
 #include "dynamics_unicycle/src/unicycle.hpp"
 #include "marsyn/core/planning/constraints.hpp"
 #include "marsyn/core/planning/mission.hpp"
-#include "marsyn/interval.hpp"
 #include "marsyn/core/planning/robust_check.hpp"
 
 using namespace marsyn;
@@ -241,12 +242,13 @@ TEST(Mission, StageMarginOnBoxes) {
   EXPECT_NEAR(stage_margin(b, st, ws), 0.05, 1e-12);
 }
 
-// stage_margin's directed rounding (no rounding-mode switches) gives Boost.Interval's bounds up to
-// a few units in the last place (the two round differently inside a product or quotient now and
-// then; -0x1.80cc38c4663b8p+1 against -0x1.80cc38c4663b6p+1): random convex polygons and boxes,
-// against the interval formula computed with marsyn::Interval here; and the bound is sound
-// (every corner of the box keeps that margin to every edge line).
-TEST(Mission, StageMarginIsTheIntervalBound) {
+// stage_margin's bounds by directed rounding in round-to-nearest: never above the exact margin
+// (computed here to 100 digits), and within a few units in the last place of it. (Boost.Interval
+// on point intervals, as it was written before, came out above the exact value: GCC computes
+// both ends of one such expression once, in the mode it set first.) Random convex polygons and
+// boxes; box regions to the last bit (one subtraction rounded down).
+TEST(Mission, StageMarginIsALowerBoundOfTheExactMargin) {
+  using Big = boost::multiprecision::cpp_bin_float_100;
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-3.0, 3.0), r(0.3, 2.0), w(0.0, 0.8);
   for (int trial = 0; trial < 500; ++trial) {
@@ -261,35 +263,35 @@ TEST(Mission, StageMarginIsTheIntervalBound) {
     for (double a : ang) s.polygon.push_back(c + rad * Eigen::Vector2d(std::cos(a), std::sin(a)));
     const Eigen::Vector2d lo(c.x() + u(rng) / 3, c.y() + u(rng) / 3);
     const Box ws{lo, lo + Eigen::Vector2d(w(rng), w(rng))};
-    double ref = std::numeric_limits<double>::infinity();
-    const Interval px(ws.lo[0], ws.hi[0]), py(ws.lo[1], ws.hi[1]);
-    for (int i = 0; i < V; ++i) {
-      const auto& v = s.polygon[i];
-      const auto& q = s.polygon[(i + 1) % V];
-      const Interval ex = Interval(q.x()) - Interval(v.x()), ey = Interval(q.y()) - Interval(v.y());
-      const Interval len = sqrt(ex * ex + ey * ey);
-      ref = std::min(ref, ((ex * (py - Interval(v.y())) - ey * (px - Interval(v.x()))) / len).lower());
-    }
-    const double m = stage_margin(s, ws, ws);
-    ASSERT_NEAR(m, ref, 1e-13 * (1.0 + std::abs(ref))) << trial;
-    // Sound: each corner's distance to each edge line (inward positive) is at least m.
+    // Exact: the smallest over corners and edges of cross(e, p - v) / |e|.
+    Big exact = 1e300;
     for (double x : {ws.lo[0], ws.hi[0]})
       for (double y : {ws.lo[1], ws.hi[1]})
         for (int i = 0; i < V; ++i) {
-          const Eigen::Vector2d e = s.polygon[(i + 1) % V] - s.polygon[i], d = Eigen::Vector2d(x, y) - s.polygon[i];
-          EXPECT_GE((e.x() * d.y() - e.y() * d.x()) / e.norm(), m - 1e-12) << trial;
+          const auto& v = s.polygon[i];
+          const auto& q = s.polygon[(i + 1) % V];
+          const Big ex = Big(q.x()) - Big(v.x()), ey = Big(q.y()) - Big(v.y());
+          const Big d = (ex * (Big(y) - Big(v.y())) - ey * (Big(x) - Big(v.x()))) / sqrt(ex * ex + ey * ey);
+          if (d < exact) exact = d;
         }
+    const double m = stage_margin(s, ws, ws);
+    ASSERT_LE(Big(m), exact) << trial;
+    ASSERT_GE(Big(m), exact - Big(1e-13) * (1 + abs(exact))) << trial;
   }
-  // Box regions: sub_down(state.lo, box.lo) is (Interval(lo) - Interval(box.lo)).lower().
   MissionStage b;
   b.box = {Eigen::Vector3d(0.1, -0.3, -1), Eigen::Vector3d(1.7, 1.1, 1)};
   for (int trial = 0; trial < 200; ++trial) {
     const Eigen::Vector3d lo(u(rng), u(rng), u(rng));
     const Box st{lo, lo + Eigen::Vector3d(w(rng), w(rng), w(rng))};
-    double ref = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < 3; ++k)
-      ref = std::min({ref, (Interval(st.lo[k]) - Interval(b.box.lo[k])).lower(), (Interval(b.box.hi[k]) - Interval(st.hi[k])).lower()});
-    ASSERT_EQ(stage_margin(b, st, st), ref) << trial;  // one subtraction each: the same rounding
+    Big exact = 1e300;
+    for (int k = 0; k < 3; ++k) {
+      const Big a = Big(st.lo[k]) - Big(b.box.lo[k]), z = Big(b.box.hi[k]) - Big(st.hi[k]);
+      if (a < exact) exact = a;
+      if (z < exact) exact = z;
+    }
+    const double m = stage_margin(b, st, st);
+    ASSERT_LE(Big(m), exact) << trial;
+    ASSERT_GT(Big(std::nextafter(m, 1e300)), exact) << trial;  // the largest double not above it
   }
 }
 
