@@ -14,9 +14,9 @@ double between_clearance(const Problem& problem, int agent, const MissionSchedul
                          const AssemblyOptions& opt) {
   if (opt.between_points <= 0) return 0.0;
   const AgentSpec& a = problem.agents[static_cast<std::size_t>(agent)];
-  const double leg = a.stages.empty() || static_cast<int>(visits.visit.size()) <= agent
-                         ? 0.0
-                         : fastest_leg_speed(a, visits.visit[static_cast<std::size_t>(agent)], horizon, problem.tau);
+  const double leg = agent < static_cast<int>(visits.visit.size())
+                         ? fastest_leg_speed(a, visits.visit[static_cast<std::size_t>(agent)], horizon, problem.tau)
+                         : 0.0;  // 0 without stages too
   return opt.between_clearance * problem.tau / (opt.between_points + 1) * workspace_speed_bound(a, problem.tau * horizon, leg);
 }
 

@@ -100,6 +100,17 @@ struct PeriodScratch {
   std::vector<double> floor;   // per requirement (visiting order), its margin on those hulls
 };
 
+// out = the box f grown by eps, outward rounding (out sized like f). Directed rounding in
+// round-to-nearest, not Boost.Interval on point intervals: GCC computes both ends of one such
+// expression once, in the mode it set first (docs/soundness.md, section 7).
+void grow_by_eps(const Box& f, const Eigen::VectorXd& eps, Box& out) {
+  const RoundToNearestScope nearest;
+  for (int c = 0; c < f.dim(); ++c) {
+    out.lo[c] = fast_detail::sub_down(f.lo[c], eps[c]);
+    out.hi[c] = fast_detail::add_up(f.hi[c], eps[c]);
+  }
+}
+
 // A requirement's margin over a part is at least its margin over the period's hull boxes (the
 // box margins are distances between boxes, or tight lower bounds of them, and shrink as the
 // boxes grow). Where that floor is above the period's smallest margin so far by more than any
@@ -156,13 +167,7 @@ bool check_period(const Problem& problem, const ProductLayout& at, const std::ve
     xb.resize(a.n());
     Box grown{Eigen::VectorXd(a.n()), Eigen::VectorXd(a.n())};
     for (int s = 0; s < P; ++s) {
-      {
-        const RoundToNearestScope nearest;  // fast_detail's directed rounding needs RN
-        for (int c = 0; c < a.n(); ++c) {
-          grown.lo[c] = fast_detail::sub_down(flow[s].lo[c], a.tube.eps[c]);
-          grown.hi[c] = fast_detail::add_up(flow[s].hi[c], a.tube.eps[c]);
-        }
-      }
+      grow_by_eps(flow[s], a.tube.eps, grown);
       for (int c = 0; c < a.n(); ++c) xb[c] = Interval(grown.lo[c], grown.hi[c]);
       for (int c = 0; c < a.n(); ++c)
         t.record(box_inside_margin(grown, a.state_bounds, c), k, [&] { return state_bound_name(a, c); },
@@ -292,6 +297,7 @@ std::vector<StageVisit> check_stages(const Problem& problem, const std::vector<E
     t.record(v.sampled_margin, v.step, [&] { return v.name; });
     v.margin = v.sampled_margin;
     if (!b) continue;
+    Box g{Eigen::VectorXd(a.n()), Eigen::VectorXd(a.n())};
     for (int k = v.step; k < std::min(T, v.step + v.dwell); ++k) {
       const Eigen::VectorXd xi = x[k].segment(xo, a.n()), ui = u[k].segment(uo, a.m());
       double m = -std::numeric_limits<double>::infinity();
@@ -299,17 +305,7 @@ std::vector<StageVisit> check_stages(const Problem& problem, const std::vector<E
         if (!flow_boxes(*a.dynamics, Box{xi, xi}, ui, Eigen::VectorXd::Zero(a.n()), problem.tau, parts, flow)) break;
         m = std::numeric_limits<double>::infinity();
         for (const Box& f : flow) {
-          Box g{f.lo - a.tube.eps, f.hi + a.tube.eps};
-          {
-            // Not Boost.Interval on two point intervals: GCC computes the lower and the upper
-            // bound of the one expression once, in whichever mode it set first (-frounding-math
-            // notwithstanding), so the lower end came out rounded up in 8 % of random cases.
-            const RoundToNearestScope nearest;
-            for (int c = 0; c < a.n(); ++c) {
-              g.lo[c] = fast_detail::sub_down(f.lo[c], a.tube.eps[c]);
-              g.hi[c] = fast_detail::add_up(f.hi[c], a.tube.eps[c]);
-            }
-          }
+          grow_by_eps(f, a.tube.eps, g);
           m = std::min(m, stage_margin(st, g, workspace_of(a, g)));
         }
       }

@@ -208,7 +208,7 @@ class Solver {
   mutable std::vector<Scratch> work_;  // [thread]
   mutable std::vector<double> knot_cost_;  // total_cost's per-knot terms, summed in knot order
   // Threads for a loop over `items` of `weight` agent-steps each: one for small work, where
-  // starting threads would cost more than it saves.
+  // waking the pool's threads would cost more than it saves.
   int threads_for(long items, long weight) const { return items * weight >= 256 ? threads_ : 1; }
 };
 
