@@ -8,7 +8,7 @@
 
 namespace marsyn::planning {
 
-// Directed rounding from error-free transformations in round-to-nearest (fast_interval.hpp,
+// Directed rounding from error-free transformations in round-to-nearest (directed_rounding.hpp,
 // docs/soundness.md §2): no rounding-mode switches, which made the Boost.Interval version of
 // these loops the bulk of a continuous-time plan check. Each public function holds RN itself.
 using fast_detail::add_down;

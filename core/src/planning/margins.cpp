@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "marsyn/core/planning/constraints.hpp"  // workspace_point_jacobian
+#include "marsyn/directed_rounding.hpp"
 #include "marsyn/interval.hpp"
 
 namespace marsyn::planning {
@@ -21,10 +22,12 @@ WorkspaceMargin linear_margin(const AgentSpec& a) {
 }
 
 // max over p in P, q in Q of |p - q| per coordinate, with P = enclosure over the grown box and
-// Q = enclosure over the nominal cell.
+// Q = enclosure over the nominal cell. Boxes and differences are rounded outward (no mode switch:
+// directed_rounding.hpp), so the margin is never below the exact one.
 void spread(const Interval* big, const Interval* small, WorkspaceMargin& m) {
   for (int c = 0; c < 2; ++c) {
-    const double v = std::max(big[c].upper() - small[c].lower(), small[c].upper() - big[c].lower());
+    const double v = std::max(fast_detail::sub_up(big[c].upper(), small[c].lower()),
+                              fast_detail::sub_up(small[c].upper(), big[c].lower()));
     (c == 0 ? m.x : m.y) = std::max(c == 0 ? m.x : m.y, v);
   }
 }
@@ -36,7 +39,7 @@ WorkspaceMargin margin_at(const AgentSpec& a, const Eigen::VectorXd& x) {
   const int n = a.n();
   std::vector<Interval> box(n), point(n);
   for (int i = 0; i < n; ++i) {
-    box[i] = Interval(x[i] - a.tube.eps[i], x[i] + a.tube.eps[i]);
+    box[i] = Interval(fast_detail::sub_down(x[i], a.tube.eps[i]), fast_detail::add_up(x[i], a.tube.eps[i]));
     point[i] = Interval(x[i]);
   }
   Interval big[2], small[2];
@@ -96,7 +99,8 @@ WorkspaceMargin MarginTable::evaluate(long idx) const {
     r /= k_;
     cell[s] = Interval(edge(s, j), edge(s, j + 1));
   }
-  for (int i = 0; i < n; ++i) grown[i] = Interval(cell[i].lower() - a.tube.eps[i], cell[i].upper() + a.tube.eps[i]);
+  for (int i = 0; i < n; ++i)
+    grown[i] = Interval(fast_detail::sub_down(cell[i].lower(), a.tube.eps[i]), fast_detail::add_up(cell[i].upper(), a.tube.eps[i]));
   Interval big[2], small[2];
   a.dynamics->footprint(a.workspace.footprint, grown.data(), big);
   a.dynamics->footprint(a.workspace.footprint, cell.data(), small);

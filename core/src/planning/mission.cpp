@@ -278,10 +278,9 @@ MissionSchedule schedule_or_initial(const Problem& problem, const MissionSchedul
   return schedule_missions(problem, horizon);
 }
 
-// Directed rounding from error-free transformations in round-to-nearest (fast_interval.hpp), not
-// Boost.Interval: on point intervals GCC computed both ends of one expression in one mode
-// (docs/soundness.md, section 7), and its two mode switches per operation were a third of a
-// mission's closed-loop verification (the spec monitor asks at every substep).
+// Directed rounding from error-free transformations in round-to-nearest (directed_rounding.hpp),
+// on plain doubles: the spec monitor asks at every substep, and Boost.Interval's former two mode
+// switches per operation were a third of a mission's closed-loop verification.
 Box linear_workspace_box(const Workspace& ws, const Box& state) {
   const RoundToNearestScope nearest;
   Box out{Eigen::VectorXd(2), Eigen::VectorXd(2)};

@@ -9,9 +9,9 @@
 namespace marsyn::abcd {
 
 // Step k's tube: the cells lying entirely in [x_k - eps, x_k + eps] (rounding included). The
-// bounds x_k -+ eps by directed rounding in round-to-nearest (fast_interval.hpp), not by
-// Boost.Interval on point intervals: GCC computes both ends of one such expression once, in the
-// mode it set first, so x_k + eps's lower end came out rounded up (a cell one ulp outside).
+// bounds x_k -+ eps by directed rounding in round-to-nearest (directed_rounding.hpp). Boost's own
+// mode-switching policy got them wrong on these point intervals: GCC computed both ends of one
+// expression once, in the mode it set first (docs/soundness.md, section 7).
 struct TubeBounds {
   Interval lo, hi;  // enclose x - eps and x + eps
 };

@@ -1,18 +1,26 @@
 #pragma once
-// Sound interval arithmetic for enclosures (tracker growth bounds, footprint margins).
+// Sound interval arithmetic for enclosures (footprint margins, the equations' and the models'
+// interval fields, the certifier's boxes).
 //
-// Arithmetic and sqrt come from Boost.Interval with directed rounding (IEEE 754 guarantees
-// correctly rounded +,-,*,/,sqrt in every rounding mode). Transcendental functions are not
-// correctly rounded by libm, so each libm result is widened outward by kTranscUlps units in the
-// last place; glibc documents at most 1-2 ulp error for exp/sin/cos/log on x86_64, so 4 ulp is a
-// safe margin. Boost.Interval's own range reduction (periodicity, monotone pieces) then yields a
-// sound enclosure. See docs/soundness.md.
+// Boost.Interval's operations and range reductions (periodicity, monotone pieces) over a rounding
+// policy of marsyn's own. Arithmetic and sqrt are rounded outward by the error-free
+// transformations of directed_rounding.hpp in round-to-nearest, not by switching the FPU mode as
+// Boost's own policy does: under GCC (12, even with -frounding-math) the switching policy is
+// unsound on point intervals, because both ends of Interval(a) - Interval(b) are the one
+// expression a - b, which the compiler computes once, in whichever mode comes first
+// (docs/soundness.md, section 7). Transcendental functions are not correctly rounded by libm, so
+// each libm result is widened outward by kTranscUlps units in the last place; glibc documents at
+// most 1-2 ulp error for exp/sin/cos/log on x86_64 in round-to-nearest, so 4 ulp is a safe
+// margin.
 #include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 #include <boost/numeric/interval.hpp>
+
+#include "marsyn/directed_rounding.hpp"
 
 namespace marsyn {
 namespace detail {
@@ -71,8 +79,59 @@ struct rounded_transc_widened : Rounding {
   double cos_up(const double& x) { return std::min(1.0, widen_up(std::cos(x))); }
 };
 
-using IntervalRounding = boost::numeric::interval_lib::save_state<
-    rounded_transc_widened<boost::numeric::interval_lib::rounded_arith_std<double>>>;
+// Boost.Interval rounding policy: directed +, -, *, /, sqrt by error-free transformations in
+// round-to-nearest. The mode-switching members Boost's own code may call are no-ops: nothing
+// here depends on the FPU mode.
+struct rounded_arith_error_free {
+  using rounding_mode = int;
+  static void get_rounding_mode(rounding_mode&) {}
+  static void set_rounding_mode(rounding_mode) {}
+  static void upward() {}
+  static void downward() {}
+  static void to_nearest() {}
+  static double to_int(double x) { return std::nearbyint(x); }
+  static double force_rounding(double x) { return x; }
+  void init() {}
+  // Conversions: doubles and floats are exact; wider integers and long doubles are rounded to
+  // nearest and stepped outward when that went the wrong way (long double holds every 64-bit
+  // integer exactly).
+  template <class U>
+  double conv_down(const U& v) {
+    const double d = static_cast<double>(v);
+    if constexpr (std::is_same_v<U, double> || std::is_same_v<U, float>) return d;
+    else return static_cast<long double>(d) > static_cast<long double>(v) ? fast_detail::next_down(d) : d;
+  }
+  template <class U>
+  double conv_up(const U& v) {
+    const double d = static_cast<double>(v);
+    if constexpr (std::is_same_v<U, double> || std::is_same_v<U, float>) return d;
+    else return static_cast<long double>(d) < static_cast<long double>(v) ? fast_detail::next_up(d) : d;
+  }
+  static double add_down(double x, double y) { return fast_detail::add_down(x, y); }
+  static double add_up(double x, double y) { return fast_detail::add_up(x, y); }
+  static double sub_down(double x, double y) { return fast_detail::sub_down(x, y); }
+  static double sub_up(double x, double y) { return fast_detail::sub_up(x, y); }
+  static double mul_down(double x, double y) { return fast_detail::mul_down(x, y); }
+  static double mul_up(double x, double y) { return fast_detail::mul_up(x, y); }
+  static double div_down(double x, double y) { return fast_detail::div_down(x, y); }
+  static double div_up(double x, double y) { return fast_detail::div_up(x, y); }
+  static double median(double x, double y) { return (x + y) / 2; }
+  static double sqrt_down(double x) { return fast_detail::sqrt_down(x); }
+  static double sqrt_up(double x) { return fast_detail::sqrt_up(x); }
+  static double int_down(double x) { return std::floor(x); }
+  static double int_up(double x) { return std::ceil(x); }
+};
+
+// Round-to-nearest for the duration of one protected operation (the error-free transformations
+// and the libm bounds assume it): a mode read when the caller is already there, as every thread
+// is by default; a switch and a restore otherwise.
+template <class Rounding>
+struct nearest_state : Rounding {
+  RoundToNearestScope nearest;
+  using unprotected_rounding = boost::numeric::interval_lib::save_state_nothing<Rounding>;
+};
+
+using IntervalRounding = nearest_state<rounded_transc_widened<rounded_arith_error_free>>;
 using IntervalPolicies =
     boost::numeric::interval_lib::policies<IntervalRounding,
                                            boost::numeric::interval_lib::checking_base<double>>;
