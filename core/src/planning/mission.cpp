@@ -293,22 +293,26 @@ Box linear_workspace_box(const Workspace& ws, const Box& state) {
 }
 
 double stage_margin(const MissionStage& stage, const Box& state, const Box& workspace) {
+  return stage_margin(stage, state.lo.data(), state.hi.data(), workspace.lo.data(), workspace.hi.data());
+}
+
+double stage_margin(const MissionStage& stage, const double* state_lo, const double* state_hi, const double* ws_lo,
+                    const double* ws_hi) {
   using fast_detail::sub_down;
   const RoundToNearestScope nearest;
   double m = std::numeric_limits<double>::infinity();
   if (!stage.is_polygon()) {
     for (int c = 0; c < stage.box.dim(); ++c) {
-      if (!std::isfinite(state.lo[c]) || !std::isfinite(state.hi[c])) return -std::numeric_limits<double>::infinity();
-      m = std::min({m, sub_down(state.lo[c], stage.box.lo[c]), sub_down(stage.box.hi[c], state.hi[c])});
+      if (!std::isfinite(state_lo[c]) || !std::isfinite(state_hi[c])) return -std::numeric_limits<double>::infinity();
+      m = std::min({m, sub_down(state_lo[c], stage.box.lo[c]), sub_down(stage.box.hi[c], state_hi[c])});
     }
     return m;
   }
   // Distance of the box's worst corner to each edge line, inward positive: cross(e, p - v) / |e|
   // for the counter-clockwise polygon, in interval arithmetic over the whole box.
-  if (!std::isfinite(workspace.lo[0]) || !std::isfinite(workspace.hi[0]) || !std::isfinite(workspace.lo[1]) ||
-      !std::isfinite(workspace.hi[1]))
+  if (!std::isfinite(ws_lo[0]) || !std::isfinite(ws_hi[0]) || !std::isfinite(ws_lo[1]) || !std::isfinite(ws_hi[1]))
     return -std::numeric_limits<double>::infinity();
-  const FastInterval px(workspace.lo[0], workspace.hi[0]), py(workspace.lo[1], workspace.hi[1]);
+  const FastInterval px(ws_lo[0], ws_hi[0]), py(ws_lo[1], ws_hi[1]);
   const std::size_t V = stage.polygon.size();
   for (std::size_t i = 0; i < V; ++i) {
     const auto& v = stage.polygon[i];

@@ -174,14 +174,19 @@ class Batch {
       if (run_of(l).adversary) adversary_lanes_.push_back(l);
     track_points_ = s.between || any_adversary_ || s.keep_dense;
     // The dense check a period at a time (BroadPhase::window): the plain verification runs. The
-    // kept runs keep every substep's margins, the reference checks every pair, and a stage
-    // dwelling over a period is judged against the minima as they stand at each substep.
-    windowed_ = s.between && !s.keep_dense && !s.all_pairs && !s.between->has_stages() && S_ > 1;
+    // kept runs keep every substep's margins and the reference checks every pair. Stages dwelling
+    // over a period are measured as the substeps' points are written and folded substep by
+    // substep after the requirements (between()'s order: the same minima and names).
+    windowed_ = s.between && !s.keep_dense && !s.all_pairs && S_ > 1;
     if (windowed_) {
       for (Lane& r : lanes_)
         r.window.assign(static_cast<size_t>(S_ - 1), std::vector<planning::Point>(static_cast<size_t>(N_)));
       boxes_.resize(static_cast<size_t>(N_));
       lane_boxes_.resize(static_cast<size_t>(N_));
+      if (s.between->has_stages()) {
+        stage_m_.resize(static_cast<size_t>(L_ * (S_ - 1)));
+        stage_v_.resize(stage_m_.size());
+      }
     }
     // The integrator's view: per agent, its state, input and disturbance as Lanes (one lane per
     // run; lanes past L repeat run 0 so that they compute ordinary numbers, which are dropped).
@@ -221,6 +226,7 @@ class Batch {
       record(r, 0);
     }
     for (int k = 0; k < T; ++k) {
+      if (windowed_ && !stage_m_.empty()) dwelling(k);
       hold_inputs(k);
       for (int i = 0; i < N_; ++i) pack(U_[i], &Lane::u, i);
       for (int sub = 0; sub < S_; ++sub) {
@@ -331,6 +337,36 @@ class Batch {
         r.now = &r.window[static_cast<size_t>(sub)];
         r.broad.update(*r.now);
       }
+    if (!active_.empty()) window_stages(sub, to);
+  }
+
+  // The stages dwelling over period k (SpecMonitor::stage_between's), and no depth found yet.
+  void dwelling(int k) {
+    active_.clear();
+    const auto& visits = s_.between->visits();
+    for (std::size_t v = 0; v < visits.size(); ++v)
+      if (k >= visits[v].step && k < visits[v].step + visits[v].dwell) active_.push_back(static_cast<int>(v));
+    std::fill(stage_m_.begin(), stage_m_.end(), 1e300);
+    std::fill(stage_v_.begin(), stage_v_.end(), -1);
+  }
+
+  // Each lane's smallest depth at substep sub over the dwelling stages (stage_between's value and
+  // visit, first of equals), from the integrator's states and the points just written.
+  void window_stages(int sub, planning::Point* const* to) {
+    const auto& visits = s_.between->visits();
+    for (int v : active_) {
+      const planning::StageVisit& visit = visits[static_cast<size_t>(v)];
+      const std::vector<Lanes>& x = X_[static_cast<size_t>(visit.agent)];
+      for (int l = 0; l < L_; ++l) {
+        for (std::size_t d = 0; d < x.size(); ++d) lane_x_[d] = x[d][l];
+        const double m = s_.between->stage_depth(visit, lane_x_.data(), to[l][visit.agent]);
+        const std::size_t at = static_cast<size_t>(l * (S_ - 1) + sub);
+        if (m < stage_m_[at]) {
+          stage_m_[at] = m;
+          stage_v_[at] = v;
+        }
+      }
+    }
   }
 
   // box = box extended by the points c (x, y, z per lane), two lanes per packed operation (SSE2).
@@ -367,10 +403,23 @@ class Batch {
     }
     r.broad.window(r.window, lane_boxes_, finite, r.run.between, {k, true});
     for (int sub = 0; sub + 1 < S_; ++sub) {
+      const double t = (k + static_cast<double>(sub + 1) / S_) * pb_.tau;
       planning::Requirement q{planning::Requirement::Obstacle, -1, -1};
-      if (!r.broad.accumulate_window(sub, r.run.between, &q)) continue;
-      r.run.between_worst = q.name(pb_);
-      r.run.between_worst_t = (k + static_cast<double>(sub + 1) / S_) * pb_.tau;
+      if (r.broad.accumulate_window(sub, r.run.between, &q)) {
+        r.run.between_worst = q.name(pb_);
+        r.run.between_worst_t = t;
+      }
+      if (active_.empty()) continue;
+      const std::size_t at = static_cast<size_t>(l * (S_ - 1) + sub);
+      const double m = stage_m_[at];
+      if (m < r.run.between.stage) {
+        const bool lowest = m < r.run.between.min();
+        r.run.between.stage = m;
+        if (lowest) {
+          r.run.between_worst = s_.between->visits()[static_cast<size_t>(stage_v_[at])].name;
+          r.run.between_worst_t = t;
+        }
+      }
     }
   }
 
@@ -521,6 +570,11 @@ class Batch {
   };
   std::vector<PointMap> maps_;
   std::vector<WindowBox> boxes_;  // per agent
+  // Windowed runs with stages: the visits dwelling over the current period, and per lane and
+  // substep between two samples the smallest depth among them and its visit.
+  std::vector<int> active_;
+  std::vector<double> stage_m_;
+  std::vector<int> stage_v_;
   std::vector<Eigen::Vector4d> lane_boxes_;  // one lane's boxes (x_lo, y_lo, x_hi, y_hi) per agent
   std::vector<std::vector<Lanes>> X_, U_, W_, next_;
   std::vector<verification_detail::LanesRk4> rk_;  // per agent

@@ -18,10 +18,14 @@ SpecMonitor::SpecMonitor(const Problem& problem, int horizon) : problem_(problem
 
 double SpecMonitor::stage_depth(const planning::StageVisit& v, const Eigen::VectorXd& x) const {
   const AgentSpec& a = problem_.agents[v.agent];
-  const Eigen::VectorXd xi = x.segment(offset_[v.agent], a.n());
+  const double* xi = x.data() + offset_[v.agent];
   planning::Point p;
-  workspace_point3<double>(*a.dynamics, a.workspace, xi.data(), p.data());
-  return planning::stage_margin(a.stages[v.stage], Box{xi, xi}, Box{p, p});
+  workspace_point3<double>(*a.dynamics, a.workspace, xi, p.data());
+  return stage_depth(v, xi, p);
+}
+
+double SpecMonitor::stage_depth(const planning::StageVisit& v, const double* xi, const planning::Point& p) const {
+  return planning::stage_margin(problem_.agents[v.agent].stages[v.stage], xi, xi, p.data(), p.data());
 }
 
 void SpecMonitor::add_stages(int k, const Eigen::VectorXd& x, SpecEvaluation& ev) const {

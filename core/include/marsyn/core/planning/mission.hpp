@@ -72,6 +72,10 @@ double fastest_leg_speed(const AgentSpec& agent, const std::vector<int>& visits,
 // workspace points lie in `workspace`, 2 coordinates) lies inside the stage's region: >= 0
 // implies all of them are inside. Box regions read the state box, polygons the workspace box.
 double stage_margin(const MissionStage& stage, const Box& state, const Box& workspace);
+// The same over raw bounds (the state's n, the workspace's first 2 coordinates read): the spec
+// monitor asks at every substep of every run, without building boxes.
+double stage_margin(const MissionStage& stage, const double* state_lo, const double* state_hi, const double* ws_lo,
+                    const double* ws_hi);
 
 // The workspace box of a state box for a linear workspace map (outward rounding).
 Box linear_workspace_box(const Workspace& ws, const Box& state);

@@ -57,6 +57,11 @@ class SpecMonitor {
   double stage_between(int k, const Eigen::VectorXd& x, std::string* name) const;
   bool has_stages() const { return !visits_.empty(); }
   const planning::ObstacleWindows& windows() const { return windows_; }
+  // The stages' visits at this monitor's horizon (stage_between's order), and one visit's depth
+  // for its agent's state xi (n coordinates) and workspace point p: stage_between's terms, for a
+  // caller that holds the agents' states and points apart.
+  const std::vector<planning::StageVisit>& visits() const { return visits_; }
+  double stage_depth(const planning::StageVisit& v, const double* xi, const planning::Point& p) const;
 
  private:
   void points(const Eigen::VectorXd& x, std::vector<planning::Point>& p) const;  // the agents' workspace points
