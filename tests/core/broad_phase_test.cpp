@@ -401,6 +401,25 @@ TEST(BroadPhase, AnObstacleAsNearAsTheNearestAgentIsTheTarget) {
   }
 }
 
+TEST(BroadPhase, TiedObstaclesGiveTheFirstByIndexWhateverTheirBoxes) {
+  // Agent 0 at the origin, 2 sqrt(2) from a square (obstacle 0, its corner at (-2, -2)) and, just
+  // as far, from a triangle's long side (obstacle 1, nearest point (2, 2)) whose bounding box is
+  // much nearer (sqrt(2)): the triangle is searched first, and the square, as near, still wins.
+  std::mt19937_64 rng(43);
+  for (bool inf : {true, false}) {
+    Team t(2, rng, 0, inf, 0);
+    t.pb.obstacles.push_back({"square", {{-4, -4}, {-2, -4}, {-2, -2}, {-4, -2}}});
+    t.pb.obstacles.push_back({"triangle", {{3, 1}, {3, 3}, {1, 3}}});
+    const std::vector<Point> p = {{0, 0, 0}, {30, 30, 0}};
+    expect_same_targets(t, p);
+    marsyn::BroadPhase broad(t.pb);
+    broad.update(p);
+    Point target;
+    ASSERT_TRUE(broad.nearest_target(0, target));
+    EXPECT_EQ(target, Point(-2, -2, 0));
+  }
+}
+
 TEST(BroadPhase, AnObstacleAsNearAsAKeptNearestAgentIsTheTarget) {
   // Agent 0 and agent 1 (1 m above it) approach the block's face together, so that agent 0's
   // nearest agent is kept from state to state (decided without its distance) while the face comes

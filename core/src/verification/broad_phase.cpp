@@ -526,17 +526,32 @@ bool BroadPhase::nearest_target(int i, planning::Point& target) const {
     // The agent's squared distance (or, decided without it, its sum of squares: within ulps).
     const double agent2 = ad >= 0 ? ad * ad : e2;
     const double c = 1e-9 * (1.0 + scale_ + at.cwiseAbs().maxCoeff());
-    for (std::size_t o = 0; o < bbox_.size(); ++o) {
+    // The obstacle with the nearest box is searched first, so that its distance skips the
+    // farther boxes before them in index order; the answer stays the first (by index) of the
+    // smallest distances, whatever the order.
+    const std::size_t M = bbox_.size();
+    box2_.resize(M);
+    std::size_t first = 0;
+    for (std::size_t o = 0; o < M; ++o) {
+      box2_[o] = outside(bbox_[o], at).squaredNorm();
+      if (box2_[o] < box2_[first]) first = o;
+    }
+    std::size_t bo = M;
+    for (std::size_t step = 0; step <= M; ++step) {
+      const std::size_t o = step == 0 ? first : step - 1;
+      if (step > 0 && o == first) continue;
       // Skipped when the box's distance lb > B + slack(B, scale) = B (1 + 1e-9) + c for some B at
       // least the nearest so far (the slack grows with B, so this is the test on min(bd, ad) or
       // stronger), squared without a root: (B (1 + 1e-9) + c)^2 <= B^2 ((1 + 1e-9)^2 + 2c) + 2c + c^2
       // (2B <= 1 + B^2, (1 + 1e-9) c <= 2c), and the factor 1 + 1e-12 for the sums' rounding.
-      const double g2 = outside(bbox_[o], at).squaredNorm();
+      // A skipped obstacle is strictly farther than the nearest: it cannot tie either.
       const double b2 = std::min(bd * bd, agent2);
-      if (g2 > (b2 * (1.0 + 3e-9 + 2.0 * c) + 2.0 * c + c * c) * (1.0 + 1e-12)) continue;
+      if (box2_[o] > (b2 * (1.0 + 3e-9 + 2.0 * c) + 2.0 * c + c * c) * (1.0 + 1e-12)) continue;
       const planning::Point q = nearest_on_obstacle(pb_.obstacles[o], at);
-      if (planning::distance2(q - at) < bd) {
-        bd = planning::distance2(q - at);
+      const double d = planning::distance2(q - at);
+      if (d < bd || (d == bd && o < bo)) {
+        bd = d;
+        bo = o;
         target = q;
         found = true;
       }

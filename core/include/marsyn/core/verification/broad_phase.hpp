@@ -97,6 +97,7 @@ class BroadPhase {
   bool nearest_from_candidates(int i, double& ad, double& e2, int& bj) const;
   bool nearest_from_list(int i, double& ad, int& bj) const;
   mutable std::vector<int> last_nearest_;
+  mutable std::vector<double> box2_;  // nearest_target(): each obstacle box's squared distance
   mutable std::vector<planning::Point> anchor_;
   mutable std::vector<double> radius_;
   mutable std::vector<int> list_start_, list_;
