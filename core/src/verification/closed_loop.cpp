@@ -153,6 +153,11 @@ struct Lane {
   std::vector<std::vector<planning::Point>> window;  // the points at the substeps between two samples
   StepMargins at_samples;
   bool adversary;
+  // The requirements named last at the samples (with their step) and between them, as found: the
+  // names are built once, when the run ends (the minima fall often early in a run).
+  planning::Requirement sampled_q{planning::Requirement::Obstacle, -1, -1}, between_q = sampled_q;
+  int sampled_k = -1;
+  bool sampled_pending = false, between_pending = false;
 };
 
 }  // namespace
@@ -249,6 +254,8 @@ class Batch {
     std::vector<ClosedLoopRun> out;
     out.reserve(lanes_.size());
     for (Lane& r : lanes_) {
+      if (r.sampled_pending) r.run.sampled.worst = r.sampled_q.name(pb_) + " at step " + std::to_string(r.sampled_k);
+      if (r.between_pending) r.run.between_worst = r.between_q.name(pb_);
       if (s_.between) {
         s_.between->add_goal(r.prod, r.run.sampled);
         r.run.sampled.satisfied = r.run.sampled.min_margin >= 0;
@@ -406,7 +413,8 @@ class Batch {
       const double t = (k + static_cast<double>(sub + 1) / S_) * pb_.tau;
       planning::Requirement q{planning::Requirement::Obstacle, -1, -1};
       if (r.broad.accumulate_window(sub, r.run.between, &q)) {
-        r.run.between_worst = q.name(pb_);
+        r.between_q = q;
+        r.between_pending = true;
         r.run.between_worst_t = t;
       }
       if (active_.empty()) continue;
@@ -417,6 +425,7 @@ class Batch {
         r.run.between.stage = m;
         if (lowest) {
           r.run.between_worst = s_.between->visits()[static_cast<size_t>(stage_v_[at])].name;
+          r.between_pending = false;
           r.run.between_worst_t = t;
         }
       }
@@ -462,13 +471,26 @@ class Batch {
     }
     if (s_.keep_states) r.run.states.push_back(r.prod);
     if (s_.keep_dense) keep_dense(r, k * pb_.tau, {k, false});
-    std::string name;
+    if (!s_.between) return;
     // (A stage's margin may already be lower: the smaller one stays.)
-    if (s_.between && fold(r, r.at_samples, name, {k, false}) && r.at_samples.min() < r.run.sampled.min_margin) {
-      r.run.sampled.min_margin = r.at_samples.min();
-      r.run.sampled.worst = name + " at step " + std::to_string(k);
+    if (s_.all_pairs) {
+      std::string name;
+      if (fold(r, r.at_samples, name, {k, false}) && r.at_samples.min() < r.run.sampled.min_margin) {
+        r.run.sampled.min_margin = r.at_samples.min();
+        r.run.sampled.worst = name + " at step " + std::to_string(k);
+      }
+    } else {
+      planning::Requirement q{planning::Requirement::Obstacle, -1, -1};
+      if (r.broad.accumulate(r.at_samples, &q, {k, false}) && r.at_samples.min() < r.run.sampled.min_margin) {
+        r.run.sampled.min_margin = r.at_samples.min();
+        r.sampled_q = q;
+        r.sampled_k = k;
+        r.sampled_pending = true;
+      }
     }
-    if (s_.between) s_.between->add_stages(k, r.prod, r.run.sampled);
+    const double before = r.run.sampled.min_margin;
+    s_.between->add_stages(k, r.prod, r.run.sampled);
+    if (r.run.sampled.min_margin < before) r.sampled_pending = false;  // a stage named itself
   }
 
   // Between samples k and k + 1, after substep sub: the dense check of one run.
