@@ -481,6 +481,35 @@ std::vector<marsyn::NominalTrajectory> random_open_loop(Team& t, std::mt19937_64
   return nominal;
 }
 
+// The verification runs' own path (no dense states kept: the dense check a period at a time,
+// boxes found as the substeps' points are written, the runs in one batch) against the all-pairs
+// reference, one run per mode: the same minima bit for bit, the same requirement or stage named at
+// the same time. Returns the reference runs.
+std::vector<marsyn::ClosedLoopRun> expect_same_windowed_runs(const Team& t, const std::vector<marsyn::NominalTrajectory>& nominal,
+                                                             const marsyn::SpecMonitor& monitor,
+                                                             const std::vector<marsyn::DisturbanceMode>& modes, int seed) {
+  marsyn::SimulationSetup fast{&t.pb, nominal, {}, 20, &monitor};
+  fast.keep_states = false;
+  marsyn::SimulationSetup slow = fast;
+  slow.all_pairs = true;
+  std::vector<marsyn::Scenario> batch;
+  for (auto mode : modes) batch.push_back({mode, static_cast<std::uint64_t>(seed) + batch.size(), 0});
+  const std::vector<marsyn::ClosedLoopRun> f = marsyn::simulate(fast, batch), s = marsyn::simulate(slow, batch);
+  for (std::size_t r = 0; r < batch.size(); ++r) {
+    SCOPED_TRACE("run " + std::to_string(r));
+    EXPECT_TRUE(same_bits(f[r].between.obstacle, s[r].between.obstacle));
+    EXPECT_TRUE(same_bits(f[r].between.collision, s[r].between.collision));
+    EXPECT_TRUE(same_bits(f[r].between.formation, s[r].between.formation));
+    EXPECT_TRUE(same_bits(f[r].between.stage, s[r].between.stage));
+    EXPECT_EQ(f[r].between_worst, s[r].between_worst);
+    EXPECT_TRUE(same_bits(f[r].between_worst_t, s[r].between_worst_t));
+    EXPECT_TRUE(same_bits(f[r].sampled.min_margin, s[r].sampled.min_margin));
+    EXPECT_EQ(f[r].sampled.worst, s[r].sampled.worst);
+    EXPECT_TRUE(same_bits(f[r].max_tube_excess, s[r].max_tube_excess));
+  }
+  return s;
+}
+
 TEST(BroadPhase, AdversaryTargetsTheSameAsTheFullSearch) {
   // End to end: open loop under the adversary (re-chosen at every substep), all pairs vs the
   // broad phase: the same trajectories (so the same targets) and the same margins.
@@ -525,27 +554,12 @@ TEST(BroadPhase, WindowedRunsGiveTheAllPairsMargins) {
     Team t(6 + 3 * team, rng, team % 4, team % 2 == 1, team % 3, dim);
     const std::vector<marsyn::NominalTrajectory> nominal = random_open_loop(t, rng, 5.0, 12);
     const marsyn::SpecMonitor monitor(t.pb);
-    marsyn::SimulationSetup fast{&t.pb, nominal, {}, 20, &monitor};
-    fast.keep_states = false;
-    marsyn::SimulationSetup slow = fast;
-    slow.all_pairs = true;
-    std::vector<marsyn::Scenario> batch;
-    for (auto mode : {marsyn::DisturbanceMode::Adversarial, marsyn::DisturbanceMode::UniformRandom,
-                      marsyn::DisturbanceMode::VertexSwitching, marsyn::DisturbanceMode::Adversarial,
-                      marsyn::DisturbanceMode::PaperConstant, marsyn::DisturbanceMode::None})
-      batch.push_back({mode, static_cast<std::uint64_t>(team * 10 + batch.size()), 0});
-    const std::vector<marsyn::ClosedLoopRun> f = marsyn::simulate(fast, batch), s = marsyn::simulate(slow, batch);
-    for (std::size_t r = 0; r < batch.size(); ++r) {
-      SCOPED_TRACE("team " + std::to_string(team) + ", run " + std::to_string(r));
-      EXPECT_TRUE(same_bits(f[r].between.obstacle, s[r].between.obstacle));
-      EXPECT_TRUE(same_bits(f[r].between.collision, s[r].between.collision));
-      EXPECT_TRUE(same_bits(f[r].between.formation, s[r].between.formation));
-      EXPECT_EQ(f[r].between_worst, s[r].between_worst);
-      EXPECT_TRUE(same_bits(f[r].between_worst_t, s[r].between_worst_t));
-      EXPECT_TRUE(same_bits(f[r].sampled.min_margin, s[r].sampled.min_margin));
-      EXPECT_EQ(f[r].sampled.worst, s[r].sampled.worst);
-      EXPECT_TRUE(same_bits(f[r].max_tube_excess, s[r].max_tube_excess));
-    }
+    SCOPED_TRACE("team " + std::to_string(team));
+    expect_same_windowed_runs(t, nominal, monitor,
+                              {marsyn::DisturbanceMode::Adversarial, marsyn::DisturbanceMode::UniformRandom,
+                               marsyn::DisturbanceMode::VertexSwitching, marsyn::DisturbanceMode::Adversarial,
+                               marsyn::DisturbanceMode::PaperConstant, marsyn::DisturbanceMode::None},
+                              team * 10);
   }
 }
 
@@ -581,27 +595,13 @@ TEST(BroadPhase, WindowedMissionRunsGiveTheAllPairsMargins) {
     const std::vector<marsyn::NominalTrajectory> nominal = random_open_loop(t, rng, 5.0, steps);
     const marsyn::SpecMonitor monitor(t.pb, steps);
     ASSERT_TRUE(monitor.has_stages());
-    marsyn::SimulationSetup fast{&t.pb, nominal, {}, 20, &monitor};
-    fast.keep_states = false;
-    marsyn::SimulationSetup slow = fast;
-    slow.all_pairs = true;
-    std::vector<marsyn::Scenario> batch;
-    for (auto mode : {marsyn::DisturbanceMode::Adversarial, marsyn::DisturbanceMode::UniformRandom,
-                      marsyn::DisturbanceMode::VertexSwitching, marsyn::DisturbanceMode::None})
-      batch.push_back({mode, static_cast<std::uint64_t>(team * 10 + batch.size()), 0});
-    const std::vector<marsyn::ClosedLoopRun> f = marsyn::simulate(fast, batch), s = marsyn::simulate(slow, batch);
-    for (std::size_t r = 0; r < batch.size(); ++r) {
-      SCOPED_TRACE("team " + std::to_string(team) + ", run " + std::to_string(r));
-      EXPECT_TRUE(same_bits(f[r].between.obstacle, s[r].between.obstacle));
-      EXPECT_TRUE(same_bits(f[r].between.collision, s[r].between.collision));
-      EXPECT_TRUE(same_bits(f[r].between.formation, s[r].between.formation));
-      EXPECT_TRUE(same_bits(f[r].between.stage, s[r].between.stage));
-      EXPECT_EQ(f[r].between_worst, s[r].between_worst);
-      EXPECT_TRUE(same_bits(f[r].between_worst_t, s[r].between_worst_t));
-      EXPECT_TRUE(same_bits(f[r].sampled.min_margin, s[r].sampled.min_margin));
-      EXPECT_EQ(f[r].sampled.worst, s[r].sampled.worst);
-      (s[r].between.stage == s[r].between.min() ? stage_named : other_named) += 1;
-    }
+    SCOPED_TRACE("team " + std::to_string(team));
+    for (const marsyn::ClosedLoopRun& s :
+         expect_same_windowed_runs(t, nominal, monitor,
+                                   {marsyn::DisturbanceMode::Adversarial, marsyn::DisturbanceMode::UniformRandom,
+                                    marsyn::DisturbanceMode::VertexSwitching, marsyn::DisturbanceMode::None},
+                                   team * 10))
+      (s.between.stage == s.between.min() ? stage_named : other_named) += 1;
   }
   // Both kinds of outcome were compared: a stage lowest, and a requirement lowest.
   EXPECT_GT(stage_named, 3);
