@@ -146,3 +146,24 @@ TEST(MissionRetime, RoundsStopWhenTheKnotsComeBack) {
       EXPECT_GE(shift, jitter) << "attempt " << i << " re-solves near attempt " << j << "'s knots";
     }
 }
+
+// drag_team.yaml: at T = 70 the planner gives up (robot a cannot cover its path in time). The
+// first such attempt is re-timed along once (that is how the corridor above is solved); when the
+// re-timed attempt is given up on too, the next attempt is at a longer horizon, not at knots
+// re-timed along a plan that never was one (before: four attempts at T = 70, two at T = 88).
+TEST(MissionRetime, AReTimedAttemptGivenUpOnEndsTheHorizon) {
+  marsyn::Setup setup(load_problem(std::string(MARSYN_SOURCE_DIR) + "/tests/core/mission_retime/drag_team.yaml"));
+  const planning::PlanOutcome o = setup.plan(search(3, 4));
+  ASSERT_TRUE(o.feasible) << o.check.message;
+  ASSERT_GE(o.attempts.size(), 2u);
+  EXPECT_EQ(o.attempts[0].horizon, 70);
+  int given_up_at_70 = 0;
+  for (std::size_t i = 0; i < o.attempts.size(); ++i) {
+    const planning::PlanAttempt& a = o.attempts[i];
+    const bool given_up = a.status != PlannerStatus::ExactSolution && a.status != PlannerStatus::ApproximateSolution;
+    given_up_at_70 += given_up && a.horizon == 70;
+    if (given_up && a.retimed && i + 1 < o.attempts.size())
+      EXPECT_GT(o.attempts[i + 1].horizon, a.horizon) << "attempt " << i + 1 << " re-timed along a plan given up on twice";
+  }
+  EXPECT_EQ(given_up_at_70, 2);
+}

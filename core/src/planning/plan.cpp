@@ -239,9 +239,16 @@ class HorizonSearch {
 
   // Short at a stage's knots: the knots re-timed along this plan (where it passes deepest
   // through each region, at an even pace along its path) before anything else is changed.
+  // A plan the planner gave up on (infeasible, out of time) is re-timed along once: that finds
+  // knots the robot can meet when the schedule asked too much (tests/core/mission_retime); when
+  // the re-timed attempt is given up on too, the horizon is short, not the knots (a made-up
+  // 3-agent mission spent 3 solves at T = 70, 14_eq_diffdrive_missions_3 three at T = 160 and three
+  // at T = 200, each given up on again).
   bool retime_knots(const Solved& one) {
     if (!mission_ || retimed_here_ >= options_.retime_rounds || one.clean.u.empty() || !short_at_a_stage(one.a.check))
       return false;
+    const bool solved = one.a.status == PlannerStatus::ExactSolution || one.a.status == PlannerStatus::ApproximateSolution;
+    if (!solved && one.a.retimed) return false;
     const MissionSchedule next = retime_missions(problem_, visits_, one.clean.x);
     if (next.visit == visits_.visit) return false;
     ++retimed_here_;
