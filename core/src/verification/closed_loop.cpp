@@ -352,7 +352,7 @@ class Batch {
     active_.clear();
     const auto& visits = s_.between->visits();
     for (std::size_t v = 0; v < visits.size(); ++v)
-      if (k >= visits[v].step && k < visits[v].step + visits[v].dwell) active_.push_back(static_cast<int>(v));
+      if (visits[v].dwells_over(k)) active_.push_back(static_cast<int>(v));
     std::fill(stage_m_.begin(), stage_m_.end(), 1e300);
     std::fill(stage_v_.begin(), stage_v_.end(), -1);
   }

@@ -42,7 +42,7 @@ void SpecMonitor::add_stages(int k, const Eigen::VectorXd& x, SpecEvaluation& ev
 double SpecMonitor::stage_between(int k, const Eigen::VectorXd& x, std::string* name) const {
   double out = 1e300;
   for (const auto& v : visits_) {
-    if (k < v.step || k >= v.step + v.dwell) continue;
+    if (!v.dwells_over(k)) continue;
     const double m = stage_depth(v, x);
     if (m < out) {
       out = m;

@@ -3,23 +3,19 @@
 #include <cstdint>
 #include <vector>
 
-#include "marsyn/fast_interval.hpp"
+#include "marsyn/interval.hpp"
 #include "uniform_grid.hpp"
 
 namespace marsyn::abcd {
 
 // Step k's tube: the cells lying entirely in [x_k - eps, x_k + eps] (rounding included). The
-// bounds x_k -+ eps by directed rounding in round-to-nearest (directed_rounding.hpp). Boost's own
-// mode-switching policy got them wrong on these point intervals: GCC computed both ends of one
-// expression once, in the mode it set first (docs/soundness.md, section 7).
+// bounds x_k -+ eps are enclosures of point-interval operations, which Boost's own mode-switching
+// policy got wrong under GCC (docs/soundness.md, section 7); marsyn::Interval's policy is sound
+// on them (interval.hpp), and tracker_abcd_test checks these bounds against 100 digits.
 struct TubeBounds {
   Interval lo, hi;  // enclose x - eps and x + eps
 };
-inline TubeBounds tube_bounds(double x, double eps) {
-  const RoundToNearestScope nearest;
-  return {Interval(fast_detail::sub_down(x, eps), fast_detail::sub_up(x, eps)),
-          Interval(fast_detail::add_down(x, eps), fast_detail::add_up(x, eps))};
-}
+inline TubeBounds tube_bounds(double x, double eps) { return {Interval(x) - Interval(eps), Interval(x) + Interval(eps)}; }
 
 inline IndexBox tube_box(const UniformGrid& g, const double* xk, const double* eps) {
   IndexBox b;

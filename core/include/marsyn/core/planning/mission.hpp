@@ -118,6 +118,8 @@ struct StageVisit {
   std::string name;  // stage_name()
   int step = -1;     // the visit knot
   int dwell = 0;
+  // The agent stays in the region over period k (between knots k and k + 1).
+  bool dwells_over(int k) const { return k >= step && k < step + dwell; }
   double margin = 0.0;          // min of the two below
   double sampled_margin = 0.0;  // at the knots step..step + dwell
   double between_margin = 1e300;  // between them (continuous guarantee, dwell > 0); 1e300: not checked
