@@ -5,13 +5,15 @@ usage: test_arrays.py SOURCE_DIR
 Solves the four bicycles (funnel controllers under `tracker: auto`) and checks the arrays
 against the figures result.json computes on its own from the same runs:
 - margins: each open-loop run's smallest obstacle and collision margin and its step equal
-  `open_loop.by_run`; the worst closed-loop run's dense minimum is the verification's dense min_margin;
+  `open_loop.by_run`; the kept closed-loop runs' smallest dense minimum is the verification's
+  dense min_margin (when the run it names is kept; never below it);
 - tubes: nominal -+ eps around solve()'s nominal, and simulated closed loops lie in each agent's
   period enclosures at the samples;
 - changes: none, the file's parameters verify as given;
 - the funnel's controller files read back without naming the tracker answer as solve()'s.
 """
 import os
+import re
 import sys
 import tempfile
 
@@ -46,13 +48,26 @@ check(compared == 8, "four open-loop runs, two parts each: %d" % compared)
 worst = [m for label, m in runs.items() if label.startswith("feedback, worst run")]
 # The dense arrays carry the obstacle, collision and formation margins; the verification's
 # min_margin also counts the goal and state bounds (with the bicycles' raised W, the goal is the
-# smallest), so the dense minimum is the verification's dense one and never below min_margin.
+# smallest), so the worst run's dense minimum is never below min_margin. The verification's
+# between-samples minimum is over every run, and the kept feedback runs are runs of it (runs 1-4
+# are the paper's constant disturbances, kept as "feedback, constant disturbance ..."; the worst
+# run is kept as it ran): no kept dense minimum is below it, and when the run it names is kept,
+# the smallest kept one is it, bit for bit.
 dense_min = float(worst[0]["dense"]["min"].min()) if len(worst) == 1 else None
-check(dense_min == res["verification"]["between_samples"]["min_margin"],
-      "the worst run's dense minimum is the verification's dense min_margin: %s vs %s" %
-      (dense_min, res["verification"]["between_samples"]["min_margin"]))
 check(dense_min is not None and dense_min >= res["verification"]["min_margin"],
       "the dense minimum is not below the verification's min_margin")
+between = res["verification"]["between_samples"]
+kept_mins = [float(m["dense"]["min"].min()) for label, m in runs.items() if label.startswith("feedback")]
+check(len(kept_mins) == 5 and min(kept_mins) >= between["min_margin"],
+      "no kept feedback run's dense minimum below the verification's: %s vs %s" % (kept_mins, between["min_margin"]))
+run_of = lambda text: int(re.search(r"run (\d+)", text).group(1))
+named = run_of(between["worst"])
+if 1 <= named <= 4 or named == run_of(res["verification"]["worst"]):
+    check(min(kept_mins) == between["min_margin"],
+          "the kept runs' smallest dense minimum is the verification's dense min_margin (run %d): %s vs %s" %
+          (named, min(kept_mins), between["min_margin"]))
+else:
+    print("note: the between-samples worst (run %d) is not a kept run; compared as a lower bound only" % named)
 for m in res["margins"]:
     check(m["dense_t"].shape == m["dense"]["min"].shape and np.all(np.diff(m["dense_t"]) > 0), "dense times increase")
     check(np.array_equal(m["samples"]["min"], np.minimum(m["samples"]["obstacle"], m["samples"]["collision"])),

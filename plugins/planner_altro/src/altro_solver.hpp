@@ -43,6 +43,7 @@ struct Options {
   int polish_iterations = 10;         // final projection steps onto the active constraints
   double polish_start = 1e-1;          // tried before more penalty rounds below this violation
   double polish_max_violation = 1e-2;  // after the last round, attempted only below this violation
+  int polish_active_rounds = 20;      // solves per projection step (inequality_step.hpp)
   double polish_max_work = 3e9;        // ... and when J J' (summed agent by agent) is this small
   std::string coupling = "auto";    // exact | block | auto
   int exact_max_states = 60;        // auto: exact coupling up to this many product states

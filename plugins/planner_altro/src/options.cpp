@@ -74,6 +74,9 @@ ParamSet<Options> declare() {
       .require(number_at_least(0));
   s.add("polish_max_violation", &O::polish_max_violation, "(0, inf)", "the projection runs only below this violation")
       .require(number_above(0));
+  s.add("polish_active_rounds", &O::polish_active_rounds, "[1, inf)",
+        "least-norm solves per projection step: satisfied rows the step would break join the violated ones")
+      .require(integer_at_least(1));
   s.add("polish_max_work", &O::polish_max_work, "(0, inf)",
         "skip the projection when the sum over agents of rows_a^2 x T x m_a exceeds this (rows_a: the active rows reading agent a)")
       .require(number_above(0));

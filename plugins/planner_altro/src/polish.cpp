@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
 
+#include "inequality_step.hpp"
 #include "input_pieces.hpp"
 
 namespace marsyn::altro::detail {
@@ -87,8 +88,8 @@ void Solver::bound_polish_rows(double active, std::vector<PolishRow>& rows) {
   }
 }
 
-// dU = J' (J J')^-1 t for the rows' J and t; false when the work is over its cap or the solve
-// fails.
+// dU = J' y, the least-norm change with c + J dU <= 0 for the rows to first order
+// (inequality_step.hpp); false when the work is over its cap or the solve fails.
 bool Solver::polish_direction(const std::vector<PolishRow>& rows, Vec& dU) const {
   const int N = static_cast<int>(agents_.size());
   // J is sparse (input_pieces.hpp): per row and agent it reads, the gradient in that agent's
@@ -109,13 +110,11 @@ bool Solver::polish_direction(const std::vector<PolishRow>& rows, Vec& dU) const
     }
     return values.data() + pieces[piece_of[ai]].at;
   };
-  Vec t(static_cast<long>(rows.size()));
   Vec v = Vec::Zero(n_);
   std::vector<int> who;
   for (size_t r = 0; r < rows.size(); ++r) {
     const PolishRow& row = rows[r];
     const int ri = static_cast<int>(r);
-    t[ri] = -std::max(row.c, 0.0);
     const size_t first_piece = pieces.size();
     if (row.input) {
       for (const auto& [j, d] : row.grad) {
@@ -153,19 +152,13 @@ bool Solver::polish_direction(const std::vector<PolishRow>& rows, Vec& dU) const
   for (int i = 0; i < N; ++i) inputs_of[i] = agents_[i].m, input_offset[i] = agents_[i].uo;
   if (gram_work(pieces, inputs_of, T_) > opt_.polish_max_work) return false;
   const long R = static_cast<long>(rows.size());
-  Eigen::SparseMatrix<double> M = gram_by_agent(pieces, values, inputs_of, static_cast<int>(R));
-  Vec diag = M.diagonal();
+  const Eigen::SparseMatrix<double> M = gram_by_agent(pieces, values, inputs_of, static_cast<int>(R));
   // Rows at neighbouring interior points and knots are nearly parallel: a little damping keeps
   // the least-norm step from blowing up on them (1e-12 without them, as before).
-  const double damp = (points_ > 0 ? 1e-8 : 1e-12) * (1.0 + (R > 0 ? diag.maxCoeff() : 0.0));
-  std::vector<Eigen::Triplet<double>> ridge;
-  for (long r = 0; r < R; ++r) ridge.emplace_back(r, r, damp);
-  Eigen::SparseMatrix<double> D(R, R);
-  D.setFromTriplets(ridge.begin(), ridge.end());
-  M += D;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt(M);
-  if (ldlt.info() != Eigen::Success) return false;
-  const Vec y = ldlt.solve(t);
+  const double damp = (points_ > 0 ? 1e-8 : 1e-12) * (1.0 + (R > 0 ? M.diagonal().maxCoeff() : 0.0));
+  Vec c(R), y;
+  for (long r = 0; r < R; ++r) c[r] = rows[r].c;
+  if (!inequality_step(M, c, damp, opt_.polish_active_rounds, y)) return false;
   dU = Vec::Zero(static_cast<long>(T_) * m_);
   add_transpose_times(pieces, values, inputs_of, input_offset, m_, y, dU);
   if (!dU.allFinite()) return false;
@@ -199,7 +192,7 @@ bool Solver::polish_line_search(const Vec& dU, double& viol, std::string& worst)
 // The augmented Lagrangian approaches feasibility only as fast as the penalty grows; this step
 // finishes the job. With the near-active rows c_i (violated or within `active` of their bound) as
 // functions of the inputs, it takes the least-norm input change that drives the violated rows to
-// zero and holds the others to first order: dU = J' (J J')^-1 t, t_i = -max(c_i, 0), where row i
+// zero and keeps the others satisfied to first order: dU = J' y (inequality_step.hpp), where row i
 // of J is dc_i/dU by an adjoint sweep through the block-diagonal Jacobians.
 bool Solver::polish(double& viol, std::string& worst, const Stopwatch& clock) {
   const double active = 1e-3;

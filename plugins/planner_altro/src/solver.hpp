@@ -172,7 +172,9 @@ class Solver {
   std::vector<int> agent_of_;          // product state index -> agent
   std::vector<Vec> lam_b_;             // [k]: multipliers of the between rows, point-major
   std::vector<Mat> Luu_, Lux_;         // [k * G + group]: the between rows' blocks in u and (u, x)
-  std::vector<char> between_set_;      // [k * G + group]: Luu_, Lux_ hold this expansion's blocks
+  // [k * G + group]: the agents whose rows of Luu_, Lux_ hold this expansion's blocks (the
+  // other rows are stale)
+  std::vector<std::vector<int>> between_agents_;
   // The interior points are the periods' own RK4 substep states (solver_setup.cpp): every
   // rollout keeps them (Z_ with X_, Zn_ with Xn_, swapped with them) and the between rows read
   // them instead of integrating each period a second time, bit for bit the same numbers.

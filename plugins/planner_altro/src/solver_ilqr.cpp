@@ -181,10 +181,12 @@ bool Solver::backward_group(int gi, double reg, double& dv1, double& dv2) {
         Qx.segment(lo, a.n).noalias() += Ak.transpose() * p.segment(lo, a.n);
         Qu.segment(lu, a.m).noalias() += Bk.transpose() * p.segment(lo, a.n);
       }
-      if (points_ > 0 && between_set_[k * G + gi]) {
-        Quu += Luu_[k * G + gi];
-        Qux += Lux_[k * G + gi];
-      }
+      if (points_ > 0)
+        for (int i : between_agents_[k * G + gi]) {
+          const int lu = agents_[i].uo - gr.uo, m = agents_[i].m;
+          Quu.middleRows(lu, m) += Luu_[k * G + gi].middleRows(lu, m);
+          Qux.middleRows(lu, m) += Lux_[k * G + gi].middleRows(lu, m);
+        }
       llt.compute(Quu);
       if (llt.info() != Eigen::Success) return false;
       Mat& K = K_[k * G + gi];
@@ -278,7 +280,7 @@ void Solver::prepare() {
     lam_b_.assign(T_, Vec::Zero(static_cast<long>(points_) * between_rows_));
     Luu_.resize(lxx_.size());
     Lux_.resize(lxx_.size());
-    between_set_.assign(lxx_.size(), 0);
+    between_agents_.assign(lxx_.size(), {});
   }
   hold();
   rho_ = opt_.penalty_initial;
