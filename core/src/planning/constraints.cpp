@@ -187,6 +187,28 @@ void ObstacleConstraint::evaluate(const double* x, double* g, double* jac) const
     for (int i = 0; i < n; ++i) jac[i] = -(grad[0] * J[i] + grad[1] * J[n + i]);
 }
 
+bool ObstacleConstraint::clear_outside(double lo[2], double hi[2]) const {
+  if (!margins_->constant() || distance_ || grown_.empty()) return false;
+  double scale = 1.0 + std::abs(clearance_);
+  for (int c = 0; c < 2; ++c) {
+    lo[c] = hi[c] = grown_.front()[c];
+    for (const auto& v : grown_) {
+      lo[c] = std::min(lo[c], v[c]);
+      hi[c] = std::max(hi[c], v[c]);
+    }
+    scale = std::max({scale, std::abs(lo[c]), std::abs(hi[c])});
+  }
+  // A point beyond the box by more than the clearance in x or y is that far from every point of
+  // the polygon (a prism's distance is at least its polygon's): g = clearance - sd < 0 there. The
+  // widening covers the rounding of sd and of the workspace point the screen compares.
+  const double widen = std::max(clearance_, 0.0) + 1e-9 * scale;
+  for (int c = 0; c < 2; ++c) {
+    lo[c] -= widen;
+    hi[c] += widen;
+  }
+  return std::isfinite(lo[0]) && std::isfinite(lo[1]) && std::isfinite(hi[0]) && std::isfinite(hi[1]);
+}
+
 bool ObstacleConstraint::hessian(const double* x, const double* w, double* H) const {
   // A nonlinear footprint adds a curvature term this class cannot evaluate; a state-dependent
   // margin has no fixed grown polygon.

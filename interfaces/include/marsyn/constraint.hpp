@@ -40,6 +40,14 @@ class Constraint {
   // agents owning the first and the last support coordinate are farther apart than this, in the
   // max norm, whatever the rest of their states. Infinity (the default): no such bound.
   virtual double pair_reach() const { return std::numeric_limits<double>::infinity(); }
+  // The same for a requirement on one agent (an obstacle): true, with a workspace box [lo, hi]
+  // in x and y, when every row is satisfied (g <= 0) whenever the workspace point of the agent
+  // owning the support lies outside the box in x or in y, whatever the rest of its state.
+  // False (the default): no such box.
+  virtual bool clear_outside(double lo[2], double hi[2]) const {
+    (void)lo, (void)hi;
+    return false;
+  }
 };
 
 // Whether c applies at knot k of a horizon T.

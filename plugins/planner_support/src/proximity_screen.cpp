@@ -22,6 +22,11 @@ ProximityScreen::ProximityScreen(const Problem& problem, const std::vector<const
     const double reach = c.pair_reach();
     const auto& s = c.support();
     const int a = s.empty() ? 0 : agent_of.at(s.front()), b = s.empty() ? 0 : agent_of.at(s.back());
+    Region r{a, {0, 0}, {0, 0}, i};
+    if (enabled && !s.empty() && a == b && c.clear_outside(r.lo, r.hi)) {
+      regions_.push_back(r);
+      continue;
+    }
     if (!enabled || !std::isfinite(reach) || s.empty() || a == b) {
       unscreened_.push_back(i);
       continue;
@@ -42,7 +47,7 @@ ProximityScreen::ProximityScreen(const Problem& problem, const std::vector<const
 
 void ProximityScreen::near(const double* x, std::vector<int>& out, Buffers& b) const {
   out.clear();
-  if (pairs_.empty()) {
+  if (!active()) {
     out = unscreened_;
     return;
   }
@@ -63,6 +68,11 @@ void ProximityScreen::near(const double* x, std::vector<int>& out, Buffers& b) c
     std::iota(out.begin(), out.end(), 0);
     return;
   }
+  b.hits.clear();
+  for (const Region& r : regions_) {
+    const double px = b.px[r.agent], py = b.py[r.agent];
+    if (px >= r.lo[0] && px <= r.hi[0] && py >= r.lo[1] && py <= r.hi[1]) b.hits.push_back(r.index);
+  }
   // By x, by insertion from the last call's order (the set of pairs within reach does not
   // depend on how agents at equal x are ordered).
   std::vector<int>& order = b.order;
@@ -70,14 +80,13 @@ void ProximityScreen::near(const double* x, std::vector<int>& out, Buffers& b) c
     order.resize(N);
     std::iota(order.begin(), order.end(), 0);
   }
-  for (int s = 1; s < N; ++s) {
+  for (int s = 1; s < N && !pairs_.empty(); ++s) {
     const int v = order[s];
     int t = s;
     for (; t > 0 && b.px[order[t - 1]] > b.px[v]; --t) order[t] = order[t - 1];
     order[t] = v;
   }
-  b.hits.clear();
-  for (int s = 0; s < N; ++s) {
+  for (int s = 0; s < N && !pairs_.empty(); ++s) {
     const int i = order[s];
     for (int t = s + 1; t < N; ++t) {
       const int j = order[t];
@@ -90,7 +99,7 @@ void ProximityScreen::near(const double* x, std::vector<int>& out, Buffers& b) c
         if (d <= pairs_[r].reach) b.hits.push_back(pairs_[r].index);
     }
   }
-  // Each pair is met once in the sweep: no index repeats.
+  // Each pair is met once in the sweep and each region once: no index repeats.
   std::sort(b.hits.begin(), b.hits.end());
   std::merge(unscreened_.begin(), unscreened_.end(), b.hits.begin(), b.hits.end(), std::back_inserter(out));
 }

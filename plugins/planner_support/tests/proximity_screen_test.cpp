@@ -1,7 +1,7 @@
-// The broad phase over pair rows: a row it leaves out must be satisfied at the state it was asked
-// about (for both norms, with buffers and the clearance between the samples), and it must leave
-// rows out where agents are far apart. A reach shrunk by 10% leaves violated rows out: the check
-// below catches it, so it can fail.
+// The broad phase over pair and obstacle rows: a row it leaves out must be satisfied at the state
+// it was asked about (for both norms, with buffers and the clearance between the samples), and it
+// must leave rows out where agents are far apart. A reach or an obstacle box shrunk by 10% leaves
+// violated rows out: the checks below catch it, so they can fail.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -147,7 +147,95 @@ TEST(ProximityScreen, AShrunkReachLetsViolatedRowsThrough) {
   }
 }
 
-TEST(ProximityScreen, ObstaclesFormationsAndFootprintsAreNeverLeftOut) {
+// The same constraint with its clear_outside box shrunk by 10% of its half-widths about its centre.
+class ShrunkBox final : public Constraint {
+ public:
+  explicit ShrunkBox(const Constraint& c) : c_(c) {}
+  std::string name() const override { return c_.name(); }
+  int size() const override { return c_.size(); }
+  ConstraintStage stage() const override { return c_.stage(); }
+  const std::vector<int>& support() const override { return c_.support(); }
+  void evaluate(const double* x, double* g, double* jac) const override { c_.evaluate(x, g, jac); }
+  double pair_reach() const override { return c_.pair_reach(); }
+  bool clear_outside(double lo[2], double hi[2]) const override {
+    if (!c_.clear_outside(lo, hi)) return false;
+    for (int k = 0; k < 2; ++k) {
+      const double mid = 0.5 * (lo[k] + hi[k]), half = 0.5 * (hi[k] - lo[k]);
+      lo[k] = mid - 0.9 * half;
+      hi[k] = mid + 0.9 * half;
+    }
+    return true;
+  }
+
+ private:
+  const Constraint& c_;
+};
+
+// A team among square and triangular obstacles placed where the agents start.
+Problem team_among_obstacles(int N, double side, Norm norm, std::mt19937& rng) {
+  Problem p = team(N, side, norm, rng);
+  std::uniform_real_distribution<double> pos(0.0, side), size(0.2, 0.8);
+  for (int o = 0; o < 8; ++o) {
+    Obstacle ob;
+    ob.name = "o" + std::to_string(o);
+    const double cx = pos(rng), cy = pos(rng), r = size(rng);
+    if (o % 2 == 0) {
+      ob.vertices = {{cx - r, cy - r}, {cx + r, cy - r}, {cx + r, cy + r}, {cx - r, cy + r}};
+      ob.is_box = true;
+    } else {
+      ob.vertices = {{cx - r, cy - r}, {cx + r, cy - 0.5 * r}, {cx, cy + r}};
+    }
+    p.obstacles.push_back(ob);
+  }
+  return p;
+}
+
+std::vector<const Constraint*> obstacle_rows(const std::vector<std::shared_ptr<const Constraint>>& list) {
+  std::vector<const Constraint*> cs;
+  for (const auto& c : list)
+    if (c->stage() == ConstraintStage::AllSteps && c->name().rfind("obstacle", 0) == 0) cs.push_back(c.get());
+  return cs;
+}
+
+// Obstacle rows are left out only where they hold (at the knots and, grown by the clearance
+// between the samples, at the interior points), in both norms; and often enough to matter.
+TEST(ProximityScreen, LeavesOutOnlySatisfiedObstacleRows) {
+  std::mt19937 rng(5);
+  for (Norm norm : {Norm::Inf, Norm::Two})
+    for (int rep = 0; rep < 3; ++rep) {
+      const Problem p = team_among_obstacles(10, 4.0, norm, rng);
+      const auto pp = planning::assemble(p, p.horizon);
+      for (const auto* list : {&pp.constraints, &pp.between}) {
+        const auto cs = obstacle_rows(*list);
+        ASSERT_EQ(cs.size(), 10u * 8u);
+        const ProximityScreen screen(p, cs);
+        ASSERT_TRUE(screen.active());
+        const Tally t = probe(p, cs, screen, 0.4, rng);
+        EXPECT_EQ(t.violated_skipped, 0) << "norm " << (norm == Norm::Inf ? "inf" : "2");
+        EXPECT_GT(t.skipped, t.near) << "the screen leaves out too little to matter";
+      }
+    }
+}
+
+TEST(ProximityScreen, AShrunkObstacleBoxLetsViolatedRowsThrough) {
+  std::mt19937 rng(13);
+  long violated = 0;
+  for (Norm norm : {Norm::Inf, Norm::Two}) {
+    const Problem p = team_among_obstacles(10, 4.0, norm, rng);
+    const auto pp = planning::assemble(p, p.horizon);
+    std::vector<std::unique_ptr<Constraint>> shrunk_rows;
+    std::vector<const Constraint*> shrunk;
+    for (const auto* c : obstacle_rows(pp.constraints)) {
+      shrunk_rows.push_back(std::make_unique<ShrunkBox>(*c));
+      shrunk.push_back(shrunk_rows.back().get());
+    }
+    const ProximityScreen screen(p, shrunk);
+    violated += probe(p, shrunk, screen, 0.4, rng).violated_skipped;
+  }
+  EXPECT_GT(violated, 0);
+}
+
+TEST(ProximityScreen, FormationsAreNeverLeftOutFarObstaclesAre) {
   std::mt19937 rng(3);
   Problem p = team(6, 3.0, Norm::Inf, rng);
   Obstacle o;
@@ -163,13 +251,18 @@ TEST(ProximityScreen, ObstaclesFormationsAndFootprintsAreNeverLeftOut) {
   Eigen::VectorXd x = Eigen::VectorXd::Zero(p.product_state_dim());
   for (int i = 0; i < 6; ++i) x[3 * i] = 100.0 * i;  // every pair far apart
   near = near_flags(screen, x.data(), cs.size());
-  int pairs_left_out = 0;
+  int pairs_left_out = 0, obstacles_left_out = 0;
   for (size_t i = 0; i < cs.size(); ++i) {
     const bool pair = cs[i]->name().rfind("collision", 0) == 0;
-    if (!pair) EXPECT_TRUE(near[i]) << cs[i]->name();
+    const bool obstacle = cs[i]->name().rfind("obstacle", 0) == 0;
+    if (!pair && !obstacle) EXPECT_TRUE(near[i]) << cs[i]->name();
     pairs_left_out += pair && !near[i];
+    obstacles_left_out += obstacle && !near[i];
   }
   EXPECT_EQ(pairs_left_out, 6 * 5 / 2 - 0);  // the formation pair is a collision pair too
+  // The box [1, 2]^2 grown by a margin under 0.3 and the clearance: all six agents, the nearest
+  // at the origin, stand outside.
+  EXPECT_EQ(obstacles_left_out, 6);
   // A disabled screen marks everything near.
   const ProximityScreen off(p, cs, false);
   near = near_flags(off, x.data(), cs.size());

@@ -77,6 +77,10 @@ class ObstacleConstraint final : public Constraint {
   const std::vector<int>& steps() const override { return steps_; }
   void evaluate(const double* x, double* g, double* jac) const override;
   bool hessian(const double* x, const double* w, double* H) const override;
+  // The grown polygon's bounding box widened by the clearance (and a relative 1e-9 for the
+  // distance's rounding): outside it the Euclidean distance exceeds the clearance. Only for a
+  // constant margin with core's own distance (a collision plugin's may round otherwise).
+  bool clear_outside(double lo[2], double hi[2]) const override;
 
  private:
   std::string name_;

@@ -5,7 +5,9 @@
 // would add nothing for a satisfied row with a zero multiplier (an augmented-Lagrangian term, a
 // violation) may skip it: the screen changes the cost of an evaluation, never its value.
 // Agents are swept along the workspace x axis, so a team spread over the plane costs about
-// N log N + (pairs within reach), not N^2.
+// N log N + (pairs within reach), not N^2. Requirements on one agent with a box outside which
+// they hold (Constraint::clear_outside: obstacles) are left out while the agent's point is
+// outside the box.
 #include <vector>
 
 #include "marsyn/constraint.hpp"
@@ -20,10 +22,11 @@ class ProximityScreen {
   ProximityScreen(const Problem& problem, const std::vector<const Constraint*>& constraints, bool enabled = true);
 
   // True when at least one constraint of the list can be skipped somewhere.
-  bool active() const { return !pairs_.empty(); }
+  bool active() const { return !pairs_.empty() || !regions_.empty(); }
   // The constraints that may have a row above zero at product state x (every constraint without
-  // a reach, and every pair within its reach), as indices into the list in increasing order: a
-  // solver visits them alone, in the order it would visit the whole list.
+  // a reach or a box, every pair within its reach, every one-agent requirement whose agent is in
+  // its box), as indices into the list in increasing order: a solver visits them alone, in the
+  // order it would visit the whole list.
   // One thread's buffers, kept between calls: the agents' order along x from the last call is
   // the next one's start (consecutive knots are nearly sorted already).
   struct Buffers {
@@ -39,11 +42,17 @@ class ProximityScreen {
     double reach;
     int index;  // into the constraint list
   };
+  struct Region {
+    int agent;
+    double lo[2], hi[2];  // Constraint::clear_outside's box
+    int index;
+  };
   const Problem& problem_;
   std::vector<int> offsets_;         // product state offset per agent
   int size_ = 0;                     // constraints in the list
   std::vector<int> unscreened_;      // the constraints without a reach, in increasing order
   std::vector<Pair> pairs_;
+  std::vector<Region> regions_;      // in list order
   std::vector<int> first_, count_;   // pairs_ sorted by (a, b): the run of agent pair a * N + b
   double widest_ = 0.0;              // the largest reach
   mutable Buffers own_;  // near(x, out)'s
