@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include <Eigen/Dense>
-#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 
 #include "inequality_step.hpp"
 #include "input_pieces.hpp"
