@@ -73,6 +73,15 @@ void ProximityScreen::near(const double* x, std::vector<int>& out, Buffers& b) c
     const double px = b.px[r.agent], py = b.py[r.agent];
     if (px >= r.lo[0] && px <= r.hi[0] && py >= r.lo[1] && py <= r.hi[1]) b.hits.push_back(r.index);
   }
+  if (!pairs_.empty()) sweep_pairs(b);
+  // Each pair is met once in the sweep and each region once: no index repeats.
+  std::sort(b.hits.begin(), b.hits.end());
+  std::merge(unscreened_.begin(), unscreened_.end(), b.hits.begin(), b.hits.end(), std::back_inserter(out));
+}
+
+// The pairs within reach at b.px, b.py, appended to b.hits.
+void ProximityScreen::sweep_pairs(Buffers& b) const {
+  const int N = static_cast<int>(offsets_.size());
   // By x, by insertion from the last call's order (the set of pairs within reach does not
   // depend on how agents at equal x are ordered).
   std::vector<int>& order = b.order;
@@ -80,13 +89,13 @@ void ProximityScreen::near(const double* x, std::vector<int>& out, Buffers& b) c
     order.resize(N);
     std::iota(order.begin(), order.end(), 0);
   }
-  for (int s = 1; s < N && !pairs_.empty(); ++s) {
+  for (int s = 1; s < N; ++s) {
     const int v = order[s];
     int t = s;
     for (; t > 0 && b.px[order[t - 1]] > b.px[v]; --t) order[t] = order[t - 1];
     order[t] = v;
   }
-  for (int s = 0; s < N && !pairs_.empty(); ++s) {
+  for (int s = 0; s < N; ++s) {
     const int i = order[s];
     for (int t = s + 1; t < N; ++t) {
       const int j = order[t];
@@ -99,9 +108,6 @@ void ProximityScreen::near(const double* x, std::vector<int>& out, Buffers& b) c
         if (d <= pairs_[r].reach) b.hits.push_back(pairs_[r].index);
     }
   }
-  // Each pair is met once in the sweep and each region once: no index repeats.
-  std::sort(b.hits.begin(), b.hits.end());
-  std::merge(unscreened_.begin(), unscreened_.end(), b.hits.begin(), b.hits.end(), std::back_inserter(out));
 }
 
 }  // namespace marsyn::planner_support

@@ -47,6 +47,7 @@ class ProximityScreen {
     double lo[2], hi[2];  // Constraint::clear_outside's box
     int index;
   };
+  void sweep_pairs(Buffers& b) const;
   const Problem& problem_;
   std::vector<int> offsets_;         // product state offset per agent
   int size_ = 0;                     // constraints in the list
