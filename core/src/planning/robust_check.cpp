@@ -13,6 +13,7 @@
 #include "marsyn/core/planning/constraints.hpp"
 #include "marsyn/core/planning/flow_enclosure.hpp"
 #include "marsyn/core/planning/geometry.hpp"
+#include "marsyn/core/planning/lowest_first.hpp"
 #include "marsyn/core/planning/margins.hpp"
 #include "marsyn/core/planning/mission.hpp"
 #include "marsyn/core/planning/spec_margins.hpp"
@@ -113,21 +114,44 @@ void grow_by_eps(const Box& f, const Eigen::VectorXd& eps, Box& out) {
 
 // A requirement's margin over a part is at least its margin over the period's hull boxes (the
 // box margins are distances between boxes, or tight lower bounds of them, and shrink as the
-// boxes grow). Where that floor is above the period's smallest margin so far by more than any
-// rounding of the two computations, the part cannot change the tally: its margin would not be a
-// new minimum nor negative. kFloorSlack is that rounding allowance, relative to the margin.
-constexpr double kFloorSlack = 1e-9;
-bool floor_decides(double floor, double min_so_far) {
-  const double slack = kFloorSlack * (1.0 + std::abs(floor));
-  return floor > slack && floor > min_so_far + slack;
+// boxes grow): floor_decides (lowest_first.hpp) tells where a part cannot change the tally.
+
+// Agent a's workspace box over the state box `grown` (xb, pb: scratch).
+void workspace_box(const AgentSpec& a, int D, const Box& grown, std::vector<Interval>& xb, std::vector<Interval>& pb,
+                   Box& out) {
+  if (a.workspace.linear()) {  // exact up to one directed addition, no interval type needed
+    const RoundToNearestScope nearest;
+    for (int c = 0; c < D; ++c) {
+      const int at = a.workspace.index[c];
+      const double off = a.workspace.offset[c];
+      out.lo[c] = at >= 0 ? fast_detail::add_down(grown.lo[at], off) : off;
+      out.hi[c] = at >= 0 ? fast_detail::add_up(grown.hi[at], off) : off;
+    }
+    return;
+  }
+  xb.resize(a.n());
+  for (int c = 0; c < a.n(); ++c) xb[c] = Interval(grown.lo[c], grown.hi[c]);
+  workspace_point(*a.dynamics, a.workspace, xb.data(), pb.data());
+  for (int c = 0; c < 2; ++c) {
+    out.lo[c] = pb[c].lower();
+    out.hi[c] = pb[c].upper();
+  }
 }
+
+// One enclosure of each agent's flow over a whole period (flow_boxes with one part), kept for
+// the period's parts: a part's box is its own enclosure intersected with it (both enclose the
+// flow over the part), so every part lies in it and its margins bound the parts' from below.
+struct PeriodBoxes {
+  std::vector<Box> box;
+  std::vector<char> have;  // 0: no one-part enclosure (the parts are then taken as they come)
+};
 
 // The eps-box around the exact flow between samples k and k+1 (every agent, `parts` parts),
 // against bounds, obstacles, the other agents in the same part of the period, and formation.
 // Returns false when a part has no enclosure (recorded as -inf).
 bool check_period(const Problem& problem, const ProductLayout& at, const std::vector<Eigen::VectorXd>& x,
                   const std::vector<Eigen::VectorXd>& u, int k, int parts, const ObstacleWindows& windows,
-                  bool floors, PeriodScratch& scratch, NamedTally& t) {
+                  const PeriodBoxes& whole, bool floors, PeriodScratch& scratch, NamedTally& t) {
   const auto &xo = at.state, &uo = at.input;
   const int N = static_cast<int>(problem.agents.size());
   const int P = parts;
@@ -160,33 +184,26 @@ bool check_period(const Problem& problem, const ProductLayout& at, const std::ve
     // trackers' enclosures; where it falls short, the outer search adds clearance to exactly
     // those constraints (AssemblyOptions::extra).
     const Box point{xi, xi};
+    const Box* period = whole.have[i] ? &whole.box[i] : nullptr;
     if (!flow_boxes(*a.dynamics, point, ui, Eigen::VectorXd::Zero(a.n()), problem.tau, P, flow)) {
-      t.record(-std::numeric_limits<double>::infinity(), k, [&] { return "no enclosure of the flow of " + a.name; });
-      return false;
+      if (!period) {
+        t.record(-std::numeric_limits<double>::infinity(), k, [&] { return "no enclosure of the flow of " + a.name; });
+        return false;
+      }
+      flow.assign(static_cast<size_t>(P), *period);
+    } else if (period) {
+      for (auto& f : flow) {
+        f.lo = f.lo.cwiseMax(period->lo);
+        f.hi = f.hi.cwiseMin(period->hi);
+      }
     }
-    xb.resize(a.n());
     Box grown{Eigen::VectorXd(a.n()), Eigen::VectorXd(a.n())};
     for (int s = 0; s < P; ++s) {
       grow_by_eps(flow[s], a.tube.eps, grown);
-      for (int c = 0; c < a.n(); ++c) xb[c] = Interval(grown.lo[c], grown.hi[c]);
       for (int c = 0; c < a.n(); ++c)
         t.record(box_inside_margin(grown, a.state_bounds, c), k, [&] { return state_bound_name(a, c); },
                  std::abs(x[k + 1][xo[i] + c] - x[k][xo[i] + c]));
-      if (a.workspace.linear()) {  // exact up to one directed addition, no interval type needed
-        const RoundToNearestScope nearest;
-        for (int c = 0; c < D; ++c) {
-          const int at = a.workspace.index[c];
-          const double off = a.workspace.offset[c];
-          ws[s][i].lo[c] = at >= 0 ? fast_detail::add_down(grown.lo[at], off) : off;
-          ws[s][i].hi[c] = at >= 0 ? fast_detail::add_up(grown.hi[at], off) : off;
-        }
-      } else {
-        workspace_point(*a.dynamics, a.workspace, xb.data(), pb.data());
-        for (int c = 0; c < 2; ++c) {
-          ws[s][i].lo[c] = pb[c].lower();
-          ws[s][i].hi[c] = pb[c].upper();
-        }
-      }
+      workspace_box(a, D, grown, xb, pb, ws[s][i]);
     }
   }
   auto motion = [&](const Requirement& q) {
@@ -218,40 +235,100 @@ bool check_period(const Problem& problem, const ProductLayout& at, const std::ve
   return true;
 }
 
+// The one-part enclosures of period k (whole) and a lower bound of every margin check_period
+// can record in that period: its margins on those boxes (the parts lie inside them, and the box
+// margins only shrink as boxes grow). -inf where an agent has no one-part enclosure.
+double period_floor(const Problem& problem, const ProductLayout& at, const std::vector<Eigen::VectorXd>& x,
+                    const std::vector<Eigen::VectorXd>& u, int k, const ObstacleWindows& windows, PeriodScratch& scratch,
+                    PeriodBoxes& whole) {
+  const int N = static_cast<int>(problem.agents.size()), D = problem.workspace_dim;
+  whole.box.resize(static_cast<size_t>(N));
+  whole.have.assign(static_cast<size_t>(N), 0);
+  auto& hull = scratch.hull;
+  hull.assign(static_cast<size_t>(N), Box{Eigen::VectorXd(D), Eigen::VectorXd(D)});
+  std::vector<Interval> xb, pb(kMaxWorkspaceDim);
+  double low = std::numeric_limits<double>::infinity();
+  auto take = [&](double m) {
+    if (!(m >= low)) low = std::isnan(m) ? -std::numeric_limits<double>::infinity() : m;
+  };
+  for (int i = 0; i < N; ++i) {
+    const auto& a = problem.agents[i];
+    const Eigen::VectorXd xi = x[k].segment(at.state[i], a.n()), ui = u[k].segment(at.input[i], a.m());
+    if (!flow_boxes(*a.dynamics, Box{xi, xi}, ui, Eigen::VectorXd::Zero(a.n()), problem.tau, 1, scratch.flow)) {
+      take(-std::numeric_limits<double>::infinity());
+      continue;
+    }
+    whole.box[i] = scratch.flow[0];
+    whole.have[i] = 1;
+    Box grown{Eigen::VectorXd(a.n()), Eigen::VectorXd(a.n())};
+    grow_by_eps(whole.box[i], a.tube.eps, grown);
+    for (int c = 0; c < a.n(); ++c) take(box_inside_margin(grown, a.state_bounds, c));
+    workspace_box(a, D, grown, xb, pb, hull[i]);
+  }
+  if (low == -std::numeric_limits<double>::infinity()) return low;
+  for_each_requirement(problem, windows, Moment{k, true},
+                       [&](const Requirement& q) { take(box_requirement_margin(problem, q, hull)); });
+  return low;
+}
+
 // Every period with kFlowParts parts; a period that falls short is checked again with finer
 // parts (kFlowRefinement times as many, up to kFlowMaxParts): each part's box still encloses the
 // flow over that part, so the finer verdict is as sound and less pessimistic by the motion over
 // a part that a coarse box adds.
+//
+// With floors, the parts are computed only where they can matter: every period first gets its
+// one-part boxes and their floor (period_floor, about an eighth of the parts' cost); the periods
+// are then checked part by part from the lowest floor up, and a period whose floor is above the
+// smallest margin found so far (and above zero) by more than rounding is skipped: none of its
+// margins could be a new minimum or a shortfall. Same result bit for bit as checking every period.
 void check_between_samples(const Problem& problem, const std::vector<Eigen::VectorXd>& x,
                            const std::vector<Eigen::VectorXd>& u, const ObstacleWindows& windows, bool floors,
                            NamedTally& t) {
   const int T = static_cast<int>(u.size());
   const ProductLayout at(problem);
   // The periods are independent: checked on every core (on one, the check was a fourteenth of
-  // multi_drone's plan stage) in contiguous runs of periods, each run with its own scratch; the
-  // tallies are merged in period order, as one pass would, up to the first period without an
-  // enclosure. Same result bit for bit on any number of threads.
+  // multi_drone's plan stage) in contiguous runs, each run with its own scratch; the tallies are
+  // merged in period order, as one pass would, up to the first period without an enclosure. Same
+  // result bit for bit on any number of threads.
   std::vector<NamedTally> periods(static_cast<size_t>(T));
-  std::vector<char> enclosed(static_cast<size_t>(T), 1);
+  std::vector<char> enclosed(static_cast<size_t>(T), 1), checked(static_cast<size_t>(T), 0);
+  std::vector<PeriodBoxes> whole(static_cast<size_t>(T));
+  std::vector<double> low(static_cast<size_t>(T));
   const int threads = std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, 8);
-  const int runs = std::min(T, 4 * threads);
-  parallel_tasks(runs, threads, [&](int r) {
-    PeriodScratch scratch;
-    const int begin = static_cast<int>(static_cast<long>(T) * r / runs), end = static_cast<int>(static_cast<long>(T) * (r + 1) / runs);
-    for (int k = begin; k < end; ++k) {
-      NamedTally& period = periods[static_cast<size_t>(k)];
-      int parts = kFlowParts;
-      bool ok = check_period(problem, at, x, u, k, parts, windows, floors, scratch, period);
-      while (ok && !(period.min_ >= 0) && parts * kFlowRefinement <= kFlowMaxParts) {
-        parts *= kFlowRefinement;
-        period = NamedTally();
-        ok = check_period(problem, at, x, u, k, parts, windows, floors, scratch, period);
-      }
-      enclosed[static_cast<size_t>(k)] = ok;
+  auto in_runs = [&](int n, auto&& each) {
+    const int runs = std::min(n, 4 * threads);
+    parallel_tasks(runs, threads, [&](int r) {
+      PeriodScratch scratch;
+      const int begin = static_cast<int>(static_cast<long>(n) * r / runs), end = static_cast<int>(static_cast<long>(n) * (r + 1) / runs);
+      for (int j = begin; j < end; ++j) each(j, scratch);
+    });
+  };
+  auto check = [&](int k, PeriodScratch& scratch) {
+    NamedTally& period = periods[static_cast<size_t>(k)];
+    int parts = kFlowParts;
+    bool ok = check_period(problem, at, x, u, k, parts, windows, whole[k], floors, scratch, period);
+    while (ok && !(period.min_ >= 0) && parts * kFlowRefinement <= kFlowMaxParts) {
+      parts *= kFlowRefinement;
+      period = NamedTally();
+      ok = check_period(problem, at, x, u, k, parts, windows, whole[k], floors, scratch, period);
     }
-  });
+    enclosed[static_cast<size_t>(k)] = ok;
+    checked[static_cast<size_t>(k)] = 1;
+  };
+  in_runs(T, [&](int k, PeriodScratch& s) { low[k] = period_floor(problem, at, x, u, k, windows, s, whole[k]); });
+  if (!floors) {
+    in_runs(T, check);
+  } else {
+    // The smallest margin so far bounds the final one from above; so does a minimum already in
+    // t (the mission stages').
+    std::vector<PeriodScratch> scratch(static_cast<size_t>(threads));
+    lowest_first(low, t.min_, threads, [&](int k, int worker) {
+      check(k, scratch[static_cast<size_t>(worker)]);
+      return periods[static_cast<size_t>(k)].min_;
+    });
+  }
   for (int k = 0; k < T; ++k) {
-    t.merge(periods[static_cast<size_t>(k)]);
+    if (checked[static_cast<size_t>(k)]) t.merge(periods[static_cast<size_t>(k)]);
     if (!enclosed[static_cast<size_t>(k)]) return;
   }
 }
