@@ -1,7 +1,7 @@
 // The requirements between the samples (PlanningProblem::between): rows at the interior points
 // z_j = phi(x_k, u_k, j) of every period, which depend on the step's input as well as its state.
 // They enter the augmented Lagrangian like the stage rows; their Gauss-Newton model adds blocks
-// in u and (u, x) to the stage's quadratic model (Luu_, Lux_), which the backward pass adds to Quu
+// in u and (u, x) to the stage's quadratic model (LuuT_, LuxT_, transposed), which the backward pass adds to Quu
 // and Qux.
 #include <algorithm>
 #include <cmath>
@@ -131,7 +131,7 @@ void Solver::between_gradients(int k, int j, const ConstraintRef& r, const doubl
 void Solver::expand_between(int k, Scratch& s) {
   const int G = static_cast<int>(groups_.size());
   // Most periods have no active between row, and an active row reads one or two agents: only the
-  // rows of Luu_ and Lux_ of the agents written to are zeroed (when first written) and added in
+  // rows of Luu and Lux of the agents written to are zeroed (when first written) and added in
   // the backward pass (a ten-drone group's blocks are 20 x 20 and 20 x 30).
   for (int gi = 0; gi < G; ++gi) between_agents_[k * G + gi].clear();
   std::vector<double>& g = s.g;
@@ -167,10 +167,10 @@ void Solver::expand_between(int k, Scratch& s) {
           auto& touched = between_agents_[k * G + gi];
           if (std::find(touched.begin(), touched.end(), ga.agent) == touched.end()) {
             touched.push_back(ga.agent);
-            if (Luu_[k * G + gi].rows() != gr.m) Luu_[k * G + gi].resize(gr.m, gr.m);
-            if (Lux_[k * G + gi].rows() != gr.m) Lux_[k * G + gi].resize(gr.m, gr.n);
-            Luu_[k * G + gi].middleRows(ua, a.m).setZero();
-            Lux_[k * G + gi].middleRows(ua, a.m).setZero();
+            if (LuuT_[k * G + gi].cols() != gr.m) LuuT_[k * G + gi].resize(gr.m, gr.m);
+            if (LuxT_[k * G + gi].cols() != gr.m) LuxT_[k * G + gi].resize(gr.n, gr.m);
+            LuuT_[k * G + gi].middleCols(ua, a.m).setZero();
+            LuxT_[k * G + gi].middleCols(ua, a.m).setZero();
           }
           lx_[k * G + gi].segment(xa, a.n) += mu * ga.cx;
           lu_[k * G + gi].segment(ua, a.m) += mu * ga.cu;
@@ -179,8 +179,9 @@ void Solver::expand_between(int k, Scratch& s) {
             if (b.group != gi) continue;
             const int xb = b.xo - gr.xo, ub = b.uo - gr.uo;
             lxx_[k * G + gi].block(xa, xb, a.n, b.n).noalias() += scale * ga.cx * gb.cx.transpose();
-            Luu_[k * G + gi].block(ua, ub, a.m, b.m).noalias() += scale * ga.cu * gb.cu.transpose();
-            Lux_[k * G + gi].block(ua, xb, a.m, b.n).noalias() += scale * ga.cu * gb.cx.transpose();
+            // Entry (ub + j, ua + i) is cu_b[j] (scale cu_a[i]): Luu's (ua + i, ub + j) bit for bit.
+            LuuT_[k * G + gi].block(ub, ua, b.m, a.m).noalias() += gb.cu * (scale * ga.cu).transpose();
+            LuxT_[k * G + gi].block(xb, ua, b.n, a.m).noalias() += gb.cx * (scale * ga.cu).transpose();
           }
         }
       }
