@@ -129,9 +129,9 @@ void Solver::expand_knot(int k, Scratch& s) {
 namespace {
 
 // Q's rows [r, r + m) += the columns [r, r + m) of LT (a block stored transposed), element by
-// element. Out of line: written into backward_group as an Eigen expression, it changed GCC's
-// inlining of that function's products (40 M more instructions on the drones).
-[[gnu::noinline]] void add_rows(const Mat& LT, int r, int m, Mat& Q) {
+// element. Plain loops: as an Eigen expression of two storage orders in backward_group it
+// changed GCC's inlining of that function's products (40 M more instructions on the drones).
+void add_rows(const Mat& LT, int r, int m, Mat& Q) {
   for (int i = r; i < r + m; ++i)
     for (int c = 0; c < Q.cols(); ++c) Q(i, c) += LT(c, i);
 }
