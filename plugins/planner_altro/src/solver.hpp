@@ -87,8 +87,10 @@ class Solver {
     planner_support::ProximityScreen::Buffers screen;
     std::vector<double> jac;
     std::vector<AgentGradient> grads;
-    // Partial-step Jacobians of the current iterate at one (k, j), per agent, filled on demand.
-    std::vector<Mat> Az, Bz;
+    // Partial-step Jacobians of the current iterate at one (k, j), per agent, filled on demand:
+    // row-major, pointing into mid_jac_ or into own (when computed here).
+    std::vector<const double*> Az, Bz;
+    std::vector<std::vector<double>> own;
     std::vector<char> have_jac;
   };
   // Evaluation
@@ -187,7 +189,13 @@ class Solver {
   // One midpoint (points_ == 1, even substeps): linearize() keeps its partial-step Jacobians
   // (the sweep passes through it), bit for bit what between_gradients would compute.
   bool kept_mid_jacobians_ = false;
-  std::vector<Mat> Amid_, Bmid_;  // [k * N + agent], of the iterate linearize() last saw
+  // Of the iterate linearize() last saw, row-major, knot after knot (mid_stride_ doubles each), and
+  // within a knot agent i's A (n x n) then B (n x m) from mid_at_[i]: written in place by the
+  // Jacobian sweep (a thousand small heap matrices were a tenth of the continuous linearize's
+  // cache misses).
+  std::vector<double> mid_jac_;
+  std::vector<long> mid_at_;
+  long mid_stride_ = 0;
 
   std::vector<Vec> X_, U_, ref_;
   Vec goal_centre_;

@@ -104,17 +104,17 @@ void Solver::between_gradients(int k, int j, const ConstraintRef& r, const doubl
     const int ai = agent_of_[sup[e]];
     const auto& a = agents_[ai];
     if (!s.have_jac[ai] && kept_mid_jacobians_) {  // linearize() saw this iterate
-      const int N = static_cast<int>(agents_.size());
-      s.Az[ai] = Amid_[k * N + ai];
-      s.Bz[ai] = Bmid_[k * N + ai];
+      s.Az[ai] = mid_jac_.data() + k * mid_stride_ + mid_at_[ai];
+      s.Bz[ai] = s.Az[ai] + a.n * a.n;
       s.have_jac[ai] = 1;
     }
     if (!s.have_jac[ai]) {
-      double Ar[kMaxDual * kMaxDual], Br[kMaxDual * kMaxDual];
-      rk4_jacobians_staged(*a.dyn, X_[k].data() + a.xo, U_[k].data() + a.uo, step.h, step.substeps, Ar, Br,
-                           a.reads);
-      s.Az[ai] = RowMap(Ar, a.n, a.n);
-      s.Bz[ai] = RowMap(Br, a.n, a.m);
+      std::vector<double>& own = s.own[ai];
+      own.resize(static_cast<size_t>(a.n) * (a.n + a.m));
+      rk4_jacobians_staged(*a.dyn, X_[k].data() + a.xo, U_[k].data() + a.uo, step.h, step.substeps, own.data(),
+                           own.data() + a.n * a.n, a.reads);
+      s.Az[ai] = own.data();
+      s.Bz[ai] = own.data() + a.n * a.n;
       s.have_jac[ai] = 1;
     }
     auto it = std::find_if(out.begin(), out.end(), [&](const AgentGradient& g) { return g.agent == ai; });
@@ -123,8 +123,8 @@ void Solver::between_gradients(int k, int j, const ConstraintRef& r, const doubl
       it = out.end() - 1;
     }
     const int li = sup[e] - a.xo;
-    it->cx.noalias() += J[e] * s.Az[ai].row(li).transpose();
-    it->cu.noalias() += J[e] * s.Bz[ai].row(li).transpose();
+    it->cx.noalias() += J[e] * Eigen::Map<const Vec>(s.Az[ai] + li * a.n, a.n);
+    it->cu.noalias() += J[e] * Eigen::Map<const Vec>(s.Bz[ai] + li * a.m, a.m);
   }
 }
 

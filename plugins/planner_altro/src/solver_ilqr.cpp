@@ -22,16 +22,12 @@ void Solver::linearize() {
         Mat& A = A_[k * N + i];
         Mat& B = B_[k * N + i];
         // rk4_jacobians writes row-major; Eigen's default is column-major.
-        double Ar[kMaxDual * kMaxDual], Br[kMaxDual * kMaxDual], Am[kMaxDual * kMaxDual], Bm[kMaxDual * kMaxDual];
-        const bool mid = kept_mid_jacobians_;
+        double Ar[kMaxDual * kMaxDual], Br[kMaxDual * kMaxDual];
+        double* Am = kept_mid_jacobians_ ? mid_jac_.data() + k * mid_stride_ + mid_at_[i] : nullptr;
         rk4_jacobians_staged(*a.dyn, X_[k].data() + a.xo, U_[k].data() + a.uo, prob_.tau, prob_.rk4_substeps,
-                             Ar, Br, a.reads, mid ? Am : nullptr, mid ? Bm : nullptr, prob_.rk4_substeps / 2);
+                             Ar, Br, a.reads, Am, Am ? Am + a.n * a.n : nullptr, prob_.rk4_substeps / 2);
         A = RowMap(Ar, a.n, a.n);
         B = RowMap(Br, a.n, a.m);
-        if (mid) {
-          Amid_[k * N + i] = RowMap(Am, a.n, a.n);
-          Bmid_[k * N + i] = RowMap(Bm, a.n, a.m);
-        }
       }
   });
 }
@@ -279,8 +275,13 @@ void Solver::prepare() {
   A_.resize(static_cast<size_t>(T_) * N);
   B_.resize(A_.size());
   if (kept_mid_jacobians_) {
-    Amid_.resize(A_.size());
-    Bmid_.resize(A_.size());
+    mid_at_.assign(N, 0);
+    mid_stride_ = 0;
+    for (int i = 0; i < N; ++i) {
+      mid_at_[i] = mid_stride_;
+      mid_stride_ += static_cast<long>(agents_[i].n) * (agents_[i].n + agents_[i].m);
+    }
+    mid_jac_.assign(static_cast<size_t>(T_ * mid_stride_), 0.0);
   }
   lxx_.resize(static_cast<size_t>(T_ + 1) * G);
   lx_.resize(lxx_.size());
@@ -300,8 +301,9 @@ void Solver::prepare() {
   pool_ = std::make_unique<planner_support::ChunkPool>(threads_);
   work_.assign(threads_, Scratch{});
   for (auto& w : work_) {
-    w.Az.resize(N);
-    w.Bz.resize(N);
+    w.Az.assign(N, nullptr);
+    w.Bz.assign(N, nullptr);
+    w.own.resize(N);
     w.have_jac.assign(N, 0);
   }
   initial_guess();
