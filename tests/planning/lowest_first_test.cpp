@@ -1,6 +1,8 @@
 // lowest_first on made-up items: floors below values by random gaps, many near-ties, every
 // number of threads. What may be left out is exactly what floor_decides allows against the true
 // smallest value; the smallest value and every negative one are always found.
+#include "marsyn/core/planning/lowest_first.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,8 +10,6 @@
 #include <limits>
 #include <random>
 #include <vector>
-
-#include "marsyn/core/planning/lowest_first.hpp"
 
 using namespace marsyn::planning;
 

@@ -239,8 +239,8 @@ bool check_period(const Problem& problem, const ProductLayout& at, const std::ve
 // can record in that period: its margins on those boxes (the parts lie inside them, and the box
 // margins only shrink as boxes grow). -inf where an agent has no one-part enclosure.
 double period_floor(const Problem& problem, const ProductLayout& at, const std::vector<Eigen::VectorXd>& x,
-                    const std::vector<Eigen::VectorXd>& u, int k, const ObstacleWindows& windows, PeriodScratch& scratch,
-                    PeriodBoxes& whole) {
+                    const std::vector<Eigen::VectorXd>& u, int k, const ObstacleWindows& windows,
+                    PeriodScratch& scratch, PeriodBoxes& whole) {
   const int N = static_cast<int>(problem.agents.size()), D = problem.workspace_dim;
   whole.box.resize(static_cast<size_t>(N));
   whole.have.assign(static_cast<size_t>(N), 0);
@@ -299,7 +299,8 @@ void check_between_samples(const Problem& problem, const std::vector<Eigen::Vect
     const int runs = std::min(n, 4 * threads);
     parallel_tasks(runs, threads, [&](int r) {
       PeriodScratch scratch;
-      const int begin = static_cast<int>(static_cast<long>(n) * r / runs), end = static_cast<int>(static_cast<long>(n) * (r + 1) / runs);
+      const int begin = static_cast<int>(static_cast<long>(n) * r / runs);
+      const int end = static_cast<int>(static_cast<long>(n) * (r + 1) / runs);
       for (int j = begin; j < end; ++j) each(j, scratch);
     });
   };

@@ -1,8 +1,8 @@
 // The requirements between the samples (PlanningProblem::between): rows at the interior points
 // z_j = phi(x_k, u_k, j) of every period, which depend on the step's input as well as its state.
 // They enter the augmented Lagrangian like the stage rows; their Gauss-Newton model adds blocks
-// in u and (u, x) to the stage's quadratic model (LuuT_, LuxT_, transposed), which the backward pass adds to Quu
-// and Qux.
+// in u and (u, x) to the stage's quadratic model (LuuT_, LuxT_, stored transposed), which the
+// backward pass adds to Quu and Qux.
 #include <algorithm>
 #include <cmath>
 #include <functional>
