@@ -37,7 +37,12 @@ def main():
     ap.add_argument("--rounds", type=int, default=30)
     a = ap.parse_args()
     if a.rounds < 1:
-        sys.exit("--rounds must be at least 1")
+        ap.error("--rounds must be at least 1")
+    for b in a.marsyn:
+        if not (os.path.isfile(b) and os.access(b, os.X_OK)):
+            ap.error(f"--marsyn {b}: not an executable file")
+    if not os.path.isfile(a.example):
+        ap.error(f"--example {a.example}: no such file")
     work = tempfile.mkdtemp(prefix="plan_ratio.")
     files = {"continuous": os.path.abspath(a.example), "sampled": sampled_copy(a.example, work)}
     times = {(b, g): [] for b in a.marsyn for g in files}
