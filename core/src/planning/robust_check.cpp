@@ -277,7 +277,7 @@ double period_floor(const Problem& problem, const ProductLayout& at, const std::
 // a part that a coarse box adds.
 //
 // With floors, the parts are computed only where they can matter: every period first gets its
-// one-part boxes and their floor (period_floor, about an eighth of the parts' cost); the periods
+// one-part boxes and their floor (period_floor, about a sixth of the parts' cost); the periods
 // are then checked part by part from the lowest floor up, and a period whose floor is above the
 // smallest margin found so far (and above zero) by more than rounding is skipped: none of its
 // margins could be a new minimum or a shortfall. Same result bit for bit as checking every period.

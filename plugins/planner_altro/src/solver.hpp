@@ -88,8 +88,8 @@ class Solver {
     std::vector<double> jac;
     std::vector<AgentGradient> grads;
     // Partial-step Jacobians of the current iterate at one (k, j), per agent, filled on demand:
-    // row-major, pointing into mid_jac_ or into own (when computed here).
-    std::vector<const double*> Az, Bz;
+    // row-major A (n x n) followed by B (n x m), in mid_jac_ or in own (when computed here).
+    std::vector<const double*> AB;
     std::vector<std::vector<double>> own;
     std::vector<char> have_jac;
   };

@@ -104,8 +104,7 @@ void Solver::between_gradients(int k, int j, const ConstraintRef& r, const doubl
     const int ai = agent_of_[sup[e]];
     const auto& a = agents_[ai];
     if (!s.have_jac[ai] && kept_mid_jacobians_) {  // linearize() saw this iterate
-      s.Az[ai] = mid_jac_.data() + k * mid_stride_ + mid_at_[ai];
-      s.Bz[ai] = s.Az[ai] + a.n * a.n;
+      s.AB[ai] = mid_jac_.data() + k * mid_stride_ + mid_at_[ai];
       s.have_jac[ai] = 1;
     }
     if (!s.have_jac[ai]) {
@@ -113,8 +112,7 @@ void Solver::between_gradients(int k, int j, const ConstraintRef& r, const doubl
       own.resize(static_cast<size_t>(a.n) * (a.n + a.m));
       rk4_jacobians_staged(*a.dyn, X_[k].data() + a.xo, U_[k].data() + a.uo, step.h, step.substeps, own.data(),
                            own.data() + a.n * a.n, a.reads);
-      s.Az[ai] = own.data();
-      s.Bz[ai] = own.data() + a.n * a.n;
+      s.AB[ai] = own.data();
       s.have_jac[ai] = 1;
     }
     auto it = std::find_if(out.begin(), out.end(), [&](const AgentGradient& g) { return g.agent == ai; });
@@ -123,8 +121,8 @@ void Solver::between_gradients(int k, int j, const ConstraintRef& r, const doubl
       it = out.end() - 1;
     }
     const int li = sup[e] - a.xo;
-    it->cx.noalias() += J[e] * Eigen::Map<const Vec>(s.Az[ai] + li * a.n, a.n);
-    it->cu.noalias() += J[e] * Eigen::Map<const Vec>(s.Bz[ai] + li * a.m, a.m);
+    it->cx.noalias() += J[e] * Eigen::Map<const Vec>(s.AB[ai] + li * a.n, a.n);
+    it->cu.noalias() += J[e] * Eigen::Map<const Vec>(s.AB[ai] + a.n * a.n + li * a.m, a.m);
   }
 }
 

@@ -126,7 +126,7 @@ namespace {
 
 // Q's rows [r, r + m) += the columns [r, r + m) of LT (a block stored transposed), element by
 // element. Plain loops: as an Eigen expression of two storage orders in backward_group it
-// changed GCC's inlining of that function's products (40 M more instructions on the drones).
+// changed GCC's inlining of that function's products (45-70 M more instructions on the drones).
 void add_rows(const Mat& LT, int r, int m, Mat& Q) {
   for (int i = r; i < r + m; ++i)
     for (int c = 0; c < Q.cols(); ++c) Q(i, c) += LT(c, i);
@@ -301,8 +301,7 @@ void Solver::prepare() {
   pool_ = std::make_unique<planner_support::ChunkPool>(threads_);
   work_.assign(threads_, Scratch{});
   for (auto& w : work_) {
-    w.Az.assign(N, nullptr);
-    w.Bz.assign(N, nullptr);
+    w.AB.assign(N, nullptr);
     w.own.resize(N);
     w.have_jac.assign(N, 0);
   }
