@@ -73,6 +73,7 @@ Eigen::Vector2d outside(const Eigen::Vector4d& box, const planning::Point& p) {
 }  // namespace
 
 BroadPhase::BroadPhase(const Problem& problem) : pb_(problem) {
+  plane_start_.push_back(0);
   for (const auto& o : problem.obstacles) {
     Eigen::Vector4d b(1e300, 1e300, -1e300, -1e300);
     for (const auto& v : o.vertices) {
@@ -80,7 +81,49 @@ BroadPhase::BroadPhase(const Problem& problem) : pb_(problem) {
       scale_ = std::max(scale_, v.cwiseAbs().maxCoeff());
     }
     bbox_.push_back(b);
+    // The edges' half-planes where some edge is slanted (for a box they bound as its own box
+    // does). Outward for either orientation (the loader stores polygons counter-clockwise).
+    const std::size_t n = o.vertices.size();
+    double area = 0;
+    bool slanted = false;
+    for (std::size_t k = 0; k < n; ++k) {
+      const Eigen::Vector2d a = o.vertices[k], e = o.vertices[(k + 1) % n] - a;
+      area += a.x() * e.y() - a.y() * e.x();
+      slanted = slanted || (e.x() != 0 && e.y() != 0);
+    }
+    if (slanted && n >= 3 && std::isfinite(area) && area != 0) {
+      const double side = area > 0 ? 1.0 : -1.0;
+      for (std::size_t k = 0; k < n; ++k) {
+        const Eigen::Vector2d a = o.vertices[k], e = o.vertices[(k + 1) % n] - a;
+        const Eigen::Vector2d normal = side * Eigen::Vector2d(e.y(), -e.x()).normalized();
+        if (normal.allFinite()) planes_.emplace_back(normal.x(), normal.y(), normal.dot(a), 1.0 / normal.lpNorm<1>());
+      }
+    }
+    plane_start_.push_back(static_cast<int>(planes_.size()));
   }
+}
+
+// The rounding of n . p - n . a (a few ulps of |p| + |a|, and of the normal's unit length) is
+// far inside the slack every use below adds to the margins it compares.
+double BroadPhase::plane_gap(int o, double x, double y, bool inf) const {
+  double g = -1e300;
+  for (int k = plane_start_[static_cast<size_t>(o)]; k < plane_start_[static_cast<size_t>(o) + 1]; ++k) {
+    const Eigen::Vector4d& h = planes_[static_cast<size_t>(k)];
+    const double d = h[0] * x + h[1] * y - h[2];
+    g = std::max(g, inf ? d * h[3] : d);
+  }
+  return g;
+}
+
+double BroadPhase::plane_gap(int o, const Eigen::Vector4d& box, bool inf) const {
+  double g = -1e300;
+  for (int k = plane_start_[static_cast<size_t>(o)]; k < plane_start_[static_cast<size_t>(o) + 1]; ++k) {
+    const Eigen::Vector4d& h = planes_[static_cast<size_t>(k)];
+    // The box's corner least far along the normal.
+    const double d = h[0] * (h[0] >= 0 ? box[0] : box[2]) + h[1] * (h[1] >= 0 ? box[1] : box[3]) - h[2];
+    g = std::max(g, inf ? d * h[3] : d);
+  }
+  return g;
 }
 
 void BroadPhase::update(const std::vector<planning::Point>& p) {
@@ -160,8 +203,11 @@ void BroadPhase::fold_one(const Requirement& q, const std::vector<planning::Poin
 bool BroadPhase::obstacle_clears(const StepMargins& run, int o, const planning::Point& at) const {
   // Outside its bounding box, a point is at least as far from the obstacle as from the box.
   const Eigen::Vector2d g = outside(bbox_[static_cast<size_t>(o)], at);
-  const double lb = (pb_.delta_norm == Norm::Inf ? g.maxCoeff() : g.norm()) - pb_.delta;  // no bound inside the box
-  return (g.x() > 0 || g.y() > 0) && lb > run.obstacle + slack(run.obstacle, scale_ + at.cwiseAbs().maxCoeff());
+  const bool inf = pb_.delta_norm == Norm::Inf;
+  double d = inf ? g.maxCoeff() : g.norm();  // > 0 outside the box; no bound inside it
+  // A slanted edge's half-plane: a bound inside the box too.
+  if (plane_start_[static_cast<size_t>(o)] < plane_start_[static_cast<size_t>(o) + 1]) d = std::max(d, plane_gap(o, at.x(), at.y(), inf));
+  return d > 0 && d - pb_.delta > run.obstacle + slack(run.obstacle, scale_ + at.cwiseAbs().maxCoeff());
 }
 
 // (Inlined: it is read once per candidate pair, and its call cost more than its arithmetic.)
@@ -256,8 +302,10 @@ void BroadPhase::window_from_boxes(const std::vector<std::vector<planning::Point
       // are apart along x and along y.
       const Eigen::Vector4d &a = boxes_[static_cast<size_t>(i)], &b = bbox_[static_cast<size_t>(o)];
       const Eigen::Vector2d g(std::max({b[0] - a[2], a[0] - b[2], 0.0}), std::max({b[1] - a[3], a[1] - b[3], 0.0}));
-      const double lb = (inf ? g.maxCoeff() : g.norm()) - delta;
-      if (finite && (g.x() > 0 || g.y() > 0) && lb > run.obstacle + slack(run.obstacle, scale_ + mag)) continue;
+      double d = inf ? g.maxCoeff() : g.norm();
+      // (Or beyond a slanted edge's half-plane, the agent's whole box.)
+      if (plane_start_[static_cast<size_t>(o)] < plane_start_[static_cast<size_t>(o) + 1]) d = std::max(d, plane_gap(o, a, inf));
+      if (finite && d > 0 && d - delta > run.obstacle + slack(run.obstacle, scale_ + mag)) continue;
       candidates_.push_back({Requirement::Obstacle, i, o});
     }
   if (!pb_.pairwise_collision) return;
@@ -534,6 +582,11 @@ bool BroadPhase::nearest_target(int i, planning::Point& target) const {
     std::size_t first = 0;
     for (std::size_t o = 0; o < M; ++o) {
       box2_[o] = outside(bbox_[o], at).squaredNorm();
+      if (plane_start_[o] < plane_start_[o + 1]) {
+        // A slanted edge's half-plane (the Euclidean distance, as the search's).
+        const double h = plane_gap(static_cast<int>(o), at.x(), at.y(), false);
+        if (h > 0) box2_[o] = std::max(box2_[o], h * h);
+      }
       if (box2_[o] < box2_[first]) first = o;
     }
     std::size_t bo = M;

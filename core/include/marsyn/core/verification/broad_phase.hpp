@@ -79,6 +79,17 @@ class BroadPhase {
   const std::vector<planning::Point>* pts_ = nullptr;
   const planning::ObstacleWindows* windows_ = nullptr;
   std::vector<Eigen::Vector4d> bbox_;  // per obstacle: x_lo, y_lo, x_hi, y_hi
+  // Per obstacle that is not an axis-aligned box (its bounding box bounds little near a slanted
+  // edge): each edge's outward unit normal n, n . a for a vertex a on it, and 1 / |n|_1, rows
+  // plane_start_[o] .. plane_start_[o + 1]. The polygon is convex, so a point is at least
+  // max over edges (n . p - n . a) from it in the 2-norm, that times 1 / |n|_1 in the inf-norm
+  // (the distance to the edge's half-plane), when that is positive.
+  std::vector<Eigen::Vector4d> planes_;
+  std::vector<int> plane_start_;
+  // That bound at the point (x, y), and over an axis-aligned box (x_lo, y_lo, x_hi, y_hi): the
+  // distance of its every point. <= 0: no bound (inside some edge's half-plane, or a box obstacle).
+  double plane_gap(int o, double x, double y, bool inf) const;
+  double plane_gap(int o, const Eigen::Vector4d& box, bool inf) const;
   double scale_ = 0;                   // largest obstacle coordinate: the slack's scale
   mutable std::vector<int> order_;     // agents by increasing x (when sorted_)
   mutable std::vector<int> place_;     // place_[i]: agent i's position in order_
