@@ -204,10 +204,13 @@ bool BroadPhase::obstacle_clears(const StepMargins& run, int o, const planning::
   // Outside its bounding box, a point is at least as far from the obstacle as from the box.
   const Eigen::Vector2d g = outside(bbox_[static_cast<size_t>(o)], at);
   const bool inf = pb_.delta_norm == Norm::Inf;
-  double d = inf ? g.maxCoeff() : g.norm();  // > 0 outside the box; no bound inside it
-  // A slanted edge's half-plane: a bound inside the box too.
-  if (plane_start_[static_cast<size_t>(o)] < plane_start_[static_cast<size_t>(o) + 1]) d = std::max(d, plane_gap(o, at.x(), at.y(), inf));
-  return d > 0 && d - pb_.delta > run.obstacle + slack(run.obstacle, scale_ + at.cwiseAbs().maxCoeff());
+  const double d = inf ? g.maxCoeff() : g.norm();  // > 0 outside the box; no bound inside it
+  const double clear = run.obstacle + slack(run.obstacle, scale_ + at.cwiseAbs().maxCoeff());
+  if (d > 0 && d - pb_.delta > clear) return true;
+  // A slanted edge's half-plane: a bound inside the box too (asked only where the box's fails).
+  if (plane_start_[static_cast<size_t>(o)] == plane_start_[static_cast<size_t>(o) + 1]) return false;
+  const double h = plane_gap(o, at.x(), at.y(), inf);
+  return h > 0 && h - pb_.delta > clear;
 }
 
 // (Inlined: it is read once per candidate pair, and its call cost more than its arithmetic.)
@@ -302,10 +305,13 @@ void BroadPhase::window_from_boxes(const std::vector<std::vector<planning::Point
       // are apart along x and along y.
       const Eigen::Vector4d &a = boxes_[static_cast<size_t>(i)], &b = bbox_[static_cast<size_t>(o)];
       const Eigen::Vector2d g(std::max({b[0] - a[2], a[0] - b[2], 0.0}), std::max({b[1] - a[3], a[1] - b[3], 0.0}));
-      double d = inf ? g.maxCoeff() : g.norm();
-      // (Or beyond a slanted edge's half-plane, the agent's whole box.)
-      if (plane_start_[static_cast<size_t>(o)] < plane_start_[static_cast<size_t>(o) + 1]) d = std::max(d, plane_gap(o, a, inf));
-      if (finite && d > 0 && d - delta > run.obstacle + slack(run.obstacle, scale_ + mag)) continue;
+      const double d = inf ? g.maxCoeff() : g.norm(), clear = run.obstacle + slack(run.obstacle, scale_ + mag);
+      if (finite && d > 0 && d - delta > clear) continue;
+      // (Or the agent's whole box beyond a slanted edge's half-plane.)
+      if (finite && plane_start_[static_cast<size_t>(o)] < plane_start_[static_cast<size_t>(o) + 1]) {
+        const double h = plane_gap(o, a, inf);
+        if (h > 0 && h - delta > clear) continue;
+      }
       candidates_.push_back({Requirement::Obstacle, i, o});
     }
   if (!pb_.pairwise_collision) return;
@@ -582,11 +588,6 @@ bool BroadPhase::nearest_target(int i, planning::Point& target) const {
     std::size_t first = 0;
     for (std::size_t o = 0; o < M; ++o) {
       box2_[o] = outside(bbox_[o], at).squaredNorm();
-      if (plane_start_[o] < plane_start_[o + 1]) {
-        // A slanted edge's half-plane (the Euclidean distance, as the search's).
-        const double h = plane_gap(static_cast<int>(o), at.x(), at.y(), false);
-        if (h > 0) box2_[o] = std::max(box2_[o], h * h);
-      }
       if (box2_[o] < box2_[first]) first = o;
     }
     std::size_t bo = M;
@@ -599,7 +600,13 @@ bool BroadPhase::nearest_target(int i, planning::Point& target) const {
       // (2B <= 1 + B^2, (1 + 1e-9) c <= 2c), and the factor 1 + 1e-12 for the sums' rounding.
       // A skipped obstacle is strictly farther than the nearest: it cannot tie either.
       const double b2 = std::min(bd * bd, agent2);
-      if (box2_[o] > (b2 * (1.0 + 3e-9 + 2.0 * c) + 2.0 * c + c * c) * (1.0 + 1e-12)) continue;
+      const double skip2 = (b2 * (1.0 + 3e-9 + 2.0 * c) + 2.0 * c + c * c) * (1.0 + 1e-12);
+      if (box2_[o] > skip2) continue;
+      // Or a slanted edge's half-plane (the Euclidean distance, as the search's), asked only here.
+      if (plane_start_[o] < plane_start_[o + 1]) {
+        const double h = plane_gap(static_cast<int>(o), at.x(), at.y(), false);
+        if (h > 0 && h * h > skip2) continue;
+      }
       const planning::Point q = nearest_on_obstacle(pb_.obstacles[o], at);
       const double d = planning::distance2(q - at);
       if (d < bd || (d == bd && o < bo)) {
