@@ -95,6 +95,7 @@ BroadPhase::BroadPhase(const Problem& problem) : pb_(problem) {
       const double side = area > 0 ? 1.0 : -1.0;
       for (std::size_t k = 0; k < n; ++k) {
         const Eigen::Vector2d a = o.vertices[k], e = o.vertices[(k + 1) % n] - a;
+        if (e.squaredNorm() == 0) continue;  // a repeated vertex: no edge
         const Eigen::Vector2d normal = side * Eigen::Vector2d(e.y(), -e.x()).normalized();
         if (normal.allFinite()) planes_.emplace_back(normal.x(), normal.y(), normal.dot(a), 1.0 / normal.lpNorm<1>());
       }
@@ -103,8 +104,10 @@ BroadPhase::BroadPhase(const Problem& problem) : pb_(problem) {
   }
 }
 
-// The rounding of n . p - n . a (a few ulps of |p| + |a|, and of the normal's unit length) is
-// far inside the slack every use below adds to the margins it compares.
+// The rounding of n . p - n . a (a few ulps of |p| + |a|) and of the normal (its length and
+// direction within an ulp or two: the line through a turns by that, which moves it an ulp or two
+// of the polygon's extent at the far vertex) is far inside the slack every use below adds to
+// the margins it compares (1e-9 of the largest coordinate).
 double BroadPhase::plane_gap(int o, double x, double y, bool inf) const {
   double g = -1e300;
   for (int k = plane_start_[static_cast<size_t>(o)]; k < plane_start_[static_cast<size_t>(o) + 1]; ++k) {
