@@ -191,6 +191,76 @@ TEST(BroadPhase, AWindowsNearMissInItsMiddleIsNotSkipped) {
   }
 }
 
+// A team flying in formation: agents on a circle of radius 1.5, every pair a formation pair at
+// its starting distance with tolerance mu, the whole team drifting together (a shared step per
+// state) with each agent jittering on its own, so that the pairs' distances wander near lambda
+// and the formation minimum falls now and then.
+std::vector<std::vector<Point>> formation_walks(Team& t, std::mt19937_64& rng, int steps, double mu) {
+  const int n = static_cast<int>(t.pb.agents.size());
+  std::vector<Point> p(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * std::acos(-1.0) * i / n;
+    p[static_cast<size_t>(i)] = {1.5 * std::cos(a), 1.5 * std::sin(a), 0};
+  }
+  t.pb.formation.clear();
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j)
+      t.pb.formation.push_back({i, j, (p[static_cast<size_t>(i)] - p[static_cast<size_t>(j)]).norm(), mu});
+  std::normal_distribution<double> jitter(0.0, 0.02), drift(0.0, 0.1);
+  std::vector<std::vector<Point>> states;
+  for (int k = 0; k < steps; ++k) {
+    const Point shared(drift(rng), drift(rng), 0);
+    for (auto& q : p) q += shared + Point(jitter(rng), jitter(rng), 0);
+    states.push_back(p);
+  }
+  return states;
+}
+
+TEST(BroadPhase, FormationTeamsGiveTheAllPairsMinimaBitForBit) {
+  std::mt19937_64 rng(53);
+  for (int team = 0; team < 60; ++team) {
+    const int n = 2 + static_cast<int>(rng() % 8);
+    Team t(n, rng, static_cast<int>(rng() % 2), team % 2 == 0, 0);
+    const std::vector<std::vector<Point>> states = formation_walks(t, rng, 120, 0.2 + 0.1 * (team % 5));
+    SCOPED_TRACE("team " + std::to_string(team) + " of " + std::to_string(n) + " agents");
+    expect_same_folds(t, states);
+    expect_same_window_folds(t, states, 1 + team % 19);
+  }
+}
+
+TEST(BroadPhase, AFormationsNearMissInAWindowsMiddleIsNotSkipped) {
+  // Two agents 2 apart (lambda 2, mu 0.5): the first window sets the formation minimum at
+  // 0.5 - 0.3 (3 of its states 2.3 apart); in the second the pair is exactly lambda apart but at
+  // the middle state, 2.3 + 1e-12 apart (then 1.7 - 1e-12: a hair short), the team moving along x.
+  std::mt19937_64 rng(8);
+  for (bool inf : {true, false}) {
+    Team t(2, rng, 0, inf, 0);
+    t.pb.pairwise_collision = false;
+    t.pb.formation.push_back({0, 1, 2.0, 0.5});
+    std::vector<std::vector<Point>> states;
+    for (int s = 0; s < 10; ++s) states.push_back({{0.1 * s, 0, 0}, {0.1 * s + (s < 3 ? 2.3 : 2.0), 0, 0}});
+    states[7][1].x() = states[7][0].x() + 2.3 + 1e-12;
+    std::vector<std::vector<Point>> shorter = states;
+    shorter[7][1].x() = shorter[7][0].x() + 1.7 - 1e-12;
+    for (const auto& run : {states, shorter}) {
+      expect_same_window_folds(t, run, 5);
+      marsyn::BroadPhase broad(t.pb);
+      marsyn::StepMargins m;
+      std::vector<std::string> names;
+      for (int w = 0; w < 2; ++w) {
+        const std::vector<std::vector<Point>> window(run.begin() + 5 * w, run.begin() + 5 * w + 5);
+        broad.window(window, 5, m, {-1, false});
+        for (int s = 0; s < 5; ++s) {
+          marsyn::planning::Requirement q{};
+          names.push_back(broad.accumulate_window(s, m, &q) ? q.name(t.pb) : "");
+        }
+      }
+      EXPECT_EQ(names[7], "formation a0 - a1");
+      EXPECT_LT(m.formation, 0.2);
+    }
+  }
+}
+
 TEST(BroadPhase, RandomTeamsGiveTheAllPairsMinimaBitForBit) {
   std::mt19937_64 rng(24);
   for (int team = 0; team < 100; ++team) {
@@ -720,6 +790,38 @@ TEST(BroadPhase, ANearMissOfASlantedEdgeInsideItsBoxIsNotSkipped) {
     expect_same_folds(t, {a, b, c});
     expect_same_window_folds(t, {a, b, c}, 3);
     EXPECT_EQ(falls(t, {a, b, c}), (std::vector<std::string>{"obstacle tri vs a0", "obstacle tri vs a0", ""}));
+  }
+}
+
+TEST(BroadPhase, WindowedFormationRunsGiveTheAllPairsMargins) {
+  // A team in formation (agents on a circle, every pair at its starting distance within mu) driven
+  // by one shared random input sequence, so that it moves together while the disturbances bend
+  // the pairs' distances: the windowed runs against the all-pairs reference.
+  std::mt19937_64 rng(59);
+  std::uniform_real_distribution<double> in(-1.5, 1.5);
+  for (int team = 0; team < 6; ++team) {
+    const int n = 3 + team;
+    Team t(n, rng, team % 2, team % 2 == 1, 0);
+    const std::vector<std::vector<Point>> start = formation_walks(t, rng, 1, 0.15 + 0.05 * team);
+    std::vector<VectorXd> inputs;
+    for (int k = 0; k < 12; ++k) inputs.push_back((VectorXd(2) << in(rng), in(rng)).finished());
+    std::vector<marsyn::NominalTrajectory> nominal;
+    for (int i = 0; i < n; ++i) {
+      auto& a = t.pb.agents[static_cast<size_t>(i)];
+      a.x0 = (VectorXd(3) << start[0][static_cast<size_t>(i)].x(), start[0][static_cast<size_t>(i)].y(), 0.3).finished();
+      marsyn::NominalTrajectory nt;
+      nt.agent = a.name;
+      for (int k = 0; k <= 12; ++k) nt.x.push_back(a.x0);
+      nt.u = inputs;
+      nominal.push_back(nt);
+    }
+    const marsyn::SpecMonitor monitor(t.pb);
+    SCOPED_TRACE("team " + std::to_string(team));
+    expect_same_windowed_runs(t, nominal, monitor,
+                              {marsyn::DisturbanceMode::Adversarial, marsyn::DisturbanceMode::UniformRandom,
+                               marsyn::DisturbanceMode::VertexSwitching, marsyn::DisturbanceMode::PaperConstant,
+                               marsyn::DisturbanceMode::None},
+                              team * 10 + 5);
   }
 }
 

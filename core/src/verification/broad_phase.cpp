@@ -282,16 +282,16 @@ void BroadPhase::window(const std::vector<std::vector<planning::Point>>& states,
     finite = finite && sum - sum == 0;
     boxes_[static_cast<size_t>(i)] = {xl, yl, xh, yh};
   }
-  window_from_boxes(states, finite, run, when);
+  window_from_boxes(states, count, finite, run, when);
 }
 
 void BroadPhase::window(const std::vector<std::vector<planning::Point>>& states, std::span<const Eigen::Vector4d> boxes,
                         bool finite, const StepMargins& run, planning::Moment when) {
   boxes_.assign(boxes.begin(), boxes.end());
-  window_from_boxes(states, finite, run, when);
+  window_from_boxes(states, static_cast<int>(states.size()), finite, run, when);
 }
 
-void BroadPhase::window_from_boxes(const std::vector<std::vector<planning::Point>>& states, bool finite,
+void BroadPhase::window_from_boxes(const std::vector<std::vector<planning::Point>>& states, int count, bool finite,
                                    const StepMargins& run, planning::Moment when) {
   window_ = &states;
   candidates_.clear();
@@ -300,6 +300,35 @@ void BroadPhase::window_from_boxes(const std::vector<std::vector<planning::Point
   for (const Eigen::Vector4d& b : boxes_) mag = std::max(mag, b.cwiseAbs().maxCoeff());
   const bool inf = pb_.delta_norm == Norm::Inf;
   const double delta = pb_.delta;
+  // Formation pairs (planar: every point's z is 0, so x and y hold the whole distance): over the
+  // window the pair's difference p_i - p_j (the very subtraction the margin takes) stays in its
+  // box, so the distance lies between the box's nearest and farthest points from the origin, and
+  // the margin mu - |d - lambda| is at least mu less the larger of lambda - nearest and farthest -
+  // lambda (the deviation is convex in d). The difference's box, not the two agents' boxes: a
+  // formation moves together. A pair whose bound clears the formation minimum by the slack (far
+  // above the roots' rounding) cannot lower or tie it at any state of the window.
+  formation_candidates_.clear();
+  for (int q = 0; q < static_cast<int>(pb_.formation.size()); ++q) {
+    const FormationPair& f = pb_.formation[static_cast<size_t>(q)];
+    if (finite && pb_.workspace_dim < 3 && count > 0) {
+      constexpr double kInf = std::numeric_limits<double>::infinity();
+      double xl = kInf, yl = kInf, xh = -kInf, yh = -kInf;
+      for (int s = 0; s < count; ++s) {
+        const std::vector<planning::Point>& p = states[static_cast<size_t>(s)];
+        const planning::Point d = p[static_cast<size_t>(f.i)] - p[static_cast<size_t>(f.j)];
+        xl = std::min(xl, d.x());
+        xh = std::max(xh, d.x());
+        yl = std::min(yl, d.y());
+        yh = std::max(yh, d.y());
+      }
+      const double nx = std::max({xl, -xh, 0.0}), ny = std::max({yl, -yh, 0.0});
+      const double fx = std::max(xh, -xl), fy = std::max(yh, -yl);
+      const double near = std::sqrt(nx * nx + ny * ny), far = std::sqrt(fx * fx + fy * fy);
+      const double lb = f.mu - std::max(f.lambda - near, far - f.lambda);
+      if (lb > run.formation + slack(run.formation, f.lambda + f.mu + mag)) continue;
+    }
+    formation_candidates_.push_back(q);
+  }
   const bool windowed = when.k >= 0 && windows_ && windows_->any();
   for (int i = 0; i < n; ++i)
     for (int o = 0; o < static_cast<int>(bbox_.size()); ++o) {
@@ -365,7 +394,7 @@ bool BroadPhase::accumulate_window(int s, StepMargins& run, Requirement* worst) 
     const double r = pair_reach(run);
     if (!(std::abs(d.x()) > r || std::abs(d.y()) > r)) fold(q, run.collision);
   }
-  for (int q = 0; q < static_cast<int>(pb_.formation.size()); ++q)
+  for (int q : formation_candidates_)
     fold({Requirement::Formation, pb_.formation[static_cast<size_t>(q)].i, pb_.formation[static_cast<size_t>(q)].j, q},
          run.formation);
   return best_rank >= 0;

@@ -69,8 +69,8 @@ class BroadPhase {
   bool obstacle_clears(const StepMargins& run, int o, const planning::Point& at) const;
   double pair_reach(const StepMargins& run) const;
   // window()'s candidates from boxes_.
-  void window_from_boxes(const std::vector<std::vector<planning::Point>>& states, bool finite, const StepMargins& run,
-                         planning::Moment when);
+  void window_from_boxes(const std::vector<std::vector<planning::Point>>& states, int count, bool finite,
+                         const StepMargins& run, planning::Moment when);
   // q's margin at the points p folded into its part `slot`; (best, best_rank) is the smallest
   // (margin, rank) so far below the minimum the state started from, and *worst its requirement.
   void fold_one(const planning::Requirement& q, const std::vector<planning::Point>& p, double& slot, double& best,
@@ -122,11 +122,12 @@ class BroadPhase {
   mutable double moved_ = 0, mag_ = 0;
   mutable bool lists_ready_ = false, stale_ = false;
   // window(): the states, each agent's box over them (x_lo, y_lo, x_hi, y_hi), the agents by
-  // increasing x_lo, and the obstacle and collision requirements left to fold.
+  // increasing x_lo, and the requirements left to fold.
   const std::vector<std::vector<planning::Point>>* window_ = nullptr;
   std::vector<Eigen::Vector4d> boxes_;
   std::vector<int> box_order_;
   std::vector<planning::Requirement> candidates_;
+  std::vector<int> formation_candidates_;  // the formation pairs left to fold (their indices, in order)
 };
 
 }  // namespace marsyn
