@@ -705,6 +705,37 @@ TEST(BroadPhase, WindowedMissionRunsGiveTheAllPairsMargins) {
   EXPECT_GT(other_named, 3);
 }
 
+TEST(BroadPhase, AStagesDepthDippingInsideAPeriodIsNotSkipped) {
+  // One unicycle spirals inside a square stage region it dwells in from step 1: constant turn
+  // rate, speed growing step by step, so that its depth below the region's lower edge reaches a
+  // new minimum each turn, a few per cent below the last and somewhere inside a period (the dense
+  // check skips a depth only when it clears the minimum so far). The windowed runs against the
+  // all-pairs reference, both norms, several centres.
+  std::mt19937_64 rng(61);
+  for (bool inf : {true, false})
+    for (int c = 0; c < 4; ++c) {
+      Team t(1, rng, 0, inf, 0);
+      auto& a = t.pb.agents[0];
+      a.x0 = (VectorXd(3) << 0.0, 0.1 * c, 0.0).finished();
+      marsyn::MissionStage st;
+      st.name = "spiral";
+      st.polygon = {{-2, -0.6}, {2, -0.6}, {2, 2}, {-2, 2}};
+      st.not_before = 1;
+      st.dwell = 38;
+      a.stages.push_back(st);
+      marsyn::NominalTrajectory nt;
+      nt.agent = a.name;
+      for (int k = 0; k <= 40; ++k) nt.x.push_back(a.x0);
+      for (int k = 0; k < 40; ++k) nt.u.push_back((VectorXd(2) << 0.4 + 0.02 * k + 0.05 * c, 5.0 + c).finished());
+      const marsyn::SpecMonitor monitor(t.pb, 40);
+      ASSERT_TRUE(monitor.has_stages());
+      SCOPED_TRACE("centre " + std::to_string(c) + (inf ? ", inf-norm" : ", 2-norm"));
+      const std::vector<marsyn::ClosedLoopRun> runs =
+          expect_same_windowed_runs(t, {nt}, monitor, {marsyn::DisturbanceMode::None, marsyn::DisturbanceMode::UniformRandom}, c);
+      EXPECT_EQ(runs[0].between_worst, "stage spiral of a0");
+    }
+}
+
 TEST(BroadPhase, AWindowedRunsCrossingInsideAPeriodIsNotSkipped) {
   // Agent 0 drives at 2 m/s straight at agent 1, from 1 m away: 0.6 m at sample 2, 0.4 m at
   // sample 3, where it backs away, while agents 2 and 3 stand 0.5 m apart from the start. In the period between samples

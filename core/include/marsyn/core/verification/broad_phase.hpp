@@ -42,7 +42,8 @@ class BroadPhase {
   // A window of consecutive states at one moment (between two samples), states[s] the agents'
   // points at state s < count (kept by reference until the next call): the requirements that
   // could lower `running` at some state of the window are listed once, from each agent's bounding
-  // box over the window; accumulate_window(s, ...) is then accumulate() at state s over those
+  // box over the window (a planar formation pair's from the box of its difference, which the
+  // states give); accumulate_window(s, ...) is then accumulate() at state s over those
   // only. A requirement is left out only when its lower bound over the boxes clears the running
   // minimum by the slack; the minima only fall, so it could not lower or tie them at any state.
   void window(const std::vector<std::vector<planning::Point>>& states, int count, const StepMargins& running,
