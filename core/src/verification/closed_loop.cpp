@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <bit>
-#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -123,35 +122,6 @@ void push_toward(const AgentSpec& a, const planning::Point& p, const planning::P
 
 namespace {
 
-// A polygon stage's edges for a quick estimate of a point's depth (stage_margin's formula,
-// cross(e, p - v) / |e| inward, its smallest over the edges, in plain arithmetic): where the
-// estimate clears a value by a slack far above both its rounding and the interval formula's
-// width (a few ulps of the coordinates), stage_margin's exact lower bound clears the value too.
-// Box stages (state coordinates) have no edges: they are always evaluated (a few subtractions).
-class StageEdges {
- public:
-  explicit StageEdges(const MissionStage& stage) {
-    const std::size_t V = stage.polygon.size();
-    for (std::size_t i = 0; i < V; ++i) {
-      const Eigen::Vector2d v = stage.polygon[i], e = stage.polygon[(i + 1) % V] - v;
-      scale_ = std::max(scale_, v.cwiseAbs().maxCoeff());
-      if (e.squaredNorm() > 0) edges_.emplace_back(v.x(), v.y(), e.x() / e.norm(), e.y() / e.norm());
-    }
-    if (edges_.size() < 3) edges_.clear();  // degenerate: always evaluated
-  }
-  bool clears(const planning::Point& p, double value) const {
-    if (edges_.empty()) return false;
-    double d = std::numeric_limits<double>::infinity();
-    for (const Eigen::Vector4d& e : edges_) d = std::min(d, e[2] * (p.y() - e[1]) - e[3] * (p.x() - e[0]));
-    const double slack = 1e-9 * (1.0 + std::abs(value) + scale_ + std::max(std::abs(p.x()), std::abs(p.y())));
-    return d > value + slack;  // false for NaN
-  }
-
- private:
-  std::vector<Eigen::Vector4d> edges_;  // vertex v, unit edge direction
-  double scale_ = 0;
-};
-
 // One run of a batch: its agents' states, inputs and disturbances, its own broad phase over its
 // own points, and what it has found so far.
 struct Lane {
@@ -221,7 +191,6 @@ class Batch {
       if (s.between->has_stages()) {
         stage_m_.resize(static_cast<size_t>(L_ * (S_ - 1)));
         stage_v_.resize(stage_m_.size());
-        for (const planning::StageVisit& v : s.between->visits()) stage_edges_.push_back(StageEdges(pb_.agents[v.agent].stages[v.stage]));
       }
     }
     // The integrator's view: per agent, its state, input and disturbance as Lanes (one lane per
@@ -395,13 +364,13 @@ class Batch {
     for (int v : active_) {
       const planning::StageVisit& visit = visits[static_cast<size_t>(v)];
       const std::vector<Lanes>& x = X_[static_cast<size_t>(visit.agent)];
-      const StageEdges& edges = stage_edges_[static_cast<size_t>(v)];
       for (int l = 0; l < L_; ++l) {
         const std::size_t at = static_cast<size_t>(l * (S_ - 1) + sub);
         // A depth clearly above both this substep's smallest so far and the lane's stage minimum
         // (as the period began; it only falls until the fold) could neither be this substep's
         // smallest nor lower the minimum when folded: its exact value is not needed.
-        if (edges.clears(to[l][visit.agent], std::min(stage_m_[at], lanes_[static_cast<size_t>(l)].run.between.stage))) continue;
+        if (s_.between->stage_clears(v, to[l][visit.agent], std::min(stage_m_[at], lanes_[static_cast<size_t>(l)].run.between.stage)))
+          continue;
         for (std::size_t d = 0; d < x.size(); ++d) lane_x_[d] = x[d][l];
         const double m = s_.between->stage_depth(visit, lane_x_.data(), to[l][visit.agent]);
         if (m < stage_m_[at]) {
@@ -633,7 +602,6 @@ class Batch {
   std::vector<int> active_;
   std::vector<double> stage_m_;
   std::vector<int> stage_v_;
-  std::vector<StageEdges> stage_edges_;  // per visit (s_.between->visits()' order)
   std::vector<Eigen::Vector4d> lane_boxes_;  // one lane's boxes (x_lo, y_lo, x_hi, y_hi) per agent
   std::vector<std::vector<Lanes>> X_, U_, W_, next_;
   std::vector<verification_detail::LanesRk4> rk_;  // per agent

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "marsyn/core/planning/spec_margins.hpp"
 
@@ -14,6 +15,24 @@ SpecMonitor::SpecMonitor(const Problem& problem, int horizon) : problem_(problem
     visits_ = planning::stage_visits(problem, horizon);
     windows_ = planning::ObstacleWindows(problem, horizon);
   }
+  for (const planning::StageVisit& v : visits_) {
+    const MissionStage& st = problem.agents[v.agent].stages[v.stage];
+    stage_edges_.emplace_back(st.polygon);
+    double scale = 0;
+    for (const Eigen::Vector2d& q : st.polygon) scale = std::max(scale, q.cwiseAbs().maxCoeff());
+    stage_scale_.push_back(scale);
+  }
+}
+
+bool SpecMonitor::stage_clears(int v, const planning::Point& p, double value) const {
+  const planning::PolygonEdges& e = stage_edges_[static_cast<size_t>(v)];
+  if (e.a.empty()) return false;
+  // Depth inside edge k: -normal_k . (p - a_k) (stage_margin's cross(e, p - a) / |e|). A repeated
+  // vertex's NaN normal is passed over by min (the loader refuses those anyway).
+  double d = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < e.a.size(); ++k) d = std::min(d, e.normal[k].x() * (e.a[k].x() - p.x()) + e.normal[k].y() * (e.a[k].y() - p.y()));
+  const double slack = 1e-9 * (1.0 + std::abs(value) + stage_scale_[static_cast<size_t>(v)] + std::max(std::abs(p.x()), std::abs(p.y())));
+  return d > value + slack;
 }
 
 double SpecMonitor::stage_depth(const planning::StageVisit& v, const Eigen::VectorXd& x) const {

@@ -62,6 +62,11 @@ class SpecMonitor {
   // caller that holds the agents' states and points apart.
   const std::vector<planning::StageVisit>& visits() const { return visits_; }
   double stage_depth(const planning::StageVisit& v, const double* xi, const planning::Point& p) const;
+  // Whether visit v's depth at p (a polygon stage's) is certainly above `value`: a plain estimate
+  // (the smallest distance inside the edges' lines) clears it by a slack far above both its
+  // rounding and stage_depth's interval width (a few ulps of the coordinates), so stage_depth
+  // would too. False for box stages (a few subtractions: always evaluated) and for NaN.
+  bool stage_clears(int v, const planning::Point& p, double value) const;
 
  private:
   void points(const Eigen::VectorXd& x, std::vector<planning::Point>& p) const;  // the agents' workspace points
@@ -69,6 +74,8 @@ class SpecMonitor {
   const Problem& problem_;
   std::vector<int> offset_;
   std::vector<planning::StageVisit> visits_;
+  std::vector<planning::PolygonEdges> stage_edges_;  // per visit: its polygon's edges (none for a box stage)
+  std::vector<double> stage_scale_;                  // per visit: the polygon's largest coordinate
   planning::ObstacleWindows windows_;
 };
 
