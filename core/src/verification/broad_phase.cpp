@@ -82,24 +82,14 @@ BroadPhase::BroadPhase(const Problem& problem) : pb_(problem) {
     }
     bbox_.push_back(b);
     // The edges' half-planes where some edge is slanted (for a box they bound as its own box
-    // does). Outward for either orientation (the loader stores polygons counter-clockwise).
-    const std::size_t n = o.vertices.size();
-    double area = 0;
-    bool slanted = false;
-    for (std::size_t k = 0; k < n; ++k) {
-      const Eigen::Vector2d a = o.vertices[k], e = o.vertices[(k + 1) % n] - a;
-      area += a.x() * e.y() - a.y() * e.x();
-      slanted = slanted || (e.x() != 0 && e.y() != 0);
-    }
-    if (slanted && n >= 3 && std::isfinite(area) && area != 0) {
-      const double side = area > 0 ? 1.0 : -1.0;
-      for (std::size_t k = 0; k < n; ++k) {
-        const Eigen::Vector2d a = o.vertices[k], e = o.vertices[(k + 1) % n] - a;
-        if (e.squaredNorm() == 0) continue;  // a repeated vertex: no edge
-        const Eigen::Vector2d normal = side * Eigen::Vector2d(e.y(), -e.x()).normalized();
-        if (normal.allFinite()) planes_.emplace_back(normal.x(), normal.y(), normal.dot(a), 1.0 / normal.lpNorm<1>());
+    // does): PolygonEdges' outward normals of the counter-clockwise polygon (Obstacle's order, which
+    // the margins assume too); a repeated vertex's NaN normal gives none.
+    const planning::PolygonEdges edges(o.vertices);
+    if (std::any_of(edges.e.begin(), edges.e.end(), [](const Eigen::Vector2d& e) { return e.x() != 0 && e.y() != 0; }))
+      for (std::size_t k = 0; k < edges.a.size(); ++k) {
+        const Eigen::Vector2d& normal = edges.normal[k];
+        if (normal.allFinite()) planes_.emplace_back(normal.x(), normal.y(), normal.dot(edges.a[k]), 1.0 / normal.lpNorm<1>());
       }
-    }
     plane_start_.push_back(static_cast<int>(planes_.size()));
   }
 }
@@ -211,7 +201,7 @@ bool BroadPhase::obstacle_clears(const StepMargins& run, int o, const planning::
   const double clear = run.obstacle + slack(run.obstacle, scale_ + at.cwiseAbs().maxCoeff());
   if (d > 0 && d - pb_.delta > clear) return true;
   // A slanted edge's half-plane: a bound inside the box too (asked only where the box's fails).
-  if (plane_start_[static_cast<size_t>(o)] == plane_start_[static_cast<size_t>(o) + 1]) return false;
+  if (!slanted(o)) return false;
   const double h = plane_gap(o, at.x(), at.y(), inf);
   return h > 0 && h - pb_.delta > clear;
 }
@@ -340,7 +330,7 @@ void BroadPhase::window_from_boxes(const std::vector<std::vector<planning::Point
       const double d = inf ? g.maxCoeff() : g.norm(), clear = run.obstacle + slack(run.obstacle, scale_ + mag);
       if (finite && d > 0 && d - delta > clear) continue;
       // (Or the agent's whole box beyond a slanted edge's half-plane.)
-      if (finite && plane_start_[static_cast<size_t>(o)] < plane_start_[static_cast<size_t>(o) + 1]) {
+      if (finite && slanted(o)) {
         const double h = plane_gap(o, a, inf);
         if (h > 0 && h - delta > clear) continue;
       }
@@ -635,7 +625,7 @@ bool BroadPhase::nearest_target(int i, planning::Point& target) const {
       const double skip2 = (b2 * (1.0 + 3e-9 + 2.0 * c) + 2.0 * c + c * c) * (1.0 + 1e-12);
       if (box2_[o] > skip2) continue;
       // Or a slanted edge's half-plane (the Euclidean distance, as the search's), asked only here.
-      if (plane_start_[o] < plane_start_[o + 1]) {
+      if (slanted(static_cast<int>(o))) {
         const double h = plane_gap(static_cast<int>(o), at.x(), at.y(), false);
         if (h > 0 && h * h > skip2) continue;
       }

@@ -91,6 +91,7 @@ class BroadPhase {
   // distance of its every point. <= 0: no bound (inside some edge's half-plane, or a box obstacle).
   double plane_gap(int o, double x, double y, bool inf) const;
   double plane_gap(int o, const Eigen::Vector4d& box, bool inf) const;
+  bool slanted(int o) const { return plane_start_[static_cast<size_t>(o)] < plane_start_[static_cast<size_t>(o) + 1]; }
   double scale_ = 0;                   // largest obstacle coordinate: the slack's scale
   mutable std::vector<int> order_;     // agents by increasing x (when sorted_)
   mutable std::vector<int> place_;     // place_[i]: agent i's position in order_
