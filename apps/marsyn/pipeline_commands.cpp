@@ -8,6 +8,8 @@
 #include <iostream>
 
 #include <unistd.h>
+#include <csignal>
+#include <atomic>
 
 #include <optional>
 
@@ -37,6 +39,22 @@ namespace fs = std::filesystem;
 
 namespace marsyn::cli {
 namespace {
+
+// SIGINT and SIGTERM during a solve (Ctrl-C, an outer `timeout`, a cluster's job limit): the
+// first asks the search to stop and write what it has (status stopped); a second one ends the
+// process at once, as without the handler.
+std::atomic<bool> g_stop_requested{false};
+
+extern "C" void request_stop(int sig) {
+  g_stop_requested.store(true);
+  std::signal(sig, SIG_DFL);
+}
+
+void stop_on_signals() {
+  g_stop_requested.store(false);
+  std::signal(SIGINT, request_stop);
+  std::signal(SIGTERM, request_stop);
+}
 
 const Stopwatch kStart;  // the log lines' times count from the program's start
 
@@ -280,8 +298,8 @@ std::string trackers_text(const Problem& pb) {
 
 // The summary's status, plan, per-agent, tracking, certification and search lines.
 void print_search_summary(const SolveOutcome& out) {
-  std::printf("\nstatus        %s%s%s\n", out.verified ? "VERIFIED" : "FAILED", out.failure.empty() ? "" : ": ",
-              out.failure.c_str());
+  std::printf("\nstatus        %s%s%s\n", out.verified ? "VERIFIED" : out.search.interrupted ? "STOPPED" : "FAILED",
+              out.failure.empty() ? "" : ": ", out.failure.c_str());
   std::printf("guarantee     %s\n", out.problem.guarantee == Guarantee::Continuous
                                         ? "continuous: safe for every t in [0, T tau], between the samples too"
                                         : "sampled: safe at t = k tau only (the paper's semantics)");
@@ -365,6 +383,8 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
   so.threads = threads;
   so.global_memory_budget_bytes = global_budget;
   so.cluster = cluster;
+  stop_on_signals();
+  so.stop = [] { return g_stop_requested.load(); };
   if (root) so.log = log_line;  // one progress stream: rank 0's
   if (root && stderr_is_terminal()) so.live = live_line;
   if (root)

@@ -61,6 +61,7 @@ std::string lever_name(const LeverChoice& l) {
     case Lever::FallBack: return "fall back to the next tracker (tracker: auto)";
     case Lever::EnlargeEps: return "enlarge eps by 1.25 and re-plan";
     case Lever::MoreClearance: return "re-plan with more clearance where certification fell short";
+    case Lever::WidenForMiss: return "widen eps by the small miss in its coordinate (the plan re-checked)";
   }
   return "?";
 }
@@ -75,8 +76,15 @@ int lever_cap(Lever lever) {
     case Lever::FallBack: return 1000;  // bounded by the installed trackers
     case Lever::EnlargeEps: return 3;
     case Lever::MoreClearance: return 4;
+    case Lever::WidenForMiss: return 3;
   }
   return 0;
+}
+
+double widened_eps(double eps, double amount) { return eps + kMissFactor * amount + kMissMargin * eps; }
+
+bool small_miss(const Failure& f, std::size_t w) {
+  return w < f.miss_share.size() && f.miss_share[w] > 0 && f.miss_share[w] <= kSmallMiss;
 }
 
 double input_share_after(int uses) { return 1.0 - 0.2 * uses; }
@@ -113,6 +121,9 @@ std::vector<LeverChoice> levers_for(const Failure& f, const std::vector<TrackerL
     default: return {};
   }
   std::vector<LeverChoice> out;
+  // A miss of a few per cent of eps: the tracker all but succeeded; a tube that much wider,
+  // checked on the existing plan, is the cheapest round there is (no re-plan, no knob).
+  if (small_miss(f, 0)) out.push_back({Lever::WidenForMiss, ""});
   // The levers that keep the plan come first (the failed agents' trackers' own knobs, another
   // tracker for just those agents): they leave every other agent's plan and controller as it is.
   // A re-plan perturbs every agent's nominal and can break controllers elsewhere, so it waits.
@@ -186,6 +197,7 @@ class Proposer {
       case Lever::TrackerLever: tracker_lever(); break;
       case Lever::FallBack: fall_back(); break;
       case Lever::MoreClearance: more_clearance(); break;
+      case Lever::WidenForMiss: widen_for_miss(); break;
     }
     return p_;
   }
@@ -230,6 +242,22 @@ class Proposer {
       consider(i, b);
     }
     p_.replan = true;
+    p_.recheck = factor > 1;  // a wider tube may leave the plan robust: the search checks it first
+  }
+
+  void widen_for_miss() {
+    for (std::size_t w = 0; w < failure_.agents.size() && w < failure_.why.size(); ++w) {
+      const TrackFailure& why = failure_.why[w];
+      if (!small_miss(failure_, w) || why.coordinate < 0) continue;
+      const int i = failure_.agents[w];
+      AgentSpec b = p_.agents[i];
+      if (why.coordinate >= b.n()) continue;
+      b.tube.eps[why.coordinate] = widened_eps(b.tube.eps[why.coordinate], why.amount);
+      consider(i, b);
+    }
+    p_.replan = true;
+    p_.recheck = true;
+    if (p_.changed.empty()) p_.why_not = "no failed agent missed by a small share of eps, or the wider tube is refused" + refusals();
   }
 
   void longer_horizon() {

@@ -1,8 +1,10 @@
 #include "marsyn/core/solve.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstdio>
 #include <map>
 #include <set>
@@ -16,8 +18,10 @@
 #include "marsyn/core/mpi/plan_broadcast.hpp"
 #include "marsyn/core/search_auto.hpp"
 #include "marsyn/core/search_levers.hpp"
+#include "marsyn/core/search_rank.hpp"
 #include "marsyn/core/setup.hpp"
 #include "marsyn/core/problem/agent_checks.hpp"
+#include "marsyn/core/problem/problem_loader.hpp"
 #include "marsyn/core/problem/tracker_fields.hpp"
 #include "marsyn/core/tracking/global_abcd.hpp"
 
@@ -56,7 +60,7 @@ class Search {
  public:
   // The stages run through `setup` (its planners, its trackers, its budget).
   Search(Setup& setup, const SolveOptions& opt, SolveOutcome& out)
-      : setup_(setup), loaded_(setup.loaded()), opt_(opt), out_(out), pb_(out.problem), instances_(setup.trackers()) {
+      : setup_(setup), loaded_(setup.loaded()), opt_(stoppable(opt)), out_(out), pb_(out.problem), instances_(setup.trackers()) {
     out_.search.time_limit_s = opt.time_limit_s;
     input_share_.assign(pb_.agents.size(), 1.0);
     out_.auto_tube = loaded_.auto_tube;
@@ -67,6 +71,34 @@ class Search {
   bool run(const Stopwatch& t_start);
 
  private:
+  // The options the stages run with: the caller's stop request (a signal) or the time limit,
+  // whichever comes first, ends tracking between agents and planning between horizons.
+  SolveOptions stoppable(const SolveOptions& opt) {
+    SolveOptions o = opt;
+    // Called from the tracking threads too: the cause is an atomic code, its text made later.
+    o.stop = [outer = opt.stop, limit = opt.time_limit_s, this] {
+      if (outer && outer()) {
+        cause_ = 1;
+        return true;
+      }
+      if (clock_.seconds() > limit) {
+        int none = 0;
+        cause_.compare_exchange_strong(none, 2);
+        return true;
+      }
+      return false;
+    };
+    return o;
+  }
+  static std::string seconds_text(double s) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g s", s);
+    return buf;
+  }
+  bool stopping() const {
+    // Over MPI rank 0 decides, so that every rank leaves the loop at the same round.
+    return rank0_says(opt_.stop && opt_.stop());
+  }
   void log(const std::string& s) const {
     if (opt_.log) opt_.log(s);
   }
@@ -97,8 +129,22 @@ class Search {
   // The next round's lever, applied (replan: whether it invalidated the plan), or false (with
   // stop_reason and not_tried set).
   bool next_round(const Failure& failure, double elapsed, SearchRound& next, bool& replan);
-  // Marks the last round's tracker knob unhelpful (last_knob_) when no agent it changed got further.
-  void judge_last_knob(const Failure& failure);
+  // A lever's proposal for `failure` and its predicted time, when it may run (cap, help, change,
+  // novelty, time); false with the reason in the report's not_tried otherwise.
+  bool candidate(const LeverChoice& lever, const Failure& failure, const std::vector<TrackerLever>& declared, double elapsed,
+                 search::Candidate& out);
+  // A tracking failure: each failed agent's best lever (search_rank.hpp), merged into one round.
+  bool agents_round(const Failure& failure, double elapsed, SearchRound& next, bool& replan);
+  // Applies the picks (one per agent, or one for the team) as the next round.
+  bool take(const std::vector<search::Proposal>& picks, const std::vector<std::string>& names, const Failure& failure,
+            SearchRound& next, bool& replan, const std::vector<std::string>& who = {});
+  // The exact check of the current plan with the (just widened) tubes; true when it passes.
+  bool keeps_plan(std::string& said);
+  void stop_without_lever(const Failure& failure);
+  // A planning failure with a planner the file named: the default planner, once.
+  bool default_planner(const Failure& failure, double elapsed, SearchRound& next);
+  // Marks each knob the last round turned unhelpful when no agent it changed got further.
+  void judge_last_knobs(const Failure& failure);
   // The failed agents' trackers' own levers, each name once.
   std::vector<TrackerLever> declared_levers(const Failure& failure);
   // The tracker knob this round turns and its agents' failures before it, for judge_last_knob.
@@ -115,9 +161,15 @@ class Search {
   // cost: the tracker's declared cost factor of a tracker lever (1 otherwise).
   double estimate(const search::Proposal& p, double cost = 1);
 
+  Stopwatch clock_;            // from the search's start: the hard time limit
+  std::atomic<int> cause_{0};  // why the stop predicate said yes: 1 a signal, 2 the time limit
+  std::string cause_text() const {
+    return cause_ == 1 ? "a stop was requested (SIGINT or SIGTERM)"
+                       : "the time limit (" + seconds_text(opt_.time_limit_s) + ") was reached";
+  }
   Setup& setup_;
   const LoadedProblem& loaded_;
-  const SolveOptions& opt_;
+  const SolveOptions opt_;
   SolveOutcome& out_;
   Problem& pb_;
   TrackerInstances& instances_;
@@ -146,7 +198,7 @@ class Search {
   // (shrinking eps and lengthening the horizon, the opposite of what the tracker asked for).
   struct ReplanBase {
     bool active = false;
-    std::string lever;
+    std::vector<std::string> levers;  // the re-planning levers of the round (one per agent at most)
     Failure failure;
     Saved saved;
   } replan_base_;
@@ -165,7 +217,9 @@ class Search {
   struct LastKnob {
     std::string name;
     std::map<int, TrackFailure> before;
-  } last_knob_;
+  };
+  std::vector<LastKnob> last_knobs_;  // one per knob the last round turned (agents may differ)
+  bool multi_agent_ = false;          // choosing per agent for several: refusals name the agent
   std::map<std::string, std::string> unhelpful_;  // lever name -> why it is not turned again
   // The plan stage's warm start: the last feasible plan, when the next re-plan follows a tracker
   // failure (the same team with a changed tube or U: the previous plan is a good initial guess).
@@ -176,6 +230,7 @@ Failure Search::plan(SearchRound& round, double time_left) {
   planning::PlanSearchOptions po;
   po.time_limit_s = std::max(1.0, time_left);
   po.log = [&](const std::string& s) { log("[plan] " + s); };
+  po.stop = opt_.stop;
   po.progress = [p = std::make_shared<planning::SolverProgress>(opt_.log, opt_.live)](const PlanProgress& x) { (*p)(x); };
   po.assembly.extra = extra_;
   log("[plan] " + pb_.planner.name + " on the product system (" + std::to_string(pb_.product_state_dim()) + " state" +
@@ -357,6 +412,11 @@ Failure Search::tracking_failure(const std::vector<int>& redo) {
     f.agents.push_back(static_cast<int>(i));
     f.reason += " " + pb_.agents[i].name;
     f.why.push_back(r.failure);
+    const int c = r.failure.coordinate;
+    const Eigen::VectorXd& eps = pb_.agents[i].tube.eps;
+    f.miss_share.push_back(r.failure.kind == TrackFailureKind::TubeMiss && c >= 0 && c < eps.size() && eps[c] > 0
+                               ? r.failure.amount / eps[c]
+                               : 0.0);
     f.nominal_saturation.push_back(
         i < out_.plan.nominal.size() ? search::saturation_share(out_.plan.nominal[i].u, pb_.agents[i].input_bounds) : 0.0);
   }
@@ -383,16 +443,33 @@ Failure Search::certify(SearchRound& round) {
 
 double Search::estimate(const search::Proposal& p, double cost) {
   // Tracking scales with the trackers' own work estimates (a finer grid costs more) and with
-  // what a tracker declared its lever costs.
-  double ratio = std::max(1.0, cost);
+  // what a tracker declared its lever costs. A round that keeps the plan re-tracks only the
+  // changed agents: each from its own last tracking time, spread over the threads.
+  double ratio = std::max(1.0, cost), own = 0, longest = 0;
   for (int i : p.changed) {
     const double before = assess_tracker(instances_, pb_.agents[i].tracker, pb_.agents[i], ask()).work_s;
     const double after = assess_tracker(instances_, p.agents[i].tracker, p.agents[i], ask()).work_s;
-    if (before > 0 && after > 0) ratio = std::max(ratio, after / before);
+    // Another tracker is judged by the two trackers' own estimates, below 1 too (abcd's 1.5 s
+    // where the funnel took 45 s); the same tracker's knob costs at least what it declares.
+    const bool other = p.agents[i].tracker.name != pb_.agents[i].tracker.name;
+    const double r = before > 0 && after > 0 && other ? std::max(0.01, after / before)
+                                                      : std::max(std::max(1.0, cost), before > 0 && after > 0 ? after / before : 1.0);
+    ratio = std::max(ratio, r);
+    const auto at = static_cast<std::size_t>(i);
+    const double last = at < out_.agents.size()
+                            ? out_.agents[at].track.stats.abstraction_time_s + out_.agents[at].track.stats.synthesis_time_s
+                            : 0.0;
+    const double t = (last > 0 ? last : last_track_s_) * r;
+    own += t;
+    longest = std::max(longest, t);
   }
-  // A re-plan tracks every agent again; a round that kept controllers tracked only some.
-  const double track = p.replan ? std::max(last_track_s_, full_track_s_) : last_track_s_;
-  return (p.replan ? last_plan_s_ : 0) + track * ratio + last_certify_s_;
+  ratio = std::max(ratio, 0.01);
+  const double spread = std::max(longest, own / std::max(1, opt_.threads));
+  // A wider tube re-checks the plan first (about as long as the planning stage's own check).
+  const double check = p.recheck ? 0.05 * last_plan_s_ : 0.0;
+  if (!p.replan || p.recheck) return check + std::min(spread, last_track_s_ * ratio) + last_certify_s_;
+  // A re-plan tracks every agent again.
+  return last_plan_s_ + std::max(last_track_s_, full_track_s_) * ratio + last_certify_s_;
 }
 
 // Whether a tracker's knob got an agent further: a controller, a miss later or at least a quarter
@@ -420,20 +497,21 @@ std::string miss_text(const TrackFailure& f) {
   return "no controller";
 }
 
-void Search::judge_last_knob(const Failure& failure) {
-  if (!last_knob_.name.empty() && failure.kind == Failure::NoController) {
-    bool any = false;
-    std::string story;
-    for (const auto& [i, before] : last_knob_.before) {
-      any = any || helped(before, failure, i);
-      const auto it = std::find(failure.agents.begin(), failure.agents.end(), i);
-      const std::size_t w = static_cast<std::size_t>(it - failure.agents.begin());
-      if (story.empty() && it != failure.agents.end() && w < failure.why.size())
-        story = pb_.agents[i].name + ": " + miss_text(before) + " -> " + miss_text(failure.why[w]);
+void Search::judge_last_knobs(const Failure& failure) {
+  if (failure.kind == Failure::NoController)
+    for (const LastKnob& knob : last_knobs_) {
+      bool any = false;
+      std::string story;
+      for (const auto& [i, before] : knob.before) {
+        any = any || helped(before, failure, i);
+        const auto it = std::find(failure.agents.begin(), failure.agents.end(), i);
+        const std::size_t w = static_cast<std::size_t>(it - failure.agents.begin());
+        if (story.empty() && it != failure.agents.end() && w < failure.why.size())
+          story = pb_.agents[i].name + ": " + miss_text(before) + " -> " + miss_text(failure.why[w]);
+      }
+      if (!any) unhelpful_[knob.name] = "its last use did not help enough (" + story + ")";
     }
-    if (!any) unhelpful_[last_knob_.name] = "its last use did not help enough (" + story + ")";
-  }
-  last_knob_ = {};
+  last_knobs_.clear();
 }
 
 std::vector<TrackerLever> Search::declared_levers(const Failure& failure) {
@@ -455,64 +533,196 @@ std::vector<TrackerLever> Search::declared_levers(const Failure& failure) {
 bool Search::next_round(const Failure& failure, double elapsed, SearchRound& next, bool& replan) {
   SearchReport& rep = out_.search;
   rep.not_tried.clear();
-  judge_last_knob(failure);
-  const std::vector<TrackerLever> declared = declared_levers(failure);
-  for (const LeverChoice& lever : search::levers_for(failure, declared)) {
-    const std::string name = search::lever_name(lever);
-    int& used = uses_[name];
-    if (unhelpful_.count(name)) {
-      rep.not_tried.push_back({name, unhelpful_.at(name)});
-      continue;
-    }
-    if (used >= search::lever_cap(lever.lever)) {
-      rep.not_tried.push_back({name, "used " + std::to_string(used) + " times, its limit"});
-      continue;
-    }
-    const search::Proposal p = search::propose(lever, failure, team(), instances_, ask(), used);
-    if (!p.why_not.empty()) {
-      rep.not_tried.push_back({name, p.why_not});
-      continue;
-    }
-    if (seen_.count(search::fingerprint(p.agents, p.extra, p.input_share, p.min_horizon))) {
-      rep.not_tried.push_back({name, "it would repeat an attempt already made"});
-      continue;
-    }
-    double cost = 1;
-    for (const auto& d : declared)
-      if (lever.lever == Lever::TrackerLever && d.name == lever.tracker_lever) cost = d.cost_factor;
-    const double need = estimate(p, cost), left = opt_.time_limit_s - elapsed;
-    if (!rank0_says(need <= left)) {
-      rep.not_tried.push_back({name, "would take about " + seconds(need) + ", " + seconds(std::max(0.0, left)) + " left"});
-      continue;
-    }
-    if (lever.lever == Lever::TrackerLever) remember_knob(name, p, failure);
-    replan_base_.active = p.replan && failure.kind == Failure::NoController;
-    if (replan_base_.active) replan_base_ = {true, name, failure, snapshot(next.index - 1)};
-    // A re-plan after a tracker failure starts from the plan it replaces.
-    warm_from_last_ = p.replan && failure.kind == Failure::NoController;
-    search::apply(p, team());
-    ++used;
-    next.action = name;
-    next.reason = failure.reason;
-    next.changes = p.changes;
-    replan = p.replan;
-    // Announced only now that it runs.
-    log("[search] round " + std::to_string(next.index) + ": " + failure.reason + "; " + name + " (" +
-        changes_text(grouped(p.changes, pb_.agents.size())) + ")" + (p.replan ? "; re-planning" : "; tracking again with the same plan"));
+  judge_last_knobs(failure);
+  if (failure.kind == Failure::NoController && !failure.agents.empty()) return agents_round(failure, elapsed, next, replan);
+  if (failure.kind == Failure::Plan && default_planner(failure, elapsed, next)) {
+    replan = true;
     return true;
   }
-  rep.stop_reason = rep.not_tried.empty() ? "no lever addresses " + failure.reason : failure.reason + "; no lever left";
-  for (const auto& n : rep.not_tried)
-    if (n.why.rfind("would take about", 0) == 0) rep.stop_reason = failure.reason + "; the time limit (" + seconds(opt_.time_limit_s) + ") is near";
+  const std::vector<TrackerLever> declared = declared_levers(failure);
+  for (const LeverChoice& lever : search::levers_for(failure, declared)) {
+    search::Candidate c;
+    if (!candidate(lever, failure, declared, elapsed, c)) continue;
+    return take({c.proposal}, {search::lever_name(lever)}, failure, next, replan);
+  }
+  stop_without_lever(failure);
   return false;
 }
 
+bool Search::default_planner(const Failure& failure, double elapsed, SearchRound& next) {
+  // A planner the file names that finds no plan at any horizon is not the end: the default
+  // planner once, before the horizon and eps levers (a doorway that Ipopt failed at every
+  // horizon verified with altro in 3 s). Crowded starts and goals without room fail for every
+  // planner: no point trying another.
+  const std::string name = std::string("plan with the default planner (") + kDefaultPlanner + ")";
+  if (pb_.planner.name == kDefaultPlanner || !loaded_.registry || !loaded_.registry->find("planner", kDefaultPlanner)) return false;
+  if (failure.start_eps_factor < 1 || failure.goal_eps_factor < 1 || failure.formation_eps_factor < 1) return false;
+  if (!loaded_.planner_fallback) {
+    out_.search.not_tried.push_back({name, "search: {planner_fallback: false}"});
+    return false;
+  }
+  const double need = last_plan_s_ + last_track_s_ + last_certify_s_, left = opt_.time_limit_s - elapsed;
+  if (!rank0_says(need <= left)) {
+    out_.search.not_tried.push_back({name, "would take about " + seconds(need) + ", " + seconds(std::max(0.0, left)) + " left"});
+    return false;
+  }
+  next.action = name;
+  next.reason = failure.reason;
+  next.changes = {{"", "planner", pb_.planner.name, kDefaultPlanner}};
+  pb_.planner = PluginChoice{kDefaultPlanner, {}};
+  pb_.warm_start_planner = {};
+  log("[search] round " + std::to_string(next.index) + ": " + failure.reason + "; " + name + " (the file's planner, " +
+      next.changes.front().from + ", found no eps-robust plan at any horizon; search: {planner_fallback: false} turns this off)");
+  return true;
+}
+
+bool Search::candidate(const LeverChoice& lever, const Failure& failure, const std::vector<TrackerLever>& declared,
+                       double elapsed, search::Candidate& out) {
+  SearchReport& rep = out_.search;
+  const std::string name = search::lever_name(lever);
+  auto refuse = [&](const std::string& why) {
+    const std::string who = multi_agent_ && failure.agents.size() == 1 ? pb_.agents[failure.agents.front()].name + ": " : "";
+    for (const auto& n : rep.not_tried)
+      if (n.lever == name && n.why == who + why) return false;
+    rep.not_tried.push_back({name, who + why});
+    return false;
+  };
+  if (unhelpful_.count(name)) return refuse(unhelpful_.at(name));
+  const int used = uses_[name];
+  if (used >= search::lever_cap(lever.lever)) return refuse("used " + std::to_string(used) + " times, its limit");
+  search::Proposal p = search::propose(lever, failure, team(), instances_, ask(), used);
+  if (!p.why_not.empty()) return refuse(p.why_not);
+  if (seen_.count(search::fingerprint(p.agents, p.extra, p.input_share, p.min_horizon)))
+    return refuse("it would repeat an attempt already made");
+  double cost = 1;
+  for (const auto& d : declared)
+    if (lever.lever == Lever::TrackerLever && d.name == lever.tracker_lever) cost = d.cost_factor;
+  const double need = estimate(p, cost), left = opt_.time_limit_s - elapsed;
+  if (!rank0_says(need <= left))
+    return refuse("would take about " + seconds(need) + ", " + seconds(std::max(0.0, left)) + " left");
+  out = {lever, std::move(p), need};
+  return true;
+}
+
+bool Search::agents_round(const Failure& failure, double elapsed, SearchRound& next, bool& replan) {
+  // Each failed agent its own lever (search_rank.hpp): a cheap fix for one agent never waits
+  // behind an expensive one for another, and one agent's reason no longer decides for all.
+  multi_agent_ = failure.agents.size() > 1;
+  std::vector<search::Proposal> picks;
+  std::vector<std::string> names, who;
+  for (std::size_t w = 0; w < failure.agents.size(); ++w) {
+    const Failure one = search::agent_failure(failure, w);
+    const std::vector<TrackerLever> declared = declared_levers(one);
+    std::vector<search::Candidate> candidates;
+    for (const LeverChoice& lever : search::levers_for(one, declared)) {
+      search::Candidate c;
+      if (candidate(lever, one, declared, elapsed, c)) candidates.push_back(std::move(c));
+    }
+    const int best = search::best_candidate(candidates);
+    if (best < 0) continue;
+    if (best > 0 && candidates[0].lever.lever == Lever::TrackerLever)
+      log("[search] " + pb_.agents[failure.agents[w]].name + ": " + search::lever_name(candidates[best].lever) + " (about " +
+          seconds(candidates[best].predicted_s) + ") before " + search::lever_name(candidates[0].lever) + " (about " +
+          seconds(candidates[0].predicted_s) + ")");
+    picks.push_back(std::move(candidates[best].proposal));
+    names.push_back(search::lever_name(candidates[best].lever));
+    who.push_back(pb_.agents[failure.agents[w]].name);
+  }
+  multi_agent_ = false;
+  if (picks.empty()) {
+    stop_without_lever(failure);
+    return false;
+  }
+  // An agent with no lever left keeps failing; the others' levers still run: its failure is
+  // reported in the next round's outcome, and the search stops when nothing is left for anyone.
+  return take(picks, names, failure, next, replan, who);
+}
+
+void Search::stop_without_lever(const Failure& failure) {
+  SearchReport& rep = out_.search;
+  rep.stop_reason = rep.not_tried.empty() ? "no lever addresses " + failure.reason : failure.reason + "; no lever left";
+  // The time limit names the best lever it kept from running (the cheapest that did not fit).
+  double best = -1;
+  for (const auto& n : rep.not_tried)
+    if (n.why.find("would take about") != std::string::npos) {
+      const auto at = n.why.find("would take about ") + 17;
+      const double t = std::atof(n.why.c_str() + at);
+      if (best < 0 || t < best) {
+        best = t;
+        rep.stop_reason = failure.reason + "; the time limit (" + seconds(opt_.time_limit_s) + ") is near: the best lever left, " +
+                          n.lever + ", would take about " + seconds(t);
+      }
+    }
+}
+
+bool Search::take(const std::vector<search::Proposal>& picks, const std::vector<std::string>& names, const Failure& failure,
+                  SearchRound& next, bool& replan, const std::vector<std::string>& who) {
+  search::Proposal p = picks.size() == 1 ? picks.front() : search::merge(picks, team());
+  if (picks.size() > 1 && seen_.count(search::fingerprint(p.agents, p.extra, p.input_share, p.min_horizon))) {
+    out_.search.not_tried.push_back({search::merged_action(names, who), "it would repeat an attempt already made"});
+    stop_without_lever(failure);
+    return false;
+  }
+  for (std::size_t k = 0; k < picks.size(); ++k)
+    if (picks[k].lever.lever == Lever::TrackerLever) remember_knob(names[k], picks[k], failure);
+  const std::string action = search::merged_action(names, who);
+  const std::vector<SearchChange> before_changes = p.changes;
+  // The round before the lever, to go back to when a re-plan it calls for finds no plan.
+  Saved before;
+  if (p.replan && failure.kind == Failure::NoController) before = snapshot(next.index - 1);
+  search::apply(p, team());
+  std::string kept;
+  if (p.replan && p.recheck && failure.kind == Failure::NoController && keeps_plan(kept)) p.replan = false;
+  replan_base_.active = p.replan && failure.kind == Failure::NoController;
+  if (replan_base_.active) {
+    std::vector<std::string> replanning;
+    for (std::size_t k = 0; k < picks.size(); ++k)
+      if (picks[k].replan) replanning.push_back(names[k]);
+    replan_base_ = {true, replanning, failure, std::move(before)};
+  }
+  // A re-plan after a tracker failure starts from the plan it replaces.
+  warm_from_last_ = p.replan && failure.kind == Failure::NoController;
+  std::set<std::string> counted;
+  for (const auto& n : names)
+    if (counted.insert(n).second) ++uses_[n];
+  next.action = action;
+  next.reason = failure.reason;
+  next.changes = before_changes;
+  replan = p.replan;
+  // Announced only now that it runs.
+  log("[search] round " + std::to_string(next.index) + ": " + failure.reason + "; " + action + " (" +
+      changes_text(grouped(before_changes, pb_.agents.size())) + ")" +
+      (p.replan ? "; re-planning" : kept.empty() ? "; tracking again with the same plan" : "; " + kept));
+  return true;
+}
+
+bool Search::keeps_plan(std::string& said) {
+  // Wider tubes only: the plan stays when the exact check passes with them (docs/search.md).
+  if (!rank0_says(out_.plan.feasible && !out_.plan.plan.u.empty())) return false;
+  const Stopwatch t;
+  planning::RobustCheck c;
+  if (root()) {
+    Problem tightened;
+    const Problem& checked = tighten_inputs(tightened) ? tightened : pb_;
+    c = planning::check_robust(checked, out_.plan.plan, out_.plan.visits);
+  }
+  const bool passed = rank0_says(c.passed);
+  if (passed && root()) out_.plan.check = c;
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "the plan is still eps-robust with the wider tube (smallest margin %.3g; checked in %.3g s): no re-plan",
+                c.min_margin, t.seconds());
+  said = buf;
+  log("[search] " + (passed ? said : "the plan is not eps-robust with the wider tube (" + c.message + "): re-planning"));
+  return passed;
+}
+
 void Search::remember_knob(const std::string& name, const search::Proposal& p, const Failure& failure) {
-  last_knob_.name = name;
+  auto it = std::find_if(last_knobs_.begin(), last_knobs_.end(), [&](const LastKnob& k) { return k.name == name; });
+  if (it == last_knobs_.end()) it = last_knobs_.insert(last_knobs_.end(), LastKnob{name, {}});
   for (int i : p.changed) {
-    const auto it = std::find(failure.agents.begin(), failure.agents.end(), i);
-    const std::size_t w = static_cast<std::size_t>(it - failure.agents.begin());
-    if (it != failure.agents.end() && w < failure.why.size()) last_knob_.before[i] = failure.why[w];
+    const auto at = std::find(failure.agents.begin(), failure.agents.end(), i);
+    const std::size_t w = static_cast<std::size_t>(at - failure.agents.begin());
+    if (at != failure.agents.end() && w < failure.why.size()) it->before[i] = failure.why[w];
   }
 }
 
@@ -580,13 +790,22 @@ bool Search::run(const Stopwatch& t_start) {
   for (;;) {
     seen_.insert(fingerprint());
     Failure f;
+    if (stopping()) {
+      rep.stop_reason = cause_text() + " before round " + std::to_string(rep.rounds.size() + 1);
+      rep.interrupted = true;
+      break;
+    }
     if (replan) f = plan(round, opt_.time_limit_s - t_start.seconds());
     bool back = false;  // this round's re-plan failed: the search resumes from the round before it
     if (replan && replan_base_.active) {
       if (f.kind == Failure::Plan) {
         const ReplanBase base = std::move(replan_base_);
-        unhelpful_[base.lever] = "its re-plan found no eps-robust plan (" + f.reason + ")";
-        log("[search] " + base.lever + " left no eps-robust plan; back to round " + std::to_string(base.saved.round) +
+        std::string levers;
+        for (const auto& l : base.levers) {
+          unhelpful_[l] = "its re-plan found no eps-robust plan (" + f.reason + ")";
+          levers += (levers.empty() ? "" : " and ") + l;
+        }
+        log("[search] " + levers + " left no eps-robust plan; back to round " + std::to_string(base.saved.round) +
             "'s plan and its failure (" + base.failure.reason + ")");
         restore(base.saved);
         f = base.failure;
@@ -631,6 +850,11 @@ bool Search::run(const Stopwatch& t_start) {
       break;
     }
     t_round = Stopwatch();  // deciding on the next round is part of it
+    if (stopping()) {
+      rep.stop_reason = cause_text() + " in round " + std::to_string(index) + " (" + f.reason + ")";
+      rep.interrupted = true;
+      break;
+    }
     if (index >= static_cast<std::size_t>(opt_.max_rounds)) {
       rep.stop_reason = f.reason + "; the round limit (" + std::to_string(opt_.max_rounds) + ") is reached";
       break;
@@ -694,6 +918,12 @@ SolveOutcome Setup::solve(const SolveOptions& opt) {
   Search search(*this, opt, out);
   const bool controllers = search.run(t_start);
   log("[search] " + out.search.message());
+  if (out.search.interrupted) {
+    // What was found so far goes to disk as it is (status stopped); nothing more is started.
+    out.failure = out.search.stop_reason;
+    out.total_time_s = t_start.seconds();
+    return out;
+  }
 
   // The baseline is a figure for the report: rank 0's alone.
   if (!opt.cluster || opt.cluster->rank() == 0) out.global = global_baseline(out.problem, opt, log);

@@ -124,3 +124,87 @@ TEST(SearchRounds, ChangesMadeAlikeArePrintedOnce) {
   EXPECT_EQ(some[0].agent, "a0, a1, a2 and 3 more");
   EXPECT_EQ(marsyn::grouped({team[0]}, 1).front().agent, "a0");
 }
+
+namespace {
+
+// `never` agents (tests/fixtures/never_tracker.cpp) in the pendulum example: the pendulum
+// renamed to the first name, a copy of it for each further one, all with eps `eps`, the test
+// tracker and no collisions between them.
+std::string never_team(const std::string& name, const std::vector<std::string>& agents, const std::string& eps) {
+  std::string more;
+  for (std::size_t k = 1; k < agents.size(); ++k)
+    more += "  - name: " + agents[k] + "\n"
+            "    dynamics: {type: pendulum, params: {input_gain: 0.2}}\n"
+            "    x0: [0, 0]\n"
+            "    goal: {center: [3.141592653589793, 0], radius: [0.3, 0.3]}\n"
+            "    state_bounds: {lo: [-2.5, -3], hi: [4.5, 3]}\n"
+            "    input_bounds: {lo: [-3], hi: [3]}\n"
+            "    disturbance: [0, 0.01]\n"
+            "    eps: " + eps + "\n";
+  return pendulum_variant(name, "tracker: never",
+                          {{"horizon: 100\n", "horizon: 100\npairwise_collision: false\n"},
+                           {"- name: pendulum\n", "- name: " + agents.front() + "\n"},
+                           {"eps: [0.2, 0.2]\n", "eps: " + eps + "\n"},
+                           {"eta_u: [0.1]\n", "eta_u: [0.1]\n" + more}});
+}
+
+}  // namespace
+
+// A miss of a few per cent of eps (never's miss* agents: 0.01 in coordinate 1, here 4 % of eps)
+// widens that agent's tube in that coordinate at once, and the plan is kept when the exact check
+// passes with the wider tube: no re-plan, no tracker knob. With the fixed order of e0e42b8 the
+// tracker's knob ran first.
+TEST(SearchRounds, ASmallMissIsClosedByAWiderTubeWithoutAReplan) {
+  std::vector<std::string> log;
+  const auto lp = marsyn::load_problem(never_team("rounds_small_miss", {"miss_pendulum"}, "[0.2, 0.25]"));
+  const marsyn::SolveOutcome o = marsyn::solve(lp, quick(&log));
+  ASSERT_GE(o.search.rounds.size(), 2u);
+  const auto& r2 = o.search.rounds[1];
+  EXPECT_EQ(r2.action, marsyn::search::lever_name({marsyn::search::Lever::WidenForMiss, ""}));
+  EXPECT_FALSE(r2.planned) << "the plan stays eps-robust with a tube 0.0225 wider in the rate";
+  ASSERT_EQ(r2.changes.size(), 1u);
+  EXPECT_EQ(r2.changes[0].agent, "miss_pendulum");
+  EXPECT_EQ(r2.changes[0].what, "eps");
+  EXPECT_EQ(r2.changes[0].to, "(0.2,0.2725)");
+  EXPECT_NE(std::find_if(log.begin(), log.end(),
+                         [](const std::string& l) { return l.rfind("[search] the plan is still eps-robust with the wider tube", 0) == 0; }),
+            log.end());
+}
+
+// Two agents failing for different reasons each get their own lever in the same round: the
+// small miss its wider tube, the empty winning set the tracker's "finer cells". With e0e42b8's
+// rule (the first failed agent's reason decides for all) both got "tighter knob".
+TEST(SearchRounds, TwoFailingAgentsWithDifferentBestLeversAreServedInOneRound) {
+  const auto lp = marsyn::load_problem(never_team("rounds_two_levers", {"miss_a", "empty_b"}, "[0.2, 0.25]"));
+  const marsyn::SolveOutcome o = marsyn::solve(lp, quick());
+  ASSERT_GE(o.search.rounds.size(), 2u);
+  const auto& r2 = o.search.rounds[1];
+  bool widened_a = false, cells_b = false;
+  for (const auto& c : r2.changes) {
+    widened_a = widened_a || (c.agent == "miss_a" && c.what == "eps");
+    cells_b = cells_b || (c.agent == "empty_b" && c.what == "tracker params" && c.to.find("cells: 1") != std::string::npos);
+  }
+  EXPECT_TRUE(widened_a) << r2.action;
+  EXPECT_TRUE(cells_b) << r2.action;
+  EXPECT_NE(r2.action.find("miss_a: "), std::string::npos) << r2.action;
+  EXPECT_NE(r2.action.find("empty_b: the tracker's finer cells"), std::string::npos) << r2.action;
+}
+
+// A planner the file names that finds no plan at any horizon is not the end: the default planner
+// once (Ipopt held to 2 iterations cannot swing the pendulum up; altro can). Off with
+// search: {planner_fallback: false}.
+TEST(SearchRounds, ANamedPlannerThatFailsGivesWayToTheDefaultOnce) {
+  const std::string weak = "planner: {name: ipopt, params: {max_iterations: 2}}";
+  const auto lp = marsyn::load_problem(pendulum_variant("rounds_planner", "tracker: funnel", {{"planner: altro", weak}}));
+  const marsyn::SolveOutcome o = marsyn::solve(lp, quick());
+  ASSERT_GE(o.search.rounds.size(), 2u);
+  EXPECT_EQ(o.search.rounds[1].action, "plan with the default planner (altro)");
+  ASSERT_EQ(o.search.rounds[1].changes.size(), 1u);
+  EXPECT_EQ(o.search.rounds[1].changes[0].from, "ipopt");
+  EXPECT_TRUE(o.verified) << o.failure;
+
+  const auto off = marsyn::load_problem(pendulum_variant(
+      "rounds_planner_off", "tracker: funnel", {{"planner: altro", weak}, {"horizon: 100\n", "horizon: 100\nsearch: {planner_fallback: false, time_limit: 20}\n"}}));
+  const marsyn::SolveOutcome o2 = marsyn::solve(off, quick());
+  for (const auto& r : o2.search.rounds) EXPECT_NE(r.action, "plan with the default planner (altro)");
+}

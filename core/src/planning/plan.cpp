@@ -134,6 +134,10 @@ class HorizonSearch {
         log("time limit reached: no further horizons tried");
         break;
       }
+      if (!best_.attempts.empty() && options_.stop && options_.stop()) {
+        log("stopped: no further horizons tried");
+        break;
+      }
       Solved one = solve_once(warm_, left);
       retimed_ = false;
       judge_other_side(one.a);
@@ -331,7 +335,7 @@ class HorizonSearch {
     std::vector<MissionSchedule> tried{best_.visits};
     for (int r = 0; r < options_.retime_rounds; ++r) {
       const double left = options_.time_limit_s - clock_.seconds();
-      if (left <= 0) break;
+      if (left <= 0 || (options_.stop && options_.stop())) break;
       const MissionSchedule next = retime_missions(problem_, best_.visits, best_.plan.x);
       // Knots that move a step or two are the plan's own jitter: a re-solve for them costs a
       // solve and changes the effort by little (warehouse.yaml: docs/benchmarks.md). Knots that

@@ -75,8 +75,9 @@ void read_timing_and_norms(const Field& top, LoadedProblem& out) {
   pb.tau = top.required("tau").positive();
   if (Field search = top.child("search"); search.present()) {
     search.expect_map();
-    search.allow_only({"time_limit"});
+    search.allow_only({"time_limit", "planner_fallback"});
     if (Field t = search.child("time_limit"); t.present()) out.search_time_limit_s = t.positive();
+    if (Field f = search.child("planner_fallback"); f.present()) out.planner_fallback = f.boolean();
   }
   pb.horizon = static_cast<int>(top.required("horizon").integer_in(1, kMaxHorizon, "steps"));
   if (Field f = top.child("rk4_substeps"); f.present())

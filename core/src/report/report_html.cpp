@@ -62,12 +62,13 @@ const $ = id => document.getElementById(id);
 const fmt = (v, d = 3) => v === null || v === undefined ? '-' : (typeof v === 'number' ? (Math.abs(v) >= 1e4 || (Math.abs(v) < 1e-3 && v !== 0) ? v.toExponential(2) : v.toFixed(d)) : String(v));
 $('title').textContent = 'marsyn: ' + (R.problem || '');
 const verified = R.status === 'verified';
-$('badge').textContent = verified ? 'VERIFIED' : 'FAILED';
+$('badge').textContent = verified ? 'VERIFIED' : R.status === 'stopped' ? 'STOPPED' : 'FAILED';
 $('badge').className = 'badge ' + (verified ? 'ok' : 'bad');
 const count = (n, w) => n + ' ' + w + (n === 1 ? '' : 's');
 $('sub').textContent = count(R.agents ? R.agents.length : 0, 'agent') + ', total ' + fmt(R.total_time_s, 2) + ' s, guarantee: ' +
   (R.guarantee === 'sampled' ? 'sampled (t = k tau only)' : 'continuous (every t in [0, T tau])') +
-  (verified || !R.failure ? '' : ' | ' + R.failure);
+  (verified || !R.failure ? '' : ' | ' + R.failure) +
+  (R.partial ? ' | partial: the controllers found so far are in the folder (each sound for its own tube; the team is not verified)' : '');
 const mark = (x, text) => x !== null && x !== undefined && x < 0 ? '<b style="color:#e3342f">' + text + '</b>' : text;
 function table(el, head, rows) {
   el.innerHTML = '<tr>' + head.map(h => '<th>' + h + '</th>').join('') + '</tr>' +

@@ -278,7 +278,11 @@ nlohmann::json attempts_json(const std::vector<Attempt>& attempts) {
 nlohmann::json result_json(const SolveOutcome& o) {
   using nlohmann::json;
   json j;
-  j["status"] = o.verified ? "verified" : "failed";
+  // stopped: a signal or the time limit ended the search part-way; partial: controllers of some
+  // agents are in the folder, each sound for its own tube, none for the team's specification.
+  j["status"] = o.verified ? "verified" : o.search.interrupted ? "stopped" : "failed";
+  if (!o.verified)
+    j["partial"] = std::any_of(o.agents.begin(), o.agents.end(), [](const AgentOutcome& a) { return !a.controller_file.empty(); });
   if (!o.failure.empty()) j["failure"] = o.failure;
   j["problem"] = o.problem.name;
   // Which times the result holds for: every t in [0, T tau], or only t = k tau.

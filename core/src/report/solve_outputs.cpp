@@ -17,8 +17,10 @@ std::vector<std::string> write_into(const std::string& dir, SolveOutcome& o);
 }
 
 // The output rule (docs/problem-format.md, "Output files"): a verified solve writes result.json,
-// report.html, plan.json and one <agent>.ctrl per agent; a failed one writes only result.json
-// (status "failed" and the reason) and report.html. Everything goes through OutputFolder (plain
+// report.html, plan.json and one <agent>.ctrl per agent; a failed or stopped one writes
+// result.json (status "failed" or "stopped", the reason, "partial"), report.html, plan.json when
+// it has a plan, and the controllers it found (each sound for its agent's tube, so a resumed or
+// inspected run loses nothing; none is the team's guarantee). Everything goes through OutputFolder (plain
 // names, checked after path resolution to lie in `dir`). Files are staged in a hidden folder
 // inside `dir` and moved in only when all are written, so a failure part-way never leaves a
 // half-written result; marsyn's own earlier files for this problem are replaced, nothing else in
@@ -46,15 +48,14 @@ std::vector<std::string> write_solve_outputs(const std::string& dir, SolveOutcom
 namespace {
 std::vector<std::string> write_into(const std::string& dir, SolveOutcome& o) {
   std::vector<std::string> files;
-  const bool failed = !o.verified;  // a failure writes only result.json and report.html
   for (auto& a : o.agents) a.controller_file.clear();
   for (auto& a : o.agents) {
-    if (failed || !a.track.controller) continue;
+    if (!a.track.controller) continue;
     a.controller_file = a.name + ".ctrl";
     a.track.controller->write((fs::path(dir) / a.controller_file).string());
     files.push_back(a.controller_file);
   }
-  if (!failed && !o.plan.plan.u.empty()) {
+  if (o.plan.feasible && !o.plan.plan.u.empty()) {
     planning::write_plan_json((fs::path(dir) / "plan.json").string(), o.problem, o.plan);
     files.push_back("plan.json");
   }

@@ -67,10 +67,19 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
       running[i] = 1;
     }
     const AgentSpec& a = pb.agents[i];
-    const TrackingProblem tp = tracking_problem(pb, i, nominal[i]);
     const Stopwatch t0;
     out[i].name = a.name;
     out[i].tracker = a.tracker.name;
+    if (opt.stop && opt.stop()) {
+      // Stopped (a signal, the time limit): the agents not started are not tracked.
+      out[i].track.status = TrackerStatus::NoController;
+      out[i].track.message = "not tracked: the run was stopped";
+      ++done;
+      std::lock_guard<std::mutex> lock(log_mutex);
+      running[i] = 0;
+      return;
+    }
+    const TrackingProblem tp = tracking_problem(pb, i, nominal[i]);
     try {
       TrackOptions o = topt;
       // One agent at a time with all threads: its sweep step by step (sweep_progress.hpp).

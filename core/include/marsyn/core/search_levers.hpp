@@ -24,7 +24,21 @@ enum class Lever {
   FallBack,       // tracker: auto: the next tracker that accepted the agent
   EnlargeEps,     // the failed agents' eps x 1.25 in every coordinate
   MoreClearance,  // certification short between the samples: clearance where it fell short
+  // A small tube miss (at most kSmallMiss of eps): eps widened in the missed coordinate by the
+  // miss plus a margin; the plan is kept when the exact check passes with the wider tubes.
+  WidenForMiss,
 };
+
+// A miss this small (a share of eps in its coordinate) is closed by widening the tube at once:
+// the tracker all but succeeded, and a wider tube costs one exact check of the existing plan,
+// where the tracker's knobs cost one tracking each, doubling (docs/search.md).
+inline constexpr double kSmallMiss = 0.05;
+// The widening: eps_c + the miss x kMissFactor + kMissMargin x eps_c. The miss is that of the first
+// step that left the tube; later steps can miss by more, hence twice the miss and 1 % of eps.
+inline constexpr double kMissFactor = 2.0;
+inline constexpr double kMissMargin = 0.01;
+// eps_c after the widening for a miss of `amount` (state units).
+double widened_eps(double eps, double amount);
 
 // A lever as tried: its kind and, for TrackerLever, the tracker's own name for it.
 struct LeverChoice {
@@ -64,6 +78,9 @@ struct Failure {
   // steps on which some input sits at a bound of U (measured by core).
   std::vector<TrackFailure> why;
   std::vector<double> nominal_saturation;
+  // NoController: per agent of `agents`, a tube miss as a share of eps in its coordinate
+  // (amount / eps_c), 0 when the failure is not a miss in one coordinate (measured by core).
+  std::vector<double> miss_share;
   int longest_horizon = 0;                   // Plan: the longest horizon the planning stage tried
   // Plan: below 1 when the starts are too crowded for the tubes at any horizon
   // (planning::start_eps_factor): only a narrower tube helps then.
@@ -75,6 +92,10 @@ struct Failure {
   // a longer horizon cannot help either.
   double goal_eps_factor = 1.0;
 };
+
+// Whether the failed agent `w` (an index into failure.agents) missed its tube by a small share of
+// eps (0 < miss_share <= kSmallMiss).
+bool small_miss(const Failure& failure, std::size_t w);
 
 // The share (0..1) of the steps on which some input of `u` lies within 1e-6 of U's range of a bound.
 double saturation_share(const std::vector<Eigen::VectorXd>& u, const Box& bounds);
@@ -103,6 +124,9 @@ struct Proposal {
   std::vector<SearchChange> changes;
   std::vector<int> changed;               // agents whose tube or tracker changed
   bool replan = false;                    // the robust plan is no longer valid
+  // Only wider tubes: the plan stays valid when the exact check passes with them (the search
+  // re-checks it, and re-plans only when it does not).
+  bool recheck = false;
   std::string why_not;                    // set when the lever has nothing to change
 };
 

@@ -41,6 +41,9 @@ struct SearchReport {
   double time_limit_s = 0;
   std::vector<SearchRound> rounds;
   std::string stop_reason;  // "verified", "time limit", "no lever left", ...
+  // Ended by a signal or the hard time limit part-way (result.json status "stopped"), not by
+  // running out of levers.
+  bool interrupted = false;
   std::vector<NotTried> not_tried;  // levers left when it stopped, each with the reason it did not run
   // Totals over every round (the per-round split is in `rounds`).
   double plan_time_s = 0, track_time_s = 0, certify_time_s = 0, time_s = 0;

@@ -25,6 +25,10 @@ struct SolveOptions {
   // The ranks of an MPI run (docs/mpi.md); nullptr: this process alone. Every rank calls
   // solve() with the same problem; rank 0 plans and reports.
   const Collective* cluster = nullptr;
+  // True once the run should end (SIGINT or SIGTERM: apps/marsyn installs the handler); may be
+  // empty. The search then stops between agents, horizons and rounds, and solve() returns what
+  // it has (status stopped). The search adds its own time limit to it.
+  std::function<bool()> stop;
 };
 
 }  // namespace marsyn

@@ -37,6 +37,9 @@ struct PlanSearchOptions {
   // robust and of less input effort. 0: the initial schedule (options.assembly.visits when it is
   // one at the first horizon, else schedule_missions) at every horizon.
   int retime_rounds = 3;
+  // True once the run should end (a signal, the solve's time limit): no further horizon or
+  // re-timing is started; the best attempt so far is returned. May be empty.
+  std::function<bool()> stop;
 };
 
 // The input effort of a plan: sum over knots, agents and inputs of (u / the bound's magnitude)^2

@@ -29,6 +29,9 @@ struct LoadedProblem {
   std::vector<AutoTube> auto_tube;
   // The file's `search:` block (docs/search.md); unset fields keep SolveOptions' values.
   std::optional<double> search_time_limit_s;
+  // search: {planner_fallback}: when a planner the file names finds no eps-robust plan at any
+  // horizon, the search tries the default planner once (docs/search.md).
+  bool planner_fallback = true;
 };
 
 // What a front end asks of the loader besides the file.

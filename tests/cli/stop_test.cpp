@@ -1,0 +1,83 @@
+// Nothing is lost at a stop (docs/search.md, "Stops"): SIGTERM (an outer `timeout`, a job
+// limit) or SIGINT during tracking ends `marsyn solve` with result.json (status "stopped",
+// partial), plan.json, the controllers found so far and report.html. The test tracker `never`
+// (tests/fixtures/never_tracker.cpp) holds an agent named stall* for 3 s, so that the signal
+// arrives while the other agent's controller is already found.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <thread>
+
+#include "run.hpp"
+
+namespace fs = std::filesystem;
+using marsyn::test::slurp;
+using marsyn::test::write_temp;
+
+namespace {
+
+std::string two_agents() {
+  std::string s = slurp(std::string(MARSYN_SOURCE_DIR) + "/examples/pendulum.yaml");
+  s.replace(s.find("tracker: abcd\n"), 14, std::string("tracker: funnel\nplugin_paths: [") + NEVER_TRACKER_DIR + "]\npairwise_collision: false\n");
+  const std::string agent = s.substr(s.find("  - name: pendulum\n"));
+  std::string stall = agent;
+  stall.replace(stall.find("name: pendulum"), 14, "name: stall_pendulum\n    tracker: never");
+  return s + stall;
+}
+
+// Starts marsyn in the background, sends `sig` once its log shows the first agent's controller,
+// and returns its exit status (-1 when it did not end within 60 s).
+int solve_and_signal(const std::string& args, const fs::path& log, int sig, bool& signalled) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const std::string cmd = std::string("exec ") + MARSYN_EXE + " " + args + " >" + log.string() + ".out 2>" + log.string();
+    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  signalled = false;
+  const auto start = std::chrono::steady_clock::now();
+  int status = 0;
+  while (std::chrono::steady_clock::now() - start < std::chrono::seconds(60)) {
+    if (::waitpid(pid, &status, WNOHANG) == pid) return status;
+    if (!signalled && slurp(log.string()).find("] pendulum (funnel): controller,") != std::string::npos) {
+      ::kill(pid, sig);
+      signalled = true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ::kill(pid, SIGKILL);
+  ::waitpid(pid, &status, 0);
+  return -1;
+}
+
+void expect_partial_result(int sig, const std::string& name) {
+  const fs::path out = fs::temp_directory_path() / ("marsyn_stop_" + std::to_string(::getpid()) + "_" + name);
+  fs::remove_all(out);
+  const std::string cfg = write_temp(name + ".yaml", two_agents());
+  bool signalled = false;
+  const int status = solve_and_signal("solve " + cfg + " --out " + out.string() + " --runs 5", out.string() + ".log", sig, signalled);
+  ASSERT_TRUE(signalled) << slurp(out.string() + ".log");
+  ASSERT_NE(status, -1) << "marsyn did not end after the signal";
+  ASSERT_TRUE(WIFEXITED(status)) << "ended by the signal itself, with nothing written";
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  const std::string result = slurp((out / "result.json").string());
+  EXPECT_NE(result.find("\"status\": \"stopped\""), std::string::npos) << result.substr(0, 400);
+  EXPECT_NE(result.find("\"partial\": true"), std::string::npos);
+  EXPECT_NE(result.find("a stop was requested (SIGINT or SIGTERM)"), std::string::npos);
+  EXPECT_TRUE(fs::exists(out / "pendulum.ctrl"));
+  EXPECT_FALSE(fs::exists(out / "stall_pendulum.ctrl"));
+  EXPECT_TRUE(fs::exists(out / "plan.json"));
+  EXPECT_NE(slurp((out / "report.html").string()).find("STOPPED"), std::string::npos);
+  EXPECT_NE(slurp(out.string() + ".log.out").find("status        STOPPED"), std::string::npos);
+  fs::remove_all(out);
+}
+
+TEST(Stop, SigtermDuringTrackingLeavesAReadablePartialResult) { expect_partial_result(SIGTERM, "term"); }
+
+TEST(Stop, SigintDuringTrackingLeavesAReadablePartialResult) { expect_partial_result(SIGINT, "int"); }
+
+}  // namespace
