@@ -691,8 +691,8 @@ bool Search::take(const std::vector<search::Proposal>& picks, const std::vector<
   replan = p.replan;
   // Announced only now that it runs.
   log("[search] round " + std::to_string(next.index) + ": " + failure.reason + "; " + action + " (" +
-      changes_text(grouped(before_changes, pb_.agents.size())) + ")" +
-      (p.replan ? "; re-planning" : kept.empty() ? "; tracking again with the same plan" : "; " + kept));
+      changes_text(grouped(before_changes, pb_.agents.size())) + ")" + (p.replan ? "; re-planning" : "; tracking again with the same plan"));
+  if (!kept.empty()) log("[search] " + kept);  // what the re-check of the plan found
   return true;
 }
 
@@ -712,7 +712,7 @@ bool Search::keeps_plan(std::string& said) {
   std::snprintf(buf, sizeof buf, "the plan is still eps-robust with the wider tube (smallest margin %.3g; checked in %.3g s): no re-plan",
                 c.min_margin, t.seconds());
   said = buf;
-  log("[search] " + (passed ? said : "the plan is not eps-robust with the wider tube (" + c.message + "): re-planning"));
+  if (!passed) said = "the plan is not eps-robust with the wider tube (" + c.message + "): re-planning";
   return passed;
 }
 
