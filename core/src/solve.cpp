@@ -140,6 +140,9 @@ class Search {
             SearchRound& next, bool& replan, const std::vector<std::string>& who = {});
   // The exact check of the current plan with the (just widened) tubes; true when it passes.
   bool keeps_plan(std::string& said);
+  // The exact check of the current plan with `agents` in place of the team's (their tubes).
+  bool robust_with(const std::vector<AgentSpec>& agents, planning::RobustCheck& check);
+  double last_check_s_ = 0;  // the last such check's time, for the estimates
   void stop_without_lever(const Failure& failure);
   // A planning failure with a planner the file named: the default planner, once.
   bool default_planner(const Failure& failure, double elapsed, SearchRound& next);
@@ -466,7 +469,7 @@ double Search::estimate(const search::Proposal& p, double cost) {
   ratio = std::max(ratio, 0.01);
   const double spread = std::max(longest, own / std::max(1, opt_.threads));
   // A wider tube re-checks the plan first (about as long as the planning stage's own check).
-  const double check = p.recheck ? 0.05 * last_plan_s_ : 0.0;
+  const double check = p.recheck ? (last_check_s_ > 0 ? last_check_s_ : 0.05 * last_plan_s_) : 0.0;
   if (!p.replan || p.recheck) return check + std::min(spread, last_track_s_ * ratio) + last_certify_s_;
   // A re-plan tracks every agent again.
   return last_plan_s_ + std::max(last_track_s_, full_track_s_) * ratio + last_certify_s_;
@@ -618,9 +621,35 @@ bool Search::agents_round(const Failure& failure, double elapsed, SearchRound& n
       search::Candidate c;
       if (candidate(lever, one, declared, elapsed, c)) candidates.push_back(std::move(c));
     }
-    const int best = search::best_candidate(candidates);
+    int best = search::best_candidate(candidates);
     if (best < 0) continue;
-    if (best > 0 && candidates[0].lever.lever == Lever::TrackerLever)
+    if (candidates[best].proposal.recheck && candidates.size() > 1) {
+      // A wider tube for this agent: checked now, so that a re-plan it would need (every agent
+      // tracked again) is weighed against this agent's levers that keep the plan.
+      planning::RobustCheck c;
+      if (!robust_with(candidates[best].proposal.agents, c)) {
+        search::Candidate& wide = candidates[best];
+        wide.proposal.recheck = false;
+        wide.predicted_s = last_plan_s_ + std::max(last_track_s_, full_track_s_) + last_certify_s_;
+        // The best of the levers after it that keep the plan (a slow knob still waits behind
+        // another tracker), when it is predicted faster than the re-plan.
+        std::vector<search::Candidate> keep;
+        std::vector<int> at;
+        for (std::size_t k = static_cast<std::size_t>(best) + 1; k < candidates.size(); ++k)
+          if (!candidates[k].proposal.replan) {
+            keep.push_back(candidates[k]);
+            at.push_back(static_cast<int>(k));
+          }
+        const int alt = search::best_candidate(keep);
+        if (alt >= 0 && keep[alt].predicted_s < wide.predicted_s) {
+          log("[search] " + pb_.agents[failure.agents[w]].name + ": the plan is not eps-robust with the wider tube (" + c.message +
+              "): " + search::lever_name(keep[alt].lever) + " first (about " + seconds(keep[alt].predicted_s) +
+              "; a re-plan about " + seconds(wide.predicted_s) + ")");
+          best = at[alt];
+        }
+      }
+    }
+    if (best > 0 && candidates[best].lever.lever == Lever::FallBack && candidates[0].lever.lever == Lever::TrackerLever)
       log("[search] " + pb_.agents[failure.agents[w]].name + ": " + search::lever_name(candidates[best].lever) + " (about " +
           seconds(candidates[best].predicted_s) + ") before " + search::lever_name(candidates[0].lever) + " (about " +
           seconds(candidates[0].predicted_s) + ")");
@@ -698,22 +727,30 @@ bool Search::take(const std::vector<search::Proposal>& picks, const std::vector<
 
 bool Search::keeps_plan(std::string& said) {
   // Wider tubes only: the plan stays when the exact check passes with them (docs/search.md).
-  if (!rank0_says(out_.plan.feasible && !out_.plan.plan.u.empty())) return false;
-  const Stopwatch t;
   planning::RobustCheck c;
-  if (root()) {
-    Problem tightened;
-    const Problem& checked = tighten_inputs(tightened) ? tightened : pb_;
-    c = planning::check_robust(checked, out_.plan.plan, out_.plan.visits);
-  }
-  const bool passed = rank0_says(c.passed);
+  const bool passed = robust_with(pb_.agents, c);
   if (passed && root()) out_.plan.check = c;
   char buf[160];
-  std::snprintf(buf, sizeof buf, "the plan is still eps-robust with the wider tube (smallest margin %.3g; checked in %.3g s): no re-plan",
-                c.min_margin, t.seconds());
+  std::snprintf(buf, sizeof buf, "the plan is still eps-robust with the wider tube (smallest margin %.3g): no re-plan", c.min_margin);
   said = buf;
   if (!passed) said = "the plan is not eps-robust with the wider tube (" + c.message + "): re-planning";
   return passed;
+}
+
+bool Search::robust_with(const std::vector<AgentSpec>& agents, planning::RobustCheck& c) {
+  if (!rank0_says(out_.plan.feasible && !out_.plan.plan.u.empty())) return false;
+  const Stopwatch t;
+  if (root()) {
+    Problem widened = pb_;
+    widened.agents = agents;
+    std::swap(widened.agents, pb_.agents);  // tighten_inputs reads pb_: the same U with these tubes
+    Problem tightened;
+    const bool tight = tighten_inputs(tightened);
+    std::swap(widened.agents, pb_.agents);
+    c = planning::check_robust(tight ? tightened : widened, out_.plan.plan, out_.plan.visits);
+  }
+  last_check_s_ = t.seconds();
+  return rank0_says(c.passed);
 }
 
 void Search::remember_knob(const std::string& name, const search::Proposal& p, const Failure& failure) {

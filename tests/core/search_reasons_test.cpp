@@ -29,6 +29,9 @@ using marsyn::test::pendulum_variant;
 
 // U wide enough that the swing-up's nominal never sits at a bound (no "tighten U" round).
 const std::pair<std::string, std::string> kWideU{"input_bounds: {lo: [-3], hi: [3]}", "input_bounds: {lo: [-30], hi: [30]}"};
+// never's miss of 0.01 is 6.7 % of this eps: not a small miss (search::kSmallMiss), so the
+// tracker's knobs and the eps levers are what these tests see.
+const std::pair<std::string, std::string> kNotSmall{"eps: [0.2, 0.2]", "eps: [0.2, 0.15]"};
 
 marsyn::SolveOptions quick(std::vector<std::string>* log = nullptr) { return marsyn::test::quick_solve(log); }
 
@@ -91,7 +94,7 @@ TEST(SearchReasons, EachFailureKindHasItsOwnLevers) {
 
 TEST(SearchReasons, ATubeMissTurnsTheTrackersKnobThenEpsInThatCoordinateOnly) {
   const auto lp = marsyn::load_problem(
-      pendulum_variant("reasons_miss", "tracker: never", {{"- name: pendulum", "- name: miss_pendulum"}, kWideU}));
+      pendulum_variant("reasons_miss", "tracker: never", {{"- name: pendulum", "- name: miss_pendulum"}, kWideU, kNotSmall}));
   const marsyn::SolveOutcome o = marsyn::solve(lp, quick());
   EXPECT_FALSE(o.verified);
   const auto a = actions(o);
@@ -104,8 +107,8 @@ TEST(SearchReasons, ATubeMissTurnsTheTrackersKnobThenEpsInThatCoordinateOnly) {
   const auto& ch = o.search.rounds[2].changes;
   ASSERT_EQ(ch.size(), 1u);
   EXPECT_EQ(ch[0].what, "eps");
-  EXPECT_EQ(ch[0].from, "(0.2,0.2)");
-  EXPECT_EQ(ch[0].to, "(0.2,0.25)");
+  EXPECT_EQ(ch[0].from, "(0.2,0.15)");
+  EXPECT_EQ(ch[0].to, "(0.2,0.1875)");
   EXPECT_EQ(o.search.rounds[1].changes.at(0).what, "tracker params");
   const std::string m = o.search.message();
   EXPECT_NE(m.find("tried: the tracker's tighter knob x1, enlarge eps by 1.25 in the missed coordinate and re-plan x"),
@@ -121,9 +124,10 @@ TEST(SearchReasons, ATubeMissTurnsTheTrackersKnobThenEpsInThatCoordinateOnly) {
 
 TEST(SearchReasons, AKnobThatHelpsIsTurnedAgain) {
   // shrinking*: the miss halves with each turn of the knob (0.01, 0.005, 0.0025): turned until
-  // its own limit (knob 2), then the search moves on.
+  // its own limit (knob 2), then the search moves on. eps 0.04 in the rate keeps every miss above
+  // a small one (25, 12.5, 6.25 %): a small one would be closed by a wider tube instead.
   const auto lp = marsyn::load_problem(
-      pendulum_variant("reasons_shrinking", "tracker: never", {{"- name: pendulum", "- name: shrinking_pendulum"}, kWideU}));
+      pendulum_variant("reasons_shrinking", "tracker: never", {{"- name: pendulum", "- name: shrinking_pendulum"}, kWideU, {"eps: [0.2, 0.2]", "eps: [0.2, 0.04]"}}));
   const marsyn::SolveOutcome o = marsyn::solve(lp, quick());
   const auto a = actions(o);
   ASSERT_GE(a.size(), 4u);

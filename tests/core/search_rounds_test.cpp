@@ -131,7 +131,7 @@ namespace {
 // renamed to the first name, a copy of it for each further one, all with eps `eps`, the test
 // tracker and no collisions between them.
 std::string never_team(const std::string& name, const std::vector<std::string>& agents, const std::string& eps,
-                       const std::string& goal_radius = "[0.3, 0.3]") {
+                       const std::string& goal_radius = "[0.3, 0.3]", const std::string& tracker = "tracker: never") {
   std::string more;
   for (std::size_t k = 1; k < agents.size(); ++k)
     more += "  - name: " + agents[k] + "\n"
@@ -142,7 +142,7 @@ std::string never_team(const std::string& name, const std::vector<std::string>& 
             "    input_bounds: {lo: [-3], hi: [3]}\n"
             "    disturbance: [0, 0.01]\n"
             "    eps: " + eps + "\n";
-  return pendulum_variant(name, "tracker: never",
+  return pendulum_variant(name, tracker,
                           {{"horizon: 100\n", "horizon: 100\npairwise_collision: false\n"},
                            {"- name: pendulum\n", "- name: " + agents.front() + "\n"},
                            {"eps: [0.2, 0.2]\n", "eps: " + eps + "\n"},
@@ -179,15 +179,17 @@ TEST(SearchRounds, ASmallMissIsClosedByAWiderTubeWithoutAReplan) {
 }
 
 // The same miss with the goal's rate tolerance 0.3: the plan ends on the edge of the shrunk goal
-// (0.05 in the rate), which the wider tube moves inwards: the check fails and the round re-plans,
+// (0.05 in the rate), which the wider tube moves inwards: the check fails. The tracker's knob,
+// which keeps the plan, runs first (next test); once it has not helped, the wider tube re-plans,
 // from the plan it replaces.
 TEST(SearchRounds, ASmallMissReplansWhenTheWiderTubeBreaksThePlan) {
   std::vector<std::string> log;
   const auto lp = marsyn::load_problem(never_team("rounds_small_miss_replan", {"miss_pendulum"}, "[0.2, 0.25]"));
   const marsyn::SolveOutcome o = marsyn::solve(lp, quick(&log));
-  ASSERT_GE(o.search.rounds.size(), 2u);
-  EXPECT_EQ(o.search.rounds[1].action, marsyn::search::lever_name({marsyn::search::Lever::WidenForMiss, ""}));
-  EXPECT_TRUE(o.search.rounds[1].planned);
+  const std::string widen = marsyn::search::lever_name({marsyn::search::Lever::WidenForMiss, ""});
+  const auto r = std::find_if(o.search.rounds.begin(), o.search.rounds.end(), [&](const auto& x) { return x.action == widen; });
+  ASSERT_NE(r, o.search.rounds.end()) << o.search.message();
+  EXPECT_TRUE(r->planned);
   const auto said = std::find_if(log.begin(), log.end(), [](const std::string& l) {
     return l.rfind("[search] the plan is not eps-robust with the wider tube (NOT eps-robust", 0) == 0;
   });
@@ -197,11 +199,28 @@ TEST(SearchRounds, ASmallMissReplansWhenTheWiderTubeBreaksThePlan) {
             log.end());
 }
 
+// When a lever keeps the plan, the wider tube that would break it waits: the knob (never's
+// "tighter knob", predicted at no cost) runs before a re-plan.
+TEST(SearchRounds, AWiderTubeThatBreaksThePlanWaitsBehindALeverThatKeepsIt) {
+  std::vector<std::string> log;
+  const auto lp = marsyn::load_problem(never_team("rounds_small_miss_knob", {"miss_pendulum"}, "[0.2, 0.25]"));
+  const marsyn::SolveOutcome o = marsyn::solve(lp, quick(&log));
+  ASSERT_GE(o.search.rounds.size(), 2u);
+  EXPECT_EQ(o.search.rounds[1].action, "the tracker's tighter knob");
+  EXPECT_FALSE(o.search.rounds[1].planned);
+  EXPECT_NE(std::find_if(log.begin(), log.end(),
+                         [](const std::string& l) {
+                           return l.rfind("[search] miss_pendulum: the plan is not eps-robust with the wider tube (", 0) == 0 &&
+                                  l.find("the tracker's tighter knob first") != std::string::npos;
+                         }),
+            log.end());
+}
+
 // Two agents failing for different reasons each get their own lever in the same round: the
 // small miss its wider tube, the empty winning set the tracker's "finer cells". With e0e42b8's
 // rule (the first failed agent's reason decides for all) both got "tighter knob".
 TEST(SearchRounds, TwoFailingAgentsWithDifferentBestLeversAreServedInOneRound) {
-  const auto lp = marsyn::load_problem(never_team("rounds_two_levers", {"miss_a", "empty_b"}, "[0.2, 0.25]"));
+  const auto lp = marsyn::load_problem(never_team("rounds_two_levers", {"miss_a", "empty_b"}, "[0.2, 0.25]", "[0.3, 2.0]"));
   const marsyn::SolveOutcome o = marsyn::solve(lp, quick());
   ASSERT_GE(o.search.rounds.size(), 2u);
   const auto& r2 = o.search.rounds[1];
