@@ -174,14 +174,8 @@ class Proposer {
  public:
   Proposer(const LeverChoice& lever, const Failure& failure, const Team& team, TrackerInstances& instances,
            const AssessRequest& request)
-      : lever_(lever), failure_(failure), team_(team), instances_(instances), request_(request) {
+      : lever_(lever), failure_(failure), team_(team), instances_(instances), request_(request), p_(unchanged(team)) {
     p_.lever = lever;
-    p_.agents = team.problem->agents;
-    p_.trackers = *team.trackers;
-    p_.extra = *team.extra;
-    p_.input_share = *team.input_share;
-    p_.input_share.resize(p_.agents.size(), 1.0);
-    p_.min_horizon = *team.min_horizon;
   }
 
   Proposal run() {
@@ -398,6 +392,17 @@ class Proposer {
 };
 
 }  // namespace
+
+Proposal unchanged(const Team& team) {
+  Proposal p;
+  p.agents = team.problem->agents;
+  p.trackers = *team.trackers;
+  p.extra = *team.extra;
+  p.input_share = *team.input_share;
+  p.input_share.resize(p.agents.size(), 1.0);
+  p.min_horizon = *team.min_horizon;
+  return p;
+}
 
 Proposal propose(const LeverChoice& lever, const Failure& failure, const Team& team, TrackerInstances& instances,
                  const AssessRequest& request, int /*uses*/) {

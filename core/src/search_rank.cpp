@@ -31,13 +31,7 @@ Failure agent_failure(const Failure& f, std::size_t w) {
 }
 
 Proposal merge(const std::vector<Proposal>& picks, const Team& team) {
-  Proposal m;
-  m.agents = team.problem->agents;
-  m.trackers = *team.trackers;
-  m.extra = *team.extra;
-  m.input_share = *team.input_share;
-  m.input_share.resize(m.agents.size(), 1.0);
-  m.min_horizon = *team.min_horizon;
+  Proposal m = unchanged(team);
   bool recheck = true;
   for (const Proposal& p : picks) {
     if (picks.size() == 1) m.lever = p.lever;

@@ -136,6 +136,8 @@ struct Proposal {
 Proposal propose(const LeverChoice& lever, const Failure& failure, const Team& team, TrackerInstances& instances,
                  const AssessRequest& request, int uses = 0);
 void apply(const Proposal& proposal, const Team& team);
+// The team as it is, as a proposal that changes nothing (what levers and merges start from).
+Proposal unchanged(const Team& team);
 
 // Identifies an attempt: every agent's tracker, its parameters, eps and grids, its share of U,
 // the plan's clearance and the horizon the planning starts from. Two rounds with the same
