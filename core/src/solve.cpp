@@ -678,8 +678,8 @@ void Search::stop_without_lever(const Failure& failure) {
       const double t = std::atof(n.why.c_str() + at);
       if (best < 0 || t < best) {
         best = t;
-        rep.stop_reason = failure.reason + "; the time limit (" + seconds(opt_.time_limit_s) + ") is near: the best lever left, " +
-                          n.lever + ", would take about " + seconds(t);
+        rep.stop_reason = failure.reason + "; no lever left fits the time left of the limit (" + seconds(opt_.time_limit_s) +
+                          "): the best, " + n.lever + ", would take about " + seconds(t);
       }
     }
 }

@@ -87,6 +87,24 @@ TEST(AutoTube, WrittenAutoAndItsFirstValue) {
                marsyn::ConfigError);
 }
 
+// "Any rate" written as a goal radius of 2.8 within the rate's bounds +-3 (a half-width 93 % of the
+// half-range): 5 % of the range (0.3), not half the goal (1.4, a tube the feedback cannot use).
+// The angle's goal (0.3 of a 7 rad range) keeps the goal rule. Before, 1.4.
+TEST(AutoTube, AGoalSpanningMostOfTheRangeCountsAsAny) {
+  const auto lp = marsyn::load_problem(marsyn::test::pendulum_variant(
+      "auto_any", "tracker: abcd", {{"eps: [0.2, 0.2]", "eps: auto"}, {"radius: [0.3, 0.3]", "radius: [0.3, 2.8]"}}));
+  EXPECT_NEAR(lp.problem.agents[0].tube.eps[0], 0.15, 1e-12);
+  EXPECT_NEAR(lp.problem.agents[0].tube.eps[1], 0.3, 1e-12);
+  std::string why;
+  marsyn::first_auto_eps(lp.problem.agents[0], lp.problem.tau, &why);
+  EXPECT_NE(why.find("rate: the goal spans 90 % of the bounds' range or more (any value), 5 % of the range"), std::string::npos) << why;
+  // Just under 90 % (2.69 of 3): the goal rule, half of it (a bicycle's steering goal of 0.4 within
+  // +-0.5, 80 %, keeps it too).
+  const auto lp2 = marsyn::load_problem(marsyn::test::pendulum_variant(
+      "auto_not_any", "tracker: abcd", {{"eps: [0.2, 0.2]", "eps: auto"}, {"radius: [0.3, 0.3]", "radius: [0.3, 2.69]"}}));
+  EXPECT_NEAR(lp2.problem.agents[0].tube.eps[1], 1.345, 1e-12);
+}
+
 // Three hovercraft in a triangle with tolerance mu 0.35: the goal-sized first eps (0.25 in
 // position) lets two tubes change a pair's distance by 0.71 > mu, so no robust plan would
 // exist and the search shrank eps blind for a minute. An auto eps starts inside what the

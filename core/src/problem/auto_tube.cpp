@@ -11,18 +11,28 @@ namespace marsyn {
 Eigen::VectorXd first_auto_eps(const AgentSpec& a, double tau, std::string* why) {
   const int n = a.n();
   Eigen::VectorXd eps(n);
+  std::string any;
   for (int i = 0; i < n; ++i) {
     const double goal_half = 0.5 * (a.goal.hi[i] - a.goal.lo[i]);
     const double room = std::min(a.x0[i] - a.state_bounds.lo[i], a.state_bounds.hi[i] - a.x0[i]);
     const double range = a.state_bounds.hi[i] - a.state_bounds.lo[i];
-    // A goal as wide as the state bounds says nothing about the tube: 5 % of the range instead.
-    double e = std::isfinite(goal_half) && goal_half < 0.5 * range ? 0.5 * goal_half : 0.05 * range;
+    // A goal spanning 90 % of the state bounds' range or more says nothing about the tube ("any
+    // heading" written as radius 3.9 within +-4 gave a heading tube of 1.95 rad): 5 % of the
+    // range instead.
+    const bool says_any = !std::isfinite(goal_half) || goal_half >= kAnyGoalShare * 0.5 * range;
+    double e = says_any ? 0.05 * range : 0.5 * goal_half;
+    if (says_any && std::isfinite(range)) {
+      const auto names = a.dynamics ? a.dynamics->state_names() : std::vector<std::string>{};
+      any += (any.empty() ? "" : ", ") + (i < static_cast<int>(names.size()) ? names[i] : "x" + std::to_string(i));
+    }
     e = std::max(e, 2 * a.tube.w[i] * tau);
     e = std::min({e, 0.9 * room, 0.9 * goal_half});
     eps[i] = e;
   }
   if (why)
-    *why = "first value: half the goal's half-width per coordinate, at least 2 w tau, at most 0.9 of the room around x0";
+    *why = "first value: half the goal's half-width per coordinate, at least 2 w tau, at most 0.9 of the room around x0" +
+           (any.empty() ? std::string()
+                        : "; " + any + ": the goal spans 90 % of the bounds' range or more (any value), 5 % of the range");
   return eps;
 }
 

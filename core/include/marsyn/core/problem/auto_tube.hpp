@@ -35,6 +35,9 @@ inline constexpr int kAutoEpsIterations = 3;
 // A first eps for an agent whose eps is auto: per coordinate half the goal's half-width, at most
 // 0.9 of the room between x0 and the state bounds, and at least the disturbance's one-period
 // push (w tau, times 2). `why` (may be null) receives the rule as text.
+// A goal whose half-width is at least this share of the state bounds' half-range counts as "any
+// value" in that coordinate for the first auto eps (5 % of the range, not half the goal).
+inline constexpr double kAnyGoalShare = 0.9;
 Eigen::VectorXd first_auto_eps(const AgentSpec& agent, double tau, std::string* why = nullptr);
 
 // Two agents' tubes can change their workspace distance by up to sqrt(2) (eps_i + eps_j) (a
