@@ -144,6 +144,9 @@ class Search {
   bool robust_with(const std::vector<AgentSpec>& agents, planning::RobustCheck& check);
   double last_check_s_ = 0;  // the last such check's time, for the estimates
   void stop_without_lever(const Failure& failure);
+  // After a stop: "; the best lever untried: <lever> (about S)" for the round's failure, what a
+  // resumed or longer run would do next; empty when no lever applies.
+  std::string best_untried(const Failure& failure);
   // A planning failure with a planner the file named: the default planner, once.
   bool default_planner(const Failure& failure, double elapsed, SearchRound& next);
   // Marks each knob the last round turned unhelpful when no agent it changed got further.
@@ -552,6 +555,37 @@ bool Search::next_round(const Failure& failure, double elapsed, SearchRound& nex
   return false;
 }
 
+std::string Search::best_untried(const Failure& failure) {
+  // Every lever as if time were no object; their refusals go to the report's not_tried.
+  const double any_time = -1e300;
+  out_.search.not_tried.clear();
+  std::vector<search::Candidate> best;
+  std::vector<std::string> who;
+  std::vector<Failure> each;
+  if (failure.kind == Failure::NoController)
+    for (std::size_t w = 0; w < failure.agents.size(); ++w) each.push_back(search::agent_failure(failure, w));
+  else if (failure.kind == Failure::Plan || failure.kind == Failure::Certification)
+    each.push_back(failure);
+  for (const Failure& one : each) {
+    const std::vector<TrackerLever> declared = declared_levers(one);
+    std::vector<search::Candidate> candidates;
+    for (const LeverChoice& lever : search::levers_for(one, declared)) {
+      search::Candidate c;
+      if (candidate(lever, one, declared, any_time, c)) candidates.push_back(std::move(c));
+    }
+    const int b = search::best_candidate(candidates);
+    if (b < 0) continue;
+    best.push_back(candidates[b]);
+    who.push_back(one.kind == Failure::NoController ? pb_.agents[one.agents.front()].name + ": " : "");
+  }
+  if (best.empty()) return "";
+  std::size_t k = 0;  // the agent whose lever is predicted slowest decides when all would be done
+  for (std::size_t j = 1; j < best.size(); ++j)
+    if (best[j].predicted_s > best[k].predicted_s) k = j;
+  return "; the best lever untried: " + (best.size() > 1 ? who[k] : std::string()) + search::lever_name(best[k].lever) + " (about " +
+         seconds(best[k].predicted_s) + (best.size() > 1 ? ", the slowest of " + std::to_string(best.size()) + " agents' levers" : "") + ")";
+}
+
 bool Search::default_planner(const Failure& failure, double elapsed, SearchRound& next) {
   // A planner the file names that finds no plan at any horizon is not the end: the default
   // planner once, before the horizon and eps levers (a doorway that Ipopt failed at every
@@ -888,7 +922,7 @@ bool Search::run(const Stopwatch& t_start) {
     }
     t_round = Stopwatch();  // deciding on the next round is part of it
     if (stopping()) {
-      rep.stop_reason = cause_text() + " in round " + std::to_string(index) + " (" + f.reason + ")";
+      rep.stop_reason = cause_text() + " in round " + std::to_string(index) + " (" + f.reason + ")" + best_untried(f);
       rep.interrupted = true;
       break;
     }

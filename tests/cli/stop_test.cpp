@@ -68,6 +68,8 @@ void expect_partial_result(int sig, const std::string& name) {
   EXPECT_NE(result.find("\"status\": \"stopped\""), std::string::npos) << result.substr(0, 400);
   EXPECT_NE(result.find("\"partial\": true"), std::string::npos);
   EXPECT_NE(result.find("a stop was requested (SIGINT or SIGTERM)"), std::string::npos);
+  // What a longer run would have done next, with its predicted time.
+  EXPECT_NE(result.find("the best lever untried: enlarge eps by 1.25 and re-plan (about "), std::string::npos) << result.substr(0, 600);
   EXPECT_TRUE(fs::exists(out / "pendulum.ctrl"));
   EXPECT_FALSE(fs::exists(out / "stall_pendulum.ctrl"));
   EXPECT_TRUE(fs::exists(out / "plan.json"));
