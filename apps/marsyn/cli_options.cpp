@@ -46,6 +46,9 @@ void add_plan_track_solve(CLI::App& app, CliOptions& o) {
                       "the search's budget in seconds: it plans and tracks again while a change is left and time remains "
                       "(default: the file's search: {time_limit}, else 600; docs/search.md)")
       ->check(CLI::Range(1e-3, 1e9));
+  o.solve->add_option("--resume", o.resume,
+                      "continue from the folder a stopped or failed solve of this problem left: its plan (when still "
+                      "eps-robust) and its controllers are kept, only the other agents are tracked (docs/search.md)");
 }
 
 void add_simulate_verify(CLI::App& app, CliOptions& o) {
@@ -115,7 +118,7 @@ int run_command(const CliOptions& o, const LoadOptions& load, const Collective* 
   if (*o.track) return run_track(o.config, o.agent, o.plan_file, o.out, o.threads, load, cluster);
   if (*o.solve)
     return run_solve(o.config.empty() ? default_example() : o.config, o.out, o.runs, o.threads, o.global_budget,
-                     o.time_limit_option->count() ? std::optional<double>(o.time_limit) : std::nullopt, load, cluster);
+                     o.time_limit_option->count() ? std::optional<double>(o.time_limit) : std::nullopt, load, cluster, o.resume);
   if (*o.simulate) return run_simulate(o.config, o.controllers, o.mode, o.seed, o.sim_out, load);
   if (*o.verify) return run_verify(o.config, o.controllers, o.plan_file, o.runs, o.threads, o.all_pairs, load);
   if (*o.bench)

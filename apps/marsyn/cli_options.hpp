@@ -18,6 +18,7 @@ struct CliOptions {
   int threads = 2, runs = 1000;
   double global_budget = 2e9;
   double time_limit = 0;
+  std::string resume;  // solve --resume DIR
   CLI::Option* time_limit_option = nullptr;
   unsigned long seed = 1;
   std::vector<std::string> export_inputs;

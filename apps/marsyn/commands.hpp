@@ -20,7 +20,8 @@ int run_track(const std::string& config, const std::string& agent, const std::st
 // time_limit_s: the search's budget in seconds (--time-limit); unset: the file's
 // `search: {time_limit}`, else SolveOptions' default.
 int run_solve(const std::string& config, const std::string& out_dir, int runs, int threads, double global_budget,
-              std::optional<double> time_limit_s, const LoadOptions& load, const Collective* cluster = nullptr);
+              std::optional<double> time_limit_s, const LoadOptions& load, const Collective* cluster = nullptr,
+              const std::string& resume_dir = "");
 
 // An MPI run's failure every rank already knows of (rank 0 found the problem file bad): main
 // ends normally with the exit code instead of aborting every rank.

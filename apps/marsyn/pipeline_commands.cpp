@@ -370,7 +370,8 @@ void print_verification(const VerificationReport& v) {
 }  // namespace
 
 int run_solve(const std::string& config, const std::string& out_requested, int runs, int threads, double global_budget,
-              std::optional<double> time_limit_s, const LoadOptions& load, const Collective* cluster) {
+              std::optional<double> time_limit_s, const LoadOptions& load, const Collective* cluster,
+              const std::string& resume_dir) {
   const bool root = !cluster || cluster->rank() == 0;
   Setup setup(load_on_every_rank(config, load, cluster));
   const LoadedProblem& lp = setup.loaded();
@@ -383,6 +384,7 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
   so.threads = threads;
   so.global_memory_budget_bytes = global_budget;
   so.cluster = cluster;
+  so.resume_dir = resume_dir;
   stop_on_signals();
   so.stop = [] { return g_stop_requested.load(); };
   if (root) so.log = log_line;  // one progress stream: rank 0's

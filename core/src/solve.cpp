@@ -6,10 +6,15 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
+#include "marsyn/number_text.hpp"
 #include "marsyn/stopwatch.hpp"
 #include "marsyn/core/verification/run_progress.hpp"
 #include "marsyn/core/planning/solver_progress.hpp"
@@ -19,6 +24,9 @@
 #include "marsyn/core/search_auto.hpp"
 #include "marsyn/core/search_levers.hpp"
 #include "marsyn/core/search_rank.hpp"
+#include "marsyn/core/planning/plan_io.hpp"
+#include "marsyn/core/problem/config_error.hpp"
+#include "marsyn/core/tracking/tracker_choice.hpp"
 #include "marsyn/core/setup.hpp"
 #include "marsyn/core/problem/agent_checks.hpp"
 #include "marsyn/core/problem/problem_loader.hpp"
@@ -133,6 +141,9 @@ class Search {
   // novelty, time); false with the reason in the report's not_tried otherwise.
   bool candidate(const LeverChoice& lever, const Failure& failure, const std::vector<TrackerLever>& declared, double elapsed,
                  search::Candidate& out);
+  // solve --resume: the folder's plan and controllers, when the plan is still eps-robust with the
+  // tubes recorded there; true when round 1 can start from them (no planning).
+  bool resume(const std::string& dir, SearchRound& round);
   // A tracking failure: each failed agent's best lever (search_rank.hpp), merged into one round.
   bool agents_round(const Failure& failure, double elapsed, SearchRound& next, bool& replan);
   // Applies the picks (one per agent, or one for the team) as the next round.
@@ -586,6 +597,98 @@ std::string Search::best_untried(const Failure& failure) {
          seconds(best[k].predicted_s) + (best.size() > 1 ? ", the slowest of " + std::to_string(best.size()) + " agents' levers" : "") + ")";
 }
 
+bool Search::resume(const std::string& dir, SearchRound& round) {
+  namespace fs = std::filesystem;
+  const std::string result_file = (fs::path(dir) / "result.json").string(), plan_file = (fs::path(dir) / "plan.json").string();
+  if (!fs::exists(result_file) || !fs::exists(plan_file))
+    throw ConfigError(dir, 0, 0, "--resume",
+                      "expected a folder of an earlier `marsyn solve` of this problem with result.json and plan.json (a stopped "
+                      "or failed solve that found a plan); " +
+                          std::string(fs::exists(result_file) ? "plan.json" : "result.json") + " is missing");
+  // The tubes the earlier search ended with: the controllers were made for them.
+  nlohmann::json j;
+  try {
+    std::ifstream in(result_file);
+    j = nlohmann::json::parse(in);
+  } catch (const std::exception& e) {
+    throw ConfigError(result_file, 0, 0, "", std::string("not readable as JSON: ") + e.what());
+  }
+  std::vector<AgentSpec> agents = pb_.agents;
+  for (auto& a : agents) {
+    const nlohmann::json* rec = nullptr;
+    if (j.contains("agents") && j["agents"].is_array())
+      for (const auto& r : j["agents"])
+        if (r.is_object() && r.value("name", "") == a.name) rec = &r;
+    if (!rec) throw ConfigError(result_file, 0, 0, "agents", "no record of agent " + a.name + ": the folder is of another problem");
+    const auto& e = (*rec)["eps"];
+    if (!e.is_array() || static_cast<int>(e.size()) != a.n())
+      throw ConfigError(result_file, 0, 0, "agents." + a.name + ".eps", "expected " + std::to_string(a.n()) + " numbers");
+    for (int c = 0; c < a.n(); ++c) {
+      if (!e[c].is_number() || !(e[c].get<double>() > 0))
+        throw ConfigError(result_file, 0, 0, "agents." + a.name + ".eps", "expected positive numbers");
+      a.tube.eps[c] = e[c].get<double>();
+    }
+  }
+  std::swap(pb_.agents, agents);  // the plan is read and checked with the recorded tubes
+  std::vector<NominalTrajectory> nominal;
+  try {
+    nominal = planning::read_plan_json(plan_file, pb_);
+  } catch (...) {
+    std::swap(pb_.agents, agents);
+    throw;
+  }
+  GlobalPlan plan;
+  plan.tau = pb_.tau;
+  const int T = nominal.empty() ? 0 : static_cast<int>(nominal.front().u.size());
+  for (int k = 0; k <= T; ++k) {
+    Eigen::VectorXd x(pb_.product_state_dim()), u(pb_.product_input_dim());
+    for (std::size_t i = 0, ox = 0, ou = 0; i < nominal.size(); ox += pb_.agents[i].n(), ou += pb_.agents[i].m(), ++i) {
+      x.segment(ox, pb_.agents[i].n()) = nominal[i].x.at(k);
+      if (k < T) u.segment(ou, pb_.agents[i].m()) = nominal[i].u.at(k);
+    }
+    plan.x.push_back(x);
+    if (k < T) plan.u.push_back(u);
+  }
+  const planning::MissionSchedule visits = planning::read_plan_visits(plan_file, pb_, T);
+  const planning::RobustCheck check = T > 0 ? planning::check_robust(pb_, plan, visits) : planning::RobustCheck{};
+  if (!check.passed) {
+    std::swap(pb_.agents, agents);
+    log("[search] --resume " + dir + ": its plan is not eps-robust for this problem (" + check.message + "): planning afresh");
+    return false;
+  }
+  pb_.horizon = T;
+  out_.plan = {};
+  out_.plan.feasible = true;
+  out_.plan.horizon = T;
+  out_.plan.plan = plan;
+  out_.plan.visits = visits;
+  out_.plan.nominal = nominal;
+  out_.plan.check = check;
+  const auto controllers = read_agent_controllers(pb_, instances_, dir, true);
+  const std::size_t N = pb_.agents.size();
+  out_.agents.assign(N, {});
+  tracked_params_.assign(N, "");
+  tracked_nominal_ = nominal;
+  const auto recorded = recorded_trackers(dir);
+  int kept = 0;
+  for (std::size_t i = 0; i < N; ++i) {
+    out_.agents[i].name = pb_.agents[i].name;
+    out_.agents[i].tracker = recorded.count(pb_.agents[i].name) ? recorded.at(pb_.agents[i].name) : pb_.agents[i].tracker.name;
+    if (!controllers[i]) continue;
+    out_.agents[i].track.status = TrackerStatus::ControllerFound;
+    out_.agents[i].track.controller = controllers[i];
+    out_.agents[i].track.message = "kept from " + dir + " (--resume)";
+    tracked_params_[i] = agent_parameters(pb_.agents[i]);
+    ++kept;
+  }
+  round.action = "resumed from " + dir + ": its plan (T = " + std::to_string(T) + ") and " + std::to_string(kept) + " controller" +
+                 (kept == 1 ? "" : "s");
+  round.horizon = T;
+  log("[search] " + round.action + "; the plan is eps-robust with the recorded tubes (smallest margin " +
+      number_text(check.min_margin, 3) + "); tracking the other " + std::to_string(N - kept) + " agent(s)");
+  return true;
+}
+
 bool Search::default_planner(const Failure& failure, double elapsed, SearchRound& next) {
   // A planner the file names that finds no plan at any horizon is not the end: the default
   // planner once, before the horizon and eps levers (a doorway that Ipopt failed at every
@@ -858,6 +961,11 @@ bool Search::run(const Stopwatch& t_start) {
   round.action = "first attempt";
   Stopwatch t_round;
   bool replan = true, done = false;
+  if (!opt_.resume_dir.empty()) {
+    if (opt_.cluster && opt_.cluster->size() > 1)
+      throw ConfigError("command line", 0, 0, "--resume", "not over MPI yet: resume in one process");
+    replan = !resume(opt_.resume_dir, round);
+  }
   for (;;) {
     seen_.insert(fingerprint());
     Failure f;

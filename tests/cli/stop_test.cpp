@@ -54,7 +54,7 @@ int solve_and_signal(const std::string& args, const fs::path& log, int sig, bool
   return -1;
 }
 
-void expect_partial_result(int sig, const std::string& name) {
+void expect_partial_result(int sig, const std::string& name, bool resume = false) {
   const fs::path out = fs::temp_directory_path() / ("marsyn_stop_" + std::to_string(::getpid()) + "_" + name);
   fs::remove_all(out);
   const std::string cfg = write_temp(name + ".yaml", two_agents());
@@ -75,11 +75,42 @@ void expect_partial_result(int sig, const std::string& name) {
   EXPECT_TRUE(fs::exists(out / "plan.json"));
   EXPECT_NE(slurp((out / "report.html").string()).find("STOPPED"), std::string::npos);
   EXPECT_NE(slurp(out.string() + ".log.out").find("status        STOPPED"), std::string::npos);
+  if (resume) {
+    // --resume keeps the plan and pendulum's controller and tracks only the other agent (here with
+    // the funnel, which finds one): verified without planning or tracking pendulum again.
+    std::string again = two_agents();
+    again.replace(again.find("tracker: never"), 14, "tracker: funnel");
+    const fs::path out2 = out.string() + "_resumed";
+    const auto r = marsyn::test::run_marsyn("solve " + write_temp(name + "_again.yaml", again) + " --resume " + out.string() +
+                                            " --out " + out2.string() + " --runs 5");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("[search] resumed from " + out.string() + ": its plan (T = "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(") and 1 controller; the plan is eps-robust with the recorded tubes"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("[track] 1 agent(s) keep their controllers (nominal and parameters unchanged); tracking 1"), std::string::npos)
+        << r.err;
+    EXPECT_EQ(r.err.find("[plan] altro on the product system"), std::string::npos) << "no planning on resume";
+    EXPECT_NE(r.out.find("status        VERIFIED"), std::string::npos) << r.out;
+    fs::remove_all(out2);
+  }
   fs::remove_all(out);
 }
 
 TEST(Stop, SigtermDuringTrackingLeavesAReadablePartialResult) { expect_partial_result(SIGTERM, "term"); }
 
 TEST(Stop, SigintDuringTrackingLeavesAReadablePartialResult) { expect_partial_result(SIGINT, "int"); }
+
+TEST(Stop, ResumeKeepsThePlanAndTheControllersFound) { expect_partial_result(SIGTERM, "resume", true); }
+
+TEST(Stop, ResumeFromAFolderWithoutAPlanIsRefused) {
+  const fs::path empty = fs::temp_directory_path() / ("marsyn_resume_empty_" + std::to_string(::getpid()));
+  fs::create_directories(empty);
+  const auto r = marsyn::test::run_marsyn("solve " + write_temp("resume_empty.yaml", two_agents()) + " --resume " + empty.string() +
+                                          " --out " + (empty / "out").string());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("--resume"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("result.json is missing"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(empty / "out" / "result.json"));
+  fs::remove_all(empty);
+}
 
 }  // namespace

@@ -47,7 +47,7 @@ std::string tracked_by(const std::string& dir, const std::string& agent) {
 }  // namespace
 
 std::vector<std::shared_ptr<const Controller>> read_agent_controllers(const Problem& pb, TrackerInstances& trackers,
-                                                                      const std::string& dir) {
+                                                                      const std::string& dir, bool missing_ok) {
   auto recorded = recorded_trackers(dir);  // a solve folder's result.json
   for (const auto& a : pb.agents)
     if (!recorded.count(a.name))
@@ -72,6 +72,7 @@ std::vector<std::shared_ptr<const Controller>> read_agent_controllers(const Prob
   std::vector<std::shared_ptr<const Controller>> out(static_cast<size_t>(n));
   parallel_tasks(n, static_cast<int>(std::thread::hardware_concurrency()), [&](int i) {
     const std::string file = (std::filesystem::path(dir) / (pb.agents[i].name + ".ctrl")).string();
+    if (missing_ok && !std::filesystem::exists(file)) return;
     try {
       out[static_cast<size_t>(i)] = by_agent[static_cast<size_t>(i)]->read_controller(file);
     } catch (const std::exception& e) {
@@ -82,6 +83,7 @@ std::vector<std::shared_ptr<const Controller>> read_agent_controllers(const Prob
     const AgentSpec& a = pb.agents[i];
     const std::string file = (std::filesystem::path(dir) / (a.name + ".ctrl")).string();
     const std::shared_ptr<const Controller>& c = out[static_cast<size_t>(i)];
+    if (!c && missing_ok && !std::filesystem::exists(file)) continue;
     // A controller of another problem (or a renamed file) must not be run on this agent's vectors.
     if (!c || c->state_dim() != a.n() || c->input_dim() != a.m())
       throw ConfigError(file, 0, 0, "",

@@ -29,6 +29,10 @@ struct SolveOptions {
   // empty. The search then stops between agents, horizons and rounds, and solve() returns what
   // it has (status stopped). The search adds its own time limit to it.
   std::function<bool()> stop;
+  // `marsyn solve --resume DIR`: a folder an earlier solve of this problem left (stopped or
+  // failed): its plan is kept when it is still eps-robust with the tubes result.json records, and
+  // so are the controllers found for it; the search tracks only the other agents.
+  std::string resume_dir;
 };
 
 }  // namespace marsyn

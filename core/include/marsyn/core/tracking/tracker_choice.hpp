@@ -19,9 +19,10 @@ std::map<std::string, std::string> recorded_trackers(const std::string& dir);
 
 // Reads each agent's controller file `<dir>/<agent>.ctrl` with the tracker that wrote it: the
 // one result.json records (recorded_trackers), else the agent's own (AgentSpec::tracker). A
-// file that cannot be read throws ConfigError(file, ...) with the tracker's reason.
+// file that cannot be read throws ConfigError(file, ...) with the tracker's reason. missing_ok:
+// an agent without a file gets nullptr (a stopped solve's partial folder, `solve --resume`).
 std::vector<std::shared_ptr<const Controller>> read_agent_controllers(const Problem& problem, TrackerInstances& trackers,
-                                                                      const std::string& dir);
+                                                                      const std::string& dir, bool missing_ok = false);
 
 // One agent's tracking as `marsyn track` and Python's track() do it: the agent's tracker and,
 // when `tracker: auto` chose it (choice->automatic) and it answers "no controller", the other
