@@ -40,10 +40,27 @@ std::vector<SearchChange> grouped(const std::vector<SearchChange>& changes, std:
 std::string SearchReport::tried() const {
   std::vector<std::pair<std::string, int>> counts;  // in the order first run
   for (std::size_t r = 1; r < rounds.size(); ++r) {
-    auto it = counts.begin();
-    while (it != counts.end() && it->first != rounds[r].action) ++it;
-    if (it == counts.end()) counts.emplace_back(rounds[r].action, 1);
-    else ++it->second;
+    // A round of per-agent levers ("a1: <lever>; a2: <lever>", search_rank.hpp) counts once
+    // for each lever it ran.
+    std::vector<std::string> levers;
+    const std::string& action = rounds[r].action;
+    for (std::size_t from = 0; from <= action.size();) {
+      std::size_t to = action.find("; ", from);
+      if (to == std::string::npos) to = action.size();
+      std::string part = action.substr(from, to - from);
+      if (const auto colon = part.find(": "); colon != std::string::npos && action.find("; ") != std::string::npos)
+        part = part.substr(colon + 2);
+      bool seen = false;
+      for (const auto& l : levers) seen = seen || l == part;
+      if (!seen) levers.push_back(part);
+      from = to + 2;
+    }
+    for (const auto& lever : levers) {
+      auto it = counts.begin();
+      while (it != counts.end() && it->first != lever) ++it;
+      if (it == counts.end()) counts.emplace_back(lever, 1);
+      else ++it->second;
+    }
   }
   if (counts.empty()) return "tried: the first attempt only";
   std::string s = "tried: ";

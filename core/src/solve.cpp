@@ -476,7 +476,11 @@ double Search::estimate(const search::Proposal& p, double cost) {
     const double last = at < out_.agents.size()
                             ? out_.agents[at].track.stats.abstraction_time_s + out_.agents[at].track.stats.synthesis_time_s
                             : 0.0;
-    const double t = (last > 0 ? last : last_track_s_) * r;
+    // Another tracker: its own estimate, absolute. Scaling this agent's measured time by the two
+    // trackers' estimates multiplied the funnel's underestimate (one pass of 0.04 s where the
+    // weight choices and splits took 0.9 s) into abcd "about 450 s" for unicycles it tracks in a
+    // few seconds, and the fallback never ran (tests/problems/users2/02).
+    const double t = other && after > 0 ? after : (last > 0 ? last : last_track_s_) * r;
     own += t;
     longest = std::max(longest, t);
   }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "marsyn/core/search_rank.hpp"
+#include "marsyn/core/search_report.hpp"
 
 namespace {
 
@@ -116,3 +117,14 @@ TEST(SearchRank, PicksMergeIntoOneRound) {
 }
 
 }  // namespace
+
+// The stop message's "tried" counts levers, not per-agent round texts: a round that gave a1 a
+// wider tube and a2 a knob counts once for each.
+TEST(SearchRank, TriedCountsEachLeverOfAPerAgentRound) {
+  marsyn::SearchReport r;
+  r.rounds.resize(4);
+  r.rounds[1].action = "a1: widen; a2: knob";
+  r.rounds[2].action = "knob";
+  r.rounds[3].action = "a1: knob; a2: knob; a3: fall back";
+  EXPECT_EQ(r.tried(), "tried: widen x1, knob x3, fall back x1");
+}
