@@ -76,7 +76,7 @@ int lever_cap(Lever lever) {
     case Lever::FallBack: return 1000;  // bounded by the installed trackers
     case Lever::EnlargeEps: return 3;
     case Lever::MoreClearance: return 4;
-    case Lever::WidenForMiss: return 3;
+    case Lever::WidenForMiss: return 4;  // per agent
   }
   return 0;
 }

@@ -177,6 +177,8 @@ class Search {
   // Seconds the round a proposal asks for would take, from the last rounds' times.
   // cost: the tracker's declared cost factor of a tracker lever (1 otherwise).
   double estimate(const search::Proposal& p, double cost = 1);
+  // The key a lever's uses are counted under when it is counted per agent.
+  std::string uses_key(const std::string& lever, int agent) const { return lever + " @" + pb_.agents[agent].name; }
 
   Stopwatch clock_;            // from the search's start: the hard time limit
   std::atomic<int> cause_{0};  // why the stop predicate said yes: 1 a signal, 2 the time limit
@@ -732,8 +734,12 @@ bool Search::candidate(const LeverChoice& lever, const Failure& failure, const s
     return false;
   };
   if (unhelpful_.count(name)) return refuse(unhelpful_.at(name));
-  const int used = uses_[name];
-  if (used >= search::lever_cap(lever.lever)) return refuse("used " + std::to_string(used) + " times, its limit");
+  // A wider tube is counted per agent: misses move between coordinates (a drone's vx, then vy)
+  // and each agent's tube is its own; the other levers count per search, as before.
+  const bool own = lever.lever == Lever::WidenForMiss && failure.agents.size() == 1;
+  const int used = uses_[own ? uses_key(name, failure.agents.front()) : name];
+  if (used >= search::lever_cap(lever.lever))
+    return refuse("used " + std::to_string(used) + " times" + (own ? " for this agent" : "") + ", its limit");
   search::Proposal p = search::propose(lever, failure, team(), instances_, ask(), used);
   if (!p.why_not.empty()) return refuse(p.why_not);
   if (seen_.count(search::fingerprint(p.agents, p.extra, p.input_share, p.min_horizon)))
@@ -853,8 +859,11 @@ bool Search::take(const std::vector<search::Proposal>& picks, const std::vector<
   // A re-plan after a tracker failure starts from the plan it replaces.
   warm_from_last_ = p.replan && failure.kind == Failure::NoController;
   std::set<std::string> counted;
-  for (const auto& n : names)
-    if (counted.insert(n).second) ++uses_[n];
+  for (std::size_t k = 0; k < picks.size(); ++k) {
+    const bool own = picks[k].lever.lever == Lever::WidenForMiss;
+    for (int i : own ? picks[k].changed : std::vector<int>{-1})
+      if (const std::string key = i >= 0 ? uses_key(names[k], i) : names[k]; counted.insert(key).second) ++uses_[key];
+  }
   next.action = action;
   next.reason = failure.reason;
   next.changes = before_changes;
