@@ -36,6 +36,9 @@
 namespace marsyn {
 namespace {
 
+// Wider tubes for one agent before its tracker's own knobs that keep the plan go first.
+constexpr int kWidenBeforeKnobs = 2;
+
 using search::Failure;
 using search::Lever;
 using search::LeverChoice;
@@ -770,6 +773,20 @@ bool Search::agents_round(const Failure& failure, double elapsed, SearchRound& n
     }
     int best = search::best_candidate(candidates);
     if (best < 0) continue;
+    // Twice wider and still missing by a little: the misses move rather than close (a 12-state
+    // drone's vx, then vy, then vx again, as the wider tube softens its feedback); the tracker's
+    // own knob that keeps the plan goes first now, the wider tube after it.
+    if (candidates[best].lever.lever == Lever::WidenForMiss &&
+        uses_[uses_key(search::lever_name(candidates[best].lever), failure.agents[w])] >= kWidenBeforeKnobs) {
+      std::vector<search::Candidate> rest;
+      std::vector<int> at;
+      for (std::size_t k = 0; k < candidates.size(); ++k)
+        if (static_cast<int>(k) != best && !candidates[k].proposal.replan) {
+          rest.push_back(candidates[k]);
+          at.push_back(static_cast<int>(k));
+        }
+      if (const int alt = search::best_candidate(rest); alt >= 0) best = at[alt];
+    }
     if (candidates[best].proposal.recheck && candidates.size() > 1) {
       // A wider tube for this agent: checked now, so that a re-plan it would need (every agent
       // tracked again) is weighed against this agent's levers that keep the plan.

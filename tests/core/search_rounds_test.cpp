@@ -253,3 +253,17 @@ TEST(SearchRounds, ANamedPlannerThatFailsGivesWayToTheDefaultOnce) {
   const marsyn::SolveOutcome o2 = marsyn::solve(off, quick());
   for (const auto& r : o2.search.rounds) EXPECT_NE(r.action, "plan with the default planner (altro)");
 }
+
+// Twice wider and still missing (never misses whatever the tube): the third round turns the
+// tracker's own knob, which keeps the plan, before a third widening (misses that move between
+// coordinates as the tube widens do not close by widening alone).
+TEST(SearchRounds, AMissThatTwoWiderTubesDidNotCloseTurnsTheKnobNext) {
+  const auto lp = marsyn::load_problem(never_team("rounds_widen_twice", {"miss_pendulum"}, "[0.2, 0.25]", "[0.3, 2.0]"));
+  const marsyn::SolveOutcome o = marsyn::solve(lp, quick());
+  ASSERT_GE(o.search.rounds.size(), 4u) << o.search.message();
+  const std::string widen = marsyn::search::lever_name({marsyn::search::Lever::WidenForMiss, ""});
+  EXPECT_EQ(o.search.rounds[1].action, widen);
+  EXPECT_EQ(o.search.rounds[2].action, widen);
+  EXPECT_EQ(o.search.rounds[3].action, "the tracker's tighter knob");
+  EXPECT_FALSE(o.search.rounds[3].planned);
+}
