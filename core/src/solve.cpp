@@ -154,6 +154,9 @@ class Search {
             SearchRound& next, bool& replan, const std::vector<std::string>& who = {});
   // The exact check of the current plan with the (just widened) tubes; true when it passes.
   bool keeps_plan(std::string& said);
+  // Where agent i's nominal ends outside its goal shrunk by `a`'s eps (a necessary condition of
+  // the exact check, read off the plan's last knot): what and by how much; empty otherwise.
+  std::string goal_conflict(const AgentSpec& a, int i) const;
   // The exact check of the current plan with `agents` in place of the team's (their tubes).
   bool robust_with(const std::vector<AgentSpec>& agents, planning::RobustCheck& check);
   double last_check_s_ = 0;  // the last such check's time, for the estimates
@@ -789,9 +792,13 @@ bool Search::agents_round(const Failure& failure, double elapsed, SearchRound& n
     }
     if (candidates[best].proposal.recheck && candidates.size() > 1) {
       // A wider tube for this agent: checked now, so that a re-plan it would need (every agent
-      // tracked again) is weighed against this agent's levers that keep the plan.
+      // tracked again) is weighed against this agent's levers that keep the plan. The plan's end
+      // is read first: where it sits on the edge of the goal shrunk by the new eps, the exact
+      // check (a second or more for 400 agents) cannot pass.
       planning::RobustCheck c;
-      if (!robust_with(candidates[best].proposal.agents, c)) {
+      const int i = failure.agents[w];
+      c.message = goal_conflict(candidates[best].proposal.agents[static_cast<std::size_t>(i)], i);
+      if (!c.message.empty() || !robust_with(candidates[best].proposal.agents, c)) {
         search::Candidate& wide = candidates[best];
         wide.proposal.recheck = false;
         wide.predicted_s = last_plan_s_ + std::max(last_track_s_, full_track_s_) + last_certify_s_;
@@ -902,6 +909,20 @@ bool Search::keeps_plan(std::string& said) {
   said = buf;
   if (!passed) said = "the plan is not eps-robust with the wider tube (" + c.message + "): re-planning";
   return passed;
+}
+
+std::string Search::goal_conflict(const AgentSpec& a, int i) const {
+  const auto at = static_cast<std::size_t>(i);
+  if (at >= out_.plan.nominal.size() || out_.plan.nominal[at].x.empty() || a.goal.dim() != a.n()) return "";
+  const Eigen::VectorXd& x = out_.plan.nominal[at].x.back();
+  const auto names = a.dynamics ? a.dynamics->state_names() : std::vector<std::string>{};
+  for (int c = 0; c < a.n() && c < x.size(); ++c) {
+    const double room = std::min(x[c] - (a.goal.lo[c] + a.tube.eps[c]), (a.goal.hi[c] - a.tube.eps[c]) - x[c]);
+    if (room < 0)
+      return "the plan ends " + number_text(-room, 3) + " outside the goal of " + a.name + " shrunk by the wider tube in " +
+             (c < static_cast<int>(names.size()) ? names[c] : "x" + std::to_string(c));
+  }
+  return "";
 }
 
 bool Search::robust_with(const std::vector<AgentSpec>& agents, planning::RobustCheck& c) {
