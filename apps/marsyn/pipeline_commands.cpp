@@ -333,7 +333,7 @@ void print_auto_values(const SolveOutcome& out) {
     auto text = [](const Eigen::VectorXd& v) { return list_text(v, "(", ")", ",", 4); };
     std::string vals = at.eps ? "eps " + text(a.tube.eps) : "";
     for (const auto& f : at.fields) vals += (vals.empty() ? "" : ", ") + f + " " + text(a.fields.value(f));
-    const std::string note = i < out.auto_notes.size() && !out.auto_notes[i].empty() ? out.auto_notes[i] : "the first value stood";
+    const std::string note = auto_search_note(out, i);
     std::printf("auto          %-12s %s: %s\n", a.name.c_str(), vals.c_str(), at.eps ? note.c_str() : "from eps and U");
   }
 }

@@ -5,6 +5,8 @@
 
 #include "marsyn/core/search_rank.hpp"
 #include "marsyn/core/search_report.hpp"
+#include "marsyn/core/report/result_json.hpp"
+#include "marsyn/core/solve.hpp"
 
 namespace {
 
@@ -127,4 +129,19 @@ TEST(SearchRank, TriedCountsEachLeverOfAPerAgentRound) {
   r.rounds[2].action = "knob";
   r.rounds[3].action = "a1: knob; a2: knob; a3: fall back";
   EXPECT_EQ(r.tried(), "tried: widen x1, knob x3, fall back x1");
+}
+
+// The auto line no longer says "the first value stood" after the search's levers changed eps.
+TEST(SearchRank, TheAutoNoteSaysWhenTheLeversChangedEps) {
+  marsyn::SolveOutcome o;
+  o.problem.agents.resize(2);
+  o.problem.agents[0].name = "d1";
+  o.problem.agents[1].name = "d2";
+  o.search.rounds.resize(3);
+  o.search.rounds[1].changes = {{"d1", "eps", "(0.2)", "(0.16)"}, {"", "eps factor", "0.8", "0.5"}};
+  o.search.rounds[2].changes = {{"d1", "eps", "(0.16)", "(0.128)"}};
+  EXPECT_EQ(marsyn::auto_search_note(o, 0), "the search's levers changed it in 2 rounds (search: rounds)");
+  EXPECT_EQ(marsyn::auto_search_note(o, 1), "the first value stood");
+  o.auto_notes = {"round 2's controller kept ...", ""};
+  EXPECT_EQ(marsyn::auto_search_note(o, 0), "round 2's controller kept ...");
 }

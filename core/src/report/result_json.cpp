@@ -54,7 +54,7 @@ nlohmann::json auto_json(const SolveOutcome& o, std::size_t i) {
                               std::to_string(kAutoEpsIterations) + " times";
   // The owners' rule for their automatic fields (abcd: its grid), under the key it always had.
   if (!at.fields.empty()) j["grid_rule"] = at.field_rule;
-  j["search"] = i < o.auto_notes.size() && !o.auto_notes[i].empty() ? o.auto_notes[i] : "the first value stood";
+  j["search"] = auto_search_note(o, i);
   return j;
 }
 
@@ -274,6 +274,21 @@ nlohmann::json attempts_json(const std::vector<Attempt>& attempts) {
 }
 
 }  // namespace
+
+std::string auto_search_note(const SolveOutcome& o, std::size_t i) {
+  if (i < o.auto_notes.size() && !o.auto_notes[i].empty()) return o.auto_notes[i];
+  // Before: "the first value stood" after four rounds of eps x 0.8 (tests/problems/users2/01).
+  int rounds = 0;
+  for (const auto& r : o.search.rounds) {
+    bool changed = false;
+    for (const auto& c : r.changes)
+      changed = changed || (c.what == "eps" && (c.agent.empty() || (i < o.problem.agents.size() && c.agent == o.problem.agents[i].name)));
+    rounds += changed ? 1 : 0;
+  }
+  if (rounds > 0)
+    return "the search's levers changed it in " + std::to_string(rounds) + " round" + (rounds == 1 ? "" : "s") + " (search: rounds)";
+  return "the first value stood";
+}
 
 nlohmann::json result_json(const SolveOutcome& o) {
   using nlohmann::json;

@@ -9,6 +9,11 @@ namespace marsyn {
 
 nlohmann::json result_json(const SolveOutcome& outcome);
 
+// What the search did to agent i's auto eps, for the summary's `auto` line and result.json: its
+// narrowing notes, else the levers' changes to it ("the search's levers changed it: 4 rounds"),
+// else "the first value stood".
+std::string auto_search_note(const SolveOutcome& outcome, std::size_t i);
+
 // One figure's value as JSON (a flag, a number, or one count per step).
 nlohmann::json figure_json(const TrackerFigure::Value& value);
 
