@@ -4,7 +4,6 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -101,11 +100,6 @@ class Search {
     };
     return o;
   }
-  static std::string seconds_text(double s) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.3g s", s);
-    return buf;
-  }
   bool stopping() const {
     // Over MPI rank 0 decides, so that every rank leaves the loop at the same round.
     return rank0_says(opt_.stop && opt_.stop());
@@ -128,7 +122,9 @@ class Search {
   Failure plan(SearchRound& round, double time_left);
   // The problem with each agent's U narrowed to its input share, in `tightened`; false (and
   // `tightened` untouched) when every agent may use all of U.
-  bool tighten_inputs(Problem& tightened) const;
+  bool tighten_inputs(Problem& tightened) const { return tighten_inputs(pb_.agents, tightened); }
+  // The same for the team `agents` (the search's own, or one with wider tubes to check).
+  bool tighten_inputs(const std::vector<AgentSpec>& agents, Problem& tightened) const;
   GlobalPlan clamped_last_plan(const Problem& planned) const;
   void record_plan_attempts();
   Failure track(SearchRound& round);
@@ -147,6 +143,8 @@ class Search {
   // solve --resume: the folder's plan and controllers, when the plan is still eps-robust with the
   // tubes recorded there; true when round 1 can start from them (no planning).
   bool resume(const std::string& dir, SearchRound& round);
+  // Every lever that may run for `failure` (levers_for's order), with its proposal and time.
+  std::vector<search::Candidate> candidates_for(const Failure& failure, double elapsed);
   // A tracking failure: each failed agent's best lever (search_rank.hpp), merged into one round.
   bool agents_round(const Failure& failure, double elapsed, SearchRound& next, bool& replan);
   // Applies the picks (one per agent, or one for the team) as the next round.
@@ -190,7 +188,7 @@ class Search {
   std::atomic<int> cause_{0};  // why the stop predicate said yes: 1 a signal, 2 the time limit
   std::string cause_text() const {
     return cause_ == 1 ? "a stop was requested (SIGINT or SIGTERM)"
-                       : "the time limit (" + seconds_text(opt_.time_limit_s) + ") was reached";
+                       : "the time limit (" + seconds(opt_.time_limit_s) + ") was reached";
   }
   Setup& setup_;
   const LoadedProblem& loaded_;
@@ -245,6 +243,11 @@ class Search {
   };
   std::vector<LastKnob> last_knobs_;  // one per knob the last round turned (agents may differ)
   bool multi_agent_ = false;          // choosing per agent for several: refusals name the agent
+  // This round's cheapest lever refused for time alone, for the stop message.
+  struct {
+    std::string lever;
+    double s = -1;
+  } unfit_;
   std::map<std::string, std::string> unhelpful_;  // lever name -> why it is not turned again
   // The plan stage's warm start: the last feasible plan, when the next re-plan follows a tracker
   // failure (the same team with a changed tube or U: the previous plan is a good initial guess).
@@ -328,11 +331,12 @@ void Search::broadcast_visits() {
   }
 }
 
-bool Search::tighten_inputs(Problem& tightened) const {
+bool Search::tighten_inputs(const std::vector<AgentSpec>& agents, Problem& tightened) const {
   // U tightened for the nominal (docs/search.md): the planner sees the smaller box, the trackers
   // the file's, so the feedback keeps the rest of U around the nominal's input.
   if (std::none_of(input_share_.begin(), input_share_.end(), [](double s) { return s < 1; })) return false;
   tightened = pb_;
+  tightened.agents = agents;
   for (std::size_t i = 0; i < tightened.agents.size(); ++i) {
     Box& u = tightened.agents[i].input_bounds;
     const Eigen::VectorXd c = 0.5 * (u.lo + u.hi), h = 0.5 * input_share_[i] * (u.hi - u.lo);
@@ -492,7 +496,6 @@ double Search::estimate(const search::Proposal& p, double cost) {
     own += t;
     longest = std::max(longest, t);
   }
-  ratio = std::max(ratio, 0.01);
   const double spread = std::max(longest, own / std::max(1, opt_.threads));
   // A wider tube re-checks the plan first (about as long as the planning stage's own check).
   const double check = p.recheck ? (last_check_s_ > 0 ? last_check_s_ : 0.05 * last_plan_s_) : 0.0;
@@ -562,6 +565,7 @@ std::vector<TrackerLever> Search::declared_levers(const Failure& failure) {
 bool Search::next_round(const Failure& failure, double elapsed, SearchRound& next, bool& replan) {
   SearchReport& rep = out_.search;
   rep.not_tried.clear();
+  unfit_ = {};
   judge_last_knobs(failure);
   if (failure.kind == Failure::NoController && !failure.agents.empty()) return agents_round(failure, elapsed, next, replan);
   if (failure.kind == Failure::Plan && default_planner(failure, elapsed, next)) {
@@ -590,12 +594,7 @@ std::string Search::best_untried(const Failure& failure) {
   else if (failure.kind == Failure::Plan || failure.kind == Failure::Certification)
     each.push_back(failure);
   for (const Failure& one : each) {
-    const std::vector<TrackerLever> declared = declared_levers(one);
-    std::vector<search::Candidate> candidates;
-    for (const LeverChoice& lever : search::levers_for(one, declared)) {
-      search::Candidate c;
-      if (candidate(lever, one, declared, any_time, c)) candidates.push_back(std::move(c));
-    }
+    const std::vector<search::Candidate> candidates = candidates_for(one, any_time);
     const int b = search::best_candidate(candidates);
     if (b < 0) continue;
     best.push_back(candidates[b]);
@@ -715,6 +714,7 @@ bool Search::default_planner(const Failure& failure, double elapsed, SearchRound
   }
   const double need = last_plan_s_ + last_track_s_ + last_certify_s_, left = opt_.time_limit_s - elapsed;
   if (!rank0_says(need <= left)) {
+    if (unfit_.s < 0 || need < unfit_.s) unfit_ = {name, need};
     out_.search.not_tried.push_back({name, "would take about " + seconds(need) + ", " + seconds(std::max(0.0, left)) + " left"});
     return false;
   }
@@ -754,10 +754,22 @@ bool Search::candidate(const LeverChoice& lever, const Failure& failure, const s
   for (const auto& d : declared)
     if (lever.lever == Lever::TrackerLever && d.name == lever.tracker_lever) cost = d.cost_factor;
   const double need = estimate(p, cost), left = opt_.time_limit_s - elapsed;
-  if (!rank0_says(need <= left))
+  if (!rank0_says(need <= left)) {
+    if (unfit_.s < 0 || need < unfit_.s) unfit_ = {name, need};
     return refuse("would take about " + seconds(need) + ", " + seconds(std::max(0.0, left)) + " left");
+  }
   out = {lever, std::move(p), need};
   return true;
+}
+
+std::vector<search::Candidate> Search::candidates_for(const Failure& failure, double elapsed) {
+  const std::vector<TrackerLever> declared = declared_levers(failure);
+  std::vector<search::Candidate> out;
+  for (const LeverChoice& lever : search::levers_for(failure, declared)) {
+    search::Candidate c;
+    if (candidate(lever, failure, declared, elapsed, c)) out.push_back(std::move(c));
+  }
+  return out;
 }
 
 bool Search::agents_round(const Failure& failure, double elapsed, SearchRound& next, bool& replan) {
@@ -767,13 +779,7 @@ bool Search::agents_round(const Failure& failure, double elapsed, SearchRound& n
   std::vector<search::Proposal> picks;
   std::vector<std::string> names, who;
   for (std::size_t w = 0; w < failure.agents.size(); ++w) {
-    const Failure one = search::agent_failure(failure, w);
-    const std::vector<TrackerLever> declared = declared_levers(one);
-    std::vector<search::Candidate> candidates;
-    for (const LeverChoice& lever : search::levers_for(one, declared)) {
-      search::Candidate c;
-      if (candidate(lever, one, declared, elapsed, c)) candidates.push_back(std::move(c));
-    }
+    std::vector<search::Candidate> candidates = candidates_for(search::agent_failure(failure, w), elapsed);
     int best = search::best_candidate(candidates);
     if (best < 0) continue;
     // Twice wider and still missing by a little: the misses move rather than close (a 12-state
@@ -842,17 +848,9 @@ void Search::stop_without_lever(const Failure& failure) {
   SearchReport& rep = out_.search;
   rep.stop_reason = rep.not_tried.empty() ? "no lever addresses " + failure.reason : failure.reason + "; no lever left";
   // The time limit names the best lever it kept from running (the cheapest that did not fit).
-  double best = -1;
-  for (const auto& n : rep.not_tried)
-    if (n.why.find("would take about") != std::string::npos) {
-      const auto at = n.why.find("would take about ") + 17;
-      const double t = std::atof(n.why.c_str() + at);
-      if (best < 0 || t < best) {
-        best = t;
-        rep.stop_reason = failure.reason + "; no lever left fits the time left of the limit (" + seconds(opt_.time_limit_s) +
-                          "): the best, " + n.lever + ", would take about " + seconds(t);
-      }
-    }
+  if (unfit_.s >= 0)
+    rep.stop_reason = failure.reason + "; no lever left fits the time left of the limit (" + seconds(opt_.time_limit_s) +
+                      "): the best, " + unfit_.lever + ", would take about " + seconds(unfit_.s);
 }
 
 bool Search::take(const std::vector<search::Proposal>& picks, const std::vector<std::string>& names, const Failure& failure,
@@ -929,13 +927,13 @@ bool Search::robust_with(const std::vector<AgentSpec>& agents, planning::RobustC
   if (!rank0_says(out_.plan.feasible && !out_.plan.plan.u.empty())) return false;
   const Stopwatch t;
   if (root()) {
-    Problem widened = pb_;
-    widened.agents = agents;
-    std::swap(widened.agents, pb_.agents);  // tighten_inputs reads pb_: the same U with these tubes
-    Problem tightened;
-    const bool tight = tighten_inputs(tightened);
-    std::swap(widened.agents, pb_.agents);
-    c = planning::check_robust(tight ? tightened : widened, out_.plan.plan, out_.plan.visits);
+    // The U the plan was made for (tightened where the search tightened it), with these tubes.
+    Problem checked;
+    if (!tighten_inputs(agents, checked)) {
+      checked = pb_;
+      checked.agents = agents;
+    }
+    c = planning::check_robust(checked, out_.plan.plan, out_.plan.visits);
   }
   last_check_s_ = t.seconds();
   return rank0_says(c.passed);
