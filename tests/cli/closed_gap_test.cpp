@@ -68,3 +68,19 @@ TEST(ClosedGap, AnotherHomotopyClassWhenTheRoutesMeetHeadOn) {
   EXPECT_NE(all.find("on the other side (another homotopy class)"), std::string::npos) << all;
   EXPECT_NE(all.find("FEASIBLE: horizon 100"), std::string::npos) << all;
 }
+
+// Two robots fetch parcels behind a row of shelves whose gaps are closed and bring them back to
+// their starts: the routes run leg by leg through the mission's stages (a round trip's straight
+// line is no line at all), and the first horizon plans (issue 49, item 1; on main e0e42b8 four
+// horizons failed, pressed into the gaps).
+TEST(ClosedGap, MissionLegsAreRoutedAroundTheRow) {
+  namespace fs = std::filesystem;
+  const fs::path out = fs::temp_directory_path() / ("marsyn_mission_routes_" + std::to_string(::getpid()));
+  const auto r = run_marsyn(std::string("plan ") + MARSYN_SOURCE_DIR + "/tests/continuous/mission_behind_row.yaml --out " +
+                            out.string());
+  fs::remove_all(out);
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  const std::string all = r.out + r.err;
+  EXPECT_NE(all.find("from routes around them"), std::string::npos) << all;
+  EXPECT_NE(all.find("FEASIBLE: horizon 200"), std::string::npos) << all;
+}

@@ -93,6 +93,94 @@ TEST(Routes, WaypointsOnlyForBlockedAgents) {
   EXPECT_NEAR(std::abs(w[0].x[1]), 2.33, 1e-9);
 }
 
+// A round trip (start = goal) to a stage behind a wall: the straight way start-goal is no way at
+// all, yet each leg (to the stage's region, back after its dwell) crosses the wall; each gets its
+// corners, at knots inside the leg, outside the grown wall (issue 49, item 1).
+TEST(RoutesForMissions, EachLegThroughTheStagesIsRouted) {
+  Problem p;
+  p.delta = 0.2;
+  p.delta_norm = Norm::Inf;
+  AgentSpec a;
+  a.name = "fetch";
+  a.x0 = Eigen::Vector2d(0, 0);
+  a.goal = {Eigen::Vector2d(-0.5, -0.5), Eigen::Vector2d(0.5, 0.5)};
+  a.state_bounds = {Eigen::Vector2d(-5, -5), Eigen::Vector2d(15, 15)};
+  a.input_bounds = {Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, 1)};
+  a.tube.eps = Eigen::Vector2d(0.1, 0.1);
+  a.tube.w = Eigen::Vector2d(0, 0);
+  MissionStage st;
+  st.name = "shelf";
+  st.polygon = {{9.5, -0.5}, {10.5, -0.5}, {10.5, 0.5}, {9.5, 0.5}};
+  st.dwell = 10;
+  a.stages = {st};
+  p.agents = {a};
+  Obstacle o;
+  o.name = "wall";
+  o.vertices = box(4, -2, 6, 2);
+  o.is_box = true;
+  p.obstacles = {o};
+  MissionSchedule visits;
+  visits.visit = {{40}};
+  visits.horizon = 100;
+  const auto w = route_waypoints(p, 100, visits);
+  ASSERT_EQ(w.size(), 4u) << "two corners on the way there, two on the way back";
+  for (int j = 0; j < 2; ++j) {
+    EXPECT_GT(w[j].step, 0);
+    EXPECT_LT(w[j].step, 40);
+    EXPECT_GT(w[j + 2].step, 50);  // after the dwell
+    EXPECT_LT(w[j + 2].step, 100);
+  }
+  for (const auto& wp : w) EXPECT_NEAR(std::abs(wp.x[1]), 2.33, 1e-9);  // outside the wall grown by 1.1 (delta + eps)
+  // Without the stage the agent stays where it is: no way, no corner.
+  p.agents[0].stages.clear();
+  EXPECT_TRUE(route_waypoints(p, 100).empty());
+  // A staged wall that binds only on the way back: corners on that leg only.
+  p.agents[0].stages = {st};
+  p.obstacles[0].staged = true;
+  p.agents[0].stages[0].avoid_after = {0};
+  const auto back = route_waypoints(p, 100, visits);
+  ASSERT_EQ(back.size(), 2u);
+  for (const auto& wp : back) EXPECT_GT(wp.step, 50);
+}
+
+// A stage that fixes the height only (a 3-D box region open in x and y) keeps the way's x and
+// y: its point is the previous point's x, y at the region's height.
+TEST(RoutesForMissions, AStageFixingOneCoordinateKeepsTheOthers) {
+  Problem p;
+  p.delta = 0.2;
+  p.delta_norm = Norm::Inf;
+  AgentSpec a;
+  a.name = "lift";
+  a.x0 = Eigen::Vector3d(0, 0, 0.5);
+  a.goal = {Eigen::Vector3d(9.5, -0.5, 0.2), Eigen::Vector3d(10.5, 0.5, 0.8)};
+  a.state_bounds = {Eigen::Vector3d(-1, -3, 0), Eigen::Vector3d(11, 3, 4)};
+  a.input_bounds = {Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1)};
+  a.tube.eps = Eigen::Vector3d(0.05, 0.05, 0.05);
+  a.tube.w = Eigen::Vector3d::Zero();
+  a.workspace.index = {0, 1, 2};
+  a.workspace.offset = {0, 0, 0};
+  MissionStage up;
+  up.name = "up";
+  up.box = {Eigen::Vector3d(-1, -3, 3), Eigen::Vector3d(11, 3, 3.6)};
+  a.stages = {up};
+  p.agents = {a};
+  Obstacle o;  // a block in the way at low height, none up at the stage's height
+  o.name = "block";
+  o.vertices = box(-0.5, -0.5, 0.5, 0.5);
+  o.is_box = true;
+  o.z_lo = 1.5;
+  o.z_hi = 2.5;
+  p.obstacles = {o};
+  MissionSchedule visits;
+  visits.visit = {{30}};
+  visits.horizon = 80;
+  // Straight up from (0, 0, 0.5) to (0, 0, 3.3) crosses the block: the first leg is routed
+  // (round the block), the second (from (0, 0, 3.3) down to the goal) is not: it starts above it.
+  const auto w = route_waypoints(p, 80, visits);
+  ASSERT_FALSE(w.empty());
+  for (const auto& wp : w) EXPECT_LT(wp.step, 30);
+}
+
 namespace {
 
 Prism block(double x0, double y0, double z0, double x1, double y1, double z1) { return {box(x0, y0, x1, y1), z0, z1}; }
@@ -274,7 +362,7 @@ TEST(RoutesOtherSide, WaypointsForTheListedAgentOnly) {
   // Both pass over the block (their lines run above its middle); b on the other side passes under.
   for (const auto& w : route_waypoints(p, 100)) EXPECT_GT(std::isfinite(w.x[1]) ? w.x[1] : w.x[3], 1.0);
   int a_over = 0, b_under = 0;
-  for (const auto& w : route_waypoints(p, 100, {1})) {
+  for (const auto& w : route_waypoints(p, 100, {}, {1})) {
     if (std::isfinite(w.x[1])) a_over += w.x[1] > 1.0;
     if (std::isfinite(w.x[3])) b_under += w.x[3] < -1.0;
   }
@@ -282,7 +370,7 @@ TEST(RoutesOtherSide, WaypointsForTheListedAgentOnly) {
   EXPECT_EQ(b_under, 2);
   // A lane closed on the other side (the block reaching the bounds below): the shortest route stays.
   p.obstacles[0].vertices = box(4, -6, 6, 1);
-  for (const auto& w : route_waypoints(p, 100, {1}))
+  for (const auto& w : route_waypoints(p, 100, {}, {1}))
     if (std::isfinite(w.x[3])) EXPECT_GT(w.x[3], 1.0);
 }
 

@@ -165,7 +165,7 @@ class HorizonSearch {
     PlanAttempt a;
     PlanResult res;
     GlobalPlan clean;
-    bool waypoints = false;  // the planner was given waypoints (stages' or routes')
+    bool routed = false;  // the planner was given routes around the obstacles
   };
 
   void log(const std::string& line) const {
@@ -177,8 +177,14 @@ class HorizonSearch {
     assembly_.visits = visits_;
     PlanningProblem pp = assemble(problem_, horizon_, assembly_);
     if (from) pp.warm_start = extend(problem_, *from, horizon_);
-    if (routes_) pp.waypoints = route_waypoints(problem_, horizon_, other_side_);
-    out.waypoints = !pp.waypoints.empty();
+    if (routes_) {
+      // Beside the stages' own waypoints (their regions' centres at the visits), not instead.
+      const auto ways = route_waypoints(problem_, horizon_, visits_, other_side_);
+      out.routed = !ways.empty();
+      pp.waypoints.insert(pp.waypoints.end(), ways.begin(), ways.end());
+      std::stable_sort(pp.waypoints.begin(), pp.waypoints.end(),
+                       [](const Waypoint& p, const Waypoint& q) { return p.step < q.step; });
+    }
     PlanOptions po;
     po.time_limit_s = std::max(left, 1e-3);
     po.progress = options_.progress;
@@ -269,12 +275,12 @@ class HorizonSearch {
   // shortest path per agent around the grown obstacles, as waypoints of the reference); later
   // horizons keep the routes.
   bool take_routes(const Solved& one) {
-    if (routes_ || !options_.routes || !(one.a.check.sampled_margin < 0) || one.waypoints) return false;
-    const auto ways = route_waypoints(problem_, horizon_);
+    if (routes_ || !options_.routes || !(one.a.check.sampled_margin < 0) || one.routed) return false;
+    const auto ways = route_waypoints(problem_, horizon_, visits_);
     if (ways.empty()) return false;
     routes_ = true;
     warm_.reset();
-    log("not robust at the samples, and straight lines cross obstacles: re-planning T = " + std::to_string(horizon_) +
+    log("not robust at the samples, and straight ways cross obstacles: re-planning T = " + std::to_string(horizon_) +
         " from routes around them (" + std::to_string(ways.size()) + " waypoints)");
     return true;
   }
@@ -284,14 +290,14 @@ class HorizonSearch {
   // passing the first obstacle on its way on another side (another homotopy class).
   bool other_homotopy_class(const Solved& one) {
     const PlanAttempt& a = one.a;
-    if (!routes_ || !one.waypoints || other_tried_ || !options_.routes || !(a.check.sampled_margin < 0)) return false;
+    if (!routes_ || !one.routed || other_tried_ || !options_.routes || !(a.check.sampled_margin < 0)) return false;
     other_tried_ = true;
-    const auto now = route_waypoints(problem_, horizon_, other_side_);
+    const auto now = route_waypoints(problem_, horizon_, visits_, other_side_);
     for (int who : {a.check.worst_agents[1], a.check.worst_agents[0]}) {
       if (who < 0 || std::find(other_side_.begin(), other_side_.end(), who) != other_side_.end()) continue;
       std::vector<int> flip = other_side_;
       flip.push_back(who);
-      if (same_waypoints(route_waypoints(problem_, horizon_, flip), now)) continue;
+      if (same_waypoints(route_waypoints(problem_, horizon_, visits_, flip), now)) continue;
       other_before_ = other_side_;
       other_judge_ = a.check.min_margin;
       other_side_ = flip;

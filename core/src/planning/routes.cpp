@@ -84,27 +84,95 @@ std::vector<Eigen::Vector2d> shortest_route(const std::vector<Polygon>& polygons
   return corners;
 }
 
-std::vector<Waypoint> route_waypoints(const Problem& problem, int horizon, const std::vector<int>& other_side) {
+namespace {
+
+// One leg of an agent's way: from a workspace point at knot k0 to one at knot k1, among the
+// obstacles that bind the agent on it (staged ones only on the legs that name them).
+struct Leg {
+  Eigen::Vector3d from, to;
+  int k0, k1;
+  std::vector<int> obstacles;
+};
+
+// The workspace point of a stage's region: its centre in the coordinates the region fixes (a
+// polygon fixes the plane's two), `prev`'s elsewhere (a stage that fixes only the height keeps
+// the way's x and y).
+Eigen::Vector3d stage_point(const AgentSpec& a, const MissionStage& st, const Eigen::Vector3d& prev) {
+  const auto& ws = a.workspace;
+  Eigen::Vector3d p = prev;
+  if (st.is_polygon()) {
+    Eigen::Vector2d c = Eigen::Vector2d::Zero();
+    for (const auto& v : st.polygon) c += v;
+    p.head<2>() = c / static_cast<double>(st.polygon.size());
+    return p;
+  }
+  for (int c = 0; c < ws.dim(); ++c) {
+    const int s = ws.index[c];
+    const double lo = std::max(st.box.lo[s], a.state_bounds.lo[s]), hi = std::min(st.box.hi[s], a.state_bounds.hi[s]);
+    if ((st.box.lo[s] > a.state_bounds.lo[s] || st.box.hi[s] < a.state_bounds.hi[s]) && std::isfinite(lo + hi))
+      p[c] = 0.5 * (lo + hi) + ws.offset[c];
+  }
+  return p;
+}
+
+bool binds(const AgentSpec& a, const Obstacle& o, int index, std::size_t leg) {
+  if (!o.staged) return true;
+  auto has = [index](const std::vector<int>& v) { return std::find(v.begin(), v.end(), index) != v.end(); };
+  if (leg < a.stages.size() && has(a.stages[leg].avoid)) return true;
+  for (std::size_t j = 0; j < leg && j < a.stages.size(); ++j)
+    if (has(a.stages[j].avoid_after)) return true;
+  return false;
+}
+
+// The legs of agent i: start to goal, or through its stages' regions at their knots in `visits`.
+std::vector<Leg> legs_of(const Problem& problem, int i, const MissionSchedule& visits, int horizon) {
+  const AgentSpec& a = problem.agents[static_cast<std::size_t>(i)];
+  const auto& ws = a.workspace;
+  const int dim = ws.dim();
+  auto centre = [&](int c) {
+    const double lo = a.goal.lo[c], hi = a.goal.hi[c];
+    return std::isfinite(lo) && std::isfinite(hi) ? 0.5 * (lo + hi) : a.x0[c];
+  };
+  Eigen::Vector3d from = Eigen::Vector3d::Zero(), goal = Eigen::Vector3d::Zero();
+  for (int c = 0; c < dim; ++c) {
+    from[c] = a.x0[ws.index[c]] + ws.offset[c];
+    goal[c] = centre(ws.index[c]) + ws.offset[c];
+  }
+  const bool staged = !a.stages.empty() && static_cast<std::size_t>(i) < visits.visit.size() &&
+                      visits.visit[static_cast<std::size_t>(i)].size() == a.stages.size();
+  std::vector<Leg> legs;
+  int k0 = 0;
+  for (std::size_t s = 0; staged && s < a.stages.size(); ++s) {
+    const int k = visits.visit[static_cast<std::size_t>(i)][s];
+    const Eigen::Vector3d p = stage_point(a, a.stages[s], from);
+    legs.push_back({from, p, k0, k, {}});
+    from = p;
+    k0 = std::min(k + a.stages[s].dwell, horizon);
+  }
+  legs.push_back({from, goal, k0, horizon, {}});
+  for (std::size_t l = 0; l < legs.size(); ++l)
+    for (std::size_t o = 0; o < problem.obstacles.size(); ++o)
+      if (binds(a, problem.obstacles[o], static_cast<int>(o), staged ? l : a.stages.size()))
+        legs[l].obstacles.push_back(static_cast<int>(o));
+  return legs;
+}
+
+}  // namespace
+
+std::vector<Waypoint> route_waypoints(const Problem& problem, int horizon, const MissionSchedule& schedule,
+                                      const std::vector<int>& other_side) {
   std::vector<Waypoint> out;
   if (problem.obstacles.empty() || horizon < 2) return out;
   const ProductLayout layout(problem);
   const int n = layout.state_dim();
   const bool inf = problem.delta_norm == Norm::Inf;
+  const MissionSchedule visits = schedule_or_initial(problem, schedule, horizon);
   for (size_t i = 0; i < problem.agents.size(); ++i) {
     const AgentSpec& a = problem.agents[i];
     const auto& ws = a.workspace;
     if (!ws.linear() || ws.index[0] < 0 || ws.index[1] < 0) continue;
     const int dim = ws.dim();
     if (dim == 3 && ws.index[2] < 0) continue;
-    auto centre = [&](int c) {
-      const double lo = a.goal.lo[c], hi = a.goal.hi[c];
-      return std::isfinite(lo) && std::isfinite(hi) ? 0.5 * (lo + hi) : a.x0[c];
-    };
-    Eigen::Vector3d from = Eigen::Vector3d::Zero(), to = Eigen::Vector3d::Zero();
-    for (int c = 0; c < dim; ++c) {
-      from[c] = a.x0[ws.index[c]] + ws.offset[c];
-      to[c] = centre(ws.index[c]) + ws.offset[c];
-    }
     // What the plan keeps from an obstacle (the obstacle constraint's growth), and 10% more.
     const WorkspaceMargin m = global_margin(a, a.state_bounds.shrunk(a.tube.eps), 16);
     const Eigen::Vector3d g = 1.1 * (Eigen::Vector3d::Constant(problem.delta) +
@@ -118,54 +186,62 @@ std::vector<Waypoint> route_waypoints(const Problem& problem, int horizon, const
       lo[c] = a.state_bounds.lo[s] + ws.offset[c] + keep;
       hi[c] = a.state_bounds.hi[s] + ws.offset[c] - keep;
     }
-    std::vector<Prism> grown;
-    for (const auto& o : problem.obstacles)
-      if (!o.staged)  // staged ones bind on some legs only
-        grown.push_back({grow_by_box(o.vertices, g.x(), g.y()), dim == 2 ? -std::numeric_limits<double>::infinity() : o.z_lo - g.z(),
-                         dim == 2 ? std::numeric_limits<double>::infinity() : o.z_hi + g.z()});
-    auto route = [&](const std::vector<Prism>& prisms, bool* found) {
-      std::vector<Eigen::Vector3d> corners;
-      if (dim == 3) return route_in_space(prisms, lo, hi, from, to, found);
-      std::vector<Polygon> polygons;
-      for (const auto& p : prisms) polygons.push_back(p.base);
-      for (const auto& c : shortest_route(polygons, from.head<2>(), to.head<2>(), found))
-        corners.push_back(Eigen::Vector3d(c.x(), c.y(), 0.0));
-      return corners;
-    };
-    std::vector<Eigen::Vector3d> corners = route(grown, nullptr);
-    if (!corners.empty() && std::find(other_side.begin(), other_side.end(), static_cast<int>(i)) != other_side.end()) {
-      // Far past the bounds (or everything, where they are open), so the wall cannot be walked around inside them.
-      Eigen::Vector3d span = (to - from).cwiseAbs();
-      for (int c = 0; c < dim; ++c)
-        if (std::isfinite(hi[c] - lo[c])) span[c] = std::max(span[c], hi[c] - lo[c]);
-      for (const auto& p : grown)
-        for (const auto& v : p.base) span.head<2>() = span.head<2>().cwiseMax((v - from.head<2>()).cwiseAbs());
-      if (const auto wall = other_side_barrier(grown, from, to, corners, 10.0 * (1.0 + span.norm()))) {
-        std::vector<Prism> walled = grown;
-        walled.push_back(*wall);
-        bool found = false;
-        const auto other = route(walled, &found);
-        const bool inside = std::all_of(other.begin(), other.end(), [&](const Eigen::Vector3d& p) {
-          return (p.array() >= lo.array() - 1e-9).all() && (p.array() <= hi.array() + 1e-9).all();
-        });
-        if (found && !other.empty() && inside) corners = other;
+    const bool flip = std::find(other_side.begin(), other_side.end(), static_cast<int>(i)) != other_side.end();
+    for (const Leg& leg : legs_of(problem, static_cast<int>(i), visits, horizon)) {
+      if (leg.k1 - leg.k0 < 2) continue;  // no knot between the ends to hold a corner
+      std::vector<Prism> grown;
+      for (int o : leg.obstacles) {
+        const Obstacle& ob = problem.obstacles[static_cast<std::size_t>(o)];
+        grown.push_back({grow_by_box(ob.vertices, g.x(), g.y()),
+                         dim == 2 ? -std::numeric_limits<double>::infinity() : ob.z_lo - g.z(),
+                         dim == 2 ? std::numeric_limits<double>::infinity() : ob.z_hi + g.z()});
       }
-    }
-    if (corners.empty()) continue;
-    std::vector<double> along{0.0};
-    Eigen::Vector3d prev = from;
-    for (const auto& c : corners) along.push_back(along.back() + (c - prev).norm()), prev = c;
-    const double total = along.back() + (to - prev).norm();
-    for (size_t j = 0; j < corners.size(); ++j) {
-      Waypoint w;
-      w.step = std::clamp(static_cast<int>(std::lround(horizon * along[j + 1] / total)), 1, horizon - 1);
-      w.x = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::quiet_NaN());
-      // Weakly held, a reference through the corners is undone by the first steps of a solver
-      // started at rest (the obstacle field of tests/continuous: 40 x holds the route, 1 x and
-      // 10 x did not).
-      w.follow = 40.0;
-      for (int c = 0; c < dim; ++c) w.x[layout.state[i] + ws.index[c]] = corners[j][c] - ws.offset[c];
-      out.push_back(std::move(w));
+      const Eigen::Vector3d &from = leg.from, &to = leg.to;
+      auto route = [&](const std::vector<Prism>& prisms, bool* found) {
+        std::vector<Eigen::Vector3d> corners;
+        if (dim == 3) return route_in_space(prisms, lo, hi, from, to, found);
+        std::vector<Polygon> polygons;
+        for (const auto& p : prisms) polygons.push_back(p.base);
+        for (const auto& c : shortest_route(polygons, from.head<2>(), to.head<2>(), found))
+          corners.push_back(Eigen::Vector3d(c.x(), c.y(), 0.0));
+        return corners;
+      };
+      std::vector<Eigen::Vector3d> corners = route(grown, nullptr);
+      if (!corners.empty() && flip) {
+        // Far past the bounds (or everything, where they are open), so the wall cannot be walked around inside them.
+        Eigen::Vector3d span = (to - from).cwiseAbs();
+        for (int c = 0; c < dim; ++c)
+          if (std::isfinite(hi[c] - lo[c])) span[c] = std::max(span[c], hi[c] - lo[c]);
+        for (const auto& p : grown)
+          for (const auto& v : p.base) span.head<2>() = span.head<2>().cwiseMax((v - from.head<2>()).cwiseAbs());
+        if (const auto wall = other_side_barrier(grown, from, to, corners, 10.0 * (1.0 + span.norm()))) {
+          std::vector<Prism> walled = grown;
+          walled.push_back(*wall);
+          bool found = false;
+          const auto other = route(walled, &found);
+          const bool inside = std::all_of(other.begin(), other.end(), [&](const Eigen::Vector3d& p) {
+            return (p.array() >= lo.array() - 1e-9).all() && (p.array() <= hi.array() + 1e-9).all();
+          });
+          if (found && !other.empty() && inside) corners = other;
+        }
+      }
+      if (corners.empty()) continue;
+      std::vector<double> along{0.0};
+      Eigen::Vector3d prev = from;
+      for (const auto& c : corners) along.push_back(along.back() + (c - prev).norm()), prev = c;
+      const double total = along.back() + (to - prev).norm();
+      const int span = leg.k1 - leg.k0;
+      for (size_t j = 0; j < corners.size(); ++j) {
+        Waypoint w;
+        w.step = leg.k0 + std::clamp(static_cast<int>(std::lround(span * along[j + 1] / total)), 1, span - 1);
+        w.x = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::quiet_NaN());
+        // Weakly held, a reference through the corners is undone by the first steps of a solver
+        // started at rest (the obstacle field of tests/continuous: 40 x holds the route, 1 x and
+        // 10 x did not).
+        w.follow = 40.0;
+        for (int c = 0; c < dim; ++c) w.x[layout.state[i] + ws.index[c]] = corners[j][c] - ws.offset[c];
+        out.push_back(std::move(w));
+      }
     }
   }
   std::stable_sort(out.begin(), out.end(), [](const Waypoint& p, const Waypoint& q) { return p.step < q.step; });

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include "marsyn/core/planning/geometry.hpp"
+#include "marsyn/core/planning/mission.hpp"
 #include "marsyn/planner.hpp"
 #include "marsyn/problem.hpp"
 
@@ -52,15 +53,20 @@ std::optional<Prism> other_side_barrier(const std::vector<Prism>& prisms, const 
                                         const Eigen::Vector3d& to, const std::vector<Eigen::Vector3d>& corners,
                                         double reach);
 
-// Waypoints for every agent with a linear workspace whose straight line from its start to its
-// goal centre crosses an obstacle grown by delta + its workspace margin (+ 10%, so the route
-// does not graze what the plan must clear): the route's corners at knots in proportion to the
-// distance along it. Empty when no agent's straight line is blocked. In a 3-D workspace the
-// route is taken in space (route_in_space, inside the agent's position bounds less its margin)
-// over the grown prisms, which grow in z as well.
+// Waypoints for every agent with a linear workspace whose straight way crosses an obstacle grown
+// by delta + its workspace margin (+ 10%, so the route does not graze what the plan must clear):
+// the route's corners at knots in proportion to the distance along it. An agent's way is its
+// start to its goal centre, or, with mission stages, its legs through the stages' regions at their
+// visit knots in `visits` (the initial schedule at this horizon when `visits` is none for it):
+// start to the first region's point, each region's to the next's after its dwell, the last to
+// the goal; each leg routed around the obstacles that bind the agent on it (staged ones only on
+// the legs that name them), its corners at knots between the leg's ends. Empty when no leg is
+// blocked. In a 3-D workspace the route is taken in space (route_in_space, inside the agent's
+// position bounds less its margin) over the grown prisms, which grow in z as well.
 // Agents listed in `other_side` get another homotopy class where one exists inside their
-// position bounds: their route passes the first obstacle on its way on another side
+// position bounds: each leg's route passes the first obstacle on its way on another side
 // (other_side_barrier); the shortest route otherwise.
-std::vector<Waypoint> route_waypoints(const Problem& problem, int horizon, const std::vector<int>& other_side = {});
+std::vector<Waypoint> route_waypoints(const Problem& problem, int horizon, const MissionSchedule& visits = {},
+                                      const std::vector<int>& other_side = {});
 
 }  // namespace marsyn::planning
