@@ -95,26 +95,15 @@ double next_input_share(double share) {
   return share;
 }
 
-double saturation_share(const std::vector<Eigen::VectorXd>& u, const Box& b) {
-  if (u.empty() || b.dim() == 0) return 0.0;
-  int at = 0;
-  for (const auto& uk : u) {
-    bool sat = false;
-    for (Eigen::Index j = 0; j < uk.size() && j < b.dim(); ++j) {
-      const double tol = 1e-6 * (b.hi[j] - b.lo[j]);
-      sat = sat || uk[j] <= b.lo[j] + tol || uk[j] >= b.hi[j] - tol;
-    }
-    at += sat ? 1 : 0;
-  }
-  return static_cast<double>(at) / static_cast<double>(u.size());
-}
-
 std::vector<LeverChoice> levers_for(const Failure& f, const std::vector<TrackerLever>& declared) {
   switch (f.kind) {
     // The planning stage lengthened the horizon already: longer still, then a narrower tube.
     // Starts too crowded for the tubes (planning/workspace_gaps.hpp): no horizon can help.
     case Failure::Plan:
-      if (f.start_eps_factor < 1 || f.formation_eps_factor < 1 || f.goal_eps_factor < 1) return {{Lever::ShrinkEps, ""}};
+      // Neither a longer horizon nor a narrower tube: nothing the search can change helps.
+      if (!f.horizon_blocked.empty() && f.beyond_eps) return {};
+      if (f.start_eps_factor < 1 || f.formation_eps_factor < 1 || f.goal_eps_factor < 1 || !f.horizon_blocked.empty())
+        return {{Lever::ShrinkEps, ""}};
       return {{Lever::LongerHorizon, ""}, {Lever::ShrinkEps, ""}};
     case Failure::Certification: return {{Lever::MoreClearance, ""}};
     case Failure::NoController: break;

@@ -27,6 +27,8 @@ Failure agent_failure(const Failure& f, std::size_t w) {
   if (w < f.nominal_saturation.size()) one.nominal_saturation = {f.nominal_saturation[w]};
   if (w < f.miss_share.size()) one.miss_share = {f.miss_share[w]};
   one.longest_horizon = f.longest_horizon;
+  one.horizon_blocked = f.horizon_blocked;
+  one.beyond_eps = f.beyond_eps;
   return one;
 }
 

@@ -284,6 +284,11 @@ Failure Search::plan(SearchRound& round, double time_left) {
   if (!out_.plan.feasible) {
     Failure f{Failure::Plan, "planning failed: " + out_.plan.check.message, {}, {}};
     for (const auto& pa : out_.plan.attempts) f.longest_horizon = std::max(f.longest_horizon, pa.horizon);
+    f.horizon_blocked = out_.plan.horizon_blocked;
+    if (!f.horizon_blocked.empty()) f.reason += "; no longer horizon: " + f.horizon_blocked;
+    double eps = 0.0;
+    for (const auto& a : pb_.agents) eps = std::max(eps, a.tube.eps.maxCoeff());
+    f.beyond_eps = out_.plan.check.sampled_margin < -2.0 * eps;
     if (out_.plan.attempts.empty()) {
       f.start_eps_factor = planning::start_eps_factor(pb_);
       f.goal_eps_factor = planning::goal_eps_factor(pb_);
@@ -447,7 +452,7 @@ Failure Search::tracking_failure(const std::vector<int>& redo) {
                                ? r.failure.amount / eps[c]
                                : 0.0);
     f.nominal_saturation.push_back(
-        i < out_.plan.nominal.size() ? search::saturation_share(out_.plan.nominal[i].u, pb_.agents[i].input_bounds) : 0.0);
+        i < out_.plan.nominal.size() ? planning::saturation_share(out_.plan.nominal[i].u, pb_.agents[i].input_bounds) : 0.0);
   }
   return f.agents.empty() ? Failure{} : f;
 }
@@ -847,6 +852,9 @@ bool Search::agents_round(const Failure& failure, double elapsed, SearchRound& n
 void Search::stop_without_lever(const Failure& failure) {
   SearchReport& rep = out_.search;
   rep.stop_reason = rep.not_tried.empty() ? "no lever addresses " + failure.reason : failure.reason + "; no lever left";
+  if (failure.kind == Failure::Plan && failure.beyond_eps && !failure.horizon_blocked.empty())
+    rep.stop_reason = failure.reason + "; a narrower tube cannot close a shortfall of more than twice the largest eps, "
+                                       "so the search has no lever to try";
   // The time limit names the best lever it kept from running (the cheapest that did not fit).
   if (unfit_.s >= 0)
     rep.stop_reason = failure.reason + "; no lever left fits the time left of the limit (" + seconds(opt_.time_limit_s) +

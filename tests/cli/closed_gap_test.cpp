@@ -84,3 +84,24 @@ TEST(ClosedGap, MissionLegsAreRoutedAroundTheRow) {
   EXPECT_NE(all.find("from routes around them"), std::string::npos) << all;
   EXPECT_NE(all.find("FEASIBLE: horizon 200"), std::string::npos) << all;
 }
+
+// A stage 8 m away that must be reached by 3 s at 2 m/s: the window, not the horizon, blocks.
+// The plan search says so at the first horizon instead of lengthening it four times, and the
+// solve stops at once (a narrower tube cannot give back 1.65 either) (issue 49, item 2; on
+// 2ed824e: horizons 120 to 235, then four eps shrinks).
+TEST(ClosedGap, AWindowThatPinsTheFailureIsNotLengthened) {
+  namespace fs = std::filesystem;
+  const fs::path out = fs::temp_directory_path() / ("marsyn_window_soon_" + std::to_string(::getpid()));
+  const std::string file = std::string(MARSYN_SOURCE_DIR) + "/tests/continuous/window_too_soon.yaml";
+  const auto r = run_marsyn("plan " + file + " --out " + out.string());
+  EXPECT_EQ(r.code, 1) << r.out << r.err;
+  const std::string all = r.out + r.err;
+  EXPECT_NE(all.find("no longer horizon tried: stage bay of van must be reached by 3 s (step 30)"), std::string::npos)
+      << all;
+  EXPECT_EQ(all.find("T = 150"), std::string::npos) << all;
+  const auto s = run_marsyn("solve " + file + " --out " + out.string());
+  fs::remove_all(out);
+  EXPECT_EQ(s.code, 1) << s.out << s.err;
+  EXPECT_NE(s.out.find("a narrower tube cannot close a shortfall"), std::string::npos) << s.out;
+  EXPECT_NE(s.out.find("after 1 round"), std::string::npos) << s.out;
+}

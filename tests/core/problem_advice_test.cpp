@@ -94,3 +94,32 @@ TEST(ProblemAdvice, AFormationWhoseMuIsBelowWhatTheTubesCanChange) {
 }
 
 }  // namespace
+
+// Pairs that each give their own mu need no formation-wide one (docs/problem-format.md: "offsets
+// and/or pairs"); `offsets` still do.
+TEST(FormationFields, PairsWithTheirOwnMuNeedNoTopLevelMu) {
+  std::ifstream in(std::string(MARSYN_SOURCE_DIR) + "/tests/bad_inputs/formation_pair_without_mu.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string s = text.str();
+  const std::string from = "{agents: [b, a], lambda: 1.0}";
+  s.replace(s.find(from), from.size(), "{agents: [b, a], lambda: 1.2, mu: 0.4}");
+  const std::string path = testing::TempDir() + "formation_own_mu.yaml";
+  std::ofstream(path) << s;
+  const auto lp = marsyn::load_problem(path);
+  ASSERT_EQ(lp.problem.formation.size(), 2u);
+  EXPECT_DOUBLE_EQ(lp.problem.formation[0].mu, 0.3);
+  EXPECT_DOUBLE_EQ(lp.problem.formation[1].mu, 0.4);
+  EXPECT_DOUBLE_EQ(lp.problem.formation[1].lambda, 1.2);
+  // Offsets without a formation-wide mu: refused, naming the field.
+  const std::string bad = testing::TempDir() + "formation_offsets_no_mu.yaml";
+  std::string t = text.str();
+  t.replace(t.find("  pairs:"), std::string::npos, "  offsets: {a: [0, 0], b: [0, 1]}\n");
+  std::ofstream(bad) << t;
+  try {
+    marsyn::load_problem(bad);
+    ADD_FAILURE() << "offsets without mu accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("missing required field 'mu'"), std::string::npos) << e.what();
+  }
+}

@@ -174,11 +174,11 @@ TEST(SearchReasons, CoreMeasuresHowOftenTheNominalSitsAtABoundOfU) {
   u.hi = Eigen::VectorXd::Constant(2, 3);
   std::vector<Eigen::VectorXd> nominal{Eigen::Vector2d(0, 0), Eigen::Vector2d(3, 0), Eigen::Vector2d(0, -3),
                                        Eigen::Vector2d(2.99, 0)};
-  EXPECT_DOUBLE_EQ(marsyn::search::saturation_share(nominal, u), 0.5);
+  EXPECT_DOUBLE_EQ(marsyn::planning::saturation_share(nominal, u), 0.5);
   // A pinned nominal asks for "tighten U" even when the tracker gave no reason: the first re-plan.
   Failure f{Failure::NoController, "no controller for a", {0}, {}};
   f.why = {{}};
-  f.nominal_saturation = {marsyn::search::saturation_share(nominal, u)};
+  f.nominal_saturation = {marsyn::planning::saturation_share(nominal, u)};
   EXPECT_EQ(marsyn::search::levers_for(f, kDeclared),
             (std::vector<LeverChoice>{{Lever::FallBack, ""}, {Lever::TightenInput, ""}, {Lever::EnlargeEps, ""}}));
 }
@@ -224,6 +224,19 @@ agents:
   - {name: high, x0: [0, 0.5, 0], goal: {center: [3, 0.5, 0], radius: [0.4, 0.4, 0.6]}}
 )";
   return path.string();
+}
+
+// The plan stage found that time is not what its failure lacks (issue 49, item 2): no longer
+// horizon; and when the shortfall is beyond what any narrower tube gives back, no lever at all.
+TEST(SearchReasons, APlanFailureTimeCannotHelpTriesNoLongerHorizon) {
+  Failure f{Failure::Plan, "planning failed", {}, {}};
+  f.horizon_blocked = "stage bay of van must be reached by 3 s";
+  EXPECT_EQ(marsyn::search::levers_for(f, kDeclared), (std::vector<LeverChoice>{{Lever::ShrinkEps, ""}}));
+  f.beyond_eps = true;
+  EXPECT_TRUE(marsyn::search::levers_for(f, kDeclared).empty());
+  f.horizon_blocked.clear();  // beyond eps alone: a longer horizon may still help
+  EXPECT_EQ(marsyn::search::levers_for(f, kDeclared),
+            (std::vector<LeverChoice>{{Lever::LongerHorizon, ""}, {Lever::ShrinkEps, ""}}));
 }
 
 TEST(SearchReasons, CrowdedStartsShrinkEpsAsFarAsTheyNeedWithoutTryingHorizons) {

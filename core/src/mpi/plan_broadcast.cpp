@@ -24,6 +24,7 @@ void broadcast_plan(const Collective& c, planning::PlanOutcome& plan) {
       w.put(name);
       w.put(v);
     }
+    w.put(plan.horizon_blocked);
   }
   c.broadcast(w.bytes(), 0);
   if (c.rank() == 0) return;
@@ -50,6 +51,7 @@ void broadcast_plan(const Collective& c, planning::PlanOutcome& plan) {
     r.get(v);
     plan.extra[name] = v;
   }
+  r.get(plan.horizon_blocked);
 }
 
 }  // namespace marsyn::mpi

@@ -141,13 +141,20 @@ class HorizonSearch {
       Solved one = solve_once(warm_, left);
       retimed_ = false;
       judge_other_side(one.a);
+      note_here(one);
       keep_if_better(one);
       if (best_.feasible) break;
       if (!one.clean.u.empty()) warm_ = one.clean;
-      if (more_clearance_between(one.a) || retime_knots(one) || take_routes(one) || other_homotopy_class(one) ||
-          drop_clearance(one.a))
+      // An obstacle as the worst requirement: the way around it first, then the knots re-timed
+      // along the routed plan (re-timing along a plan pressed against an obstacle moves the knots
+      // to where it got stuck).
+      const bool obstacle_first = one.a.check.worst_agents[0] >= 0 && one.a.check.worst_agents[1] < 0;
+      if (more_clearance_between(one.a) || (obstacle_first && take_routes(one)) || retime_knots(one) ||
+          take_routes(one) || other_homotopy_class(one) || drop_clearance(one.a))
         continue;
       ++horizons;
+      if (horizons < std::max(1, options_.max_attempts) && !longer_horizon_helps()) break;
+      here_ = {};
       retries_here_ = retimed_here_ = 0;
       horizon_ = std::max(horizon_ + 1, static_cast<int>(std::ceil(horizon_ * options_.horizon_growth)));
       visits_ = schedule_missions(problem_, horizon_);
@@ -333,6 +340,85 @@ class HorizonSearch {
     return true;
   }
 
+  // The best attempt at the current horizon (its plan kept to judge what limits it).
+  void note_here(const Solved& one) {
+    if (one.clean.u.empty() || (here_.plan.has_value() && !(one.a.check.sampled_margin > here_.check.sampled_margin)))
+      return;
+    here_.check = one.a.check;
+    here_.plan = one.clean;
+    here_.visits = visits_;
+  }
+
+  // Horizon policy (issue 49): a longer horizon gives the agents time, which helps only when time
+  // is what the failure lacked. Judged on this horizon's best attempt, in order:
+  // - the worst shortfall is a stage pinned at the end of its window (its knot is its `by`): the
+  //   window, not the horizon, is what blocks (the steps before it do not change with T); no
+  //   longer horizon is tried;
+  // - an agent short of its goal or a stage while its inputs sit at a bound of U on a quarter of
+  //   the steps or more: speed or input limits it; a longer horizon is tried (and said why);
+  // - the same requirement falls short as at the previous horizon, by about as much (within 10 %):
+  //   the longer horizon did not help, a longer still will not either.
+  // Otherwise a longer horizon is tried. A stop is said with its numbers and kept in
+  // PlanOutcome::horizon_blocked, so the outer search does not lengthen the horizon either.
+  bool longer_horizon_helps() {
+    if (!here_.plan) return true;
+    const RobustCheck& c = here_.check;
+    const ProductLayout layout(problem_);
+    const std::string T = std::to_string(horizon_);
+    for (const auto& v : c.stages) {
+      const MissionStage& st = problem_.agents[static_cast<std::size_t>(v.agent)].stages[static_cast<std::size_t>(v.stage)];
+      if (!(v.sampled_margin < 0) || st.by < 0 || v.step < st.by || !(v.sampled_margin <= c.sampled_margin + 1e-12)) continue;
+      std::ostringstream os;
+      os << v.name << " must be reached by " << st.by * problem_.tau << " s (step " << st.by << "); the plan at T = " << T
+         << " falls short there by " << -v.sampled_margin
+         << ": a longer horizon does not move the window (a later `by`, fewer stages before it, a faster agent or a "
+            "start nearer the region can)";
+      return blocked(os.str());
+    }
+    for (std::size_t i = 0; i < problem_.agents.size(); ++i) {
+      const AgentSpec& a = problem_.agents[i];
+      bool short_here = goal_margin(a, here_.plan->x.back(), layout.state[i]) < 0;
+      for (const auto& v : c.stages) short_here = short_here || (v.agent == static_cast<int>(i) && v.sampled_margin < 0);
+      if (!short_here) continue;
+      std::vector<Eigen::VectorXd> u;
+      for (const auto& uk : here_.plan->u) u.push_back(uk.segment(layout.input[i], a.input_bounds.dim()));
+      const double share = saturation_share(u, a.input_bounds);
+      if (share >= 0.25) {
+        log("at T = " + T + " " + a.name + " falls short with its inputs at a bound of U on " +
+            std::to_string(static_cast<int>(std::lround(100 * share))) +
+            " % of the steps: speed or input limits it, so a longer horizon gives it time");
+        last_short_ = {c.worst, c.min_margin};
+        return true;
+      }
+    }
+    const bool same = last_short_ && last_short_->first == c.worst && c.sampled_margin < 0 &&
+                      std::isfinite(c.min_margin) &&
+                      std::abs(c.min_margin - last_short_->second) <= 0.1 * std::abs(last_short_->second);
+    if (same) {
+      std::ostringstream os;
+      os << "the plans at the last two horizons fall short at the same requirement (" << c.worst << ", by "
+         << -last_short_->second << " and " << -c.min_margin
+         << ") with their inputs inside U: a longer horizon does not help here";
+      return blocked(os.str());
+    }
+    if (c.sampled_margin < 0) last_short_ = {c.worst, c.min_margin};
+    return true;
+  }
+
+  bool blocked(const std::string& why) {
+    log(why);
+    best_.horizon_blocked = why;
+    return false;
+  }
+
+  // How deep the agent's final state lies in its goal shrunk by eps (negative: missed).
+  static double goal_margin(const AgentSpec& a, const Eigen::VectorXd& x, int offset) {
+    const Box G = a.goal.shrunk(a.tube.eps);
+    double m = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < G.dim(); ++c) m = std::min({m, x[offset + c] - G.lo[c], G.hi[c] - x[offset + c]});
+    return m;
+  }
+
   // A robust plan: its knots re-timed along it and the same horizon solved again from it, kept
   // only when robust with less input effort (the exact check judges, the effort compares).
   void retime_robust_plan() {
@@ -403,6 +489,14 @@ class HorizonSearch {
   // still to be judged (kept for later horizons only when the new class did better).
   std::vector<int> other_side_, other_before_;
   std::optional<double> other_judge_;
+  // The best attempt at the current horizon, and the worst requirement (with its margin at the
+  // samples) of the last horizon that fell short, for the horizon policy.
+  struct {
+    RobustCheck check;
+    std::optional<GlobalPlan> plan;
+    MissionSchedule visits;
+  } here_;
+  std::optional<std::pair<std::string, double>> last_short_;
 };
 
 PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSearchOptions& options,
@@ -411,6 +505,20 @@ PlanOutcome search(const Problem& problem, const Planner& planner, const PlanSea
 }
 
 }  // namespace
+
+double saturation_share(const std::vector<Eigen::VectorXd>& u, const Box& b) {
+  if (u.empty() || b.dim() == 0) return 0.0;
+  int at = 0;
+  for (const auto& uk : u) {
+    bool sat = false;
+    for (Eigen::Index j = 0; j < uk.size() && j < b.dim(); ++j) {
+      const double tol = 1e-6 * (b.hi[j] - b.lo[j]);
+      sat = sat || uk[j] <= b.lo[j] + tol || uk[j] >= b.hi[j] - tol;
+    }
+    at += sat ? 1 : 0;
+  }
+  return static_cast<double>(at) / static_cast<double>(u.size());
+}
 
 PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearchOptions& options) {
   const Stopwatch clock;
@@ -501,6 +609,7 @@ std::string summary(const Problem& problem, const PlanOutcome& o) {
   if (has_stages(problem) && !o.visits.empty())
     os << "  visit knots: " << knots_text(problem, o.visits) << " (initial guess: "
        << knots_text(problem, schedule_missions(problem, o.visits.horizon)) << ")\n";
+  if (!o.feasible && !o.horizon_blocked.empty()) os << "  no longer horizon tried: " << o.horizon_blocked << "\n";
   if (!o.feasible)
     for (const auto& gap : narrow_gaps(problem))
       os << "  closed gap: " << describe(gap) << " (a longer horizon cannot open it)\n";

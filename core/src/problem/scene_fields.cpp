@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "agent_fields.hpp"
 #include "field_text.hpp"
@@ -176,8 +177,10 @@ void read_formation(const Field& f, Problem& pb) {
            "distance, mu: tolerance}, ...], not a list");
   f.expect_map();
   f.allow_only({"mu", "offsets", "pairs"});
-  const double mu = f.required("mu").positive();
+  // A formation-wide tolerance, needed by `offsets` and by pairs that do not give their own.
+  const std::optional<double> mu = f.child("mu").present() ? std::optional<double>(f.child("mu").positive()) : std::nullopt;
   if (Field off = f.child("offsets"); off.present()) {
+    if (!mu) f.required("mu");  // the located "missing required field" error
     off.expect_map();
     std::vector<std::pair<int, Eigen::VectorXd>> pts;
     for (const auto& key : off.keys()) {
@@ -190,7 +193,7 @@ void read_formation(const Field& f, Problem& pb) {
     }
     for (std::size_t a = 0; a < pts.size(); ++a)
       for (std::size_t b = a + 1; b < pts.size(); ++b)
-        pb.formation.push_back({pts[a].first, pts[b].first, (pts[a].second - pts[b].second).norm(), mu});
+        pb.formation.push_back({pts[a].first, pts[b].first, (pts[a].second - pts[b].second).norm(), *mu});
   }
   if (Field pairs = f.child("pairs"); pairs.present()) {
     for (const auto& p : pairs.items()) {
@@ -200,7 +203,10 @@ void read_formation(const Field& f, Problem& pb) {
       if (!ag.is_sequence() || ag.size() != 2) ag.fail("expected two agent names [a, b]");
       const int i = agent_index(pb, ag[0]), j = agent_index(pb, ag[1]);
       if (i == j) ag.fail("a formation pair needs two different agents");
-      pb.formation.push_back({i, j, p.required("lambda").positive(), p.child("mu").present() ? p.child("mu").positive() : mu});
+      const double lambda = p.required("lambda").positive();
+      if (!p.child("mu").present() && !mu)
+        p.fail("missing the tolerance 'mu': give it in this pair or once for the whole formation (formation: {mu: ...})");
+      pb.formation.push_back({i, j, lambda, p.child("mu").present() ? p.child("mu").positive() : *mu});
     }
   }
   if (pb.formation.empty()) f.fail("expected 'offsets' or 'pairs' defining at least one formation pair");

@@ -160,8 +160,12 @@ TEST(AugmentedLagrangian, AGoalOutOfReachEndsWithAClearFailure) {
   // The horizon search tried a longer horizon and logged both attempts.
   ASSERT_EQ(out.attempts.size(), 2u);
   EXPECT_GT(out.attempts[1].horizon, out.attempts[0].horizon);
-  ASSERT_EQ(log.size(), 2u);
+  // Both attempts, and between them why a longer horizon was worth trying (issue 49): the car's
+  // inputs sit at a bound while it falls short.
+  ASSERT_EQ(log.size(), 3u);
   EXPECT_NE(log[0].find("T = 50"), std::string::npos) << log[0];
+  EXPECT_NE(log[1].find("at T = 50 car falls short with its inputs at a bound of U"), std::string::npos) << log[1];
+  EXPECT_NE(log[1].find("speed or input limits it"), std::string::npos) << log[1];
   EXPECT_NE(planning::summary(p, out).find("NO FEASIBLE PLAN"), std::string::npos);
   const auto st = out.attempts.back().status;
   EXPECT_TRUE(st == PlannerStatus::Infeasible || st == PlannerStatus::ApproximateSolution) << to_string(st);

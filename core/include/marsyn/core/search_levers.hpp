@@ -82,6 +82,12 @@ struct Failure {
   // (amount / eps_c), 0 when the failure is not a miss in one coordinate (measured by core).
   std::vector<double> miss_share;
   int longest_horizon = 0;                   // Plan: the longest horizon the planning stage tried
+  // Plan: why the planning stage found that a longer horizon cannot help (PlanOutcome::
+  // horizon_blocked); empty when it did not judge so.
+  std::string horizon_blocked;
+  // Plan: the shortfall at the samples is more than twice every agent's largest eps, so no
+  // narrower tube can close it (a tube gives back at most its eps, a pair twice that).
+  bool beyond_eps = false;
   // Plan: below 1 when the starts are too crowded for the tubes at any horizon
   // (planning::start_eps_factor): only a narrower tube helps then.
   double start_eps_factor = 1.0;
@@ -97,8 +103,6 @@ struct Failure {
 // eps (0 < miss_share <= kSmallMiss).
 bool small_miss(const Failure& failure, std::size_t w);
 
-// The share (0..1) of the steps on which some input of `u` lies within 1e-6 of U's range of a bound.
-double saturation_share(const std::vector<Eigen::VectorXd>& u, const Box& bounds);
 
 // The levers that address `failure`, in the order they are tried (none for None and
 // Unsearchable). `declared`: the failed agents' trackers' own levers (Tracker::levers), in order.

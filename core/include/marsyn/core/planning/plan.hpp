@@ -46,6 +46,9 @@ struct PlanSearchOptions {
 // times tau. The measure re-timings are compared by (every planner's cost has it, not the rest).
 double input_effort(const Problem& problem, const GlobalPlan& plan);
 
+// The share (0..1) of the steps on which some input of `u` lies within 1e-6 of U's range of a bound.
+double saturation_share(const std::vector<Eigen::VectorXd>& u, const Box& bounds);
+
 struct PlanAttempt {
   std::string planner;  // Planner::name()
   int horizon = 0;
@@ -75,6 +78,10 @@ struct PlanOutcome {
   // The per-constraint clearance the returned plan was made with (options.assembly.extra plus
   // what the continuous-time re-plans added), for a later re-plan to start from.
   std::map<std::string, double> extra;
+  // Why the search tried no longer horizon, when its policy found that time is not what the
+  // failure lacks (a stage pinned at the end of its window, the same shortfall at two horizons):
+  // the outer search does not lengthen the horizon either. Empty: not judged so.
+  std::string horizon_blocked;
 };
 
 // Never throws for algorithmic failure (feasible == false then, with the best attempt's data);
