@@ -105,3 +105,21 @@ TEST(ClosedGap, AWindowThatPinsTheFailureIsNotLengthened) {
   EXPECT_NE(s.out.find("a narrower tube cannot close a shortfall"), std::string::npos) << s.out;
   EXPECT_NE(s.out.find("after 1 round"), std::string::npos) << s.out;
 }
+
+// A rig whose workspace point is 1.5 m behind its axle (a footprint reading x, y, heading and
+// articulation): the gap it needs is 2 (delta + the footprint's reach in its tube), about 4.70
+// here, not a bound that grows with the state range (issue 49 item 5: on 2ed824e 18.1, so every
+// gap of the field was "closed").
+TEST(ClosedGap, AFootprintsGapIsJudgedByItsReach) {
+  const auto r = run_marsyn(std::string("check ") + MARSYN_SOURCE_DIR + "/tests/continuous/hitch_gaps.yaml");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string closed = "obstacle crate_w1 and obstacle crate_e1 leave a gap 4.5 wide; passing it needs ";
+  const auto at = r.out.find(closed);
+  ASSERT_NE(at, std::string::npos) << r.out;
+  const double needs = std::stod(r.out.substr(at + closed.size()));
+  // The true need: 2 (2 + 0.2 + 1.5 x 2 sin(0.05)) = 4.69988; within 10 %.
+  EXPECT_GT(needs, 0.9 * 4.69988) << r.out;
+  EXPECT_LT(needs, 1.1 * 4.69988) << r.out;
+  EXPECT_NE(r.out.find("how far the footprint moves inside its eps-tube"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("crate_w2 and obstacle crate_e2"), std::string::npos) << "the 5.0 gap is open: " << r.out;
+}

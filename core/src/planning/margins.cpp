@@ -34,7 +34,9 @@ void spread(const Interval* big, const Interval* small, WorkspaceMargin& m) {
 
 }  // namespace
 
-WorkspaceMargin margin_at(const AgentSpec& a, const Eigen::VectorXd& x) {
+WorkspaceMargin margin_at(const AgentSpec& a, const Eigen::VectorXd& x) { return margin_at(a, x.data()); }
+
+WorkspaceMargin margin_at(const AgentSpec& a, const double* x) {
   if (a.workspace.linear()) return linear_margin(a);
   const int n = a.n();
   std::vector<Interval> box(n), point(n);
@@ -77,10 +79,16 @@ MarginTable::MarginTable(const AgentSpec& a, const Box& region, int cells_per_di
     linear_ = evaluate(0);
     return;
   }
-  // Bounded memory for footprints reading many coordinates.
-  k_ = split_.size() <= 2 ? cells_per_dim : split_.size() == 3 ? 32 : 8;
   lo_ = region.lo;
   hi_ = region.hi;
+  // A footprint reading more than two coordinates (a tractor's hitch: x, y, heading, articulation)
+  // would need a table too coarse to be useful (8 cells per coordinate made a 9 m lane need 19 m:
+  // each cell's own width adds to its bound); the bound at the state itself is the check's own.
+  if (split_.size() > 2) {
+    pointwise_ = true;
+    return;
+  }
+  k_ = cells_per_dim;
   long total = 1;
   for (size_t s = 0; s < split_.size(); ++s) total *= k_;
   cells_.resize(total);
@@ -116,6 +124,12 @@ double MarginTable::edge(int s, int j) const {
 
 WorkspaceMargin MarginTable::at(const double* x) const {
   if (split_.empty()) return linear_;
+  if (pointwise_) {
+    // Clamped to the region as the cells are: outside it the state bounds are violated anyway.
+    std::vector<double> y(x, x + agent_->n());
+    for (int i = 0; i < agent_->n(); ++i) y[i] = std::clamp(y[i], lo_[i], hi_[i]);
+    return margin_at(*agent_, y.data());
+  }
   long idx = 0, stride = 1;
   for (int s : split_) {
     const double v = std::clamp(x[s], lo_[s], hi_[s]);
@@ -139,12 +153,33 @@ WorkspaceMargin MarginTable::at(const double* x) const {
 WorkspaceMargin MarginTable::max() const {
   if (split_.empty()) return linear_;
   WorkspaceMargin m;
-  for (long i = 0; i < static_cast<long>(cells_.size()); ++i) {
-    const WorkspaceMargin c = evaluate(i);
+  auto keep = [&m](const WorkspaceMargin& c) {
     m.x = std::max(m.x, c.x);
     m.y = std::max(m.y, c.y);
     m.z = std::max(m.z, c.z);
+  };
+  if (pointwise_) {
+    // An estimate: the bounds at the region's centre, the start, the goal's centre, and the
+    // centre moved to each end of every coordinate the footprint reads.
+    const int n = agent_->n();
+    Eigen::VectorXd c = 0.5 * (lo_ + hi_);
+    for (int i = 0; i < n; ++i)
+      if (!std::isfinite(c[i])) c[i] = agent_->x0[i];
+    keep(at(c.data()));
+    keep(at(agent_->x0.data()));
+    Eigen::VectorXd g = agent_->goal.center();
+    for (int i = 0; i < n; ++i)
+      if (!std::isfinite(g[i])) g[i] = agent_->x0[i];
+    keep(at(g.data()));
+    for (int s : split_)
+      for (double v : {lo_[s], hi_[s]}) {
+        Eigen::VectorXd y = c;
+        if (std::isfinite(v)) y[s] = v;
+        keep(at(y.data()));
+      }
+    return m;
   }
+  for (long i = 0; i < static_cast<long>(cells_.size()); ++i) keep(evaluate(i));
   return m;
 }
 

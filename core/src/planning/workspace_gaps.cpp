@@ -61,6 +61,7 @@ std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
       if (width < need[i]) {
         g.needed = std::max(g.needed, need[i]);
         g.agents.push_back(problem.agents[i].name);
+        g.footprint = g.footprint || !problem.agents[i].workspace.linear();
       }
     if (!g.agents.empty()) out.push_back(std::move(g));
   };
@@ -112,7 +113,7 @@ std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
 std::string describe(const NarrowGap& g) {
   std::ostringstream os;
   os << g.first << " and " << g.second << " leave a gap " << g.width << " wide; passing it needs " << g.needed
-     << " (2 (delta + eps)): closed to ";
+     << (g.footprint ? " (2 (delta + how far the footprint moves inside its eps-tube)): closed to " : " (2 (delta + eps)): closed to ");
   for (size_t i = 0; i < g.agents.size(); ++i) os << (i ? ", " : "") << g.agents[i];
   os << " at every horizon";
   return os.str();

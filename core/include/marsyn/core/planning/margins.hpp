@@ -26,20 +26,26 @@ struct WorkspaceMargin {
 // A sound bound at one nominal state (exact for the linear map; an interval enclosure of the
 // footprint over the eps-box otherwise). Used by the exact robustness check.
 WorkspaceMargin margin_at(const AgentSpec& agent, const Eigen::VectorXd& x);
+WorkspaceMargin margin_at(const AgentSpec& agent, const double* x);
 
 // Sound bounds for nominal states inside `region` (the agent's state bounds shrunk by eps): the
 // region is covered by cells along the coordinates the footprint reads, and for each cell C the
 // footprint's enclosure over C + eps-box is compared with its enclosure over C. The planner's
 // constraints look up the cell of the current state (a piecewise-constant margin).
 // Cells are evaluated lazily (a solver visits few of them); the table is safe to share between
-// threads.
+// threads. A footprint reading more than two coordinates gets no table: at() is then the bound at
+// the state itself (margin_at, the exact check's), and max() an estimate (below).
 class MarginTable {
  public:
   MarginTable(const AgentSpec& agent, const Box& region, int cells_per_dim = 256);
   // The bound of x's cell. Outside the region x is clamped to it: there the state bounds are
   // violated anyway, so the planner's constraint need not be sound.
   WorkspaceMargin at(const double* x) const;
-  WorkspaceMargin max() const;  // evaluates every cell
+  // Evaluates every cell: a bound over the region. Without a table (pointwise), an estimate: the
+  // largest bound at the region's centre, the start, the goal's centre and the centre moved to
+  // each end of every coordinate the footprint reads (routes and gap warnings read it; nothing
+  // sound rests on it).
+  WorkspaceMargin max() const;
   bool constant() const { return split_.empty(); }
 
  private:
@@ -49,6 +55,7 @@ class MarginTable {
   const AgentSpec* agent_;
   std::vector<int> split_;
   int k_ = 1;
+  bool pointwise_ = false;
   Eigen::VectorXd lo_, hi_;
   WorkspaceMargin linear_;
   mutable std::vector<WorkspaceMargin> cells_;
@@ -56,7 +63,8 @@ class MarginTable {
   mutable std::mutex fill_;
 };
 
-// The largest bound of the table: one margin valid at every state of the region.
+// The largest bound of the table: one margin valid at every state of the region (an estimate for
+// footprints reading more than two coordinates: MarginTable::max).
 WorkspaceMargin global_margin(const AgentSpec& agent, const Box& region, int cells_per_dim = 256);
 
 // How fast the agent's workspace point moves in a plan (per workspace coordinate, the larger of

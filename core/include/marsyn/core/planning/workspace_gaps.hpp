@@ -15,6 +15,7 @@ struct NarrowGap {
   double width = 0.0;               // the gap's width in the problem's norm
   double needed = 0.0;              // the largest 2 (delta + margin) among the agents it closes
   std::vector<std::string> agents;  // the agents it is closed to
+  bool footprint = false;           // some of them have a footprint (their margin is its reach, not eps)
 };
 
 // Every closed gap (width > 0: overlapping obstacles form one obstacle, not a gap). The margin
