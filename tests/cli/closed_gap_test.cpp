@@ -123,3 +123,18 @@ TEST(ClosedGap, AFootprintsGapIsJudgedByItsReach) {
   EXPECT_NE(r.out.find("how far the footprint moves inside its eps-tube"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("crate_w2 and obstacle crate_e2"), std::string::npos) << "the 5.0 gap is open: " << r.out;
 }
+
+// A serpentine hall (five walls reaching its north or south wall in turn, a crate): the route
+// stays inside the hall, bends round every wall's end, and the robot verifies (issue 49; on
+// 2ed824e the route went round the walls' ends outside the hall: no plan at T = 300 to 587).
+TEST(ClosedGap, ASerpentineHallVerifies) {
+  namespace fs = std::filesystem;
+  const fs::path out = fs::temp_directory_path() / ("marsyn_serpentine_" + std::to_string(::getpid()));
+  const auto r = run_marsyn(std::string("solve ") + MARSYN_SOURCE_DIR + "/tests/continuous/serpentine.yaml --runs 100 --out " +
+                            out.string());
+  fs::remove_all(out);
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  const std::string all = r.out + r.err;
+  EXPECT_NE(all.find("from routes around them (11 waypoints)"), std::string::npos) << all;
+  EXPECT_NE(all.find("status        VERIFIED"), std::string::npos) << all;
+}

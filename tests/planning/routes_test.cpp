@@ -391,3 +391,38 @@ TEST(RoutesInSpace, ManyBlocksThinTheLatticeAndTheRouteStaysClear) {
   ASSERT_FALSE(r.empty());
   expect_clear(blocks, from, r, to);
 }
+
+// Walls reaching the agent's position bounds: the route stays inside the bounds (less the
+// margin) and bends round each wall's open end, not round its end beyond the bounds.
+TEST(Routes, RoutesStayInsideThePositionBounds) {
+  Problem p;
+  p.delta = 0.2;
+  p.delta_norm = Norm::Inf;
+  AgentSpec a;
+  a.name = "robot";
+  a.x0 = Eigen::Vector2d(1, 2);
+  a.goal = {Eigen::Vector2d(9.5, 7.5), Eigen::Vector2d(10.5, 8.5)};
+  a.state_bounds = {Eigen::Vector2d(0, 0), Eigen::Vector2d(12, 10)};
+  a.input_bounds = {Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, 1)};
+  a.tube.eps = Eigen::Vector2d(0.1, 0.1);
+  a.tube.w = Eigen::Vector2d(0, 0);
+  p.agents = {a};
+  Obstacle low, high;
+  low.name = "low";
+  low.vertices = box(3, 0, 3.3, 8);  // open at the north end (round its south end beyond the bounds is shorter)
+  low.is_box = true;
+  high.name = "high";
+  high.vertices = box(6.5, 2, 6.8, 10);  // open at the south end
+  high.is_box = true;
+  p.obstacles = {low, high};
+  const auto w = route_waypoints(p, 100);
+  ASSERT_EQ(w.size(), 4u);
+  EXPECT_GT(w[0].x[1], 8.0);  // round low's north end
+  EXPECT_GT(w[1].x[1], 8.0);
+  EXPECT_LT(w[2].x[1], 2.0);  // round high's south end
+  EXPECT_LT(w[3].x[1], 2.0);
+  for (const auto& wp : w) {
+    EXPECT_GE(wp.x[1], 0.0);
+    EXPECT_LE(wp.x[1], 10.0);
+  }
+}

@@ -157,6 +157,32 @@ std::vector<Leg> legs_of(const Problem& problem, int i, const MissionSchedule& v
   return legs;
 }
 
+// The plane outside the box [lo, hi] as four convex polygons (counter-clockwise), each side only
+// where its bound is finite; the box is widened to hold both ends (an end at the bounds keeps its
+// route). Far enough out that nothing is routed around them.
+std::vector<Polygon> outside_of(Eigen::Vector2d lo, Eigen::Vector2d hi, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  std::vector<Polygon> out;
+  for (int c = 0; c < 2; ++c) {
+    lo[c] = std::min({lo[c], a[c] - 1e-9, b[c] - 1e-9});
+    hi[c] = std::max({hi[c], a[c] + 1e-9, b[c] + 1e-9});
+  }
+  if (!(lo.array() <= hi.array()).all()) return out;
+  double reach = 1.0 + (a - b).norm();
+  for (int c = 0; c < 2; ++c)
+    if (std::isfinite(hi[c] - lo[c])) reach += hi[c] - lo[c];
+  const double L = 10.0 * reach;
+  auto at = [](double v, double fallback) { return std::isfinite(v) ? v : fallback; };
+  const double x0 = at(lo.x(), a.x() - L), x1 = at(hi.x(), a.x() + L), y0 = at(lo.y(), a.y() - L), y1 = at(hi.y(), a.y() + L);
+  auto rect = [](double u0, double v0, double u1, double v1) {
+    return Polygon{{u0, v0}, {u1, v0}, {u1, v1}, {u0, v1}};
+  };
+  if (std::isfinite(lo.x())) out.push_back(rect(x0 - L, y0 - L, x0, y1 + L));
+  if (std::isfinite(hi.x())) out.push_back(rect(x1, y0 - L, x1 + L, y1 + L));
+  if (std::isfinite(lo.y())) out.push_back(rect(x0 - L, y0 - L, x1 + L, y0));
+  if (std::isfinite(hi.y())) out.push_back(rect(x0 - L, y1, x1 + L, y1 + L));
+  return out;
+}
+
 }  // namespace
 
 std::vector<Waypoint> route_waypoints(const Problem& problem, int horizon, const MissionSchedule& schedule,
@@ -177,8 +203,9 @@ std::vector<Waypoint> route_waypoints(const Problem& problem, int horizon, const
     const WorkspaceMargin m = global_margin(a, a.state_bounds.shrunk(a.tube.eps), 16);
     const Eigen::Vector3d g = 1.1 * (Eigen::Vector3d::Constant(problem.delta) +
                                      (inf ? Eigen::Vector3d(m.x, m.y, m.z) : Eigen::Vector3d::Constant(m.two())));
-    // The position bounds the robust plan keeps (less the margin, and 10% of it more); the
-    // plane's shortest routes are not held to them (only another class is).
+    // The position bounds the robust plan keeps (less the margin, and 10% of it more): routes
+    // stay inside them (a serpentine's walls reach the bounds; a route around their ends outside
+    // the hall is no route).
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity()), hi = -lo;
     for (int c = 0; c < dim; ++c) {
       const int s = ws.index[c];
@@ -202,6 +229,8 @@ std::vector<Waypoint> route_waypoints(const Problem& problem, int horizon, const
         if (dim == 3) return route_in_space(prisms, lo, hi, from, to, found);
         std::vector<Polygon> polygons;
         for (const auto& p : prisms) polygons.push_back(p.base);
+        for (const auto& frame : outside_of(lo.head<2>(), hi.head<2>(), from.head<2>(), to.head<2>()))
+          polygons.push_back(frame);
         for (const auto& c : shortest_route(polygons, from.head<2>(), to.head<2>(), found))
           corners.push_back(Eigen::Vector3d(c.x(), c.y(), 0.0));
         return corners;
