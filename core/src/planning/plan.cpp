@@ -141,6 +141,7 @@ class HorizonSearch {
       Solved one = solve_once(warm_, left);
       retimed_ = false;
       judge_other_side(one.a);
+      judge_routes(one.a);
       note_here(one);
       keep_if_better(one);
       if (best_.feasible) break;
@@ -282,10 +283,11 @@ class HorizonSearch {
   // shortest path per agent around the grown obstacles, as waypoints of the reference); later
   // horizons keep the routes.
   bool take_routes(const Solved& one) {
-    if (routes_ || !options_.routes || !(one.a.check.sampled_margin < 0) || one.routed) return false;
+    if (routes_ || routes_dropped_ || !options_.routes || !(one.a.check.sampled_margin < 0) || one.routed) return false;
     const auto ways = route_waypoints(problem_, horizon_, visits_);
     if (ways.empty()) return false;
     routes_ = true;
+    routes_judge_ = one.a.check.min_margin;
     warm_.reset();
     log("not robust at the samples, and straight ways cross obstacles: re-planning T = " + std::to_string(horizon_) +
         " from routes around them (" + std::to_string(ways.size()) + " waypoints)");
@@ -315,6 +317,24 @@ class HorizonSearch {
       return true;
     }
     return false;
+  }
+
+  // The attempt from the routes decides whether later attempts keep them: routes that did clearly
+  // worse than the straight ways (users2/03's tugs: -3.23 against -2.05, and every later solve
+  // held to them took 4 times as long) are dropped, and not taken again. A near tie (within 10 %)
+  // keeps them, and so does a worst requirement between two agents: another homotopy class,
+  // built on the routes, is the next lever then (tests/continuous/one_lane_each.yaml).
+  void judge_routes(const PlanAttempt& a) {
+    if (!routes_judge_) return;
+    const double before = *routes_judge_;
+    const bool worse = std::isfinite(before) && !(a.check.min_margin >= before - 0.1 * std::abs(before));
+    if (worse && a.check.worst_agents[1] < 0) {
+      routes_ = false;
+      routes_dropped_ = true;
+      log("the routes did worse than the straight ways (" + std::to_string(a.check.min_margin) + " against " +
+          std::to_string(*routes_judge_) + "): later attempts start without them");
+    }
+    routes_judge_.reset();
   }
 
   // The attempt after a change of homotopy class decides whether later horizons keep it.
@@ -489,6 +509,9 @@ class HorizonSearch {
   // still to be judged (kept for later horizons only when the new class did better).
   std::vector<int> other_side_, other_before_;
   std::optional<double> other_judge_;
+  // The margin of the attempt before the routes were taken, while the routed one is to be judged.
+  std::optional<double> routes_judge_;
+  bool routes_dropped_ = false;
   // The best attempt at the current horizon, and the worst requirement (with its margin at the
   // samples) of the last horizon that fell short, for the horizon policy.
   struct {
