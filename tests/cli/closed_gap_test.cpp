@@ -138,3 +138,12 @@ TEST(ClosedGap, ASerpentineHallVerifies) {
   EXPECT_NE(all.find("from routes around them (11 waypoints)"), std::string::npos) << all;
   EXPECT_NE(all.find("status        VERIFIED"), std::string::npos) << all;
 }
+
+// An edge of the workspace is named by its number as written, not with six decimals
+// ("the edge z = 2.800000", issue 54).
+TEST(ClosedGap, AnEdgeIsNamedByItsNumber) {
+  const auto r = run_marsyn(std::string("check ") + MARSYN_SOURCE_DIR + "/tests/problems/users2/01_quad_parcel_drop_rack.yaml");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("obstacle rack and the edge z = 2.8 of d1's workspace"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("2.800000"), std::string::npos) << r.out;
+}

@@ -8,6 +8,7 @@
 #include "marsyn/core/planning/geometry.hpp"
 #include "marsyn/core/planning/margins.hpp"
 #include "marsyn/core/planning/spec_margins.hpp"
+#include "marsyn/number_text.hpp"
 
 namespace marsyn::planning {
 
@@ -86,11 +87,11 @@ std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
       const double off = a.workspace.offset[c];
       const char* axis = c == 0 ? "x" : c == 1 ? "y" : "z";
       if (std::isfinite(a.state_bounds.lo[at]))
-        edges.push_back({std::string("the edge ") + axis + " = " + std::to_string(a.state_bounds.lo[at] + off) +
+        edges.push_back({std::string("the edge ") + axis + " = " + number_text(a.state_bounds.lo[at] + off) +
                              " of " + a.name + "'s workspace",
                          c, a.state_bounds.lo[at] + off, true});
       if (std::isfinite(a.state_bounds.hi[at]))
-        edges.push_back({std::string("the edge ") + axis + " = " + std::to_string(a.state_bounds.hi[at] + off) +
+        edges.push_back({std::string("the edge ") + axis + " = " + number_text(a.state_bounds.hi[at] + off) +
                              " of " + a.name + "'s workspace",
                          c, a.state_bounds.hi[at] + off, false});
     }
