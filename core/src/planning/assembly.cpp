@@ -101,8 +101,9 @@ class Assembly {
           if (steps.empty()) continue;
         }
         const std::string name = obstacle_name(problem_, static_cast<int>(o), a);
-        auto c = std::make_shared<ObstacleConstraint>(name, a, xo_[i], obs.vertices, margin_[i], inf ? delta : 0.0,
-                                                      (inf ? 0.0 : delta) + opt_.buffer + clear[i] + more(name),
+        const double od = problem_.obstacle_delta();
+        auto c = std::make_shared<ObstacleConstraint>(name, a, xo_[i], obs.vertices, margin_[i], inf ? od : 0.0,
+                                                      (inf ? 0.0 : od) + opt_.buffer + clear[i] + more(name),
                                                       problem_.distance_model);
         c->set_z(obs.z_lo, obs.z_hi);
         if (obs.staged) c->bind_only_at(std::move(steps));

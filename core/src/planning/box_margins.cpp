@@ -172,7 +172,7 @@ double box_requirement_margin(const Problem& problem, const Requirement& r, cons
   const Box& a = ws[static_cast<size_t>(r.a)];
   switch (r.kind) {
     case Requirement::Obstacle:
-      return box_obstacle_margin(a, problem.obstacles[static_cast<size_t>(r.b)], problem.delta, problem.delta_norm);
+      return box_obstacle_margin(a, problem.obstacles[static_cast<size_t>(r.b)], problem.obstacle_delta(), problem.delta_norm);
     case Requirement::Collision:
       return box_pair_margin(a, ws[static_cast<size_t>(r.b)], problem.delta, problem.delta_norm);
     case Requirement::Formation: break;

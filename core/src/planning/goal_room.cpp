@@ -66,7 +66,7 @@ double obstacle_room(const Problem& pb, const AgentSpec& a, const Obstacle& obst
   const auto g = goal_image(a, f);
   if (!g) return std::numeric_limits<double>::infinity();
   double best = -std::numeric_limits<double>::infinity();
-  for (const auto& p : g->corners) best = std::max(best, obstacle_margin(obstacle, p, g->margin, pb.delta, pb.delta_norm));
+  for (const auto& p : g->corners) best = std::max(best, obstacle_margin(obstacle, p, g->margin, pb.obstacle_delta(), pb.delta_norm));
   return best;
 }
 

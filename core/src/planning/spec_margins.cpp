@@ -70,7 +70,7 @@ double requirement_margin(const Problem& problem, const Requirement& r, const st
   const auto& pa = p[static_cast<size_t>(r.a)];
   switch (r.kind) {
     case Requirement::Obstacle:
-      return obstacle_margin(problem.obstacles[static_cast<size_t>(r.b)], pa, box(r.a), problem.delta,
+      return obstacle_margin(problem.obstacles[static_cast<size_t>(r.b)], pa, box(r.a), problem.obstacle_delta(),
                              problem.delta_norm);
     case Requirement::Collision:
       return collision_margin(pa, box(r.a), p[static_cast<size_t>(r.b)], box(r.b), problem.delta, problem.delta_norm);

@@ -53,7 +53,7 @@ std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
   for (size_t i = 0; i < problem.agents.size(); ++i) {
     const auto& a = problem.agents[i];
     const WorkspaceMargin m = global_margin(a, a.state_bounds.shrunk(a.tube.eps), 16);
-    need[i] = 2.0 * (problem.delta + (inf ? m.inf() : m.two()));
+    need[i] = 2.0 * (problem.obstacle_delta() + (inf ? m.inf() : m.two()));
   }
   auto closed = [&](const std::string& first, const std::string& second, double width,
                     const std::vector<size_t>& who) {
@@ -147,9 +147,9 @@ std::vector<CrowdedStart> all_crowded_starts(const Problem& problem) {
     for (std::size_t o = 0; o < problem.obstacles.size(); ++o) {
       if (!windows.binds(static_cast<int>(i), static_cast<int>(o), {0, false})) continue;
       const Obstacle& poly = problem.obstacles[o];
-      const double g0 = obstacle_margin(poly, p[i], {}, problem.delta, problem.delta_norm);
-      const double g1 = obstacle_margin(poly, p[i], m[i], problem.delta, problem.delta_norm);
-      crowded(problem.agents[i].name, "obstacle " + problem.obstacles[o].name, g0, g1, g0 + problem.delta);
+      const double g0 = obstacle_margin(poly, p[i], {}, problem.obstacle_delta(), problem.delta_norm);
+      const double g1 = obstacle_margin(poly, p[i], m[i], problem.obstacle_delta(), problem.delta_norm);
+      crowded(problem.agents[i].name, "obstacle " + problem.obstacles[o].name, g0, g1, g0 + problem.obstacle_delta());
     }
   if (problem.pairwise_collision)
     for (std::size_t i = 0; i < n; ++i)

@@ -82,7 +82,15 @@ void read_timing_and_norms(const Field& top, LoadedProblem& out) {
   pb.horizon = static_cast<int>(top.required("horizon").integer_in(1, kMaxHorizon, "steps"));
   if (Field f = top.child("rk4_substeps"); f.present())
     pb.rk4_substeps = static_cast<int>(f.integer_in(1, kMaxRk4Substeps, "RK4 substeps per step"));
-  if (Field f = top.child("delta"); f.present()) pb.delta = f.non_negative();
+  if (Field f = top.child("delta"); f.present()) {
+    if (f.is_map()) {  // clearance by kind: between agents, to obstacles
+      f.allow_only({"agents", "obstacles"});
+      pb.delta = f.required("agents").non_negative();
+      pb.delta_obstacles = f.required("obstacles").non_negative();
+    } else {
+      pb.delta = f.non_negative();
+    }
+  }
   if (Field f = top.child("delta_norm"); f.present()) {
     const std::string s = f.text();
     if (s == "inf" || s == "max") pb.delta_norm = Norm::Inf;

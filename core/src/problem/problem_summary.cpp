@@ -28,7 +28,9 @@ std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& track
     << pb.product_input_dim() << " inputs\n";
   s << "time      tau = " << pb.tau << " s, horizon T = " << pb.horizon << " steps (" << pb.tau * pb.horizon
     << " s)\n";
-  s << "safety    delta = " << pb.delta << " (" << (pb.delta_norm == Norm::Inf ? "inf-norm" : "2-norm")
+  s << "safety    delta = " << pb.delta;
+  if (pb.delta_obstacles >= 0) s << " between agents, " << pb.delta_obstacles << " to obstacles";
+  s << " (" << (pb.delta_norm == Norm::Inf ? "inf-norm" : "2-norm")
     << (pb.workspace_dim == 3 ? ", in space: x, y, z; obstacles are vertical prisms" : "") << ")\n";
   s << "guarantee " << (pb.guarantee == Guarantee::Continuous
                             ? "continuous (every t in [0, T tau], between the samples too)"

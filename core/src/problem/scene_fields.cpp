@@ -40,12 +40,13 @@ void check_start_geometry(const Problem& pb, const std::vector<Field>& x0_fields
         continue;
       // The real specification's own margins (spec_margins.hpp), with no tube around x0.
       const double depth = planning::obstacle_margin(o, p[i], {}, 0.0, Norm::Two);
-      const double margin = planning::obstacle_margin(o, p[i], {}, pb.delta, pb.delta_norm);
+      const double margin = planning::obstacle_margin(o, p[i], {}, pb.obstacle_delta(), pb.delta_norm);
       const std::string what = "x0 puts " + a.name + "'s workspace point " + point(p[i]);
       if (depth < 0) x0_fields[i].fail(what + " inside obstacle '" + o.name + "'");
       if (margin < 0)
-        x0_fields[i].fail(what + " at " + norm + " distance " + number_text(margin + pb.delta) + " from obstacle '" +
-                          o.name + "', less than delta = " + number_text(pb.delta) +
+        x0_fields[i].fail(what + " at " + norm + " distance " + number_text(margin + pb.obstacle_delta()) +
+                          " from obstacle '" + o.name + "', less than " +
+                          (pb.delta_obstacles >= 0 ? "delta's obstacles = " : "delta = ") + number_text(pb.obstacle_delta()) +
                           " (inside the obstacle grown by delta)");
     }
   }

@@ -178,6 +178,7 @@ nlohmann::json view_scene(const Problem& pb, const std::vector<NominalTrajectory
   scene["axes"] = {std::string(1, "xyz"[view.u]), std::string(1, "xyz"[view.v])};
   scene["tau"] = pb.tau;
   scene["delta"] = pb.delta;
+  scene["delta_obstacles"] = pb.obstacle_delta();
   const int horizon = !nominal.empty() && !nominal.front().u.empty() ? static_cast<int>(nominal.front().u.size()) : pb.horizon;
   scene["obstacles"] = obstacles_json(pb, horizon, view);
   json agents = json::array();

@@ -46,7 +46,7 @@ std::function<bool(const double*, const double*)> product_unsafe(const Problem& 
     }
     for (const auto& w : ws)
       for (const auto& o : obstacle_boxes)
-        if (box_distance(w.data(), o.data(), pb.delta_norm) < pb.delta) return true;
+        if (box_distance(w.data(), o.data(), pb.delta_norm) < pb.obstacle_delta()) return true;
     if (pb.pairwise_collision)
       for (std::size_t i = 0; i < ws.size(); ++i)
         for (std::size_t j = i + 1; j < ws.size(); ++j)

@@ -199,11 +199,11 @@ bool BroadPhase::obstacle_clears(const StepMargins& run, int o, const planning::
   const bool inf = pb_.delta_norm == Norm::Inf;
   const double d = inf ? g.maxCoeff() : g.norm();  // > 0 outside the box; no bound inside it
   const double clear = run.obstacle + slack(run.obstacle, scale_ + at.cwiseAbs().maxCoeff());
-  if (d > 0 && d - pb_.delta > clear) return true;
+  if (d > 0 && d - pb_.obstacle_delta() > clear) return true;
   // A slanted edge's half-plane: a bound inside the box too (asked only where the box's fails).
   if (!slanted(o)) return false;
   const double h = plane_gap(o, at.x(), at.y(), inf);
-  return h > 0 && h - pb_.delta > clear;
+  return h > 0 && h - pb_.obstacle_delta() > clear;
 }
 
 // (Inlined: it is read once per candidate pair, and its call cost more than its arithmetic.)
@@ -289,7 +289,7 @@ void BroadPhase::window_from_boxes(const std::vector<std::vector<planning::Point
   double mag = 0;  // the largest coordinate: the slack's scale for a difference of two
   for (const Eigen::Vector4d& b : boxes_) mag = std::max(mag, b.cwiseAbs().maxCoeff());
   const bool inf = pb_.delta_norm == Norm::Inf;
-  const double delta = pb_.delta;
+  const double delta = pb_.delta, obstacle_delta = pb_.obstacle_delta();
   // Formation pairs (planar: every point's z is 0, so x and y hold the whole distance): over the
   // window the pair's difference p_i - p_j (the very subtraction the margin takes) stays in its
   // box, so the distance lies between the box's nearest and farthest points from the origin, and
@@ -328,11 +328,11 @@ void BroadPhase::window_from_boxes(const std::vector<std::vector<planning::Point
       const Eigen::Vector4d &a = boxes_[static_cast<size_t>(i)], &b = bbox_[static_cast<size_t>(o)];
       const Eigen::Vector2d g(std::max({b[0] - a[2], a[0] - b[2], 0.0}), std::max({b[1] - a[3], a[1] - b[3], 0.0}));
       const double d = inf ? g.maxCoeff() : g.norm(), clear = run.obstacle + slack(run.obstacle, scale_ + mag);
-      if (finite && d > 0 && d - delta > clear) continue;
+      if (finite && d > 0 && d - obstacle_delta > clear) continue;
       // (Or the agent's whole box beyond a slanted edge's half-plane.)
       if (finite && slanted(o)) {
         const double h = plane_gap(o, a, inf);
-        if (h > 0 && h - delta > clear) continue;
+        if (h > 0 && h - obstacle_delta > clear) continue;
       }
       candidates_.push_back({Requirement::Obstacle, i, o});
     }

@@ -101,7 +101,7 @@ void certify_agents(const Problem& pb, const ByStep& by_step, int T, Certificati
         }
         for (size_t o = 0; o < pb.obstacles.size(); ++o) {
           if (!windows.binds(i, static_cast<int>(o), {k, true})) continue;
-          const double mo = planning::box_obstacle_margin(e->workspace, pb.obstacles[o], pb.delta, pb.delta_norm);
+          const double mo = planning::box_obstacle_margin(e->workspace, pb.obstacles[o], pb.obstacle_delta(), pb.delta_norm);
           record(r.obstacle, mo, k, [&] { return planning::obstacle_name(pb, static_cast<int>(o), a); }, r.shortfalls);
           note(failing, mo, {i});
         }

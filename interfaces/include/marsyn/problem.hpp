@@ -204,7 +204,11 @@ struct Problem {
   std::vector<AgentSpec> agents;
   std::vector<Obstacle> obstacles;
   int workspace_dim = 2;   // every agent's workspace dimension: 2 (plane) or 3 (space)
-  double delta = 0.0;      // safety distance to obstacles and between agents
+  double delta = 0.0;      // safety distance between agents (and to obstacles unless delta_obstacles is set)
+  // Clearance to obstacles when it differs from the agents' (`delta: {agents: a, obstacles: o}`):
+  // a robot keeps one body from a wall, two bodies from another robot. Negative: `delta`.
+  double delta_obstacles = -1.0;
+  double obstacle_delta() const { return delta_obstacles >= 0.0 ? delta_obstacles : delta; }
   Norm delta_norm = Norm::Inf;
   bool pairwise_collision = true;
   Guarantee guarantee = Guarantee::Continuous;
