@@ -210,7 +210,12 @@ int run_plan(const std::string& config, const std::string& out_requested, const 
   // The folder before the work: an --out that cannot be a folder is a bad input, found in a
   // second, not after the plan.
   const OutputFolder folder(out_dir_for(out_requested, pb));
-  const planning::PlanOutcome out = setup.plan(plan_options());
+  // SIGINT or SIGTERM (Ctrl-C, an outer `timeout`) ends the horizon search after the solve in
+  // progress; plan.json then holds the best attempt, as at the time limit.
+  stop_on_signals();
+  planning::PlanSearchOptions po = plan_options();
+  po.stop = [] { return g_stop_requested.load(); };
+  const planning::PlanOutcome out = setup.plan(std::move(po));
   // Output rule (docs/problem-format.md): plan.json always (feasible or not, with the reason);
   // the per-agent CSVs only for a feasible plan.
   const std::string plan_json = folder.path("plan.json");

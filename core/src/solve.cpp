@@ -1157,6 +1157,7 @@ SolveOutcome Setup::solve(const SolveOptions& opt) {
   if (out.search.interrupted) {
     // What was found so far goes to disk as it is (status stopped); nothing more is started.
     out.failure = out.search.stop_reason;
+    out.global.status = "not attempted: the search was stopped";
     out.total_time_s = t_start.seconds();
     return out;
   }

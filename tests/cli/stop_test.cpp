@@ -114,3 +114,49 @@ TEST(Stop, ResumeFromAFolderWithoutAPlanIsRefused) {
 }
 
 }  // namespace
+
+// `marsyn plan` stops too (the helper of issue 49 found it killed with nothing written): the
+// signal ends the horizon search after the solve in progress, and plan.json and the summary hold
+// the best attempt so far.
+TEST(Stop, APlanStopsAfterTheSolveInProgressAndWritesItsBest) {
+  const fs::path out = fs::temp_directory_path() / ("marsyn_stop_plan_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  const fs::path log = out.string() + ".log";
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const std::string cmd = std::string("exec ") + MARSYN_EXE + " plan " + MARSYN_SOURCE_DIR +
+                            "/tests/continuous/vehicle_maze.yaml --out " + out.string() + " >" + log.string() +
+                            ".out 2>" + log.string();
+    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  bool signalled = false;
+  int status = 0;
+  bool ended = false;
+  const auto start = std::chrono::steady_clock::now();
+  while (std::chrono::steady_clock::now() - start < std::chrono::seconds(120)) {
+    if (::waitpid(pid, &status, WNOHANG) == pid) {
+      ended = true;
+      break;
+    }
+    if (!signalled && slurp(log.string()).find("[plan] T = 400:") != std::string::npos) {
+      ::kill(pid, SIGINT);
+      signalled = true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  if (!ended) {
+    ::kill(pid, SIGKILL);
+    ::waitpid(pid, &status, 0);
+  }
+  ASSERT_TRUE(signalled) << slurp(log.string());
+  ASSERT_TRUE(ended) << "marsyn plan did not end after the signal";
+  ASSERT_TRUE(WIFEXITED(status)) << "ended by the signal itself, with nothing written";
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  const std::string said = slurp(log.string()), printed = slurp(log.string() + ".out");
+  EXPECT_NE(said.find("stopped: no further horizons tried"), std::string::npos) << said;
+  EXPECT_EQ(said.find("T = 782"), std::string::npos) << said;
+  EXPECT_NE(printed.find("NO FEASIBLE PLAN"), std::string::npos) << printed;
+  EXPECT_TRUE(fs::exists(out / "plan.json"));
+  fs::remove_all(out);
+}
