@@ -549,9 +549,8 @@ void bind_solve(py::module_& m) {
       "solve",
       [](const PyProblem& p, int runs, int threads, double global_budget, py::object out, py::object log,
          std::optional<double> time_limit) {
-        SolveOptions so;
         // The search's budget as `marsyn solve` takes it: the argument over the file's search.time_limit.
-        if (p.lp->search_time_limit_s) so.time_limit_s = *p.lp->search_time_limit_s;
+        SolveOptions so = solve_options_for(*p.lp);
         if (time_limit) {
           if (!(*time_limit > 0) || !std::isfinite(*time_limit))
             throw py::value_error("time_limit: expected a positive number of seconds, got " + std::to_string(*time_limit));

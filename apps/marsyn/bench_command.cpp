@@ -84,7 +84,7 @@ int run_bench(const std::string& examples_list, const std::string& planners_list
                                            "verify runs", "violations", "open-loop viol.", "total s"};
     for (const auto& ex : examples) {
       Setup setup(load_problem(resolve_example(ex), load));
-      SolveOptions so;
+      SolveOptions so = solve_options_for(setup.loaded());  // the file's search.time_limit, as `solve` obeys it
       so.verification_runs = runs;
       so.threads = threads;
       std::fprintf(stderr, "[bench] solve %s ...\n", ex.c_str());

@@ -382,8 +382,7 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
   const LoadedProblem& lp = setup.loaded();
   const std::string dir = out_dir_for(out_requested, lp.problem);
   if (root) (void)OutputFolder(dir);  // an --out that cannot be a folder fails now, not after the solve
-  SolveOptions so;
-  if (lp.search_time_limit_s) so.time_limit_s = *lp.search_time_limit_s;
+  SolveOptions so = solve_options_for(lp);
   if (time_limit_s) so.time_limit_s = *time_limit_s;  // the command line over the file
   so.verification_runs = runs;
   so.threads = threads;

@@ -62,7 +62,7 @@ std::string SearchReport::tried() const {
       else ++it->second;
     }
   }
-  if (counts.empty()) return "tried: the first attempt only";
+  if (counts.empty()) return "tried: no lever (one round)";
   std::string s = "tried: ";
   for (std::size_t i = 0; i < counts.size(); ++i)
     s += (i ? ", " : "") + counts[i].first + " x" + std::to_string(counts[i].second);

@@ -13,6 +13,12 @@ std::shared_ptr<const LoadedProblem> borrowed(const LoadedProblem& loaded) {
 
 }  // namespace
 
+SolveOptions solve_options_for(const LoadedProblem& loaded) {
+  SolveOptions so;
+  if (loaded.search_time_limit_s) so.time_limit_s = *loaded.search_time_limit_s;
+  return so;
+}
+
 Setup::Setup(std::shared_ptr<const LoadedProblem> loaded) : loaded_(std::move(loaded)), trackers_(loaded_->registry) {}
 
 Setup::Setup(LoadedProblem&& loaded) : Setup(std::make_shared<const LoadedProblem>(std::move(loaded))) {}

@@ -6,6 +6,7 @@
 #include <set>
 #include <sstream>
 
+#include "marsyn/core/planning/workspace_gaps.hpp"
 #include "marsyn/core/problem/problem_advice.hpp"
 #include "pendulum_variant.hpp"
 
@@ -122,4 +123,45 @@ TEST(FormationFields, PairsWithTheirOwnMuNeedNoTopLevelMu) {
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("missing required field 'mu'"), std::string::npos) << e.what();
   }
+}
+
+namespace {
+
+std::string formation_with_starts(const std::string& tag, const std::string& b_start, const std::string& mu) {
+  std::ifstream in(std::string(MARSYN_SOURCE_DIR) + "/tests/bad_inputs/formation_pair_without_mu.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string s = text.str();
+  s.replace(s.find("x0: [0, 1, 0]"), 13, "x0: " + b_start);
+  s.replace(s.find("{agents: [b, a], lambda: 1.0}"), 29, "{agents: [b, a], lambda: 1.0, mu: " + mu + "}");
+  const std::string path = testing::TempDir() + "formation_start_" + tag + ".yaml";
+  std::ofstream(path) << s;
+  return path;
+}
+
+}  // namespace
+
+// A start outside a formation's lambda +- mu breaks the specification at t = 0: refused, naming
+// both agents and the band (issue 51: "starts that break a formation's robust tolerance pass
+// check silently"). One inside the band but not with the tubes around the starts: `check` warns
+// and the plan stage says so at once.
+TEST(FormationFields, StartsOutsideTheFormationAreNamed) {
+  try {
+    marsyn::load_problem(formation_with_starts("outside", "[0, 1.5, 0]", "0.3"));
+    ADD_FAILURE() << "a start 1.5 apart passed a formation of 1 +- 0.3";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("x0 puts a and b 1.5 apart (Euclidean), outside their formation's lambda +- mu = [0.7, 1.3]"),
+              std::string::npos)
+        << e.what();
+  }
+  // 1.28 apart: inside 1 +- 0.3 by 0.02; the eps boxes (0.05 each) take sqrt(2) 0.1 = 0.14.
+  const auto lp = marsyn::load_problem(formation_with_starts("tight", "[0, 1.28, 0]", "0.3"));
+  const auto starts = marsyn::planning::crowded_starts(lp.problem);
+  ASSERT_FALSE(starts.empty());
+  const std::string said = marsyn::planning::describe(starts.front(), lp.problem);
+  EXPECT_NE(said.find("a and b start 1.28 apart (Euclidean); their formation keeps 1 +- 0.3"), std::string::npos) << said;
+  EXPECT_NE(said.find("no horizon can help; eps x 0.14 or less"), std::string::npos) << said;
+  EXPECT_LT(marsyn::planning::start_eps_factor(lp.problem), 0.15);
+  // Starting at lambda: nothing to say.
+  EXPECT_TRUE(marsyn::planning::crowded_starts(marsyn::load_problem(formation_with_starts("fine", "[0, 1, 0]", "0.3")).problem).empty());
 }

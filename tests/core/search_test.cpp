@@ -89,6 +89,8 @@ TEST(Search, TheTimeLimitComesFromTheFileAndIsChecked) {
   const auto lp = marsyn::load_problem(pendulum_variant("search_field", "tracker: never", {{"tau:", "search: {time_limit: 42}\ntau:"}}));
   ASSERT_TRUE(lp.search_time_limit_s.has_value());
   EXPECT_EQ(*lp.search_time_limit_s, 42);
+  // Every front end (solve, bench, Python) starts from it (bench did not: issue 53).
+  EXPECT_EQ(marsyn::solve_options_for(lp).time_limit_s, 42);
   const std::string bad = pendulum_variant("search_bad", "tracker: never", {{"tau:", "search: {time_limit: -1}\ntau:"}});
   std::ifstream in(bad);
   int line = 1;

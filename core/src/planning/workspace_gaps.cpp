@@ -160,6 +160,20 @@ std::vector<CrowdedStart> all_crowded_starts(const Problem& problem) {
         const double g1 = collision_margin(p[i], m[i], p[j], m[j], problem.delta, problem.delta_norm);
         crowded(problem.agents[i].name, problem.agents[j].name, g0, g1, g0 + problem.delta);
       }
+  // A formation pair whose starts keep the tolerance but not with the tubes around them: g0 > 0
+  // (the loader refuses a start outside lambda +- mu), the slack affine in the eps factor.
+  for (const auto& f : problem.formation) {
+    const double g0 = formation_margin(p[f.i], {}, p[f.j], {}, f.lambda, f.mu);
+    const double g1 = formation_margin(p[f.i], m[f.i], p[f.j], m[f.j], f.lambda, f.mu);
+    if (!(g1 < 0)) continue;
+    const double d = (p[f.i] - p[f.j]).norm();
+    CrowdedStart c{problem.agents[f.i].name, problem.agents[f.j].name, d, d - g1, g0 > 0 ? g0 / (g0 - g1) : 0.0};
+    c.formation = true;
+    c.lambda = f.lambda;
+    c.mu = f.mu;
+    c.robust_mu = f.mu - (g0 - g1);
+    out.push_back(std::move(c));
+  }
   std::sort(out.begin(), out.end(), [](const CrowdedStart& a, const CrowdedStart& b) {
     return a.distance - a.needed < b.distance - b.needed;
   });
@@ -203,6 +217,16 @@ double formation_eps_factor(const Problem& problem) {
 
 std::string describe(const CrowdedStart& c, const Problem& problem) {
   std::ostringstream os;
+  if (c.formation) {
+    os << c.first << " and " << c.second << " start " << c.distance << " apart (Euclidean); their formation keeps "
+       << c.lambda << " +- " << c.mu << ", with the tubes around them " << c.lambda << " +- " << std::max(c.robust_mu, 0.0)
+       << " at every step, step 0 included: no horizon can help; ";
+    if (c.eps_factor > 0)
+      os << "eps x " << std::floor(c.eps_factor * 100) / 100 << " or less (or starts nearer " << c.lambda << " apart) would";
+    else
+      os << "only starts nearer " << c.lambda << " apart would";
+    return os.str();
+  }
   const std::string norm = problem.delta_norm == Norm::Inf ? "inf-norm" : "Euclidean";
   os << c.first << (c.second.rfind("obstacle ", 0) == 0 ? " starts " : " and " + c.second + " start ") << c.distance
      << (c.second.rfind("obstacle ", 0) == 0 ? " from " + c.second : std::string(" apart")) << " (" << norm

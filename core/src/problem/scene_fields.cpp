@@ -50,6 +50,16 @@ void check_start_geometry(const Problem& pb, const std::vector<Field>& x0_fields
                           " (inside the obstacle grown by delta)");
     }
   }
+  // A formation pair (Euclidean distance within lambda +- mu at every time, t = 0 included).
+  for (const auto& f : pb.formation) {
+    const double d = (p[f.i] - p[f.j]).norm();
+    if (planning::formation_margin(p[f.i], {}, p[f.j], {}, f.lambda, f.mu) < 0) {
+      const std::size_t later = static_cast<std::size_t>(std::max(f.i, f.j));
+      x0_fields[later].fail("x0 puts " + pb.agents[f.i].name + " and " + pb.agents[f.j].name + " " + number_text(d) +
+                            " apart (Euclidean), outside their formation's lambda +- mu = [" +
+                            number_text(f.lambda - f.mu) + ", " + number_text(f.lambda + f.mu) + "]");
+    }
+  }
   if (!pb.pairwise_collision) return;
   for (std::size_t j = 0; j < pb.agents.size(); ++j)
     for (std::size_t i = 0; i < j; ++i) {

@@ -35,4 +35,11 @@ struct SolveOptions {
   std::string resume_dir;
 };
 
+struct LoadedProblem;
+
+// What every front end (the CLI's solve and bench, Python) starts from: the defaults, with what
+// the problem file asks of the run (search.time_limit) applied; a command line's own values then
+// go over it.
+SolveOptions solve_options_for(const LoadedProblem& loaded);
+
 }  // namespace marsyn

@@ -40,6 +40,9 @@ struct CrowdedStart {
   // margin is affine in that factor (inf-norm boxes, the 2-norm's circumscribed discs), so
   // any eps x f with f below it leaves room.
   double eps_factor = 0.0;
+  // A formation pair's start (distance: theirs; the tolerance the tubes leave: robust_mu).
+  bool formation = false;
+  double lambda = 0.0, mu = 0.0, robust_mu = 0.0;
 };
 
 // Every crowded start, worst first (at most `limit`; `total`, when given, receives the count).
