@@ -423,3 +423,23 @@ TEST(PlanSearch, ANearMissIsReplannedWarmAtTheSameHorizon) {
   planning::plan(p, far, so);
   for (const auto& l : log) EXPECT_EQ(l.find("after the solver gave up"), std::string::npos) << l;
 }
+
+// A plan the solver gave up on that the exact check passes: the log says both without a
+// contradiction ("infeasible" beside "eps-robust" before, issue 54).
+TEST(PlanSearch, ASolverVerdictAndAPassingCheckDoNotContradict) {
+  Problem p;
+  p.agents.push_back(unicycle("car", {0, 0, 0}, {10, 0, 0}));
+  p.delta = 0.2;
+  p.tau = 0.1;
+  p.horizon = 50;
+  std::vector<std::string> log;
+  planning::PlanSearchOptions so;
+  so.log = [&](const std::string& line) { log.push_back(line); };
+  const GivesUpShort there(10.0 / 5.0);  // "gives up", yet drives exactly to the goal's centre
+  const auto out = planning::plan(p, there, so);
+  ASSERT_TRUE(out.feasible) << planning::summary(p, out);
+  ASSERT_FALSE(log.empty());
+  EXPECT_EQ(log[0].find("infeasible"), std::string::npos) << log[0];
+  EXPECT_NE(log[0].find("T = 50: stopped short of the solver's own tolerance"), std::string::npos) << log[0];
+  EXPECT_NE(log[0].find("the exact check passes it: eps-robust"), std::string::npos) << log[0];
+}
