@@ -252,6 +252,7 @@ class Search {
   // The plan stage's warm start: the last feasible plan, when the next re-plan follows a tracker
   // failure (the same team with a changed tube or U: the previous plan is a good initial guess).
   bool warm_from_last_ = false;
+  bool closed_gaps_said_ = false;  // the plan stage logs the closed gaps in the first round only
 };
 
 Failure Search::plan(SearchRound& round, double time_left) {
@@ -259,6 +260,8 @@ Failure Search::plan(SearchRound& round, double time_left) {
   po.time_limit_s = std::max(1.0, time_left);
   po.log = [&](const std::string& s) { log("[plan] " + s); };
   po.stop = opt_.stop;
+  po.log_closed_gaps = !closed_gaps_said_;
+  closed_gaps_said_ = true;
   po.progress = [p = std::make_shared<planning::SolverProgress>(opt_.log, opt_.live)](const PlanProgress& x) { (*p)(x); };
   po.assembly.extra = extra_;
   log("[plan] " + pb_.planner.name + " on the product system (" + std::to_string(pb_.product_state_dim()) + " state" +

@@ -147,3 +147,21 @@ TEST(ClosedGap, AnEdgeIsNamedByItsNumber) {
   EXPECT_NE(r.out.find("obstacle rack and the edge z = 2.8 of d1's workspace"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("2.800000"), std::string::npos) << r.out;
 }
+
+// A solve of many failed rounds says a closed gap once (it was said after every failed plan:
+// 72 times in one user's log, issue 54); a field of more than three is one grouped line.
+TEST(ClosedGap, ASolveSaysAClosedGapOnce) {
+  namespace fs = std::filesystem;
+  const fs::path out = fs::temp_directory_path() / ("marsyn_closed_room_" + std::to_string(::getpid()));
+  const auto r = run_marsyn(std::string("solve ") + MARSYN_SOURCE_DIR + "/tests/continuous/closed_room.yaml --runs 5 --out " +
+                            out.string());
+  fs::remove_all(out);
+  EXPECT_EQ(r.code, 1) << r.out << r.err;
+  const std::string all = r.out + r.err;
+  std::size_t said = 0;
+  for (std::size_t at = all.find("closed gap: obstacle wall_south"); at != std::string::npos;
+       at = all.find("closed gap: obstacle wall_south", at + 1))
+    ++said;
+  EXPECT_EQ(said, 1u) << all;
+  EXPECT_NE(all.find("[search] round 3"), std::string::npos) << "several rounds: " << all;
+}

@@ -623,10 +623,23 @@ PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearc
   }
   if (!best.plan.u.empty()) best.nominal = ProductProjector().project(problem, best.plan);
   // A gap closed at every horizon explains a failure better than "try a longer horizon".
-  if (!best.feasible && options.log)
-    for (const auto& gap : narrow_gaps(problem))
-      options.log("closed gap: " + describe(gap) + "; a longer horizon cannot open it (a route around it, a smaller "
-                  "eps or delta can)");
+  if (!best.feasible && options.log && options.log_closed_gaps) {
+    const auto gaps = narrow_gaps(problem);
+    // A field of many (crop beds, shelves) is one cause: grouped beyond three, `check` lists them.
+    if (gaps.size() > 3) {
+      const auto narrowest = std::min_element(gaps.begin(), gaps.end(), [](const NarrowGap& a, const NarrowGap& b) {
+        return a.width < b.width;
+      });
+      std::ostringstream os;
+      os << gaps.size() << " closed gaps (`marsyn check` lists them), the narrowest: " << describe(*narrowest)
+         << "; a longer horizon cannot open them (a route around them, a smaller eps or delta can)";
+      options.log(os.str());
+    } else {
+      for (const auto& gap : gaps)
+        options.log("closed gap: " + describe(gap) + "; a longer horizon cannot open it (a route around it, a smaller "
+                    "eps or delta can)");
+    }
+  }
   best.total_time_s = clock.seconds();
   return best;
 }

@@ -40,6 +40,9 @@ struct PlanSearchOptions {
   // True once the run should end (a signal, the solve's time limit): no further horizon or
   // re-timing is started; the best attempt so far is returned. May be empty.
   std::function<bool()> stop;
+  // Whether a failed search logs the gaps closed at every horizon (a solve of many rounds says
+  // them once, not after every failed plan).
+  bool log_closed_gaps = true;
 };
 
 // The input effort of a plan: sum over knots, agents and inputs of (u / the bound's magnitude)^2
