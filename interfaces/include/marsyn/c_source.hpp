@@ -88,7 +88,10 @@ inline std::string header_text(const CHeader& h) {
     << "/* The verified input for x at step k: " << P << "_OK (u written), " << P << "_OUTSIDE_DOMAIN or " << P
     << "_OUTSIDE_HORIZON. */\n"
     << "int " << h.prefix << "_input(const double *x, int k, double *u);\n"
-    << "/* Runtime monitor: 1 when x lies in the set the guarantee covers at step k (0 <= k <= T), else 0.\n"
+    << "/* Runtime monitor: 1 when x lies in the verified set of step k (0 <= k <= T), else 0. For a grid\n"
+    << " * (abcd) controller that is its winning set: the guarantee holds from x. For a funnel it is V_k,\n"
+    << " * the states reachable at step k from the initial set under W: a 1 says the run is consistent\n"
+    << " * with what was verified, not that the guarantee holds from any state of V_k (docs/deploy.md).\n"
     << " * 0 means the robot has left what was verified (a sensor fault, a disturbance beyond W). */\n"
     << "int " << h.prefix << "_inside(const double *x, int k);\n\n"
     << "#ifdef __cplusplus\n}\n#endif\n\n#endif /* " << P << "_H_ */\n";
