@@ -9,6 +9,20 @@
 
 using marsyn::test::run_marsyn;
 
+namespace {
+
+// `marsyn <command> tests/continuous/<file> <flags> --out <a fresh folder>`, the folder removed
+// after; the exit code, stdout and stderr as run_marsyn gives them.
+auto run_on(const std::string& command, const std::string& file, const std::string& flags = "") {
+  namespace fs = std::filesystem;
+  const fs::path out = fs::temp_directory_path() / ("marsyn_gap_" + file + "_" + std::to_string(::getpid()));
+  auto r = run_marsyn(command + " " + MARSYN_SOURCE_DIR + "/tests/continuous/" + file + " " + flags + " --out " + out.string());
+  fs::remove_all(out);
+  return r;
+}
+
+}  // namespace
+
 TEST(ClosedGap, CheckNamesBothObstaclesAndTheWidth) {
   const auto r = run_marsyn(std::string("check ") + MARSYN_SOURCE_DIR + "/tests/continuous/closed_gap.yaml");
   ASSERT_EQ(r.code, 0) << r.err;
@@ -29,11 +43,7 @@ TEST(ClosedGap, AnOpenFieldHasNoWarning) {
 // presses them into the gaps; the search re-plans the same horizon from routes around the row
 // and finds a plan robust in continuous time there (issue 22, routes).
 TEST(ClosedGap, RoutesAroundTheFieldGiveARobustPlan) {
-  namespace fs = std::filesystem;
-  const fs::path out = fs::temp_directory_path() / ("marsyn_routes_" + std::to_string(::getpid()));
-  const auto r = run_marsyn(std::string("plan ") + MARSYN_SOURCE_DIR + "/tests/continuous/obstacle_field.yaml --out " +
-                            out.string());
-  fs::remove_all(out);
+  const auto r = run_on("plan", "obstacle_field.yaml");
   EXPECT_EQ(r.code, 0) << r.out << r.err;
   const std::string all = r.out + r.err;
   EXPECT_NE(all.find("from routes around them"), std::string::npos) << all;
@@ -43,11 +53,7 @@ TEST(ClosedGap, RoutesAroundTheFieldGiveARobustPlan) {
 // Two drones facing a wall of blocks with a window 1 m wide and 0.8 m high: the straight lines
 // run into the wall, routes in space lead through the window, and the team verifies in 3-D.
 TEST(ClosedGap, RoutesInSpaceLeadThroughAWindow) {
-  namespace fs = std::filesystem;
-  const fs::path out = fs::temp_directory_path() / ("marsyn_window_" + std::to_string(::getpid()));
-  const auto r = run_marsyn(std::string("solve ") + MARSYN_SOURCE_DIR + "/tests/continuous/window_3d.yaml --runs 100 --out " +
-                            out.string());
-  fs::remove_all(out);
+  const auto r = run_on("solve", "window_3d.yaml", "--runs 100");
   EXPECT_EQ(r.code, 0) << r.out << r.err;
   const std::string all = r.out + r.err;
   EXPECT_NE(all.find("from routes around them"), std::string::npos) << all;
@@ -58,11 +64,7 @@ TEST(ClosedGap, RoutesInSpaceLeadThroughAWindow) {
 // the straight lines and both shortest routes meet head-on in the north lane at every horizon;
 // the search then sends one of them along the south lane and plans at the first horizon.
 TEST(ClosedGap, AnotherHomotopyClassWhenTheRoutesMeetHeadOn) {
-  namespace fs = std::filesystem;
-  const fs::path out = fs::temp_directory_path() / ("marsyn_lanes_" + std::to_string(::getpid()));
-  const auto r = run_marsyn(std::string("plan ") + MARSYN_SOURCE_DIR + "/tests/continuous/one_lane_each.yaml --out " +
-                            out.string());
-  fs::remove_all(out);
+  const auto r = run_on("plan", "one_lane_each.yaml");
   EXPECT_EQ(r.code, 0) << r.out << r.err;
   const std::string all = r.out + r.err;
   EXPECT_NE(all.find("on the other side (another homotopy class)"), std::string::npos) << all;
@@ -74,11 +76,7 @@ TEST(ClosedGap, AnotherHomotopyClassWhenTheRoutesMeetHeadOn) {
 // line is no line at all), and the first horizon plans (issue 49, item 1; on main e0e42b8 four
 // horizons failed, pressed into the gaps).
 TEST(ClosedGap, MissionLegsAreRoutedAroundTheRow) {
-  namespace fs = std::filesystem;
-  const fs::path out = fs::temp_directory_path() / ("marsyn_mission_routes_" + std::to_string(::getpid()));
-  const auto r = run_marsyn(std::string("plan ") + MARSYN_SOURCE_DIR + "/tests/continuous/mission_behind_row.yaml --out " +
-                            out.string());
-  fs::remove_all(out);
+  const auto r = run_on("plan", "mission_behind_row.yaml");
   EXPECT_EQ(r.code, 0) << r.out << r.err;
   const std::string all = r.out + r.err;
   EXPECT_NE(all.find("from routes around them"), std::string::npos) << all;
@@ -128,11 +126,7 @@ TEST(ClosedGap, AFootprintsGapIsJudgedByItsReach) {
 // stays inside the hall, bends round every wall's end, and the robot verifies (issue 49; on
 // 2ed824e the route went round the walls' ends outside the hall: no plan at T = 300 to 587).
 TEST(ClosedGap, ASerpentineHallVerifies) {
-  namespace fs = std::filesystem;
-  const fs::path out = fs::temp_directory_path() / ("marsyn_serpentine_" + std::to_string(::getpid()));
-  const auto r = run_marsyn(std::string("solve ") + MARSYN_SOURCE_DIR + "/tests/continuous/serpentine.yaml --runs 100 --out " +
-                            out.string());
-  fs::remove_all(out);
+  const auto r = run_on("solve", "serpentine.yaml", "--runs 100");
   EXPECT_EQ(r.code, 0) << r.out << r.err;
   const std::string all = r.out + r.err;
   EXPECT_NE(all.find("from routes around them (11 waypoints)"), std::string::npos) << all;
@@ -151,11 +145,7 @@ TEST(ClosedGap, AnEdgeIsNamedByItsNumber) {
 // A solve of many failed rounds says a closed gap once (it was said after every failed plan:
 // 72 times in one user's log, issue 54); a field of more than three is one grouped line.
 TEST(ClosedGap, ASolveSaysAClosedGapOnce) {
-  namespace fs = std::filesystem;
-  const fs::path out = fs::temp_directory_path() / ("marsyn_closed_room_" + std::to_string(::getpid()));
-  const auto r = run_marsyn(std::string("solve ") + MARSYN_SOURCE_DIR + "/tests/continuous/closed_room.yaml --runs 5 --out " +
-                            out.string());
-  fs::remove_all(out);
+  const auto r = run_on("solve", "closed_room.yaml", "--runs 5");
   EXPECT_EQ(r.code, 1) << r.out << r.err;
   const std::string all = r.out + r.err;
   std::size_t said = 0;

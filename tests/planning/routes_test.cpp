@@ -14,6 +14,25 @@ namespace {
 
 Polygon box(double x0, double y0, double x1, double y1) { return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}; }
 
+// A point agent of the plane (state = position), eps 0.1, starting at `from`, its goal the unit
+// box around `goal`, inside `lo`..`hi`; in a problem of delta 0.2 (inf-norm) of its own.
+Problem one_walker(const std::string& name, Eigen::Vector2d from, Eigen::Vector2d goal, Eigen::Vector2d lo,
+                   Eigen::Vector2d hi) {
+  Problem p;
+  p.delta = 0.2;
+  p.delta_norm = Norm::Inf;
+  AgentSpec a;
+  a.name = name;
+  a.x0 = from;
+  a.goal = {goal - Eigen::Vector2d(0.5, 0.5), goal + Eigen::Vector2d(0.5, 0.5)};
+  a.state_bounds = {lo, hi};
+  a.input_bounds = {Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, 1)};
+  a.tube.eps = Eigen::Vector2d(0.1, 0.1);
+  a.tube.w = Eigen::Vector2d(0, 0);
+  p.agents = {a};
+  return p;
+}
+
 double length(const Eigen::Vector2d& a, const std::vector<Eigen::Vector2d>& corners, const Eigen::Vector2d& b) {
   double L = 0;
   Eigen::Vector2d p = a;
@@ -97,23 +116,13 @@ TEST(Routes, WaypointsOnlyForBlockedAgents) {
 // all, yet each leg (to the stage's region, back after its dwell) crosses the wall; each gets its
 // corners, at knots inside the leg, outside the grown wall (issue 49, item 1).
 TEST(RoutesForMissions, EachLegThroughTheStagesIsRouted) {
-  Problem p;
-  p.delta = 0.2;
-  p.delta_norm = Norm::Inf;
-  AgentSpec a;
-  a.name = "fetch";
-  a.x0 = Eigen::Vector2d(0, 0);
-  a.goal = {Eigen::Vector2d(-0.5, -0.5), Eigen::Vector2d(0.5, 0.5)};
-  a.state_bounds = {Eigen::Vector2d(-5, -5), Eigen::Vector2d(15, 15)};
-  a.input_bounds = {Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, 1)};
-  a.tube.eps = Eigen::Vector2d(0.1, 0.1);
-  a.tube.w = Eigen::Vector2d(0, 0);
+  Problem p = one_walker("fetch", {0, 0}, {0, 0}, {-5, -5}, {15, 15});
+  AgentSpec& a = p.agents[0];
   MissionStage st;
   st.name = "shelf";
   st.polygon = {{9.5, -0.5}, {10.5, -0.5}, {10.5, 0.5}, {9.5, 0.5}};
   st.dwell = 10;
   a.stages = {st};
-  p.agents = {a};
   Obstacle o;
   o.name = "wall";
   o.vertices = box(4, -2, 6, 2);
@@ -395,18 +404,7 @@ TEST(RoutesInSpace, ManyBlocksThinTheLatticeAndTheRouteStaysClear) {
 // Walls reaching the agent's position bounds: the route stays inside the bounds (less the
 // margin) and bends round each wall's open end, not round its end beyond the bounds.
 TEST(Routes, RoutesStayInsideThePositionBounds) {
-  Problem p;
-  p.delta = 0.2;
-  p.delta_norm = Norm::Inf;
-  AgentSpec a;
-  a.name = "robot";
-  a.x0 = Eigen::Vector2d(1, 2);
-  a.goal = {Eigen::Vector2d(9.5, 7.5), Eigen::Vector2d(10.5, 8.5)};
-  a.state_bounds = {Eigen::Vector2d(0, 0), Eigen::Vector2d(12, 10)};
-  a.input_bounds = {Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, 1)};
-  a.tube.eps = Eigen::Vector2d(0.1, 0.1);
-  a.tube.w = Eigen::Vector2d(0, 0);
-  p.agents = {a};
+  Problem p = one_walker("robot", {1, 2}, {10, 8}, {0, 0}, {12, 10});
   Obstacle low, high;
   low.name = "low";
   low.vertices = box(3, 0, 3.3, 8);  // open at the north end (round its south end beyond the bounds is shorter)
