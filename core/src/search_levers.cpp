@@ -102,7 +102,8 @@ std::vector<LeverChoice> levers_for(const Failure& f, const std::vector<TrackerL
     case Failure::Plan:
       // Neither a longer horizon nor a narrower tube: nothing the search can change helps.
       if (!f.horizon_blocked.empty() && f.beyond_eps) return {};
-      if (f.start_eps_factor < 1 || f.formation_eps_factor < 1 || f.goal_eps_factor < 1 || !f.horizon_blocked.empty())
+      if (f.start_eps_factor < 1 || f.formation_eps_factor < 1 || f.goal_eps_factor < 1 || f.gap_eps_factor < 1 ||
+          !f.horizon_blocked.empty())
         return {{Lever::ShrinkEps, ""}};
       return {{Lever::LongerHorizon, ""}, {Lever::ShrinkEps, ""}};
     case Failure::Certification: return {{Lever::MoreClearance, ""}};
@@ -271,10 +272,16 @@ class Proposer {
     }
     std::vector<int> everyone(p_.agents.size());
     for (std::size_t i = 0; i < everyone.size(); ++i) everyone[i] = static_cast<int>(i);
-    const double factor = std::min({0.8, 0.95 * start, 0.95 * goal, formation});
+    const double gap = failure_.gap_eps_factor;
+    if (gap <= 0.05) {
+      p_.why_not = "the gap the plan is pressed into stays closed for any tube (eps x " + number_text(gap, 3) + ")";
+      return;
+    }
+    const double factor = std::min({0.8, 0.95 * start, 0.95 * goal, formation, gap});
     scale_eps(everyone, factor, {});
     const char* why = formation <= factor            ? " (what the formation's tolerance needs)"
                       : 0.95 * start <= factor       ? " (what the crowded starts need)"
+                      : gap <= factor                ? " (what opens the gap the plan is pressed into)"
                                                      : " (what the goals without room need)";
     if (factor < 0.8 && !p_.changed.empty())  // the lever's name says 0.8: say why this round went further
       p_.changes.push_back({"", "eps factor", "0.8", number_text(factor, 3) + why});

@@ -29,6 +29,7 @@ Failure agent_failure(const Failure& f, std::size_t w) {
   one.longest_horizon = f.longest_horizon;
   one.horizon_blocked = f.horizon_blocked;
   one.beyond_eps = f.beyond_eps;
+  one.gap_eps_factor = f.gap_eps_factor;
   return one;
 }
 

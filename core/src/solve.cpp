@@ -297,6 +297,7 @@ Failure Search::plan(SearchRound& round, double time_left) {
       f.goal_eps_factor = planning::goal_eps_factor(pb_);
     }
     f.formation_eps_factor = planning::formation_eps_factor(pb_);
+    f.gap_eps_factor = planning::gap_eps_factor(pb_, out_.plan.check);
     return f;
   }
   if (!out_.plan.nominal.empty()) pb_.horizon = out_.plan.horizon;

@@ -390,3 +390,11 @@ TEST(SearchReasons, AReplanForATrackerThatFindsNoPlanGoesBackToThePlanBeforeIt) 
 
 
 }  // namespace
+
+// A gap the failed plan is pressed into, closed at every horizon: a narrower tube first, as far
+// as it opens the gap (not a longer horizon).
+TEST(SearchReasons, AClosedGapOnTheWayNarrowsEpsNotTheHorizon) {
+  Failure f{Failure::Plan, "planning failed", {}, {}};
+  f.gap_eps_factor = 0.24;
+  EXPECT_EQ(marsyn::search::levers_for(f, kDeclared), (std::vector<LeverChoice>{{Lever::ShrinkEps, ""}}));
+}

@@ -111,6 +111,25 @@ std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
   return out;
 }
 
+double gap_eps_factor(const Problem& problem, const RobustCheck& check) {
+  const int agent = check.worst_agents[0];
+  if (check.passed || agent < 0 || check.worst_agents[1] >= 0 || check.worst.rfind("obstacle ", 0) != 0) return 1.0;
+  const std::size_t vs = check.worst.find(" vs ");
+  if (vs == std::string::npos) return 1.0;
+  const std::string side = check.worst.substr(0, vs);  // "obstacle <name>", as the gaps name it
+  const std::string& who = problem.agents[static_cast<std::size_t>(agent)].name;
+  const double delta = problem.obstacle_delta();
+  double f = 1.0;
+  for (const auto& g : narrow_gaps(problem)) {
+    if ((g.first != side && g.second != side) || std::find(g.agents.begin(), g.agents.end(), who) == g.agents.end())
+      continue;
+    const double margin = 0.5 * g.needed - delta;  // the largest agent's margin among those it closes
+    if (!(margin > 0)) continue;
+    f = std::min(f, 0.95 * (0.5 * g.width - delta) / margin);
+  }
+  return f;
+}
+
 std::string describe(const NarrowGap& g) {
   std::ostringstream os;
   os << g.first << " and " << g.second << " leave a gap " << g.width << " wide; passing it needs " << g.needed

@@ -97,6 +97,10 @@ struct Failure {
   // The factor on eps that leaves every goal room for the tubes (planning::goal_eps_factor):
   // a longer horizon cannot help either.
   double goal_eps_factor = 1.0;
+  // Plan: below 1 when the plan's worst requirement is an agent against an obstacle that, with a
+  // neighbour, leaves a gap closed to that agent at every horizon (planning::gap_eps_factor): the
+  // factor on eps that opens it. A longer horizon cannot; a narrower tube can.
+  double gap_eps_factor = 1.0;
 };
 
 // Whether the failed agent `w` (an index into failure.agents) missed its tube by a small share of

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "marsyn/core/planning/robust_check.hpp"
 #include "marsyn/problem.hpp"
 
 namespace marsyn::planning {
@@ -32,6 +33,13 @@ std::string describe(const NarrowGap& gap);
 // too, so two agents whose x0 are closer than delta plus both tubes' workspace margins (or an
 // agent whose x0 is within delta plus its margin of an obstacle) fail at every horizon; only a
 // narrower tube or other starts help. (The real specification at x0 is the loader's: an error.)
+// The factor on every agent's eps that opens the gap a failed plan is pressed into: its worst
+// requirement an agent against an obstacle ("obstacle o vs a"), and a gap closed to that agent
+// with o on one side (narrow_gaps). The margin is taken as proportional to eps (exact for a
+// linear workspace, about so for a footprint), with 5 % to spare; 1 when no such gap, at most 0
+// when delta alone closes it.
+double gap_eps_factor(const Problem& problem, const RobustCheck& check);
+
 struct CrowdedStart {
   std::string first, second;  // agent names; second is "obstacle <name>" for an obstacle
   double distance = 0.0;      // between the x0 workspace points (to the obstacle), in the problem's norm
