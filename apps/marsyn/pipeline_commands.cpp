@@ -316,7 +316,7 @@ void print_search_summary(const SolveOutcome& out) {
   std::printf("\n");
   for (const auto& a : out.agents)
     std::printf("  %-12s %-8s %-14s N_l %-10.3g boxes %-8lld %.3f s\n", a.name.c_str(), a.tracker.c_str(),
-                to_string(a.track.status),
+                a.track.message.rfind("not tracked", 0) == 0 ? "not tracked" : to_string(a.track.status),
                 a.track.stats.state_input_pairs, a.track.stats.boxes_computed,
                 a.track.stats.abstraction_time_s + a.track.stats.synthesis_time_s);
   std::printf("tracking      %.3f s over every round\n", out.search.track_time_s);

@@ -75,6 +75,8 @@ void expect_partial_result(int sig, const std::string& name, bool resume = false
   EXPECT_TRUE(fs::exists(out / "plan.json"));
   EXPECT_NE(slurp((out / "report.html").string()).find("STOPPED"), std::string::npos);
   EXPECT_NE(slurp(out.string() + ".log.out").find("status        STOPPED"), std::string::npos);
+  // An agent the stop kept from being tracked is not "invalid input".
+  EXPECT_EQ(slurp(out.string() + ".log.out").find("invalid input"), std::string::npos);
   if (resume) {
     // --resume keeps the plan and pendulum's controller and tracks only the other agent (here with
     // the funnel, which finds one): verified without planning or tracking pendulum again.
