@@ -154,7 +154,13 @@ class HorizonSearch {
           take_routes(one) || other_homotopy_class(one) || drop_clearance(one.a))
         continue;
       ++horizons;
-      if (horizons < std::max(1, options_.max_attempts) && !longer_horizon_helps()) break;
+      if (horizons >= std::max(1, options_.max_attempts)) {
+        // Said, so that a stop with time left is not a mystery.
+        log("no robust plan at " + std::to_string(horizons) + " horizon" + (horizons == 1 ? "" : "s") +
+            " (up to T = " + std::to_string(horizon_) + "), the most one planning stage tries");
+        break;
+      }
+      if (!longer_horizon_helps()) break;
       here_ = {};
       warm_again_here_ = false;
       retries_here_ = retimed_here_ = 0;

@@ -162,10 +162,13 @@ TEST(AugmentedLagrangian, AGoalOutOfReachEndsWithAClearFailure) {
   EXPECT_GT(out.attempts[1].horizon, out.attempts[0].horizon);
   // Both attempts, and between them why a longer horizon was worth trying (issue 49): the car's
   // inputs sit at a bound while it falls short.
-  ASSERT_EQ(log.size(), 3u);
+  ASSERT_EQ(log.size(), 4u);
   EXPECT_NE(log[0].find("T = 50"), std::string::npos) << log[0];
   EXPECT_NE(log[1].find("at T = 50 car falls short with its inputs at a bound of U"), std::string::npos) << log[1];
   EXPECT_NE(log[1].find("speed or input limits it"), std::string::npos) << log[1];
+  // And why it stopped with time left: the most horizons one planning stage tries.
+  EXPECT_NE(log[3].find("no robust plan at 2 horizons (up to T = 63), the most one planning stage tries"), std::string::npos)
+      << log[3];
   EXPECT_NE(planning::summary(p, out).find("NO FEASIBLE PLAN"), std::string::npos);
   const auto st = out.attempts.back().status;
   EXPECT_TRUE(st == PlannerStatus::Infeasible || st == PlannerStatus::ApproximateSolution) << to_string(st);
