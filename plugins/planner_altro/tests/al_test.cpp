@@ -446,3 +446,57 @@ TEST(PlanSearch, ASolverVerdictAndAPassingCheckDoNotContradict) {
   EXPECT_NE(log[0].find("T = 50: stopped short of the solver's own tolerance"), std::string::npos) << log[0];
   EXPECT_NE(log[0].find("the exact check passes it: eps-robust"), std::string::npos) << log[0];
 }
+
+namespace {
+
+// Drives straight at `speeds[call]` (the last one for later calls), status infeasible, and
+// records how many route waypoints (follow > 1) each call was given.
+class Scripted : public Planner {
+ public:
+  explicit Scripted(std::vector<double> speeds) : speeds_(std::move(speeds)) {}
+  std::string name() const override { return "scripted"; }
+  PlanResult solve(const PlanningProblem& p, const PlanOptions&) const override {
+    int routed = 0;
+    for (const auto& w : p.waypoints) routed += w.follow > 1.0;
+    route_waypoints.push_back(routed);
+    const double v = speeds_[std::min(route_waypoints.size() - 1, speeds_.size() - 1)];
+    PlanResult out;
+    out.status = PlannerStatus::Infeasible;
+    out.plan.tau = p.problem->tau;
+    out.plan.u.assign(p.horizon, Eigen::Vector2d(v, 0.0));
+    return out;
+  }
+  mutable std::vector<int> route_waypoints;
+
+ private:
+  std::vector<double> speeds_;
+};
+
+}  // namespace
+
+// Routes whose attempt does clearly worse than the straight way's are not kept for later
+// attempts (users2/03: held to worse routes, every later solve took four times as long).
+TEST(PlanSearch, RoutesThatDidWorseAreDropped) {
+  Problem p = around_a_box();
+  p.horizon = 50;
+  std::vector<std::string> log;
+  planning::PlanSearchOptions so;
+  so.max_attempts = 2;
+  so.log = [&](const std::string& line) { log.push_back(line); };
+  // Straight through the box to the goal (-0.8 at the box), then, from the routes, stopping in
+  // the box far short of the goal (-4.8): worse, and not a pair's requirement.
+  const Scripted worse({2.0, 1.0, 2.0});
+  planning::plan(p, worse, so);
+  ASSERT_GE(worse.route_waypoints.size(), 3u);
+  EXPECT_EQ(worse.route_waypoints[0], 0);
+  EXPECT_GT(worse.route_waypoints[1], 0);
+  EXPECT_EQ(worse.route_waypoints[2], 0) << "the longer horizon kept routes that did worse";
+  bool said = false;
+  for (const auto& l : log) said |= l.find("the routes did worse than the straight ways") != std::string::npos;
+  EXPECT_TRUE(said);
+  // Routes that do better are kept.
+  const Scripted better({2.0, 2.0, 2.0});
+  planning::plan(p, better, so);
+  ASSERT_GE(better.route_waypoints.size(), 3u);
+  EXPECT_GT(better.route_waypoints[2], 0);
+}
