@@ -126,8 +126,13 @@ WorkspaceMargin MarginTable::at(const double* x) const {
   if (split_.empty()) return linear_;
   if (pointwise_) {
     // Clamped to the region as the cells are: outside it the state bounds are violated anyway.
-    std::vector<double> y(x, x + agent_->n());
-    for (int i = 0; i < agent_->n(); ++i) y[i] = std::clamp(y[i], lo_[i], hi_[i]);
+    // (A planner asks this at every evaluation: no copy for a state inside the region.)
+    const int n = agent_->n();
+    bool inside = true;
+    for (int i = 0; i < n && inside; ++i) inside = x[i] >= lo_[i] && x[i] <= hi_[i];
+    if (inside) return margin_at(*agent_, x);
+    std::vector<double> y(x, x + n);
+    for (int i = 0; i < n; ++i) y[i] = std::clamp(y[i], lo_[i], hi_[i]);
     return margin_at(*agent_, y.data());
   }
   long idx = 0, stride = 1;

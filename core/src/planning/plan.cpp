@@ -7,6 +7,7 @@
 
 #include "marsyn/core/planning/projector.hpp"
 #include "marsyn/core/planning/routes.hpp"
+#include "marsyn/core/planning/spec_margins.hpp"
 #include "marsyn/core/planning/goal_room.hpp"
 #include "marsyn/core/planning/workspace_gaps.hpp"
 #include "marsyn/stopwatch.hpp"
@@ -398,7 +399,6 @@ class HorizonSearch {
       return;
     here_.check = one.a.check;
     here_.plan = one.clean;
-    here_.visits = visits_;
   }
 
   // Horizon policy (issue 49): a longer horizon gives the agents time, which helps only when time
@@ -467,7 +467,7 @@ class HorizonSearch {
   static double goal_margin(const AgentSpec& a, const Eigen::VectorXd& x, int offset) {
     const Box G = a.goal.shrunk(a.tube.eps);
     double m = std::numeric_limits<double>::infinity();
-    for (int c = 0; c < G.dim(); ++c) m = std::min({m, x[offset + c] - G.lo[c], G.hi[c] - x[offset + c]});
+    for (int c = 0; c < G.dim(); ++c) m = std::min(m, inside_margin(G, c, x[offset + c]));
     return m;
   }
 
@@ -550,7 +550,6 @@ class HorizonSearch {
   struct {
     RobustCheck check;
     std::optional<GlobalPlan> plan;
-    MissionSchedule visits;
   } here_;
   std::optional<std::pair<std::string, double>> last_short_;
 };

@@ -94,23 +94,15 @@ struct Leg {
   std::vector<int> obstacles;
 };
 
-// The workspace point of a stage's region: its centre in the coordinates the region fixes (a
-// polygon fixes the plane's two), `prev`'s elsewhere (a stage that fixes only the height keeps
-// the way's x and y).
-Eigen::Vector3d stage_point(const AgentSpec& a, const MissionStage& st, const Eigen::Vector3d& prev) {
-  const auto& ws = a.workspace;
+// The workspace point of a stage's region: its waypoint (stage_waypoint: the centre in the
+// coordinates the region fixes) where it fixes one, `prev`'s elsewhere (a stage that fixes only
+// the height keeps the way's x and y).
+Eigen::Vector3d stage_point(const AgentSpec& a, int s, const Eigen::Vector3d& prev) {
+  const Eigen::VectorXd w = stage_waypoint(a, s, 0, a.n());
   Eigen::Vector3d p = prev;
-  if (st.is_polygon()) {
-    Eigen::Vector2d c = Eigen::Vector2d::Zero();
-    for (const auto& v : st.polygon) c += v;
-    p.head<2>() = c / static_cast<double>(st.polygon.size());
-    return p;
-  }
-  for (int c = 0; c < ws.dim(); ++c) {
-    const int s = ws.index[c];
-    const double lo = std::max(st.box.lo[s], a.state_bounds.lo[s]), hi = std::min(st.box.hi[s], a.state_bounds.hi[s]);
-    if ((st.box.lo[s] > a.state_bounds.lo[s] || st.box.hi[s] < a.state_bounds.hi[s]) && std::isfinite(lo + hi))
-      p[c] = 0.5 * (lo + hi) + ws.offset[c];
+  for (int c = 0; c < a.workspace.dim(); ++c) {
+    const double v = w[a.workspace.index[c]];
+    if (std::isfinite(v)) p[c] = v + a.workspace.offset[c];
   }
   return p;
 }
@@ -144,7 +136,7 @@ std::vector<Leg> legs_of(const Problem& problem, int i, const MissionSchedule& v
   int k0 = 0;
   for (std::size_t s = 0; staged && s < a.stages.size(); ++s) {
     const int k = visits.visit[static_cast<std::size_t>(i)][s];
-    const Eigen::Vector3d p = stage_point(a, a.stages[s], from);
+    const Eigen::Vector3d p = stage_point(a, static_cast<int>(s), from);
     legs.push_back({from, p, k0, k, {}});
     from = p;
     k0 = std::min(k + a.stages[s].dwell, horizon);

@@ -113,11 +113,17 @@ std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
 
 double gap_eps_factor(const Problem& problem, const RobustCheck& check) {
   const int agent = check.worst_agents[0];
-  if (check.passed || agent < 0 || check.worst_agents[1] >= 0 || check.worst.rfind("obstacle ", 0) != 0) return 1.0;
-  const std::size_t vs = check.worst.find(" vs ");
-  if (vs == std::string::npos) return 1.0;
-  const std::string side = check.worst.substr(0, vs);  // "obstacle <name>", as the gaps name it
-  const std::string& who = problem.agents[static_cast<std::size_t>(agent)].name;
+  if (check.passed || agent < 0 || check.worst_agents[1] >= 0) return 1.0;
+  const AgentSpec& a = problem.agents[static_cast<std::size_t>(agent)];
+  // The obstacle whose requirement (obstacle_name, the check's own name) is the worst.
+  std::string side;
+  for (std::size_t o = 0; o < problem.obstacles.size() && side.empty(); ++o) {
+    const std::string name = obstacle_name(problem, static_cast<int>(o), a);
+    if (check.worst.compare(0, name.size(), name) == 0 && (check.worst.size() == name.size() || check.worst[name.size()] == ' '))
+      side = "obstacle " + problem.obstacles[o].name;  // as the gaps name it
+  }
+  if (side.empty()) return 1.0;
+  const std::string& who = a.name;
   const double delta = problem.obstacle_delta();
   double f = 1.0;
   for (const auto& g : narrow_gaps(problem)) {
