@@ -32,6 +32,10 @@ std::string two_agents() {
 // Starts marsyn in the background, sends `sig` once its log shows the first agent's controller,
 // and returns its exit status (-1 when it did not end within 60 s).
 int solve_and_signal(const std::string& args, const fs::path& log, int sig, bool& signalled) {
+  // A log left by an earlier run with the same pid would be read before the child's shell
+  // truncates it, and the signal would arrive before marsyn can catch it (a CI run failed so).
+  fs::remove(log);
+  fs::remove(log.string() + ".out");
   const pid_t pid = ::fork();
   if (pid == 0) {
     const std::string cmd = std::string("exec ") + MARSYN_EXE + " " + args + " >" + log.string() + ".out 2>" + log.string();
@@ -124,6 +128,8 @@ TEST(Stop, APlanStopsAfterTheSolveInProgressAndWritesItsBest) {
   const fs::path out = fs::temp_directory_path() / ("marsyn_stop_plan_" + std::to_string(::getpid()));
   fs::remove_all(out);
   const fs::path log = out.string() + ".log";
+  fs::remove(log);  // a stale log would be read before the child truncates it
+  fs::remove(log.string() + ".out");
   const pid_t pid = ::fork();
   if (pid == 0) {
     const std::string cmd = std::string("exec ") + MARSYN_EXE + " plan " + MARSYN_SOURCE_DIR +
