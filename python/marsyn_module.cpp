@@ -99,6 +99,7 @@ py::dict agent_dict(const AgentSpec& a) {
   d["state_names"] = a.dynamics->state_names();
   d["input_names"] = a.dynamics->input_names();
   d["x0"] = vector(a.x0);
+  d["x0_radius"] = vector(a.x0_radius.size() ? a.x0_radius : Eigen::VectorXd::Zero(a.n()));
   d["goal"] = py::make_tuple(vector(a.goal.lo), vector(a.goal.hi));
   d["state_bounds"] = py::make_tuple(vector(a.state_bounds.lo), vector(a.state_bounds.hi));
   d["input_bounds"] = py::make_tuple(vector(a.input_bounds.lo), vector(a.input_bounds.hi));

@@ -634,6 +634,7 @@ bool Search::resume(const std::string& dir, SearchRound& round) {
     throw ConfigError(result_file, 0, 0, "", std::string("not readable as JSON: ") + e.what());
   }
   std::vector<AgentSpec> agents = pb_.agents;
+  std::vector<char> same_start(agents.size(), 1);
   for (auto& a : agents) {
     const nlohmann::json* rec = nullptr;
     if (j.contains("agents") && j["agents"].is_array())
@@ -648,6 +649,13 @@ bool Search::resume(const std::string& dir, SearchRound& round) {
         throw ConfigError(result_file, 0, 0, "agents." + a.name + ".eps", "expected positive numbers");
       a.tube.eps[c] = e[c].get<double>();
     }
+    // A controller made for another initial set may not accept this one's starts: tracked again.
+    std::vector<double> recorded(static_cast<std::size_t>(a.n()), 0.0), stated(recorded);
+    if (rec->contains("x0_radius") && (*rec)["x0_radius"].is_array() && static_cast<int>((*rec)["x0_radius"].size()) == a.n())
+      for (int c = 0; c < a.n(); ++c)
+        recorded[static_cast<std::size_t>(c)] = (*rec)["x0_radius"][static_cast<std::size_t>(c)].is_number() ? (*rec)["x0_radius"][static_cast<std::size_t>(c)].get<double>() : -1.0;
+    for (int c = 0; c < a.n(); ++c) stated[static_cast<std::size_t>(c)] = a.x0_half(c);
+    same_start[static_cast<std::size_t>(&a - agents.data())] = recorded == stated;
   }
   std::swap(pb_.agents, agents);  // the plan is read and checked with the recorded tubes
   std::vector<NominalTrajectory> nominal;
@@ -695,6 +703,10 @@ bool Search::resume(const std::string& dir, SearchRound& round) {
     out_.agents[i].name = pb_.agents[i].name;
     out_.agents[i].tracker = recorded.count(pb_.agents[i].name) ? recorded.at(pb_.agents[i].name) : pb_.agents[i].tracker.name;
     if (!controllers[i]) continue;
+    if (!same_start[i]) {
+      log("[search] --resume: " + pb_.agents[i].name + "'s controller was made for another initial set (x0_radius): tracked again");
+      continue;
+    }
     out_.agents[i].track.status = TrackerStatus::ControllerFound;
     out_.agents[i].track.controller = controllers[i];
     out_.agents[i].track.message = "kept from " + dir + " (--resume)";

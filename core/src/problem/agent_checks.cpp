@@ -10,6 +10,7 @@ AgentDefect agent_defect(const AgentSpec& a, int i) {
   const double lo = a.state_bounds.lo[i], hi = a.state_bounds.hi[i];
   if (a.x0[i] < lo || a.x0[i] > hi) return AgentDefect::X0OutsideBounds;
   if (a.x0[i] - a.tube.eps[i] < lo || a.x0[i] + a.tube.eps[i] > hi) return AgentDefect::TubeOutsideBounds;
+  if (!(a.x0_half(i) < a.tube.eps[i])) return AgentDefect::InitialSetOutsideTube;
   if (a.goal.lo[i] + a.tube.eps[i] > a.goal.hi[i] - a.tube.eps[i]) return AgentDefect::GoalEmpty;
   if (a.goal.hi[i] < lo || a.goal.lo[i] > hi) return AgentDefect::GoalOutsideBounds;
   if (std::max(a.goal.lo[i], lo) + a.tube.eps[i] > std::min(a.goal.hi[i], hi) - a.tube.eps[i]) return AgentDefect::GoalUnreachable;
@@ -35,6 +36,9 @@ std::string agent_defect_text(const AgentSpec& a) {
       case AgentDefect::TubeOutsideBounds:
         return eps + " reaches past the state bounds [" + number_text(lo, 4) + ", " + number_text(hi, 4) + "] around x0 " +
                number_text(a.x0[i], 4);
+      case AgentDefect::InitialSetOutsideTube:
+        return eps + " is not larger than the stated initial set's half-width " + number_text(a.x0_half(i), 4) +
+               " (x0_radius): the tube must hold every start";
       case AgentDefect::GoalEmpty:
         return eps + " empties the goal, whose half-width there is " +
                number_text(0.5 * (a.goal.hi[i] - a.goal.lo[i]), 4);

@@ -83,7 +83,7 @@ Workspace read_workspace(const Field& f, const Dynamics& dyn) {
   return ws;
 }
 
-void validate_agent(const AgentSpec& a, const Field& x0f, const Field& goalf) {
+void validate_agent(const AgentSpec& a, const Field& x0f, const Field& radiusf, const Field& goalf) {
   const auto names = a.dynamics->state_names();
   for (int i = 0; i < a.n(); ++i) {
     const std::string coord = "'" + names[i] + "'";
@@ -99,6 +99,10 @@ void validate_agent(const AgentSpec& a, const Field& x0f, const Field& goalf) {
         x0f[si].fail("the tube around x0 leaves the state bounds in " + coord + ": x0 +- eps = [" +
                      number_text(a.x0[i] - a.tube.eps[i]) + ", " + number_text(a.x0[i] + a.tube.eps[i]) +
                      "] is not inside [" + number_text(lo) + ", " + number_text(hi) + "]");
+      case AgentDefect::InitialSetOutsideTube:
+        (radiusf.is_sequence() ? radiusf[si] : radiusf).fail("the stated initial set x0 +- " + number_text(a.x0_half(i)) + " in " + coord +
+                     " does not fit strictly inside the tube x0 +- eps = x0 +- " + number_text(a.tube.eps[i]) +
+                     "; give a smaller x0_radius or a larger eps");
       case AgentDefect::GoalEmpty:
         goalf.fail("the goal shrunk by eps is empty in " + coord + ": [" + number_text(a.goal.lo[i]) + " + " +
                    number_text(a.tube.eps[i]) + ", " + number_text(a.goal.hi[i]) + " - " + number_text(a.tube.eps[i]) +

@@ -25,12 +25,12 @@ Eigen::VectorXd first_auto_eps(const AgentSpec& a, double tau, std::string* why)
       const auto names = a.dynamics ? a.dynamics->state_names() : std::vector<std::string>{};
       any += (any.empty() ? "" : ", ") + (i < static_cast<int>(names.size()) ? names[i] : "x" + std::to_string(i));
     }
-    e = std::max(e, 2 * a.tube.w[i] * tau);
+    e = std::max({e, 2 * a.tube.w[i] * tau, 2 * a.x0_half(i)});  // a stated initial set needs room to contract
     e = std::min({e, 0.9 * room, 0.9 * goal_half});
     eps[i] = e;
   }
   if (why)
-    *why = "first value: half the goal's half-width per coordinate, at least 2 w tau, at most 0.9 of the room around x0" +
+    *why = "first value: half the goal's half-width per coordinate, at least 2 w tau (and twice a stated x0_radius), at most 0.9 of the room around x0" +
            (any.empty() ? std::string()
                         : "; " + any + ": the goal spans 90 % of the bounds' range or more (any value), 5 % of the range");
   return eps;

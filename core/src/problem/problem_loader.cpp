@@ -36,7 +36,8 @@ const std::vector<std::string> kTopKeys = {
     "formation", "search", "regions"};
 const std::vector<std::string> kAgentKeys = {"name",         "dynamics",     "x0",          "goal",
                                              "state_bounds", "input_bounds", "disturbance", "eps",
-                                             "workspace",    "tracker",      "stages",      "ltl"};
+                                             "workspace",    "tracker",      "stages",      "ltl",
+                                             "x0_radius"};
 
 // An agent's keys: core's, with the installed trackers' own fields (abcd: eta_x, eta_u) after eps.
 std::vector<std::string> agent_keys(const std::vector<AgentFieldSpec>& fields) {
@@ -172,8 +173,18 @@ void read_agent(const Field& af, std::size_t idx, LoadedProblem& out, AgentsRead
   const std::string sn = "the dynamics '" + a.dynamics_type + "' has " + std::to_string(n) + " states";
   const std::string sm = "the dynamics '" + a.dynamics_type + "' has " + std::to_string(m) + " inputs";
 
-  Field x0f = af.required("x0");
+  // x0 as a point, or as the initial set {center, radius} the problem states (x0_radius: the
+  // same half-widths beside a point, also in defaults).
+  const Field x0_given = af.required("x0");
+  if (x0_given.is_map()) x0_given.allow_only({"center", "radius"});
+  const Field x0f = x0_given.is_map() ? x0_given.required("center") : x0_given;
   a.x0 = x0f.vector(n, sn);
+  const Field radius_own = x0_given.is_map() ? x0_given.child("radius") : Field(YAML::Node(), x0_given.file(), x0_given.path() + ".radius");
+  const Field radius_beside = agent_field(af, defaults, "x0_radius");
+  if (radius_own.present() && af.child("x0_radius").present())
+    af.child("x0_radius").fail("the initial set's radius is given twice: in x0 {center, radius} and as x0_radius; keep one");
+  const Field& radiusf = radius_own.present() ? radius_own : radius_beside;
+  if (radiusf.present()) a.x0_radius = radiusf.non_negative_vector(n, sn);
   Field goalf = agent_required(af, defaults, "goal");
   a.goal = read_box(goalf, n, sn);
   a.state_bounds = read_box(agent_required(af, defaults, "state_bounds"), n, sn);
@@ -200,7 +211,7 @@ void read_agent(const Field& af, std::size_t idx, LoadedProblem& out, AgentsRead
   } else {
     a.workspace.index = {0, n > 1 ? 1 : -1};
   }
-  validate_agent(a, x0f, goalf);
+  validate_agent(a, x0f, radiusf.present() ? radiusf : x0f, goalf);
   check_field_finite(a, agent_field(af, defaults, "dynamics"));
   read_mission(af, pb, a, r);
   // The agent's own tracker, else the default's, else the top level's (Fields are never

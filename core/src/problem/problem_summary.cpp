@@ -46,6 +46,9 @@ std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& track
     for (const auto& f : a.fields.items)
       if (std::find(field_names.begin(), field_names.end(), f.name) == field_names.end()) field_names.push_back(f.name);
   std::vector<std::vector<std::string>> rows{{"agent", "dynamics", "n x m", "eps"}};
+  // The stated initial sets, in a column of their own when any agent states one.
+  const bool initial_sets = std::any_of(pb.agents.begin(), pb.agents.end(), [](const AgentSpec& a) { return a.x0_radius.size() > 0; });
+  if (initial_sets) rows[0].push_back("x0 +-");
   rows[0].insert(rows[0].end(), field_names.begin(), field_names.end());
   rows[0].push_back("tracker");
   for (std::size_t i = 0; i < pb.agents.size(); ++i) {
@@ -63,6 +66,7 @@ std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& track
     }
     std::vector<std::string> row{a.name, a.dynamics_type, std::to_string(a.n()) + " x " + std::to_string(a.m()),
                                  list_text(a.tube.eps)};
+    if (initial_sets) row.push_back(a.x0_radius.size() ? list_text(a.x0_radius) : std::string("0"));
     for (const auto& name : field_names) {
       const Eigen::VectorXd v = a.fields.value(name);
       row.push_back(v.size() ? list_text(v) : std::string("-"));

@@ -150,6 +150,8 @@ nlohmann::json agent_json(const SolveOutcome& o, std::size_t i) {
             {"controller", a.controller_file.empty() ? json(nullptr) : json(a.controller_file)}};
   // The trackers' own fields (abcd: eta_x, eta_u), by name.
   for (const auto& f : spec.fields.items) j[f.name] = std::vector<double>(f.value.data(), f.value.data() + f.value.size());
+  // The stated initial set the controller was made to accept (--resume keeps it only for the same).
+  if (spec.x0_radius.size()) j["x0_radius"] = std::vector<double>(spec.x0_radius.data(), spec.x0_radius.data() + spec.x0_radius.size());
   if (i < o.auto_tube.size() && o.auto_tube[i].any()) j["auto"] = auto_json(o, i);
   return j;
 }

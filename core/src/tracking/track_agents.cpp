@@ -28,6 +28,7 @@ TrackingProblem tracking_problem(const Problem& pb, int index, const NominalTraj
   tp.state_bounds = a.state_bounds;
   tp.tau = pb.tau;
   tp.workspace = a.workspace;
+  tp.initial_radius = a.x0_radius;
   return tp;
 }
 

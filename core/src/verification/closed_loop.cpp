@@ -54,6 +54,18 @@ class DisturbanceSource {
       vertex(fixed_);
     }
   }
+  // The run's start in the stated initial set x0 +- x0_radius (drawn after the constant
+  // disturbance, from the same stream): x0 itself in the run without disturbance, a uniform point
+  // where the disturbance is uniform, otherwise a vertex of the box (where a tube is widest).
+  void start(const AgentSpec& a, Eigen::VectorXd& x) {
+    x = a.x0;
+    if (a.x0_radius.size() == 0 || mode_ == DisturbanceMode::None) return;
+    for (int i = 0; i < a.n(); ++i) {
+      const double r = a.x0_half(i);
+      if (!(r > 0)) continue;
+      x[i] += mode_ == DisturbanceMode::UniformRandom ? std::uniform_real_distribution<double>(-r, r)(rng_) : (bit() ? r : -r);
+    }
+  }
   // Writes the next disturbance into d (sized once by the caller: no allocation per step).
   void next(Eigen::VectorXd& d) {
     switch (mode_) {
@@ -135,10 +147,10 @@ struct Lane {
     dist.reserve(static_cast<size_t>(n_agents));
     for (int i = 0; i < n_agents; ++i) {
       const AgentSpec& a = pb.agents[i];
-      x[i] = a.x0;
       uc[i].resize(a.m());
       w[i].resize(a.tube.w.size());
       dist.emplace_back(a.tube.w, i, sc);
+      dist.back().start(a, x[i]);
     }
     prod.resize(pb.product_state_dim());
   }

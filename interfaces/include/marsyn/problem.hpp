@@ -129,6 +129,10 @@ struct AgentSpec {
   std::string dynamics_type;
   std::shared_ptr<const Dynamics> dynamics;
   Eigen::VectorXd x0;
+  // The initial set the problem states (`x0: {center, radius}` or `x0_radius`): the robot starts
+  // anywhere in x0 +- x0_radius, and every controller must accept that whole box at step 0.
+  // Empty: the start is x0 exactly (as zeros).
+  Eigen::VectorXd x0_radius;
   Box goal;         // Goal^i, in state coordinates
   Box state_bounds;  // X^i
   Box input_bounds;  // U^i
@@ -141,6 +145,7 @@ struct AgentSpec {
   std::vector<MissionStage> stages;  // visited in order before the goal; empty: the goal alone
 
   int n() const { return static_cast<int>(x0.size()); }
+  double x0_half(int i) const { return i < x0_radius.size() ? x0_radius[i] : 0.0; }
   int m() const { return static_cast<int>(input_bounds.lo.size()); }
 };
 

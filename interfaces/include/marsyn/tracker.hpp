@@ -95,6 +95,10 @@ struct TrackingProblem {
   Box state_bounds;
   double tau = 0.1;
   Workspace workspace;  // the agent's workspace map, for the workspace part of period enclosures
+  // The stated initial set's half-widths (AgentSpec::x0_radius): the controller must accept every
+  // state of nominal.x[0] +- initial_radius at step 0, and its guarantee must hold from each.
+  // Empty: nominal.x[0] alone (a tracker may still start from a box of its own around it).
+  Eigen::VectorXd initial_radius;
 };
 
 // Whole-domain mode (global ABCD baseline): reach `target` while staying in `safe`, over the box

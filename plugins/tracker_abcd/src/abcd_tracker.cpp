@@ -132,7 +132,8 @@ TrackerAssessment AbcdTracker::assess(const AgentSpec& a, const AssessRequest& r
   if (const int i = x0_cell_defect(a); i >= 0) {
     const CellBounds cell = x0_cell(a, eta_x, i);
     return refuse("eta_x", i,
-                  "x0's grid cell [" + number_text(cell.lo) + ", " + number_text(cell.hi) + "] in '" + names[i] +
+                  std::string(a.x0_half(i) > 0 ? "the grid cells of the initial set x0 +- x0_radius" : "x0's grid cell") +
+                      " [" + number_text(cell.lo) + ", " + number_text(cell.hi) + "] in '" + names[i] +
                       "' does not fit inside the tube [x0 - eps, x0 + eps] = [" + number_text(a.x0[i] - a.tube.eps[i]) +
                       ", " + number_text(a.x0[i] + a.tube.eps[i]) + "]; choose eta_x <= eps (" +
                       number_text(a.tube.eps[i]) + ")");

@@ -19,14 +19,16 @@ inline constexpr double kMaxGridCellsPerCoordinate = 1099511627776.0;  // 2^40
 // about 0.4 s for a unicycle; reuse and the prefilter make most pairs cheap).
 inline constexpr double kSecondsPerStateInputPair = 1e-8;
 
-// The grid cell containing x0 in coordinate i: cells of size eta_x aligned at state_bounds.lo.
+// The grid cells holding the initial set (x0, or x0 +- a stated x0_radius) in coordinate i, as
+// one interval: cells of size eta_x aligned at state_bounds.lo.
 struct CellBounds {
   double lo, hi;
 };
 inline CellBounds x0_cell(const AgentSpec& a, const Eigen::VectorXd& eta_x, int i) {
-  const double lo = a.state_bounds.lo[i];
-  const double cell_lo = lo + std::floor((a.x0[i] - lo) / eta_x[i]) * eta_x[i];
-  return {cell_lo, cell_lo + eta_x[i]};
+  const double lo = a.state_bounds.lo[i], r = a.x0_half(i);
+  const double first = lo + std::floor((a.x0[i] - r - lo) / eta_x[i]) * eta_x[i];
+  const double last = lo + std::floor((a.x0[i] + r - lo) / eta_x[i]) * eta_x[i];
+  return {first, last + eta_x[i]};
 }
 
 class AbcdTracker : public marsyn::Tracker {

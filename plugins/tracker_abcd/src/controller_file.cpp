@@ -167,6 +167,27 @@ bool GridController::winning(const double* x, int k) const {
   return data_.inputs[static_cast<size_t>(data_.offsets[k] + l)] != kLosing;
 }
 
+std::int64_t GridController::losing_in_box(const double* lo, const double* hi, int k) const {
+  if (data_.time_invariant) k = 0;
+  if (k < 0 || k >= static_cast<int>(data_.boxes.size())) return 1;
+  const IndexBox& b = data_.boxes[static_cast<size_t>(k)];
+  IndexBox cover;
+  cover.n = data_.n;
+  for (int i = 0; i < data_.n; ++i) {
+    if (!std::isfinite(lo[i]) || !std::isfinite(hi[i]) || lo[i] > hi[i]) return 1;
+    cover.lo[i] = grid_.index(i, lo[i]);
+    cover.hi[i] = grid_.index(i, hi[i]);
+  }
+  const std::int64_t cells = cover.size();
+  std::int64_t losing = 0, idx[kMaxDim];
+  for (std::int64_t l = 0; l < cells; ++l) {
+    cover.unlinear(l, idx);
+    if (!b.contains(idx)) ++losing;
+    else if (k < data_.tables() && data_.inputs[static_cast<size_t>(data_.offsets[k] + b.linear(idx))] == kLosing) ++losing;
+  }
+  return losing;
+}
+
 ControlStatus GridController::input(const double* x, int k, double* u) const {
   if (data_.time_invariant) k = 0;
   if (k < 0 || k >= data_.tables()) return ControlStatus::OutsideHorizon;

@@ -56,6 +56,10 @@ class GridController : public marsyn::Controller {
 
   // Is x's cell winning at step k (step T: in the tube)?
   bool winning(const double* x, int k) const;
+  // The cells that meet the box [lo, hi] at step k and are not winning (a cell outside the step's
+  // table counts as not winning). The quantizer is monotone, so the cells a double of [lo, hi]
+  // can fall in are exactly the index range [index(lo), index(hi)] per coordinate.
+  std::int64_t losing_in_box(const double* lo, const double* hi, int k) const;
   const ControllerData& data() const { return data_; }
   const UniformGrid& grid() const { return grid_; }
   const InputGrid& input_grid() const { return ugrid_; }

@@ -273,6 +273,19 @@ TrackResult finish_track(const TrackingProblem& p, int k, ControllerData d, cons
   TrackerStats& st = r.stats;
   GridController ctl(std::move(d));
   fig.initial_state_winning = k < 0 && ctl.winning(p.nominal.x[0].data(), 0);
+  // A stated initial set: every cell it meets must be winning at step 0 (its box rounded outward).
+  std::int64_t initial_losing = 0;
+  if (fig.initial_state_winning && p.initial_radius.size() > 0) {
+    const int n = static_cast<int>(p.nominal.x[0].size());
+    std::vector<double> lo(n), hi(n);
+    for (int i = 0; i < n; ++i) {
+      const double r = i < p.initial_radius.size() ? p.initial_radius[i] : 0.0;
+      lo[i] = (Interval(p.nominal.x[0][i]) - Interval(r)).lower();
+      hi[i] = (Interval(p.nominal.x[0][i]) + Interval(r)).upper();
+    }
+    initial_losing = ctl.losing_in_box(lo.data(), hi.data(), 0);
+    fig.initial_state_winning = initial_losing == 0;
+  }
   fig.publish(st);
   if (fig.initial_state_winning && !enclosure_failure.empty()) {
     r.status = TrackerStatus::NoController;
@@ -287,7 +300,9 @@ TrackResult finish_track(const TrackingProblem& p, int k, ControllerData d, cons
     r.message = "agent " + p.agent + ": x_0's cell is winning";
   } else {
     r.status = TrackerStatus::NoController;
-    r.message = "agent " + p.agent + ": x_0's cell is not winning" +
+    r.message = "agent " + p.agent +
+                (initial_losing > 0 ? ": " + std::to_string(initial_losing) + " cell(s) of the stated initial set (x0 +- x0_radius) are not winning"
+                                    : ": x_0's cell is not winning") +
                 (k >= 0 ? " (the winning set is empty from step " + std::to_string(k) + " backwards)" : "");
     if (k >= 0) {
       r.failure.kind = TrackFailureKind::EmptyWinningSet;

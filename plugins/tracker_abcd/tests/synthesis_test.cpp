@@ -248,3 +248,56 @@ TEST(Synthesis, PendulumStraightLineIsNotTrackable) {
   EXPECT_EQ(r.status, TrackerStatus::NoController) << r.message;
   EXPECT_FALSE(r.controller);
 }
+
+// A stated initial set (TrackingProblem::initial_radius): the controller is found only when every
+// cell of x0 +- radius is winning at step 0, so every state of the box gets an input; a set that
+// reaches the tube's losing rim is refused with the count of its losing cells.
+TEST(Synthesis, EveryCellOfAStatedInitialSetIsWinning) {
+  auto p = scenarios::drone(30);
+  p.initial_radius = scenarios::vec({0.05, 0.05, 0.052});
+  AbcdTracker tracker;
+  TrackOptions o;
+  o.threads = 1;
+  const auto r = tracker.track(p, o);
+  ASSERT_EQ(r.status, TrackerStatus::ControllerFound) << r.message;
+  EXPECT_TRUE(r.stats.get<bool>("initial_state_winning"));
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> U(-1, 1);
+  Eigen::VectorXd x(3), u(2);
+  for (int s = 0; s < 4000; ++s) {
+    for (int i = 0; i < 3; ++i) x[i] = p.nominal.x[0][i] + (s < 8 ? (s >> i & 1 ? 1 : -1) : U(rng)) * p.initial_radius[i];
+    ASSERT_EQ(r.controller->input(x.data(), 0, u.data()), ControlStatus::Ok) << "sample " << s;
+  }
+
+  p.initial_radius = p.tube.eps * 0.999;  // the whole tube, whose rim cannot be held against W
+  const auto rim = tracker.track(p, o);
+  EXPECT_EQ(rim.status, TrackerStatus::NoController);
+  EXPECT_NE(rim.message.find("cell(s) of the stated initial set (x0 +- x0_radius) are not winning"), std::string::npos) << rim.message;
+}
+
+// losing_in_box counts what a brute force over the box's cells counts (cell centres and the
+// box's own corners, each located by the controller).
+TEST(Synthesis, LosingCellsOfABoxAreCountedExactly) {
+  const auto& a = agent("drone");
+  auto* c = dynamic_cast<const GridController*>(a.result.controller.get());
+  ASSERT_TRUE(c);
+  const auto& eta = c->grid().eta();
+  const Eigen::VectorXd& x0 = a.problem.nominal.x[0];
+  for (const double scale : {0.3, 0.7, 0.95}) {
+    std::vector<double> lo(3), hi(3);
+    for (int i = 0; i < 3; ++i) lo[i] = x0[i] - scale * a.problem.tube.eps[i], hi[i] = x0[i] + scale * a.problem.tube.eps[i];
+    std::int64_t brute = 0;
+    std::int64_t first[3], last[3];
+    for (int i = 0; i < 3; ++i) first[i] = c->grid().index(i, lo[i]), last[i] = c->grid().index(i, hi[i]);
+    for (std::int64_t i = first[0]; i <= last[0]; ++i)
+      for (std::int64_t j = first[1]; j <= last[1]; ++j)
+        for (std::int64_t k = first[2]; k <= last[2]; ++k) {
+          const std::int64_t idx[3] = {i, j, k};
+          double centre[3];
+          for (int d = 0; d < 3; ++d) centre[d] = c->grid().origin()[d] + (static_cast<double>(idx[d]) + 0.5) * eta[d];
+          brute += c->winning(centre, 0) ? 0 : 1;
+        }
+    EXPECT_EQ(c->losing_in_box(lo.data(), hi.data(), 0), brute) << "scale " << scale;
+    if (brute == 0) EXPECT_TRUE(c->winning(lo.data(), 0) && c->winning(hi.data(), 0));
+  }
+}

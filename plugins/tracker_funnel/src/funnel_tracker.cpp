@@ -8,6 +8,7 @@
 #include "lqr.hpp"
 #include "tightness.hpp"
 #include "marsyn/dual.hpp"
+#include "marsyn/number_text.hpp"
 #include "marsyn/param_set.hpp"
 #include "marsyn/stopwatch.hpp"
 
@@ -126,14 +127,22 @@ TrackerAssessment FunnelTracker::assess(const AgentSpec& a, int horizon, double 
     r.message = "expected " + std::to_string(n) + " numbers (one per state), got " + std::to_string(s_.initial_radius.size());
     return r;
   }
+  const Eigen::VectorXd r0 = initial_box(a.tube.eps, a.x0_radius);
   for (int i = 0; i < n; ++i) {
-    const double r0 = s_.initial_radius.empty() ? s_.initial_fraction * a.tube.eps[i] : s_.initial_radius[i];
-    if (!(r0 < a.tube.eps[i])) {
+    if (!s_.initial_radius.empty() && !(s_.initial_radius[i] >= a.x0_half(i))) {
       r.ok = false;
       r.field = "initial_radius";
       r.coordinate = i;
-      r.message = "the initial box (half-width " + std::to_string(r0) + ") must lie strictly inside the eps-box (eps " +
-                  std::to_string(a.tube.eps[i]) + ")";
+      r.message = "the initial box (half-width " + number_text(s_.initial_radius[i]) +
+                  ") must hold the problem's stated initial set (x0_radius " + number_text(a.x0_half(i)) + ")";
+      return r;
+    }
+    if (!(r0[i] < a.tube.eps[i])) {
+      r.ok = false;
+      r.field = "initial_radius";
+      r.coordinate = i;
+      r.message = "the initial box (half-width " + number_text(r0[i]) + ") must lie strictly inside the eps-box (eps " +
+                  number_text(a.tube.eps[i]) + ")";
       return r;
     }
   }
@@ -149,8 +158,9 @@ TrackerAssessment FunnelTracker::assess(const AgentSpec& a, int horizon, double 
   r.memory_bytes = 8.0 * std::max(1, horizon) * (3.0 * n * n + 4.0 * n + m * n + s_.parts * (2.0 * n + 4));
   std::ostringstream s;
   s << "LQR funnel, " << s_.substeps << " enclosure steps per period of " << tau << " s, initial box ";
-  if (s_.initial_radius.empty()) s << s_.initial_fraction << " eps";
-  else s << "as configured";
+  if (!s_.initial_radius.empty()) s << "as configured";
+  else if (a.x0_radius.size() > 0) s << "the stated initial set (x0_radius)";
+  else s << s_.initial_fraction << " eps";
   r.summary = s.str();
   return r;
 }
@@ -211,7 +221,16 @@ bool FunnelTracker::apply_lever(const std::string& name, const TrackFailure& fai
   return name == "refine" && refine(a);
 }
 
-VerifyOptions FunnelTracker::verify_options(const Eigen::VectorXd& eps) const {
+Eigen::VectorXd FunnelTracker::initial_box(const Eigen::VectorXd& eps, const Eigen::VectorXd& stated) const {
+  Eigen::VectorXd r(eps.size());
+  for (Eigen::Index i = 0; i < eps.size(); ++i)
+    r[i] = !s_.initial_radius.empty() ? s_.initial_radius[static_cast<std::size_t>(i)]
+           : stated.size() > 0        ? (i < stated.size() ? stated[i] : 0.0)
+                                      : s_.initial_fraction * eps[i];
+  return r;
+}
+
+VerifyOptions FunnelTracker::verify_options(const Eigen::VectorXd& eps, const Eigen::VectorXd& stated) const {
   VerifyOptions vo;
   vo.flow.substeps = s_.substeps;
   vo.flow.picard_iterations = s_.picard_iterations;
@@ -226,9 +245,7 @@ VerifyOptions FunnelTracker::verify_options(const Eigen::VectorXd& eps) const {
   vo.shift_inputs = s_.shift_inputs;
   vo.flow.box_substeps = static_cast<int>(s_.box_substeps);
   vo.split_depth = static_cast<int>(s_.split_depth);
-  vo.initial_radius.resize(eps.size());
-  for (Eigen::Index i = 0; i < eps.size(); ++i)
-    vo.initial_radius[i] = s_.initial_radius.empty() ? s_.initial_fraction * eps[i] : s_.initial_radius[static_cast<std::size_t>(i)];
+  vo.initial_radius = initial_box(eps, stated);
   return vo;
 }
 
@@ -237,7 +254,7 @@ VerifyOptions FunnelTracker::verify_options(const Eigen::VectorXd& eps) const {
 class FunnelTracker::Ladder {
  public:
   Ladder(const FunnelTracker& tracker, const TrackingProblem& p)
-      : s_(tracker.s_), p_(p), vo_(tracker.verify_options(p.tube.eps)) {}
+      : s_(tracker.s_), p_(p), vo_(tracker.verify_options(p.tube.eps, p.initial_radius)) {}
 
   Search run() {
     const int n = p_.dynamics->state_dim(), m = p_.dynamics->input_dim();
@@ -403,6 +420,17 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
     res.message = "initial_radius: expected " + std::to_string(n) + " numbers, got " + std::to_string(s_.initial_radius.size());
     return res;
   }
+  if (p.initial_radius.size() != 0 && p.initial_radius.size() != n) {
+    res.message = "the stated initial set has " + std::to_string(p.initial_radius.size()) + " half-widths, expected " + std::to_string(n);
+    return res;
+  }
+  for (int i = 0; i < p.initial_radius.size(); ++i)
+    if (!s_.initial_radius.empty() && !(s_.initial_radius[static_cast<std::size_t>(i)] >= p.initial_radius[i])) {
+      res.message = "initial_radius " + number_text(s_.initial_radius[static_cast<std::size_t>(i)]) +
+                    " does not hold the stated initial set (x0_radius " + number_text(p.initial_radius[i]) + ") in coordinate " +
+                    std::to_string(i);
+      return res;
+    }
   const Search found = search(p);
   const VerifyOutcome& best = found.best;
   const int best_order = found.order, weight_choices = found.weight_choices;

@@ -61,7 +61,10 @@ class FunnelTracker : public marsyn::Tracker {
 
  private:
   // The verification's options from the settings (initial box from eps where not configured).
-  VerifyOptions verify_options(const Eigen::VectorXd& eps) const;
+  // The initial box's half-widths: the knob initial_radius when given (it must hold a stated
+  // initial set), else the stated set (TrackingProblem::initial_radius), else initial_fraction eps.
+  Eigen::VectorXd initial_box(const Eigen::VectorXd& eps, const Eigen::VectorXd& stated) const;
+  VerifyOptions verify_options(const Eigen::VectorXd& eps, const Eigen::VectorXd& stated) const;
   struct Search {
     VerifyOutcome best;
     int order = 0, weight_choices = 0, attempts = 0;  // the kept pass's reach order; LQR runs; verifications

@@ -13,6 +13,7 @@ enum class AgentDefect {
   None,
   X0OutsideBounds,    // x0 not in X
   TubeOutsideBounds,  // x0 +- eps not in X
+  InitialSetOutsideTube,  // the stated initial set x0 +- x0_radius not strictly inside x0 +- eps
   GoalEmpty,          // Goal shrunk by eps is empty
   GoalOutsideBounds,  // Goal and X do not overlap
   GoalUnreachable,    // Goal shrunk by eps and X shrunk by eps do not overlap: no eps-robust final state
