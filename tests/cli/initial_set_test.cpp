@@ -59,4 +59,17 @@ TEST_P(InitialSet, IsVerifiedFromEveryStartAndRecorded) {
 
 INSTANTIATE_TEST_SUITE_P(Trackers, InitialSet, ::testing::Values("funnel", "abcd"));
 
+// A tracker that does not declare TrackerCapabilities::initial_set (the test tracker `never`) is
+// not handed an agent with a stated initial set: refused at load, with where and why.
+TEST(InitialSetRefused, ByATrackerWithoutTheCapability) {
+  std::string s = pendulum("never", "[0.05, 0.05]");
+  s.replace(s.find("tracker: never\n"), 15, std::string("tracker: never\nplugin_paths: [") + NEVER_TRACKER_DIR + "]\n");
+  const auto r = run_marsyn("check " + write_temp("initial_set_never.yaml", s));
+  EXPECT_EQ(r.code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("never does not take a stated initial set (x0_radius)"), std::string::npos) << r.err;
+  // Without the stated set the same file is accepted.
+  s.replace(s.find("{center: [0, 0], radius: [0.05, 0.05]}"), 38, "[0, 0]");
+  EXPECT_EQ(run_marsyn("check " + write_temp("initial_set_never_point.yaml", s)).code, 0);
+}
+
 }  // namespace

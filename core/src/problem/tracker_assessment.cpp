@@ -26,6 +26,14 @@ TrackerAssessment failed(const std::string& what) {
 }  // namespace
 
 TrackerAssessment assess_tracker(const Tracker& tracker, const AgentSpec& agent, const AssessRequest& request) {
+  // A stated initial set binds only a tracker that says it covers one: another would verify from
+  // x0 alone, and the guarantee would not hold from the starts the problem states.
+  if (agent.x0_radius.size() > 0 && agent.x0_radius.maxCoeff() > 0 && !tracker.capabilities().initial_set) {
+    TrackerAssessment r = failed(tracker.name() + " does not take a stated initial set (x0_radius); give x0 as a point or "
+                                 "choose a tracker that does (abcd, funnel)");
+    r.field = "x0_radius";
+    return r;
+  }
   try {
     return tracker.assess(agent, request);
   } catch (const std::exception& e) {

@@ -263,6 +263,10 @@ enum class TubeChange {
 // knowing which one does what.
 struct TrackerCapabilities {
   bool reach_avoid = false;  // whole-domain reach_avoid() (the global baseline)
+  // track() honours TrackingProblem::initial_radius: its controller accepts, and its guarantee
+  // holds from, every state of the stated initial set at step 0. Agents that state one are not
+  // given to a tracker without it.
+  bool initial_set = false;
 };
 
 class Tracker {

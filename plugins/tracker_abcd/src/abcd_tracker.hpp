@@ -37,7 +37,7 @@ class AbcdTracker : public marsyn::Tracker {
   static std::vector<ParamSpec> param_specs();
 
   std::string name() const override { return "abcd"; }
-  TrackerCapabilities capabilities() const override { return {.reach_avoid = true}; }
+  TrackerCapabilities capabilities() const override { return {.reach_avoid = true, .initial_set = true}; }
   TrackResult track(const TrackingProblem& problem, const TrackOptions& options) const override;
   TrackResult reach_avoid(const ReachAvoidProblem& problem, const TrackOptions& options) const override;
   std::shared_ptr<const Controller> read_controller(const std::string& path) const override;
