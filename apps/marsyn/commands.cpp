@@ -48,8 +48,10 @@ std::string default_example() {
 
 int run_check(const std::string& config, const LoadOptions& load) {
   const LoadedProblem loaded = load_problem(config, load);
-  std::cout << summarize(loaded.problem, loaded.trackers) << "\n" << to_text(advise(loaded)) << "\nok: " << config
-            << " is a valid marsyn problem\n";
+  std::cout << summarize(loaded.problem, loaded.trackers) << "memory    planning about " << format_bytes(loaded.plan_memory.bytes)
+            << " at T = " << loaded.problem.horizon << " (" << loaded.plan_memory_source << ": " << loaded.plan_memory.detail
+            << "), budget " << format_bytes(loaded.memory_budget.bytes) << " (" << loaded.memory_budget.source << ")\n\n"
+            << to_text(advise(loaded)) << "\nok: " << config << " is a valid marsyn problem\n";
   return 0;
 }
 

@@ -227,15 +227,21 @@ void read_agent(const Field& af, std::size_t idx, LoadedProblem& out, AgentsRead
 
 // The planner's memory against the budget: the horizon is blamed when a horizon of 1000 steps
 // would fit, the agent count otherwise.
-void check_planning_memory(const Field& top, const LoadedProblem& out) {
+void check_planning_memory(const Field& top, LoadedProblem& out, const Planner& planner) {
   const Problem& pb = out.problem;
   const double budget = out.memory_budget.bytes;
   const std::string& source = out.memory_budget.source;
-  const MemoryEstimate e = planner_memory(pb);
+  MemoryEstimate e = planner_memory(pb);
+  out.plan_memory_source = "core's estimate for any planner";
+  if (const std::optional<PlannerMemory> own = planner.memory(pb)) {
+    e = {own->bytes, own->detail};
+    out.plan_memory_source = planner.name() + "'s own estimate";
+  }
+  out.plan_memory = e;
   if (!(e.bytes <= budget)) {
     const bool pairs = e.bytes / (pb.horizon + 1.0) * 1001 > budget;
     (pairs ? top.child("agents") : top.child("horizon"))
-        .fail("planning would need about " + format_bytes(e.bytes) + " (" + e.detail + "), more than the memory budget of " +
+        .fail("planning would need about " + format_bytes(e.bytes) + " (" + out.plan_memory_source + ": " + e.detail + "), more than the memory budget of " +
               format_bytes(budget) + " (" + source + "); " +
               (pairs ? "use fewer agents" : "shorten the horizon"));
   }
@@ -244,8 +250,9 @@ void check_planning_memory(const Field& top, const LoadedProblem& out) {
 // Planner: the default when absent; always checked against the installed plugins so that a
 // typo fails here rather than after minutes of work. (Trackers: per agent.) Then
 // planner.warm_start: a planner whose plan starts the main one (docs/planning.md, chains).
-void read_planners(const Field& top, const std::string& path, LoadedProblem& out) {
+std::shared_ptr<const Planner> read_planners(const Field& top, const std::string& path, LoadedProblem& out) {
   Problem& pb = out.problem;
+  std::shared_ptr<const Planner> planner;
   {
     Field f = top.child("planner");
     if (!f.present() && !out.registry->find("planner", kDefaultPlanner))
@@ -256,7 +263,9 @@ void read_planners(const Field& top, const std::string& path, LoadedProblem& out
                                  : PluginField{kDefaultPlanner, Field(YAML::Node(kDefaultPlanner), path, "planner"),
                                                Field(YAML::Node(), path, "planner.params")};
     pb.planner.name = pf.name;
-    pb.planner.params = create_plugin<Planner>(*out.registry, pf).second;
+    auto made = create_plugin<Planner>(*out.registry, pf);
+    planner = std::move(made.first);
+    pb.planner.params = std::move(made.second);
   }
   if (Field p = top.child("planner"); p.present() && !p.is_scalar())
     if (Field w = p.child("warm_start"); w.present()) {
@@ -264,6 +273,7 @@ void read_planners(const Field& top, const std::string& path, LoadedProblem& out
       pb.warm_start_planner.name = wf.name;
       pb.warm_start_planner.params = create_plugin<Planner>(*out.registry, wf).second;
     }
+  return planner;
 }
 
 }  // namespace
@@ -332,8 +342,7 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
   check_teams(pb, r.stage_fields);
   read_stage_obstacles(pb, r.stage_fields, top.child("obstacles"));
   check_start_geometry(pb, r.x0_fields);
-  check_planning_memory(top, out);
-  read_planners(top, path, out);
+  check_planning_memory(top, out, *read_planners(top, path, out));
   if (Field f = top.child("collision"); f.present()) read_collision(f, out);
   return out;
 }

@@ -88,11 +88,21 @@ struct PlanResult {
   std::string message;
 };
 
+// What a planner holds while solving a problem over its horizon, for the loader's check against
+// the run's memory budget: bytes, and how they are made up (for the message).
+struct PlannerMemory {
+  double bytes = 0;
+  std::string detail;
+};
+
 class Planner {
  public:
   virtual ~Planner() = default;
   virtual std::string name() const = 0;
   virtual PlanResult solve(const PlanningProblem& problem, const PlanOptions& options) const = 0;
+  // The planner's own figure for `problem` at problem.horizon. Empty: core's conservative one
+  // (every pair's and obstacle's rows with their gradients at every step, as a dense NLP holds).
+  virtual std::optional<PlannerMemory> memory(const Problem&) const { return std::nullopt; }
 };
 
 }  // namespace marsyn

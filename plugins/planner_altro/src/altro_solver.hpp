@@ -61,4 +61,11 @@ struct Options {
 
 PlanResult solve(const PlanningProblem& problem, const PlanOptions& run, const Options& options);
 
+// What solve() holds for `problem` at its horizon (Planner::memory): per step the agents' blocks
+// and one multiplier per requirement row (at the samples and at the point between them), and per
+// row, once, its constraint objects, the solver's reference to it and the broad phase's entry.
+// The rows' gradients are computed where needed and never stored, so a pair costs bytes per
+// step, not its Jacobian (measured: docs/benchmarks.md, "Memory of a plan").
+PlannerMemory memory(const Problem& problem);
+
 }  // namespace marsyn::altro

@@ -12,6 +12,9 @@ class AltroPlanner final : public marsyn::Planner {
   marsyn::PlanResult solve(const marsyn::PlanningProblem& problem, const marsyn::PlanOptions& options) const override {
     return marsyn::altro::solve(problem, options, options_);
   }
+  std::optional<marsyn::PlannerMemory> memory(const marsyn::Problem& problem) const override {
+    return marsyn::altro::memory(problem);
+  }
 
  private:
   marsyn::altro::Options options_;

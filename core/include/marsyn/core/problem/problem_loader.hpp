@@ -7,6 +7,7 @@
 
 #include "marsyn/core/plugins/plugin_registry.hpp"
 #include "marsyn/core/problem/auto_tube.hpp"
+#include "marsyn/core/problem/input_limits.hpp"
 #include "marsyn/core/problem/tracker_assessment.hpp"
 #include "marsyn/memory_budget.hpp"
 #include "marsyn/problem.hpp"
@@ -24,6 +25,10 @@ struct LoadedProblem {
   // The budget the loader judged every estimate against (LoadOptions::memory_budget); the
   // stages after it (solve, track) judge theirs against the same value.
   MemoryBudget memory_budget;
+  // The plan's memory at the file's horizon: the planner's own figure (Planner::memory), else
+  // core's conservative one (planner_memory); the loader refused the file when it exceeds the budget.
+  MemoryEstimate plan_memory;
+  std::string plan_memory_source;  // whose figure: "altro's", "core's (dense rows)"
   // Per agent: whether eps and which trackers' fields (abcd's grid) the file leaves to marsyn
   // (`auto`, docs/parameters.md), and the owners' rule for those fields.
   std::vector<AutoTube> auto_tube;
