@@ -488,8 +488,14 @@ int run_verify(const std::string& config, const std::string& controllers_dir, co
   std::printf("verification  %d closed-loop runs, %d violations, %d left the tube, %d outside the domain\n", v.runs,
               v.violations, v.tube_violations, v.outside_domain);
   std::printf("at samples    %.17g\n", v.sampled_min_margin);
-  std::printf("between       obstacle %.17g, collision %.17g, formation %.17g (every %.3g s)\n", v.between.obstacle,
-              v.between.collision, v.between.formation, v.dense_resolution_s);
+  // A kind of requirement the problem does not have keeps the monitor's 1e300: "none", not a number.
+  const auto margin = [](double m) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.17g", m);
+    return m >= 1e299 ? std::string("none") : std::string(buf);
+  };
+  std::printf("between       obstacle %s, collision %s, formation %s (every %.3g s)\n", margin(v.between.obstacle).c_str(),
+              margin(v.between.collision).c_str(), margin(v.between.formation).c_str(), v.dense_resolution_s);
   std::printf("worst         %.17g: %s\n", v.min_margin, v.worst.c_str());
   std::printf("open loop     %d runs, %d violations, smallest margin %.17g\n", v.open_loop_runs, v.open_loop_violations,
               v.open_loop_min_margin);
