@@ -253,14 +253,20 @@ PairConstraint::PairConstraint(std::string name, const AgentSpec& a, int offset_
   const WorkspaceMargin m1 = ma_->max(), m2 = mb_->max();
   const double slack = std::max(0.0, buffer_);
   double reach;
+  // The rate at which g falls beyond the reach (reach_decay): g <= decay (reach - |d|_inf), from
+  // the same bounds (2-norm: g = R - |d|_2 <= R - |d|_inf; max norm: g = s (1 - M) + buffer with
+  // M >= |d|_inf / max r - 4c/27 (8c/27 in space), so g <= (s / max r) (reach - |d|_inf)).
+  double decay;
   if (norm_ == Norm::Two) {
     reach = delta_ + m1.two() + m2.two() + slack;  // |d|_2 >= |d|_inf
+    decay = 1.0;
   } else if (a.workspace.dim() == 3) {
     // The 3-D max nests two smoothed maxima, each at most 4c/27 below the max it smooths.
     const double rx = delta_ + m1.x + m2.x, ry = delta_ + m1.y + m2.y, rz = delta_ + m1.z + m2.z;
     const double s = std::min({rx, ry, rz});
     if (!(s > 0)) return;
     reach = std::max({rx, ry, rz}) * (1.0 + 8.0 * corner_ / 27.0 + slack / s);
+    decay = s / std::max({rx, ry, rz});
   } else {
     // value(): g = s (1 - M) + buffer with s = min(rx, ry) and M >= max(|dx|/rx, |dy|/ry) - 4c/27
     // (the smoothed |z| never falls more than 4c/27 below |z|), so g <= 0 once
@@ -268,9 +274,11 @@ PairConstraint::PairConstraint(std::string name, const AgentSpec& a, int offset_
     const double rx = delta_ + m1.x + m2.x, ry = delta_ + m1.y + m2.y, s = std::min(rx, ry);
     if (!(s > 0)) return;
     reach = std::max(rx, ry) * (1.0 + 4.0 * corner_ / 27.0 + slack / s);
+    decay = s / std::max(rx, ry);
   }
   // Outward against the rounding of the sums above and of |p_a - p_b| in the planner.
   reach_ = reach * (1.0 + 1e-9) + 1e-12;
+  decay_ = decay * (1.0 - 1e-9);
 }
 
 double PairConstraint::value(const double* d, const double* xa, const double* xb, double* gd) const {

@@ -48,6 +48,11 @@ class Constraint {
     (void)lo, (void)hi;
     return false;
   }
+  // How fast the rows fall beyond that reach (or box): every row is at most -reach_decay() x s
+  // once the points are s further apart than pair_reach() (or the point is s beyond the box in
+  // x or y), so a screen for rows above -level widens by level / reach_decay(). 0 (the default):
+  // no such rate; a screen then keeps the constraint for any level above 0.
+  virtual double reach_decay() const { return 0.0; }
 };
 
 // Whether c applies at knot k of a horizon T.

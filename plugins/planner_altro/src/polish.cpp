@@ -11,17 +11,23 @@
 namespace marsyn::altro::detail {
 
 // The between rows of every period k (dc/dx_k, swept back like a state row at step k, and
-// dc/du_k) at the interior points, near-active ones only.
+// dc/du_k) at the interior points, near-active ones only: the screen's for rows above -active
+// (ProximityScreen::near with a level), the same rows in the same order as the whole list
+// gives, without evaluating every pair at every point (at 1000 robots the projection evaluated
+// 6e5 rows per knot and took 58 % of the plan).
 void Solver::between_polish_rows(double active, std::vector<PolishRow>& rows) {
   std::vector<double> g(64), jac;
   std::vector<AgentGradient> grads;
   Vec tmp;
+  Scratch& s = work_[0];
   for (int k = 0; k < T_; ++k) {
     const Vec& Z = points_at(k, X_, U_, kept(Z_), tmp);
     for (int j = 1; j <= points_; ++j) {
       const double* z = Z.data() + static_cast<long>(j - 1) * n_;
-      std::fill(work_[0].have_jac.begin(), work_[0].have_jac.end(), 0);
-      for (const auto& r : between_) {
+      std::fill(s.have_jac.begin(), s.have_jac.end(), 0);
+      screen_b_->near(z, s.near, s.screen, active);
+      for (const int c : s.near) {
+        const ConstraintRef& r = between_[c];
         g.resize(std::max<size_t>(g.size(), r.rows));
         r.c->evaluate(z, g.data(), nullptr);
         bool any = false;
@@ -31,7 +37,7 @@ void Solver::between_polish_rows(double active, std::vector<PolishRow>& rows) {
         r.c->evaluate(z, g.data(), jac.data());
         for (int i = 0; i < r.rows; ++i) {
           if (g[i] <= -active) continue;
-          between_gradients(k, j, r, jac.data(), i, grads, work_[0]);
+          between_gradients(k, j, r, jac.data(), i, grads, s);
           PolishRow row{k, g[i], {}, false};
           for (const auto& ga : grads) {
             const auto& a = agents_[ga.agent];
@@ -81,8 +87,10 @@ void Solver::bound_polish_rows(double active, std::vector<PolishRow>& rows) {
         take(k, g[j], std::move(gr), false);
       }
     };
-    for (const auto& r : stage_)
-      if (applies_at(*r.c, k, T_)) add(r);
+    // The screen's rows above -active (between_polish_rows says why).
+    screen_->near(x.data(), work_[0].near, work_[0].screen, active);
+    for (const int c : work_[0].near)
+      if (applies_at(*stage_[c].c, k, T_)) add(stage_[c]);
     if (k == T_)
       for (const auto& r : terminal_) add(r);
   }

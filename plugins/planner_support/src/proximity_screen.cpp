@@ -22,7 +22,7 @@ ProximityScreen::ProximityScreen(const Problem& problem, const std::vector<const
     const double reach = c.pair_reach();
     const auto& s = c.support();
     const int a = s.empty() ? 0 : agent_of.at(s.front()), b = s.empty() ? 0 : agent_of.at(s.back());
-    Region r{a, {0, 0}, {0, 0}, i};
+    Region r{a, {0, 0}, {0, 0}, i, c.reach_decay()};
     if (enabled && !s.empty() && a == b && c.clear_outside(r.lo, r.hi)) {
       regions_.push_back(r);
       continue;
@@ -31,8 +31,9 @@ ProximityScreen::ProximityScreen(const Problem& problem, const std::vector<const
       unscreened_.push_back(i);
       continue;
     }
-    pairs_.push_back({std::min(a, b), std::max(a, b), reach, i});
+    pairs_.push_back({std::min(a, b), std::max(a, b), reach, i, c.reach_decay()});
     widest_ = std::max(widest_, reach);
+    slowest_ = std::min(slowest_, c.reach_decay());
   }
   std::sort(pairs_.begin(), pairs_.end(),
             [](const Pair& p, const Pair& q) { return p.a != q.a ? p.a < q.a : p.b < q.b; });
@@ -45,7 +46,7 @@ ProximityScreen::ProximityScreen(const Problem& problem, const std::vector<const
   }
 }
 
-void ProximityScreen::near(const double* x, std::vector<int>& out, Buffers& b) const {
+void ProximityScreen::near(const double* x, std::vector<int>& out, Buffers& b, double level) const {
   out.clear();
   if (!active()) {
     out = unscreened_;
@@ -70,17 +71,18 @@ void ProximityScreen::near(const double* x, std::vector<int>& out, Buffers& b) c
   }
   b.hits.clear();
   for (const Region& r : regions_) {
-    const double px = b.px[r.agent], py = b.py[r.agent];
-    if (px >= r.lo[0] && px <= r.hi[0] && py >= r.lo[1] && py <= r.hi[1]) b.hits.push_back(r.index);
+    const double px = b.px[r.agent], py = b.py[r.agent], w = widening(level, r.decay);
+    if (px >= r.lo[0] - w && px <= r.hi[0] + w && py >= r.lo[1] - w && py <= r.hi[1] + w) b.hits.push_back(r.index);
   }
-  if (!pairs_.empty()) sweep_pairs(b);
+  if (!pairs_.empty()) sweep_pairs(b, level);
   // Each pair is met once in the sweep and each region once: no index repeats.
   std::sort(b.hits.begin(), b.hits.end());
   std::merge(unscreened_.begin(), unscreened_.end(), b.hits.begin(), b.hits.end(), std::back_inserter(out));
 }
 
-// The pairs within reach at b.px, b.py, appended to b.hits.
-void ProximityScreen::sweep_pairs(Buffers& b) const {
+// The pairs within reach (widened for `level`) at b.px, b.py, appended to b.hits.
+void ProximityScreen::sweep_pairs(Buffers& b, double level) const {
+  const double widest = widest_ + widening(level, slowest_);
   const int N = static_cast<int>(offsets_.size());
   // By x, by insertion from the last call's order (the set of pairs within reach does not
   // depend on how agents at equal x are ordered).
@@ -100,12 +102,12 @@ void ProximityScreen::sweep_pairs(Buffers& b) const {
     for (int t = s + 1; t < N; ++t) {
       const int j = order[t];
       const double dx = b.px[j] - b.px[i];
-      if (dx > widest_) break;  // sorted: every later agent is farther along x
+      if (dx > widest) break;  // sorted: every later agent is farther along x
       const double d = std::max(dx, std::abs(b.py[j] - b.py[i]));
-      if (d > widest_) continue;
+      if (d > widest) continue;
       const std::size_t key = static_cast<std::size_t>(std::min(i, j)) * N + std::max(i, j);
       for (int r = first_[key], e = r + count_[key]; r < e; ++r)
-        if (d <= pairs_[r].reach) b.hits.push_back(pairs_[r].index);
+        if (d <= pairs_[r].reach + widening(level, pairs_[r].decay)) b.hits.push_back(pairs_[r].index);
     }
   }
 }

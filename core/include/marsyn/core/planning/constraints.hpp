@@ -81,6 +81,9 @@ class ObstacleConstraint final : public Constraint {
   // distance's rounding): outside it the Euclidean distance exceeds the clearance. Only for a
   // constant margin with core's own distance (a collision plugin's may round otherwise).
   bool clear_outside(double lo[2], double hi[2]) const override;
+  // g = clearance - sd with sd the Euclidean distance: a point s beyond that box is at least
+  // clearance + s from the polygon (rate 1, less a relative 1e-9 against rounding).
+  double reach_decay() const override { return 1.0 - 1e-9; }
 
  private:
   std::string name_;
@@ -136,6 +139,7 @@ class PairConstraint final : public Constraint {
   void evaluate(const double* x, double* g, double* jac) const override;
   bool hessian(const double* x, const double* w, double* H) const override;
   double pair_reach() const override { return reach_; }
+  double reach_decay() const override { return decay_; }
 
  private:
   std::string name_;
@@ -146,6 +150,7 @@ class PairConstraint final : public Constraint {
   std::shared_ptr<const MarginTable> ma_, mb_;
   double corner_, buffer_;
   double reach_;
+  double decay_ = 0.0;  // reach_decay(): 1 in the 2-norm, min r / max r in the max norm
   // g at d = p_a - p_b, and dg/dd in gd[D].
   double value(const double* d, const double* xa, const double* xb, double* gd) const;
   double value_inf3(const double* d, const WorkspaceMargin& m1, const WorkspaceMargin& m2, double* gd) const;

@@ -8,6 +8,7 @@
 // N log N + (pairs within reach), not N^2. Requirements on one agent with a box outside which
 // they hold (Constraint::clear_outside: obstacles) are left out while the agent's point is
 // outside the box.
+#include <limits>
 #include <vector>
 
 #include "marsyn/constraint.hpp"
@@ -33,7 +34,10 @@ class ProximityScreen {
     std::vector<double> px, py;
     std::vector<int> order, hits;
   };
-  void near(const double* x, std::vector<int>& out, Buffers& buffers) const;
+  // With level > 0: the constraints that may have a row above -level (the near-active ones a
+  // projection takes): each reach and box widened by level / Constraint::reach_decay(), and every
+  // constraint without a rate kept.
+  void near(const double* x, std::vector<int>& out, Buffers& buffers, double level = 0.0) const;
   void near(const double* x, std::vector<int>& out) const { near(x, out, own_); }
 
  private:
@@ -41,13 +45,19 @@ class ProximityScreen {
     int a, b;  // agents, a < b
     double reach;
     int index;  // into the constraint list
+    double decay;  // Constraint::reach_decay
   };
   struct Region {
     int agent;
     double lo[2], hi[2];  // Constraint::clear_outside's box
     int index;
+    double decay;
   };
-  void sweep_pairs(Buffers& b) const;
+  // How far beyond its reach (or box) a constraint may have a row above -level.
+  static double widening(double level, double decay) {
+    return level > 0 ? (decay > 0 ? level / decay * (1.0 + 1e-9) : std::numeric_limits<double>::infinity()) : 0.0;
+  }
+  void sweep_pairs(Buffers& b, double level) const;
   const Problem& problem_;
   std::vector<int> offsets_;         // product state offset per agent
   int size_ = 0;                     // constraints in the list
@@ -56,6 +66,7 @@ class ProximityScreen {
   std::vector<Region> regions_;      // in list order
   std::vector<int> first_, count_;   // pairs_ sorted by (a, b): the run of agent pair a * N + b
   double widest_ = 0.0;              // the largest reach
+  double slowest_ = std::numeric_limits<double>::infinity();  // the smallest reach_decay of a pair
   mutable Buffers own_;  // near(x, out)'s
 };
 
