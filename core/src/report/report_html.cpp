@@ -82,8 +82,8 @@ table($('t2'), ['T_plan [s]', 'N_l', 'T_abs [s]', 'T_syn [s]', 'N_g', 'global AB
   [[fmt((R.plan || {}).time_s, 2), fmt(maxBy(a => a.tracker && a.tracker.state_input_pairs), 0),
     fmt(maxBy(a => a.tracker && a.tracker.abstraction_time_s), 2), fmt(maxBy(a => a.tracker && a.tracker.synthesis_time_s), 2),
     fmt(g.state_input_pairs, 0), g.status || '-']]);
-table($('ag'), ['agent', 'tracker', 'status', 'N_l', 'boxes', 'abs [s]', 'syn [s]', 'memory [MB]', 'x0 winning'],
-  ags.map(a => { const t = a.tracker || {}; return [a.name, esc(t.name || '-') + (t.chosen === 'auto' ? ' <span class="muted">(auto)</span>' : ''),
+table($('ag'), ['agent', 'tracker', 'status', 'N_l', 'boxes', 'abs [s]', 'syn [s]', 'memory [MB]', 'start covered'],
+  ags.map(a => { const t = a.tracker || {}; return [a.name + (a.x0_radius ? '<br><span class="muted" style="white-space:nowrap">x0 &plusmn; (' + a.x0_radius.map(r => String(+r.toPrecision(3))).join(', ') + ')</span>' : ''), esc(t.name || '-') + (t.chosen === 'auto' ? ' <span class="muted">(auto)</span>' : ''),
     t.status, fmt(t.state_input_pairs, 0), fmt(t.boxes_computed, 0),
     fmt(t.abstraction_time_s, 3), fmt(t.synthesis_time_s, 3), fmt((t.peak_memory_bytes || 0) / 1048576, 1), t.initial_state_winning ? 'yes' : 'no']; }));
 const v = R.verification || {}, ol = R.open_loop || {}, ce = R.certification || {}, pl = R.plan || {};

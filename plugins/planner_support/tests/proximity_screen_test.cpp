@@ -59,9 +59,11 @@ class ScaledReach final : public Constraint {
 // The screen's list as one flag per constraint; the list must be strictly increasing (the order
 // a solver visits the whole list in).
 std::vector<char> near_flags(const ProximityScreen& screen, const double* x, std::size_t size,
-                             ProximityScreen::Buffers* buffers = nullptr) {
+                             ProximityScreen::Buffers* buffers = nullptr, double level = 0.0) {
   std::vector<int> list;
-  if (buffers) screen.near(x, list, *buffers);
+  ProximityScreen::Buffers own;
+  if (buffers) screen.near(x, list, *buffers, level);
+  else if (level > 0) screen.near(x, list, own, level);
   else screen.near(x, list);
   std::vector<char> flags(size, 0);
   for (std::size_t i = 0; i < list.size(); ++i) {
@@ -77,9 +79,10 @@ struct Tally {
 };
 
 // Random product states around the agents' start points (so that many pairs sit near their
-// reach); for every row the screen leaves out, g must be <= 0.
+// reach); for every row the screen leaves out (at `level`: the rows above -level), g must be
+// <= -level.
 Tally probe(const Problem& p, const std::vector<const Constraint*>& cs, const ProximityScreen& screen, double spread,
-            std::mt19937& rng) {
+            std::mt19937& rng, double level = 0.0) {
   const ProductLayout L(p);
   std::normal_distribution<double> jitter(0.0, spread);
   std::vector<char> near;
@@ -89,7 +92,7 @@ Tally probe(const Problem& p, const std::vector<const Constraint*>& cs, const Pr
     Eigen::VectorXd x(L.state_dim());
     for (size_t i = 0; i < p.agents.size(); ++i)
       for (int c = 0; c < 3; ++c) x[L.state[i] + c] = (c < 2 ? p.agents[i].x0[c] : 0.0) + jitter(rng) * (c < 2 ? 1 : 3);
-    near = near_flags(screen, x.data(), cs.size());
+    near = near_flags(screen, x.data(), cs.size(), nullptr, level);
     for (size_t i = 0; i < cs.size(); ++i) {
       if (near[i]) {
         ++t.near;
@@ -98,7 +101,7 @@ Tally probe(const Problem& p, const std::vector<const Constraint*>& cs, const Pr
       ++t.skipped;
       cs[i]->evaluate(x.data(), g.data(), nullptr);
       for (int r = 0; r < cs[i]->size(); ++r)
-        if (g[r] > 0) ++t.violated_skipped;
+        if (g[r] > -level) ++t.violated_skipped;
     }
   }
   return t;
@@ -318,40 +321,6 @@ class ScaledDecay final : public Constraint {
   double s_;
 };
 
-// For rows the screen leaves out at `level`: how many are above -level (must be none), and how
-// many rows were left out at all.
-Tally probe_level(const Problem& p, const std::vector<const Constraint*>& cs, const ProximityScreen& screen, double level,
-                  double spread, std::mt19937& rng) {
-  const ProductLayout L(p);
-  std::normal_distribution<double> jitter(0.0, spread);
-  std::vector<int> list;
-  std::vector<double> g(4);
-  Tally t;
-  for (int trial = 0; trial < 300; ++trial) {
-    Eigen::VectorXd x(L.state_dim());
-    for (size_t i = 0; i < p.agents.size(); ++i)
-      for (int c = 0; c < 3; ++c) x[L.state[i] + c] = (c < 2 ? p.agents[i].x0[c] : 0.0) + jitter(rng) * (c < 2 ? 1 : 3);
-    ProximityScreen::Buffers b;
-    screen.near(x.data(), list, b, level);
-    std::vector<char> near(cs.size(), 0);
-    for (std::size_t i = 0; i < list.size(); ++i) {
-      if (i > 0) EXPECT_LT(list[i - 1], list[i]);
-      near[static_cast<std::size_t>(list[i])] = 1;
-    }
-    for (size_t i = 0; i < cs.size(); ++i) {
-      if (near[i]) {
-        ++t.near;
-        continue;
-      }
-      ++t.skipped;
-      cs[i]->evaluate(x.data(), g.data(), nullptr);
-      for (int r = 0; r < cs[i]->size(); ++r)
-        if (g[r] > -level) ++t.violated_skipped;
-    }
-  }
-  return t;
-}
-
 }  // namespace
 
 // With a level (the near-active rows a projection takes, polish.cpp): a row left out is at most
@@ -366,7 +335,7 @@ TEST(ProximityScreen, WithALevelLeavesOutOnlyRowsBelowIt) {
       for (const auto* list : {&pp.constraints, &pp.between}) {
         const auto cs = pair_rows(*list);
         const ProximityScreen screen(p, cs);
-        const Tally t = probe_level(p, cs, screen, level, 0.4, rng);
+        const Tally t = probe(p, cs, screen, 0.4, rng, level);
         EXPECT_EQ(t.violated_skipped, 0) << "norm " << (norm == Norm::Inf ? "inf" : "2") << ", level " << level;
         EXPECT_GT(t.skipped, 0) << "level " << level;
       }
@@ -382,7 +351,7 @@ TEST(ProximityScreen, WithALevelLeavesOutOnlyRowsBelowIt) {
       cs.push_back(scaled.back().get());
     }
     const ProximityScreen screen(p, cs);
-    through += probe_level(p, cs, screen, 0.3, 0.4, rng).violated_skipped;
+    through += probe(p, cs, screen, 0.4, rng, 0.3).violated_skipped;
   }
   EXPECT_GT(through, 0);
 }
