@@ -677,6 +677,18 @@ bool Search::resume(const std::string& dir, SearchRound& round) {
     plan.x.push_back(x);
     if (k < T) plan.u.push_back(u);
   }
+  // A plan that starts elsewhere (x0 moved since) or tubes this problem no longer admits (an eps
+  // not above a stated initial set's radius): not this problem's plan.
+  for (std::size_t i = 0; i < nominal.size(); ++i) {
+    const AgentSpec& a = pb_.agents[i];
+    const std::string defect = agent_defect_text(a);
+    if (nominal[i].x.empty() || nominal[i].x.front() != a.x0 || !defect.empty()) {
+      const std::string why = !defect.empty() ? a.name + "'s recorded tube: " + defect : a.name + "'s plan starts elsewhere than x0";
+      std::swap(pb_.agents, agents);
+      log("[search] --resume " + dir + ": " + why + ": planning afresh");
+      return false;
+    }
+  }
   const planning::MissionSchedule visits = planning::read_plan_visits(plan_file, pb_, T);
   const planning::RobustCheck check = T > 0 ? planning::check_robust(pb_, plan, visits) : planning::RobustCheck{};
   if (!check.passed) {

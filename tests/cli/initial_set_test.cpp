@@ -75,3 +75,21 @@ TEST(InitialSetRefused, ByATrackerWithoutTheCapability) {
 }
 
 }  // namespace
+
+// --resume from a solve whose x0 was elsewhere: the plan is not this problem's (its first state is
+// the old x0), so the search plans afresh instead of keeping controllers made around the old start.
+TEST(InitialSetResume, APlanFromAnotherStartIsNotKept) {
+  const fs::path out = fs::temp_directory_path() / ("marsyn_initial_set_moved_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  const std::string cfg = write_temp("initial_set_before.yaml", pendulum("funnel", "[0.05, 0.05]"));
+  ASSERT_EQ(run_marsyn("solve " + cfg + " --runs 20 --out " + out.string()).code, 0);
+  std::string moved = pendulum("funnel", "[0.05, 0.05]");
+  moved.replace(moved.find("center: [0, 0]"), 14, "center: [0.02, 0]");
+  const fs::path again = out.string() + "_moved";
+  const auto r = run_marsyn("solve " + write_temp("initial_set_moved.yaml", moved) + " --resume " + out.string() +
+                            " --runs 20 --out " + again.string());
+  EXPECT_NE(r.err.find("pendulum's plan starts elsewhere than x0: planning afresh"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("status        VERIFIED"), std::string::npos) << r.out;
+  fs::remove_all(out);
+  fs::remove_all(again);
+}

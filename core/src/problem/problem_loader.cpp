@@ -225,19 +225,27 @@ void read_agent(const Field& af, std::size_t idx, LoadedProblem& out, AgentsRead
   pb.agents.push_back(std::move(a));
 }
 
-// The planner's memory against the budget: the horizon is blamed when a horizon of 1000 steps
-// would fit, the agent count otherwise.
-void check_planning_memory(const Field& top, LoadedProblem& out, const Planner& planner) {
+// The planners' memory against the budget (the main one's and a warm start's, which runs on the
+// whole problem first: the larger): the horizon is blamed when a horizon of 1000 steps would
+// fit, the agent count otherwise.
+void check_planning_memory(const Field& top, LoadedProblem& out, const std::vector<std::shared_ptr<const Planner>>& planners) {
   const Problem& pb = out.problem;
   const double budget = out.memory_budget.bytes;
   const std::string& source = out.memory_budget.source;
-  MemoryEstimate e = planner_memory(pb);
-  out.plan_memory_source = "core's estimate for any planner";
-  if (const std::optional<PlannerMemory> own = planner.memory(pb)) {
-    e = {own->bytes, own->detail};
-    out.plan_memory_source = planner.name() + "'s own estimate";
+  out.plan_memory = {};
+  for (const auto& planner : planners) {
+    MemoryEstimate e = planner_memory(pb);
+    std::string whose = "core's estimate for any planner (" + planner->name() + ")";
+    if (const std::optional<PlannerMemory> own = planner->memory(pb)) {
+      e = {own->bytes, own->detail};
+      whose = planner->name() + "'s own estimate";
+    }
+    if (!(e.bytes <= out.plan_memory.bytes)) {
+      out.plan_memory = e;
+      out.plan_memory_source = whose;
+    }
   }
-  out.plan_memory = e;
+  const MemoryEstimate& e = out.plan_memory;
   if (!(e.bytes <= budget)) {
     const bool pairs = e.bytes / (pb.horizon + 1.0) * 1001 > budget;
     (pairs ? top.child("agents") : top.child("horizon"))
@@ -250,9 +258,9 @@ void check_planning_memory(const Field& top, LoadedProblem& out, const Planner& 
 // Planner: the default when absent; always checked against the installed plugins so that a
 // typo fails here rather than after minutes of work. (Trackers: per agent.) Then
 // planner.warm_start: a planner whose plan starts the main one (docs/planning.md, chains).
-std::shared_ptr<const Planner> read_planners(const Field& top, const std::string& path, LoadedProblem& out) {
+std::vector<std::shared_ptr<const Planner>> read_planners(const Field& top, const std::string& path, LoadedProblem& out) {
   Problem& pb = out.problem;
-  std::shared_ptr<const Planner> planner;
+  std::vector<std::shared_ptr<const Planner>> planners;
   {
     Field f = top.child("planner");
     if (!f.present() && !out.registry->find("planner", kDefaultPlanner))
@@ -264,16 +272,18 @@ std::shared_ptr<const Planner> read_planners(const Field& top, const std::string
                                                Field(YAML::Node(), path, "planner.params")};
     pb.planner.name = pf.name;
     auto made = create_plugin<Planner>(*out.registry, pf);
-    planner = std::move(made.first);
+    planners.push_back(std::move(made.first));
     pb.planner.params = std::move(made.second);
   }
   if (Field p = top.child("planner"); p.present() && !p.is_scalar())
     if (Field w = p.child("warm_start"); w.present()) {
       const PluginField wf = read_plugin_field(w, "name");
       pb.warm_start_planner.name = wf.name;
-      pb.warm_start_planner.params = create_plugin<Planner>(*out.registry, wf).second;
+      auto made = create_plugin<Planner>(*out.registry, wf);
+      planners.push_back(std::move(made.first));
+      pb.warm_start_planner.params = std::move(made.second);
     }
-  return planner;
+  return planners;
 }
 
 }  // namespace
@@ -342,7 +352,7 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
   check_teams(pb, r.stage_fields);
   read_stage_obstacles(pb, r.stage_fields, top.child("obstacles"));
   check_start_geometry(pb, r.x0_fields);
-  check_planning_memory(top, out, *read_planners(top, path, out));
+  check_planning_memory(top, out, read_planners(top, path, out));
   if (Field f = top.child("collision"); f.present()) read_collision(f, out);
   return out;
 }

@@ -1,5 +1,6 @@
 #include "marsyn/core/tracking/global_abcd.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -95,6 +96,9 @@ GlobalAbcdRun run_global_abcd(const Problem& pb, const Tracker& tracker, int thr
     for (std::size_t i = 0; i < pb.agents.size(); ++i) x0.segment(layout.state[i], pb.agents[i].n()) = pb.agents[i].x0;
     run.initial_state_winning = r.controller->input(x0.data(), 0, u.data()) == ControlStatus::Ok;
     run.status = run.initial_state_winning ? "controller: x0 winning" : "controller, but x0 is not winning";
+    // A baseline for comparison, never a deployed controller: it judges the point x0 alone.
+    if (std::any_of(pb.agents.begin(), pb.agents.end(), [](const AgentSpec& a) { return a.x0_radius.size() > 0; }))
+      run.status += " (the baseline tests x0 alone, not the stated initial sets)";
   } else {
     run.status = std::string(to_string(r.status)) + (r.message.empty() ? "" : ": " + r.message);
   }

@@ -40,20 +40,23 @@ Problem team(int N, double side, Norm norm, std::mt19937& rng) {
   return p;
 }
 
-// The same constraint with its reach scaled: what a too-small reach would let through.
+// The same constraint with its reach (and its decay rate) scaled: what a too-small reach, or a
+// rate too high (which widens a level's screen too little), would let through.
 class ScaledReach final : public Constraint {
  public:
-  ScaledReach(const Constraint& c, double s) : c_(c), s_(s) {}
+  ScaledReach(const Constraint& c, double s, double decay = 1.0) : c_(c), s_(s), decay_(decay) {}
   std::string name() const override { return c_.name(); }
   int size() const override { return c_.size(); }
   ConstraintStage stage() const override { return c_.stage(); }
   const std::vector<int>& support() const override { return c_.support(); }
   void evaluate(const double* x, double* g, double* jac) const override { c_.evaluate(x, g, jac); }
   double pair_reach() const override { return s_ * c_.pair_reach(); }
+  bool clear_outside(double lo[2], double hi[2]) const override { return c_.clear_outside(lo, hi); }
+  double reach_decay() const override { return decay_ * c_.reach_decay(); }
 
  private:
   const Constraint& c_;
-  double s_;
+  double s_, decay_;
 };
 
 // The screen's list as one flag per constraint; the list must be strictly increasing (the order
@@ -301,28 +304,6 @@ TEST(ProximityScreen, KeptBuffersGiveTheListsOfFreshOnes) {
   EXPECT_GT(near_pairs, 200) << "the walk should keep some pairs within reach";
 }
 
-namespace {
-
-// The same constraint with its decay rate scaled (a rate too high widens too little).
-class ScaledDecay final : public Constraint {
- public:
-  ScaledDecay(const Constraint& c, double s) : c_(c), s_(s) {}
-  std::string name() const override { return c_.name(); }
-  int size() const override { return c_.size(); }
-  ConstraintStage stage() const override { return c_.stage(); }
-  const std::vector<int>& support() const override { return c_.support(); }
-  void evaluate(const double* x, double* g, double* jac) const override { c_.evaluate(x, g, jac); }
-  double pair_reach() const override { return c_.pair_reach(); }
-  bool clear_outside(double lo[2], double hi[2]) const override { return c_.clear_outside(lo, hi); }
-  double reach_decay() const override { return s_ * c_.reach_decay(); }
-
- private:
-  const Constraint& c_;
-  double s_;
-};
-
-}  // namespace
-
 // With a level (the near-active rows a projection takes, polish.cpp): a row left out is at most
 // -level, for pairs and obstacles, both norms, at the knots and between them; the lists still
 // leave rows out; a decay rate 10 % too high lets near-active rows through, so this can fail.
@@ -347,7 +328,7 @@ TEST(ProximityScreen, WithALevelLeavesOutOnlyRowsBelowIt) {
     std::vector<std::unique_ptr<Constraint>> scaled;
     std::vector<const Constraint*> cs;
     for (const auto* c : pair_rows(pp.constraints)) {
-      scaled.push_back(std::make_unique<ScaledDecay>(*c, 1.1));
+      scaled.push_back(std::make_unique<ScaledReach>(*c, 1.0, 1.1));
       cs.push_back(scaled.back().get());
     }
     const ProximityScreen screen(p, cs);

@@ -135,8 +135,9 @@ TrackerAssessment AbcdTracker::assess(const AgentSpec& a, const AssessRequest& r
                   std::string(a.x0_half(i) > 0 ? "the grid cells of the initial set x0 +- x0_radius" : "x0's grid cell") +
                       " [" + number_text(cell.lo) + ", " + number_text(cell.hi) + "] in '" + names[i] +
                       "' does not fit inside the tube [x0 - eps, x0 + eps] = [" + number_text(a.x0[i] - a.tube.eps[i]) +
-                      ", " + number_text(a.x0[i] + a.tube.eps[i]) + "]; choose eta_x <= eps (" +
-                      number_text(a.tube.eps[i]) + ")");
+                      ", " + number_text(a.x0[i] + a.tube.eps[i]) + "]; " +
+                      (a.x0_half(i) > 0 ? "choose eta_x well below eps - x0_radius (" + number_text(a.tube.eps[i] - a.x0_half(i)) + ")"
+                                        : "choose eta_x <= eps (" + number_text(a.tube.eps[i]) + ")"));
   }
   for (int i = 0; i < n; ++i) {
     const double cells = (a.state_bounds.hi[i] - a.state_bounds.lo[i]) / eta_x[i];

@@ -48,6 +48,8 @@ std::string check_track(const TrackingProblem& p, UniformGrid& g, InputGrid& ug)
                                      {&eta_u, m, "eta_u", true}});
       !e.empty())
     return e;
+  if (p.initial_radius.size() != 0 && p.initial_radius.size() != n)
+    return "the stated initial set has " + std::to_string(p.initial_radius.size()) + " half-widths, expected " + std::to_string(n);
   if (p.state_bounds.lo.size() != n) return "state bounds have the wrong dimension";
   if (p.input_bounds.lo.size() != m || p.input_bounds.hi.size() != m) return "input bounds have the wrong dimension";
   if (!(p.tau > 0)) return "tau must be positive";
@@ -275,7 +277,8 @@ TrackResult finish_track(const TrackingProblem& p, int k, ControllerData d, cons
   fig.initial_state_winning = k < 0 && ctl.winning(p.nominal.x[0].data(), 0);
   // A stated initial set: every cell it meets must be winning at step 0 (its box rounded outward).
   std::int64_t initial_losing = 0;
-  if (fig.initial_state_winning && p.initial_radius.size() > 0) {
+  const bool stated = p.initial_radius.size() > 0;
+  if (fig.initial_state_winning && stated) {
     const int n = static_cast<int>(p.nominal.x[0].size());
     std::vector<double> lo(n), hi(n);
     for (int i = 0; i < n; ++i) {
@@ -297,7 +300,7 @@ TrackResult finish_track(const TrackingProblem& p, int k, ControllerData d, cons
   if (fig.initial_state_winning) {
     r.status = TrackerStatus::ControllerFound;
     r.controller = std::make_shared<GridController>(std::move(ctl));
-    r.message = "agent " + p.agent + ": x_0's cell is winning";
+    r.message = "agent " + p.agent + (stated ? ": every cell of the stated initial set is winning" : ": x_0's cell is winning");
   } else {
     r.status = TrackerStatus::NoController;
     r.message = "agent " + p.agent +

@@ -275,26 +275,35 @@ TEST(Synthesis, EveryCellOfAStatedInitialSetIsWinning) {
   EXPECT_NE(rim.message.find("cell(s) of the stated initial set (x0 +- x0_radius) are not winning"), std::string::npos) << rim.message;
 }
 
-// losing_in_box counts what a brute force over the box's cells counts (cell centres and the
-// box's own corners, each located by the controller).
+// losing_in_box counts what a brute force counts: every cell [o + i eta, o + (i + 1) eta] that
+// overlaps the box (by the cells' own bounds, not the quantizer), one further cell tried on every
+// side, judged at its centre. An enumeration one cell short on any side differs here.
 TEST(Synthesis, LosingCellsOfABoxAreCountedExactly) {
   const auto& a = agent("drone");
   auto* c = dynamic_cast<const GridController*>(a.result.controller.get());
   ASSERT_TRUE(c);
   const auto& eta = c->grid().eta();
+  const auto& origin = c->grid().origin();
   const Eigen::VectorXd& x0 = a.problem.nominal.x[0];
   for (const double scale : {0.3, 0.7, 0.95}) {
     std::vector<double> lo(3), hi(3);
     for (int i = 0; i < 3; ++i) lo[i] = x0[i] - scale * a.problem.tube.eps[i], hi[i] = x0[i] + scale * a.problem.tube.eps[i];
     std::int64_t brute = 0;
     std::int64_t first[3], last[3];
-    for (int i = 0; i < 3; ++i) first[i] = c->grid().index(i, lo[i]), last[i] = c->grid().index(i, hi[i]);
+    for (int d = 0; d < 3; ++d) {
+      first[d] = static_cast<std::int64_t>((lo[d] - origin[d]) / eta[d]) - 2;
+      last[d] = static_cast<std::int64_t>((hi[d] - origin[d]) / eta[d]) + 2;
+    }
+    const auto overlaps = [&](int d, std::int64_t i) {
+      return origin[d] + static_cast<double>(i) * eta[d] < hi[d] && origin[d] + static_cast<double>(i + 1) * eta[d] > lo[d];
+    };
     for (std::int64_t i = first[0]; i <= last[0]; ++i)
       for (std::int64_t j = first[1]; j <= last[1]; ++j)
         for (std::int64_t k = first[2]; k <= last[2]; ++k) {
+          if (!overlaps(0, i) || !overlaps(1, j) || !overlaps(2, k)) continue;
           const std::int64_t idx[3] = {i, j, k};
           double centre[3];
-          for (int d = 0; d < 3; ++d) centre[d] = c->grid().origin()[d] + (static_cast<double>(idx[d]) + 0.5) * eta[d];
+          for (int d = 0; d < 3; ++d) centre[d] = origin[d] + (static_cast<double>(idx[d]) + 0.5) * eta[d];
           brute += c->winning(centre, 0) ? 0 : 1;
         }
     EXPECT_EQ(c->losing_in_box(lo.data(), hi.data(), 0), brute) << "scale " << scale;

@@ -26,9 +26,10 @@ struct LoadedProblem {
   // stages after it (solve, track) judge theirs against the same value.
   MemoryBudget memory_budget;
   // The plan's memory at the file's horizon: the planner's own figure (Planner::memory), else
-  // core's conservative one (planner_memory); the loader refused the file when it exceeds the budget.
+  // core's conservative one (planner_memory); with a warm start, the larger of the two planners'.
+  // The loader refused the file when it exceeds the budget.
   MemoryEstimate plan_memory;
-  std::string plan_memory_source;  // whose figure: "altro's", "core's (dense rows)"
+  std::string plan_memory_source;  // whose figure: "altro's own estimate", "core's estimate for any planner (ipopt)"
   // Per agent: whether eps and which trackers' fields (abcd's grid) the file leaves to marsyn
   // (`auto`, docs/parameters.md), and the owners' rule for those fields.
   std::vector<AutoTube> auto_tube;
