@@ -650,12 +650,15 @@ bool Search::resume(const std::string& dir, SearchRound& round) {
       a.tube.eps[c] = e[c].get<double>();
     }
     // A controller made for another initial set may not accept this one's starts: tracked again.
-    std::vector<double> recorded(static_cast<std::size_t>(a.n()), 0.0), stated(recorded);
-    if (rec->contains("x0_radius") && (*rec)["x0_radius"].is_array() && static_cast<int>((*rec)["x0_radius"].size()) == a.n())
-      for (int c = 0; c < a.n(); ++c)
-        recorded[static_cast<std::size_t>(c)] = (*rec)["x0_radius"][static_cast<std::size_t>(c)].is_number() ? (*rec)["x0_radius"][static_cast<std::size_t>(c)].get<double>() : -1.0;
-    for (int c = 0; c < a.n(); ++c) stated[static_cast<std::size_t>(c)] = a.x0_half(c);
-    same_start[static_cast<std::size_t>(&a - agents.data())] = recorded == stated;
+    // No list of n entries: a point start (zeros); an entry that is not a number matches nothing.
+    const nlohmann::json radius = rec->value("x0_radius", nlohmann::json());
+    const bool listed = radius.is_array() && static_cast<int>(radius.size()) == a.n();
+    bool same = true;
+    for (int c = 0; c < a.n(); ++c) {
+      const nlohmann::json* r = listed ? &radius[static_cast<std::size_t>(c)] : nullptr;
+      same = same && (r ? (r->is_number() ? r->get<double>() : -1.0) : 0.0) == a.x0_half(c);
+    }
+    same_start[static_cast<std::size_t>(&a - agents.data())] = same;
   }
   std::swap(pb_.agents, agents);  // the plan is read and checked with the recorded tubes
   std::vector<NominalTrajectory> nominal;

@@ -234,12 +234,9 @@ void check_planning_memory(const Field& top, LoadedProblem& out, const std::vect
   const std::string& source = out.memory_budget.source;
   out.plan_memory = {};
   for (const auto& planner : planners) {
-    MemoryEstimate e = planner_memory(pb);
-    std::string whose = "core's estimate for any planner (" + planner->name() + ")";
-    if (const std::optional<PlannerMemory> own = planner->memory(pb)) {
-      e = {own->bytes, own->detail};
-      whose = planner->name() + "'s own estimate";
-    }
+    const std::optional<PlannerMemory> own = planner->memory(pb);
+    const MemoryEstimate e = own ? MemoryEstimate{own->bytes, own->detail} : planner_memory(pb);
+    const std::string whose = own ? planner->name() + "'s own estimate" : "core's estimate for any planner (" + planner->name() + ")";
     if (!(e.bytes <= out.plan_memory.bytes)) {
       out.plan_memory = e;
       out.plan_memory_source = whose;

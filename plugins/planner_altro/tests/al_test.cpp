@@ -370,6 +370,15 @@ TEST(AugmentedLagrangian, VisitsTheMissionStagesAtTheirKnots) {
 
 namespace {
 
+// A plan given up on: the unicycle driving straight at speed v for the whole horizon.
+PlanResult given_up_driving(const PlanningProblem& p, double v) {
+  PlanResult out;
+  out.status = PlannerStatus::Infeasible;
+  out.plan.tau = p.problem->tau;
+  out.plan.u.assign(p.horizon, Eigen::Vector2d(v, 0.0));
+  return out;
+}
+
 // Gives up on its first call a little short of the goal (driving straight at `speed` for the
 // whole horizon), then answers as altro does: what the plan search does with a near miss.
 class GivesUpShort : public Planner {
@@ -380,11 +389,7 @@ class GivesUpShort : public Planner {
     horizons.push_back(p.horizon);
     warm.push_back(p.warm_start);
     if (horizons.size() > 1) return altro::solve(p, r, altro::Options{});
-    PlanResult out;
-    out.status = PlannerStatus::Infeasible;
-    out.plan.tau = p.problem->tau;
-    out.plan.u.assign(p.horizon, Eigen::Vector2d(speed_, 0.0));
-    return out;
+    return given_up_driving(p, speed_);
   }
   mutable std::vector<int> horizons;
   mutable std::vector<std::optional<GlobalPlan>> warm;
@@ -459,12 +464,7 @@ class Scripted : public Planner {
     int routed = 0;
     for (const auto& w : p.waypoints) routed += w.follow > 1.0;
     route_waypoints.push_back(routed);
-    const double v = speeds_[std::min(route_waypoints.size() - 1, speeds_.size() - 1)];
-    PlanResult out;
-    out.status = PlannerStatus::Infeasible;
-    out.plan.tau = p.problem->tau;
-    out.plan.u.assign(p.horizon, Eigen::Vector2d(v, 0.0));
-    return out;
+    return given_up_driving(p, speeds_[std::min(route_waypoints.size() - 1, speeds_.size() - 1)]);
   }
   mutable std::vector<int> route_waypoints;
 

@@ -110,6 +110,22 @@ Tally probe(const Problem& p, const std::vector<const Constraint*>& cs, const Pr
   return t;
 }
 
+// Each constraint of `cs` wrapped by `wrap` (a mutation of its reach, box or rate), kept alive
+// beside the list a screen is built over.
+struct Wrapped {
+  std::vector<std::unique_ptr<Constraint>> owned;
+  std::vector<const Constraint*> list;
+};
+template <class Wrap>
+Wrapped wrapped(const std::vector<const Constraint*>& cs, Wrap wrap) {
+  Wrapped w;
+  for (const auto* c : cs) {
+    w.owned.push_back(wrap(*c));
+    w.list.push_back(w.owned.back().get());
+  }
+  return w;
+}
+
 std::vector<const Constraint*> pair_rows(const std::vector<std::shared_ptr<const Constraint>>& list) {
   std::vector<const Constraint*> cs;
   for (const auto& c : list)
@@ -141,15 +157,9 @@ TEST(ProximityScreen, AShrunkReachLetsViolatedRowsThrough) {
   for (Norm norm : {Norm::Inf, Norm::Two}) {
     const Problem p = team(14, 4.0, norm, rng);
     const auto pp = planning::assemble(p, p.horizon);
-    const auto cs = pair_rows(pp.constraints);
-    std::vector<std::unique_ptr<ScaledReach>> scaled;
-    std::vector<const Constraint*> shrunk;
-    for (const auto* c : cs) {
-      scaled.push_back(std::make_unique<ScaledReach>(*c, 0.9));
-      shrunk.push_back(scaled.back().get());
-    }
-    const ProximityScreen screen(p, shrunk);
-    EXPECT_GT(probe(p, shrunk, screen, 0.4, rng).violated_skipped, 0) << "norm " << (norm == Norm::Inf ? "inf" : "2");
+    const Wrapped shrunk = wrapped(pair_rows(pp.constraints), [](const Constraint& c) { return std::make_unique<ScaledReach>(c, 0.9); });
+    const ProximityScreen screen(p, shrunk.list);
+    EXPECT_GT(probe(p, shrunk.list, screen, 0.4, rng).violated_skipped, 0) << "norm " << (norm == Norm::Inf ? "inf" : "2");
   }
 }
 
@@ -229,14 +239,9 @@ TEST(ProximityScreen, AShrunkObstacleBoxLetsViolatedRowsThrough) {
   for (Norm norm : {Norm::Inf, Norm::Two}) {
     const Problem p = team_among_obstacles(10, 4.0, norm, rng);
     const auto pp = planning::assemble(p, p.horizon);
-    std::vector<std::unique_ptr<Constraint>> shrunk_rows;
-    std::vector<const Constraint*> shrunk;
-    for (const auto* c : obstacle_rows(pp.constraints)) {
-      shrunk_rows.push_back(std::make_unique<ShrunkBox>(*c));
-      shrunk.push_back(shrunk_rows.back().get());
-    }
-    const ProximityScreen screen(p, shrunk);
-    violated += probe(p, shrunk, screen, 0.4, rng).violated_skipped;
+    const Wrapped shrunk = wrapped(obstacle_rows(pp.constraints), [](const Constraint& c) { return std::make_unique<ShrunkBox>(c); });
+    const ProximityScreen screen(p, shrunk.list);
+    violated += probe(p, shrunk.list, screen, 0.4, rng).violated_skipped;
   }
   EXPECT_GT(violated, 0);
 }
@@ -325,14 +330,9 @@ TEST(ProximityScreen, WithALevelLeavesOutOnlyRowsBelowIt) {
   for (Norm norm : {Norm::Inf, Norm::Two}) {
     const Problem p = team_among_obstacles(12, 4.0, norm, rng);
     const auto pp = planning::assemble(p, p.horizon);
-    std::vector<std::unique_ptr<Constraint>> scaled;
-    std::vector<const Constraint*> cs;
-    for (const auto* c : pair_rows(pp.constraints)) {
-      scaled.push_back(std::make_unique<ScaledReach>(*c, 1.0, 1.1));
-      cs.push_back(scaled.back().get());
-    }
-    const ProximityScreen screen(p, cs);
-    through += probe(p, cs, screen, 0.4, rng, 0.3).violated_skipped;
+    const Wrapped fast = wrapped(pair_rows(pp.constraints), [](const Constraint& c) { return std::make_unique<ScaledReach>(c, 1.0, 1.1); });
+    const ProximityScreen screen(p, fast.list);
+    through += probe(p, fast.list, screen, 0.4, rng, 0.3).violated_skipped;
   }
   EXPECT_GT(through, 0);
 }

@@ -129,7 +129,7 @@ TrackerAssessment FunnelTracker::assess(const AgentSpec& a, int horizon, double 
   }
   const Eigen::VectorXd r0 = initial_box(a.tube.eps, a.x0_radius);
   for (int i = 0; i < n; ++i) {
-    if (!s_.initial_radius.empty() && !(s_.initial_radius[i] >= a.x0_half(i))) {
+    if (i == uncovered_coordinate(a.x0_radius)) {
       r.ok = false;
       r.field = "initial_radius";
       r.coordinate = i;
@@ -219,6 +219,13 @@ bool FunnelTracker::apply_lever(const std::string& name, const TrackFailure& fai
     return true;
   }
   return name == "refine" && refine(a);
+}
+
+int FunnelTracker::uncovered_coordinate(const Eigen::VectorXd& stated) const {
+  if (s_.initial_radius.empty()) return -1;
+  for (Eigen::Index i = 0; i < stated.size() && i < static_cast<Eigen::Index>(s_.initial_radius.size()); ++i)
+    if (!(s_.initial_radius[static_cast<std::size_t>(i)] >= stated[i])) return static_cast<int>(i);
+  return -1;
 }
 
 Eigen::VectorXd FunnelTracker::initial_box(const Eigen::VectorXd& eps, const Eigen::VectorXd& stated) const {
@@ -424,13 +431,12 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
     res.message = "the stated initial set has " + std::to_string(p.initial_radius.size()) + " half-widths, expected " + std::to_string(n);
     return res;
   }
-  for (int i = 0; i < p.initial_radius.size(); ++i)
-    if (!s_.initial_radius.empty() && !(s_.initial_radius[static_cast<std::size_t>(i)] >= p.initial_radius[i])) {
-      res.message = "initial_radius " + number_text(s_.initial_radius[static_cast<std::size_t>(i)]) +
-                    " does not hold the stated initial set (x0_radius " + number_text(p.initial_radius[i]) + ") in coordinate " +
-                    std::to_string(i);
-      return res;
-    }
+  if (const int i = uncovered_coordinate(p.initial_radius); i >= 0) {
+    res.message = "initial_radius " + number_text(s_.initial_radius[static_cast<std::size_t>(i)]) +
+                  " does not hold the stated initial set (x0_radius " + number_text(p.initial_radius[i]) + ") in coordinate " +
+                  std::to_string(i);
+    return res;
+  }
   const Search found = search(p);
   const VerifyOutcome& best = found.best;
   const int best_order = found.order, weight_choices = found.weight_choices;

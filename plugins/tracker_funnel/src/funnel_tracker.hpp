@@ -65,6 +65,9 @@ class FunnelTracker : public marsyn::Tracker {
   // The initial box's half-widths: the knob initial_radius when given (it must hold a stated
   // initial set), else the stated set (TrackingProblem::initial_radius), else initial_fraction eps.
   Eigen::VectorXd initial_box(const Eigen::VectorXd& eps, const Eigen::VectorXd& stated) const;
+  // The first coordinate in which the knob initial_radius, when given, is narrower than the
+  // stated initial set (which it may only widen), or -1.
+  int uncovered_coordinate(const Eigen::VectorXd& stated) const;
   VerifyOptions verify_options(const Eigen::VectorXd& eps, const Eigen::VectorXd& stated) const;
   struct Search {
     VerifyOutcome best;
