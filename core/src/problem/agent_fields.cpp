@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 #include "field_text.hpp"
 #include "marsyn/core/problem/agent_checks.hpp"
@@ -40,6 +41,23 @@ Box read_box(const Field& f, int n, const std::string& why) {
   return b;
 }
 
+// One entry of `position`: a state index (0-based) or a state's name, as `marsyn plugins` and
+// the equations list them.
+static int position_index(const Field& e, const Dynamics& dyn) {
+  const int n = dyn.state_dim();
+  const auto names = dyn.state_names();
+  const std::string expected = "expected a state index in [0, " + std::to_string(n - 1) + "] or a state name (the dynamics '" +
+                               dyn.type() + "' has the states " + join(names) + ") or null";
+  if (!e.is_scalar()) e.fail(expected);
+  const std::string text = e.text();
+  for (int i = 0; i < n; ++i)
+    if (names[static_cast<std::size_t>(i)] == text) return i;
+  char* end = nullptr;
+  const long i = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || i < 0 || i >= n) e.fail(expected);
+  return static_cast<int>(i);
+}
+
 Workspace read_workspace(const Field& f, const Dynamics& dyn) {
   f.expect_map();
   f.allow_only({"position", "offset", "footprint"});
@@ -59,8 +77,8 @@ Workspace read_workspace(const Field& f, const Dynamics& dyn) {
   }
   Field pos = f.required("position");
   if (!pos.is_sequence() || (pos.size() != 2 && pos.size() != 3))
-    pos.fail("expected 2 entries [x_index, y_index] (the plane) or 3 [x_index, y_index, z_index] (space): state "
-             "indices (0-based) or null for a fixed coordinate");
+    pos.fail("expected 2 entries [x, y] (the plane) or 3 [x, y, z] (space): state indices (0-based) or names, "
+             "or null for a fixed coordinate");
   const std::size_t D = pos.size();
   ws.index.assign(D, 0);
   ws.offset.assign(D, 0.0);
@@ -70,11 +88,7 @@ Workspace read_workspace(const Field& f, const Dynamics& dyn) {
       ws.index[c] = -1;
       continue;
     }
-    const long i = e.integer();
-    if (i < 0 || i >= n)
-      e.fail("expected a state index in [0, " + std::to_string(n - 1) + "] (the dynamics '" + dyn.type() +
-             "' has " + std::to_string(n) + " states) or null");
-    ws.index[c] = static_cast<int>(i);
+    ws.index[c] = position_index(e, dyn);
   }
   if (f.child("offset").present()) {
     const Eigen::VectorXd o = f.child("offset").vector(static_cast<int>(D), D == 2 ? "a point in the plane" : "a point in space (as many entries as position)");
