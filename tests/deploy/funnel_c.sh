@@ -16,8 +16,10 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 "$marsyn" export "$dir/bicycles" --format c --out "$dir/c" > "$dir/export.txt" || fail "export --format c of a solve folder"
 grep -q "const data (flash) [0-9]* bytes in 4 controllers" "$dir/export.txt" || fail "no flash size: $(cat "$dir/export.txt")"
 "$marsyn" export "$dir/bicycles/east.ctrl" --format c --prefix bicycle --out "$dir/east" > /dev/null || fail "export --prefix"
-# The header says what the monitor's 1 means for a funnel (issue 52): not "safe from here".
-grep -q "not that the guarantee holds from any state of V_k" "$dir/east/bicycle.h" || fail "the monitor's meaning is not in the header"
+# The header says what the monitor's 1 means (issue 52): the guarantee from x, from the step its
+# sets are invariant; the bicycles' are invariant at every step.
+grep -q "a 1 means the guarantee holds from x" "$dir/east/bicycle.h" || fail "the monitor's meaning is not in the header"
+grep -q "^#define BICYCLE_INVARIANT_FROM 0 " "$dir/east/bicycle.h" || fail "the bicycle's sets are not invariant from step 0: $(grep INVARIANT_FROM "$dir/east/bicycle.h")"
 "$cc" -std=c99 -Wall -Wextra -Werror -pedantic -Wconversion -O2 -I "$dir/east" "$src/examples/deploy_c/bicycle_closed_loop.c" \
   "$dir/east/bicycle.c" -lm -o "$dir/closed_loop" || fail "the closed-loop example does not build"
 for seed in 1 2 3; do

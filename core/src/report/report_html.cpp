@@ -82,10 +82,13 @@ table($('t2'), ['T_plan [s]', 'N_l', 'T_abs [s]', 'T_syn [s]', 'N_g', 'global AB
   [[fmt((R.plan || {}).time_s, 2), fmt(maxBy(a => a.tracker && a.tracker.state_input_pairs), 0),
     fmt(maxBy(a => a.tracker && a.tracker.abstraction_time_s), 2), fmt(maxBy(a => a.tracker && a.tracker.synthesis_time_s), 2),
     fmt(g.state_input_pairs, 0), g.status || '-']]);
-table($('ag'), ['agent', 'tracker', 'status', 'N_l', 'boxes', 'abs [s]', 'syn [s]', 'memory [MB]', 'start covered'],
+// From which step the controller's acceptance means "safe from here" (its sets invariant).
+const safeFrom = t => t.invariant_from === undefined ? '-' : t.invariant_from === 0 ? 'every step' :
+  t.invariant_from <= ((R.plan || {}).horizon || Infinity) ? 'from step ' + t.invariant_from : 'no';
+table($('ag'), ['agent', 'tracker', 'status', 'N_l', 'boxes', 'abs [s]', 'syn [s]', 'memory [MB]', 'start covered', 'safe from any accepted state'],
   ags.map(a => { const t = a.tracker || {}; return [a.name + (a.x0_radius ? '<br><span class="muted" style="white-space:nowrap">x0 &plusmn; (' + a.x0_radius.map(r => String(+r.toPrecision(3))).join(', ') + ')</span>' : ''), esc(t.name || '-') + (t.chosen === 'auto' ? ' <span class="muted">(auto)</span>' : ''),
     t.status, fmt(t.state_input_pairs, 0), fmt(t.boxes_computed, 0),
-    fmt(t.abstraction_time_s, 3), fmt(t.synthesis_time_s, 3), fmt((t.peak_memory_bytes || 0) / 1048576, 1), t.initial_state_winning ? 'yes' : 'no']; }));
+    fmt(t.abstraction_time_s, 3), fmt(t.synthesis_time_s, 3), fmt((t.peak_memory_bytes || 0) / 1048576, 1), t.initial_state_winning ? 'yes' : 'no', safeFrom(t)]; }));
 const v = R.verification || {}, ol = R.open_loop || {}, ce = R.certification || {}, pl = R.plan || {};
 const cpart = p => p ? mark(p.margin, fmt(p.margin)) + ' <span class="muted">' + p.where + ', k=' + p.step + '</span>' : '-';
 table($('cert'), ['', 'value'], [

@@ -68,10 +68,12 @@ void array_body_2d(std::ostream& o, long long rows, long long cols, F value) {
 
 // What one exported controller declares; `about` is the header's opening comment (without the
 // comment markers' first and last line), `horizon` is T (-1: time-invariant).
+// invariant_from: the first step from which every verified set is invariant (horizon + 1: none).
 struct CHeader {
   std::string prefix, about;
   int n = 0, m = 0, horizon = 0;
   double tau = 0.0;
+  int invariant_from = 0;
 };
 
 inline std::string header_text(const CHeader& h) {
@@ -88,12 +90,15 @@ inline std::string header_text(const CHeader& h) {
     << "/* The verified input for x at step k: " << P << "_OK (u written), " << P << "_OUTSIDE_DOMAIN or " << P
     << "_OUTSIDE_HORIZON. */\n"
     << "int " << h.prefix << "_input(const double *x, int k, double *u);\n"
-    << "/* Runtime monitor: 1 when x lies in the verified set of step k (0 <= k <= T), else 0. For a grid\n"
-    << " * (abcd) controller that is its winning set: the guarantee holds from x. For a funnel it is V_k,\n"
-    << " * the states reachable at step k from the initial set under W: a 1 says the run is consistent\n"
-    << " * with what was verified, not that the guarantee holds from any state of V_k (docs/deploy.md).\n"
+    << "/* Runtime monitor: 1 when x lies in the verified set V_k of step k (0 <= k <= T), else 0.\n"
+    << " * From step " << P << "_INVARIANT_FROM on, a 1 means the guarantee holds from x: V_k is invariant\n"
+    << " * (from every state it accepts, the closed loop reaches V_{k+1} under every disturbance in W and\n"
+    << " * stays in the verified enclosures between the samples). Before that step a 1 says only that\n"
+    << " * the run is consistent with what was verified from the initial set (docs/deploy.md).\n"
     << " * 0 means the robot has left what was verified (a sensor fault, a disturbance beyond W). */\n"
-    << "int " << h.prefix << "_inside(const double *x, int k);\n\n"
+    << "int " << h.prefix << "_inside(const double *x, int k);\n"
+    << "#define " << P << "_INVARIANT_FROM " << h.invariant_from << "  /* " << P
+    << "_HORIZON + 1: no step; 0: every step */\n\n"
     << "#ifdef __cplusplus\n}\n#endif\n\n#endif /* " << P << "_H_ */\n";
   return o.str();
 }

@@ -114,6 +114,7 @@ std::string serialize(const FunnelData& d) {
     p.reals(d.K[static_cast<std::size_t>(k)]);
   }
   binary::write_period_enclosures(p, d.enclosures, d.n);
+  p.u32(static_cast<std::uint32_t>(d.invariant_from));
   return binary::envelope(kMagic, kFormatVersion, p.bytes());
 }
 
@@ -122,8 +123,8 @@ FunnelData deserialize(const std::string& s, const std::string& what) {
   std::size_t begin = 0, end = 0;
   const std::uint32_t version = binary::open_envelope(s, kMagic, where, "a marsyn funnel controller", begin, end);
   binary::Reader r(s, begin, end, where);
-  if (version != kFormatVersion)
-    r.fail("format version " + std::to_string(version) + ", this reader understands " + std::to_string(kFormatVersion));
+  if (version != kFormatVersion && version != 1)
+    r.fail("format version " + std::to_string(version) + ", this reader understands " + "1 and " + std::to_string(kFormatVersion));
   FunnelData d;
   d.dynamics_type = r.str();
   d.agent = r.str();
@@ -175,6 +176,12 @@ FunnelData deserialize(const std::string& s, const std::string& what) {
     if (!finite_all(d.u_nom.back()) || !finite_all(d.K.back())) r.fail("step " + std::to_string(k) + ": non-finite gains");
   }
   d.enclosures = binary::read_period_enclosures(r, d.n, static_cast<int>(T));
+  d.invariant_from = static_cast<int>(T) + 1;
+  if (version >= 2) {
+    const std::uint32_t from = r.u32();
+    if (from > T + 1) r.fail("invariant_from " + std::to_string(from) + " beyond the horizon " + std::to_string(T));
+    d.invariant_from = static_cast<int>(from);
+  }
   if (!r.done()) r.fail("trailing bytes in the payload");
   return d;
 }

@@ -12,7 +12,7 @@
 // box lo[n], hi[n], u8 kind (0 box, 1 parallelotope, 2 zonotope); kind 1: c_k[n], S_k[n n]
 // row-major; kind 2: u32 p, c_k[n], G_k[n p] column-major, tol[n]; per step k < T: u_k[m],
 // K_k[m n] row-major; u32 enclosure count, each u32 step, f64 t0, t1, state lo[n], hi[n],
-// workspace lo[2], hi[2].
+// workspace lo[2], hi[2]. Format 2 appends u32 invariant_from (format 1 files read as T + 1).
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -22,7 +22,7 @@
 
 namespace marsyn::funnel {
 
-inline constexpr std::uint32_t kFormatVersion = 1;
+inline constexpr std::uint32_t kFormatVersion = 2;
 
 // How V_k is tested beyond its box: nothing more (the initial box), |fl(S (x - c))|_inf <= 1 (a
 // parallelotope), or a zonotope c + G xi: the membership solver's xi must leave a residual
@@ -48,6 +48,9 @@ struct FunnelData {
   std::vector<std::vector<double>> K;      // T, m x n row-major
   std::vector<StepSet> sets;               // T + 1
   std::vector<PeriodEnclosure> enclosures;
+  // From this step on, each V_k is invariant: every state it accepts has the guarantee from there
+  // (invariant_sets.hpp); before it, V_k only contains what the initial set reaches. T + 1: none.
+  int invariant_from = 0;
 
   int horizon() const { return static_cast<int>(u_nom.size()); }
 };

@@ -11,6 +11,7 @@
 #include <Eigen/SVD>
 
 #include "allowances.hpp"
+#include "invariant_sets.hpp"
 #include "marsyn/interval.hpp"
 #include "marsyn/number_text.hpp"
 #include "marsyn/period_part.hpp"
@@ -79,10 +80,12 @@ Fit certify_zonotope(const Zonotope& zend, int order) {
 // z: one zonotope containing the parts (their union's generators and centre offsets), for the
 // axes; the rows are scaled to the parts themselves.
 std::vector<Eigen::MatrixXd> candidate_shapes(const Zonotope& z, const std::vector<Zonotope>& parts,
-                                              const Eigen::MatrixXd* closed, const Eigen::MatrixXd* cost) {
+                                              const Eigen::MatrixXd* closed, const Eigen::MatrixXd* cost,
+                                              const Eigen::MatrixXd* basis = nullptr) {
   const int n = z.dim();
   std::vector<Eigen::MatrixXd> candidates, shapes;
   if (z.generators() < n) return shapes;  // degenerate (no disturbance and a flat set)
+  if (basis && basis->rows() == n && basis->cols() == n && basis->allFinite()) candidates.push_back(*basis);
   {
     Eigen::JacobiSVD<Eigen::MatrixXd> svd(z.G, Eigen::ComputeFullU);
     const auto& sv = svd.singularValues();
@@ -139,43 +142,26 @@ std::vector<Eigen::MatrixXd> candidate_shapes(const Zonotope& z, const std::vect
 // V = {x in box : |fl(S (x - c))|_inf <= 1}, with S rescaled until V contains every part
 // (checked in interval arithmetic, rounding of the evaluation included): part c_q + G_q xi
 // gives S_i (x - c) in S_i (c_q - c) + sum_l |S_i g_l| [-1, 1].
-Fit certify(const std::vector<Zonotope>& parts, const Eigen::VectorXd& c, Eigen::MatrixXd S, const std::vector<double>& lo,
+Fit certify(const std::vector<Zonotope>& parts, const Eigen::VectorXd& c, const Eigen::MatrixXd& S0, const std::vector<double>& lo,
             const std::vector<double>& hi) {
   Fit f;
   const int n = static_cast<int>(c.size());
-  std::vector<double> D(n);
-  for (int j = 0; j < n; ++j) D[j] = reach(lo[j], hi[j], c[j]);
-  const double kappa = rounding_factor(n);
-  std::vector<double> slack(n);  // rounding allowance of row i of the run-time test
+  StepSet t;
+  t.lo = lo;
+  t.hi = hi;
+  t.kind = kParallelotope;
+  t.c.assign(c.data(), c.data() + n);
+  t.S.resize(static_cast<std::size_t>(n) * n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) t.S[static_cast<std::size_t>(i) * n + j] = S0(i, j);
   for (int attempt = 0; attempt < 4; ++attempt) {
     bool inside = true;
     for (int i = 0; i < n; ++i) {
-      double bound = 0.0, round = 0.0;
-      for (const Zonotope& z : parts) {
-        double b = 0.0;
-        if (parts.size() > 1) {
-          FastInterval off(0.0);
-          for (int j = 0; j < n; ++j) off += fi(S(i, j)) * (fi(z.c[j]) - fi(c[j]));
-          b = mag(off);
-        }
-        for (int l = 0; l < z.generators(); ++l) {
-          FastInterval acc(0.0);
-          for (int j = 0; j < n; ++j) acc += fi(S(i, j)) * fi(z.G(j, l));
-          b = add_up(b, mag(acc));
-        }
-        bound = std::max(bound, b);
-      }
-      double meas = 0.0;
-      for (int j = 0; j < n; ++j) {
-        round = add_up(round, mul_up(std::fabs(S(i, j)), D[j]));
-        meas = add_up(meas, mul_up(std::fabs(S(i, j)), measured(lo[j], hi[j])));
-      }
-      slack[i] = add_up(add_up(mul_up(kappa, round), kTiny), meas);
-      const double need = add_up(bound, slack[i]);
+      const double need = parallelotope_row_need(t, i, parts, n);
       if (!std::isfinite(need)) return f;
       if (need > 1.0) {
         inside = false;
-        S.row(i) *= (1.0 / need) * (1 - 1e-12);
+        for (int j = 0; j < n; ++j) t.S[static_cast<std::size_t>(i) * n + j] *= (1.0 / need) * (1 - 1e-12);
       }
     }
     if (inside) {
@@ -184,12 +170,10 @@ Fit certify(const std::vector<Zonotope>& parts, const Eigen::VectorXd& c, Eigen:
     }
   }
   if (!f.ok) return f;
-  f.volume = std::fabs(S.partialPivLu().determinant());
+  const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> S(t.S.data(), n, n);
+  f.volume = std::fabs(Eigen::MatrixXd(S).partialPivLu().determinant());
   f.volume = f.volume > 0 ? 1.0 / f.volume : std::numeric_limits<double>::infinity();
-  f.S.resize(static_cast<std::size_t>(n) * n);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) f.S[static_cast<std::size_t>(i) * n + j] = S(i, j);
-  f.ok = true;
+  f.S = std::move(t.S);
   return f;
 }
 
@@ -233,7 +217,7 @@ Zonotope union_zonotope(const std::vector<Zonotope>& parts) {
 // (`centre`), so the controller's test stays one set per step.
 Fit verified_set(const std::vector<Zonotope>& parts, Eigen::VectorXd& centre, const std::vector<double>& lo,
                  const std::vector<double>& hi, const Eigen::MatrixXd* closed, const Eigen::MatrixXd* cost,
-                 const VerifyOptions& o) {
+                 const VerifyOptions& o, const Eigen::MatrixXd* basis = nullptr) {
   const Zonotope zend = union_zonotope(parts);
   centre = zend.c;
   const int n = zend.dim();
@@ -243,7 +227,7 @@ Fit verified_set(const std::vector<Zonotope>& parts, Eigen::VectorXd& centre, co
     if (high.ok) return high;
   }
   Fit best;
-  for (const Eigen::MatrixXd& S : candidate_shapes(zend, parts, closed, cost)) {
+  for (const Eigen::MatrixXd& S : candidate_shapes(zend, parts, closed, cost, basis)) {
     Fit c = certify(parts, centre, S, lo, hi);
     if (c.ok && (!best.ok || c.volume < best.volume)) best = std::move(c);
   }
@@ -300,32 +284,6 @@ bool initial_set(const TrackingProblem& p, const Eigen::VectorXd& radius, StepSe
   for (int i = 0; i < n; ++i) meas[i] = measured(s0.lo[i], s0.hi[i]);
   zx = from_intervals(c, IMatrix(n, 0), meas);
   return true;
-}
-
-// Between the samples of step k: the a priori boxes of the period, hulled part by part (and over
-// the periods of a split set's parts), with their workspace footprint.
-void append_period_enclosures(const std::vector<const FlowResult*>& frs, const TrackingProblem& p, int k, int parts, int spp,
-                              std::vector<PeriodEnclosure>& out) {
-  const int n = p.dynamics->state_dim(), wd = p.workspace.dim();
-  for (int part = 0; part < parts; ++part) {
-    PeriodEnclosure e = period_part(k, part, parts, p.tau, n, wd);
-    std::vector<Interval> xi(n);
-    for (int i = 0; i < n; ++i) {
-      FastInterval b = frs.front()->boxes[static_cast<std::size_t>(part * spp) * n + i];
-      for (const FlowResult* fr : frs)
-        for (int s = part * spp; s < (part + 1) * spp; ++s) b = marsyn::hull(b, fr->boxes[static_cast<std::size_t>(s) * n + i]);
-      e.state.lo[i] = b.lower();
-      e.state.hi[i] = b.upper();
-      xi[i] = Interval(b.lower(), b.upper());
-    }
-    Interval pw[kMaxWorkspaceDim];
-    workspace_point(*p.dynamics, p.workspace, xi.data(), pw);
-    for (int c = 0; c < wd; ++c) {
-      e.workspace.lo[c] = pw[c].lower();
-      e.workspace.hi[c] = pw[c].upper();
-    }
-    out.push_back(std::move(e));
-  }
 }
 
 // Whether the end enclosure of step k leaves box_{k+1}; if so, out says where, by how much and
@@ -407,9 +365,74 @@ std::string saturation_report(const VerifyOutcome& out, const TrackingProblem& p
 
 }  // namespace
 
+bool fit_parallelotope(const std::vector<Zonotope>& parts, StepSet& set, const Eigen::MatrixXd* closed, const Eigen::MatrixXd* basis,
+                       const VerifyOptions& o) {
+  VerifyOptions po = o;
+  po.zonotope_sets = false;
+  Eigen::VectorXd centre;
+  Fit fit = verified_set(parts, centre, set.lo, set.hi, closed, nullptr, po, basis);
+  if (!fit.ok || fit.kind != kParallelotope) return false;
+  set.kind = kParallelotope;
+  set.c.assign(centre.data(), centre.data() + centre.size());
+  set.S = std::move(fit.S);
+  set.generators = 0;
+  set.tol.clear();
+  return true;
+}
+
+bool fit_zonotope(const Zonotope& z, int order, StepSet& set) {
+  if (z.dim() > kMaxMembershipRows) return false;
+  Fit fit = certify_zonotope(z, order);
+  if (!fit.ok) return false;
+  set.kind = kZonotope;
+  set.c.assign(z.c.data(), z.c.data() + z.dim());  // a reduction keeps the centre
+  set.S = std::move(fit.S);
+  set.generators = fit.generators;
+  set.tol = std::move(fit.tol);
+  return true;
+}
+
+FlowOptions flow_options(const TrackingProblem& p, const VerifyOptions& o) {
+  FlowOptions flow = o.flow;
+  flow.tau = p.tau;
+  const int n = p.dynamics->state_dim(), N = n + p.dynamics->input_dim();
+  // The reachable set is carried with reach_order generators per state (the period adds n + m
+  // and reduces back): a reduction boxes generators, and boxing at every step makes a contracting
+  // closed loop's enclosure grow linearly (measured on the crane: to eps in 55 steps, against 0.3
+  // eps for the linearized closed loop; with 24 n generators it stays within 0.3-0.5 eps).
+  if (flow.max_generators <= 0) flow.max_generators = std::max(3 * N, std::max(o.reach_order, 1) * n + N);
+  return flow;
+}
+
 double rounding_factor(int terms) {
   // gamma_{terms + 2} = (terms + 2) u / (1 - (terms + 2) u), u = 2^-53, rounded up generously.
   return (terms + 3) * 0x1p-52;
+}
+
+// Between the samples of step k: the a priori boxes of the period, hulled part by part (and over
+// the periods of a split set's parts), with their workspace footprint.
+void append_period_enclosures(const std::vector<const FlowResult*>& frs, const TrackingProblem& p, int k, int parts, int spp,
+                              std::vector<PeriodEnclosure>& out) {
+  const int n = p.dynamics->state_dim(), wd = p.workspace.dim();
+  for (int part = 0; part < parts; ++part) {
+    PeriodEnclosure e = period_part(k, part, parts, p.tau, n, wd);
+    std::vector<Interval> xi(n);
+    for (int i = 0; i < n; ++i) {
+      FastInterval b = frs.front()->boxes[static_cast<std::size_t>(part * spp) * n + i];
+      for (const FlowResult* fr : frs)
+        for (int s = part * spp; s < (part + 1) * spp; ++s) b = marsyn::hull(b, fr->boxes[static_cast<std::size_t>(s) * n + i]);
+      e.state.lo[i] = b.lower();
+      e.state.hi[i] = b.upper();
+      xi[i] = Interval(b.lower(), b.upper());
+    }
+    Interval pw[kMaxWorkspaceDim];
+    workspace_point(*p.dynamics, p.workspace, xi.data(), pw);
+    for (int c = 0; c < wd; ++c) {
+      e.workspace.lo[c] = pw[c].lower();
+      e.workspace.hi[c] = pw[c].upper();
+    }
+    out.push_back(std::move(e));
+  }
 }
 
 namespace {
@@ -444,6 +467,7 @@ class FunnelVerifier {
     out_.mean_fill = fill_count_ ? fill_sum_ / fill_count_ : 0.0;
     out_.reached_step = T_;
     out_.ok = true;
+    d.invariant_from = T_ + 1;  // until make_invariant says otherwise
     return std::move(out_);
   }
 
@@ -466,14 +490,7 @@ class FunnelVerifier {
   enum class Step { next, rewound, failed, last };
 
   bool choose_flow() {
-    flow_ = o_.flow;
-    flow_.tau = p_.tau;
-    const int N = n_ + m_;
-    // The reachable set is carried with reach_order generators per state (the period adds n + m
-    // and reduces back): a reduction boxes generators, and boxing at every step makes a contracting
-    // closed loop's enclosure grow linearly (measured on the crane: to eps in 55 steps, against 0.3
-    // eps for the linearized closed loop; with 24 n generators it stays within 0.3-0.5 eps).
-    if (flow_.max_generators <= 0) flow_.max_generators = std::max(3 * N, std::max(o_.reach_order, 1) * n_ + N);
+    flow_ = flow_options(p_, o_);
     if (o_.parts < 1 || flow_.substeps % o_.parts != 0) {
       out_.why = "enclosure_substeps must divide substeps";
       return false;
@@ -716,6 +733,19 @@ VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::M
                             const std::vector<Eigen::MatrixXd>& cost) {
   const RoundToNearestScope nearest;
   return FunnelVerifier(p, K, closed, o, cost).run();
+}
+
+void make_invariant(const TrackingProblem& p, const VerifyOptions& o, VerifyOutcome& v) {
+  if (!v.ok) return;
+  const RoundToNearestScope nearest;
+  FunnelData& d = v.data;
+  std::vector<Eigen::MatrixXd> K;
+  for (const auto& row : d.K) K.push_back(Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(row.data(), d.m, d.n));
+  const FlowOptions flow = flow_options(p, o);
+  const PeriodLaw law(p, K, d, flow, o.shift_inputs);
+  v.invariant = grow_invariant_sets(p, law, d, o.parts, flow.substeps / o.parts, v.reach, o);
+  v.periods += v.invariant.periods;
+  d.invariant_from = v.invariant.from_step;
 }
 
 }  // namespace marsyn::funnel

@@ -10,6 +10,7 @@
 
 #include "funnel_controller.hpp"
 #include "marsyn/tracker.hpp"
+#include "invariant_sets.hpp"
 #include "period_flow.hpp"
 
 namespace marsyn::funnel {
@@ -66,6 +67,7 @@ struct VerifyOutcome {
   // With keep_reach: per step k, parts whose union contains every state the closed loop reaches
   // at sample k from the initial box (V_k contains each).
   std::vector<std::vector<Zonotope>> reach;
+  InvariantOutcome invariant;  // after make_invariant: from which step the sets are invariant
 };
 
 // K: the gains; closed (may be empty): the closed loop's linearization per step, whose real
@@ -73,6 +75,30 @@ struct VerifyOutcome {
 VerifyOutcome verify_funnel(const TrackingProblem& p, const std::vector<Eigen::MatrixXd>& K,
                             const std::vector<Eigen::MatrixXd>& closed, const VerifyOptions& o,
                             const std::vector<Eigen::MatrixXd>& cost = {});
+
+// Between the samples of step k: the a priori boxes of the periods in frs (the parts of a split
+// set), hulled per part of the period, with their workspace footprint, appended to out.
+void append_period_enclosures(const std::vector<const FlowResult*>& frs, const TrackingProblem& p, int k, int parts, int spp,
+                              std::vector<PeriodEnclosure>& out);
+
+// A verified outcome's sets grown backward into invariant ones (invariant_sets.hpp), its period
+// enclosures with them; v.data.invariant_from and v.invariant say from which step. Without it
+// each V_k only contains the states reached from the initial box.
+void make_invariant(const TrackingProblem& p, const VerifyOptions& o, VerifyOutcome& v);
+
+// set (its box lo, hi given) made the parallelotope of least volume, among the verification's
+// candidate shapes (closed: the closed loop's linearization; basis: one more shape, its columns
+// the parallelotope's axes; either may be null), that contains every part; false when none does.
+bool fit_parallelotope(const std::vector<Zonotope>& parts, StepSet& set, const Eigen::MatrixXd* closed, const Eigen::MatrixXd* basis,
+                       const VerifyOptions& o);
+
+// set (its box given) made the zonotope z reduced to order generators per state (at most the
+// membership test's 64), with the stored margin and tolerance; false when that is not possible.
+bool fit_zonotope(const Zonotope& z, int order, StepSet& set);
+
+// The enclosure options of a verification: o.flow with the problem's period and the carried
+// set's generator budget.
+FlowOptions flow_options(const TrackingProblem& p, const VerifyOptions& o);
 
 // The rounding allowance for sums of `terms` products evaluated left to right in double
 // (Higham's gamma_n with room for the subtraction in each term): |fl(s) - s| <= kappa * sum |terms|.

@@ -21,6 +21,28 @@ constexpr double kInputWeightLadder[] = {1.0, 0.1, 10.0, 0.01, 100.0};
 constexpr int kFirstReachOrder = 8;
 constexpr double kRoomyFill = 0.25;
 
+// What the controller's acceptance means: the guarantee from every accepted state (invariant
+// sets), from some step on, or only for what the initial set reaches.
+std::string invariance_text(const FunnelData& d, const InvariantOutcome& inv, bool asked) {
+  const int T = d.horizon();
+  std::ostringstream t;
+  t.precision(3);
+  if (!asked || d.invariant_from >= T) {
+    t << "verified sets hold what the initial set reaches, not invariant"
+      << (asked ? " (V_" + std::to_string(T - 1) + " maps outside V_" + std::to_string(T) + ")" : std::string(" (invariant_sets: false)"));
+    return t.str();
+  }
+  if (d.invariant_from == 0 && inv.order > 0)
+    t << "verified sets invariant at every step (zonotopes of up to " << inv.order << " n generators)";
+  else if (d.invariant_from == 0)
+    t << "verified sets invariant at every step";
+  else
+    t << "verified sets invariant from step " << d.invariant_from << " of " << T << " (before it they hold what the initial set reaches: V_"
+      << d.invariant_from - 1 << " maps outside V_" << d.invariant_from << ")";
+  t << ", " << inv.grown << " grown toward the tube (x" << inv.mean_scale << " on average)";
+  return t.str();
+}
+
 // A weight: positive and finite, checked as soon as it is read.
 void weight(ParamSet<Options>& s, std::string name, double Options::*member, std::string doc) {
   s.add(std::move(name), member, "(0, inf)", std::move(doc))
@@ -90,6 +112,11 @@ ParamSet<Options> declare() {
   s.add("shift_inputs", &O::shift_inputs, "true|false",
         "where u_k + K (x - x_k) leaves U over the verified set but fits in it, also try the law with u_k moved "
         "inside U (an offset instead of saturation) and keep the period that ends closer inside the tube");
+  s.add("invariant_sets", &O::invariant_sets, "true|false",
+        "after the verification, grow each verified set V_k (last step first) as far toward its box inside the "
+        "tube as keeps it invariant: every state it accepts reaches V_{k+1} for every disturbance, so the "
+        "controller and its monitor accept exactly states with the guarantee from there on; false: V_k only "
+        "contains the states reached from the initial set");
   s.integer("split_depth", 0, 8,
             "times a part of the carried set that misses the tube may be split in two along its widest generator "
             "and verified again (at most 2^split_depth parts; the controller is unchanged); 0: never",
@@ -248,7 +275,7 @@ VerifyOptions FunnelTracker::verify_options(const Eigen::VectorXd& eps, const Ei
   vo.set_order = static_cast<int>(s_.set_order);
   vo.reach_order = static_cast<int>(s_.reach_order);
   vo.zonotope_sets = s_.verified_set == "zonotope";
-  vo.keep_reach = reach_out_ != nullptr;
+  vo.keep_reach = reach_out_ != nullptr || s_.invariant_sets;  // the invariant sets must keep holding them
   vo.shift_inputs = s_.shift_inputs;
   vo.flow.box_substeps = static_cast<int>(s_.box_substeps);
   vo.split_depth = static_cast<int>(s_.split_depth);
@@ -437,7 +464,8 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
                   std::to_string(i);
     return res;
   }
-  const Search found = search(p);
+  Search found = search(p);
+  if (s_.invariant_sets) make_invariant(p, verify_options(p.tube.eps, p.initial_radius), found.best);
   const VerifyOutcome& best = found.best;
   const int best_order = found.order, weight_choices = found.weight_choices;
   const double gain_time = found.gain_time, verify_time = found.verify_time;
@@ -497,6 +525,9 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
     for (const StepSet& st : d.sets) ++kinds[std::min<int>(st.kind, 2)];
     msg << "; sets: " << kinds[1] << " parallelotopes, " << kinds[2] << " zonotopes";
   }
+  msg << "; " << invariance_text(best.data, best.invariant, s_.invariant_sets);
+  // From this step the controller's acceptance (and its exported monitor) means "safe from here".
+  res.stats.set("invariant_from", "sets invariant from step", static_cast<long long>(d.invariant_from));
   if (best.rows > 0) msg << "; second-order remainder on " << 100 * best.second_order_rows / best.rows << "% of rows";
   res.message = msg.str();
   res.controller = controller;

@@ -30,6 +30,7 @@ struct Options {
   std::string verified_set = "parallelotope";  // or "zonotope"
   long set_order = 8;
   bool shift_inputs = true;  // VerifyOptions::shift_inputs
+  bool invariant_sets = true;  // make_invariant after the verification (funnel_synthesis.hpp)
   long box_substeps = 0;
   long split_depth = 3;  // VerifyOptions::split_depth
   long input_rounds = 5;  // input-aware redesigns (input_weights.hpp) after a miss with saturated inputs
