@@ -1,8 +1,11 @@
 #include "funnel_tracker.hpp"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <utility>
+
+#include <Eigen/LU>
 
 #include "input_weights.hpp"
 #include "lqr.hpp"
@@ -39,8 +42,34 @@ std::string invariance_text(const FunnelData& d, const InvariantOutcome& inv, bo
   else
     t << "verified sets invariant from step " << d.invariant_from << " of " << T << " (before it they hold what the initial set reaches: V_"
       << d.invariant_from - 1 << " maps outside V_" << d.invariant_from << ")";
-  t << ", " << inv.grown << " grown toward the tube (x" << inv.mean_scale << " on average)";
+  if (inv.grown) t << ", " << inv.grown << " grown toward the tube (x" << inv.mean_scale << " on average)";
   return t.str();
+}
+
+// Per coordinate, the smallest over steps 1 .. T - 1 of the accepted set's half-width (its hull
+// within its box) relative to eps: how large an error the controller tolerates everywhere.
+std::vector<double> narrowest_accepted(const FunnelData& d) {
+  const int n = d.n, T = d.horizon();
+  std::vector<double> out(n, std::numeric_limits<double>::infinity());
+  for (int k = 1; k < T; ++k) {
+    const StepSet& s = d.sets[static_cast<std::size_t>(k)];
+    Eigen::MatrixXd G;
+    if (s.kind == kZonotope) {
+      G = Eigen::Map<const Eigen::MatrixXd>(s.S.data(), n, s.generators);
+    } else if (s.kind == kParallelotope) {
+      G = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(s.S.data(), n, n).inverse();
+    }
+    for (int i = 0; i < n; ++i) {
+      double lo = s.lo[i], hi = s.hi[i];
+      if (G.size()) {
+        const double r = G.row(i).lpNorm<1>();
+        lo = std::max(lo, s.c[i] - r);
+        hi = std::min(hi, s.c[i] + r);
+      }
+      out[i] = std::min(out[i], 0.5 * (hi - lo) / d.eps[i]);
+    }
+  }
+  return out;
 }
 
 // A weight: positive and finite, checked as soon as it is read.
@@ -526,6 +555,13 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
     msg << "; sets: " << kinds[1] << " parallelotopes, " << kinds[2] << " zonotopes";
   }
   msg << "; " << invariance_text(best.data, best.invariant, s_.invariant_sets);
+  if (T > 1) {
+    const std::vector<double> w = narrowest_accepted(d);
+    const auto names = p.dynamics->state_names();
+    msg << "; accepted sets at least";
+    for (int i = 0; i < n; ++i) msg << (i ? ", " : " ") << names[static_cast<std::size_t>(i)] << " +-" << 100 * w[static_cast<std::size_t>(i)] << "%";
+    msg << " of eps";
+  }
   // From this step the controller's acceptance (and its exported monitor) means "safe from here".
   res.stats.set("invariant_from", "sets invariant from step", static_cast<long long>(d.invariant_from));
   if (best.rows > 0) msg << "; second-order remainder on " << 100 * best.second_order_rows / best.rows << "% of rows";

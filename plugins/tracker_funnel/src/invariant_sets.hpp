@@ -24,6 +24,7 @@ struct InvariantOutcome {
   int grown = 0;           // steps whose set was scaled beyond the forward verification's
   double mean_scale = 1.0;  // over the invariant steps k >= 1: the factor V_k was scaled by
   long periods = 0;        // periods enclosed by this pass
+  double floor = 0.0;       // the chain's sets widened to at least this fraction of eps (where the box allows)
   int order = -1;          // a chain from V_0: 0 parallelotopes, else zonotopes of order n generators; -1: none
 };
 

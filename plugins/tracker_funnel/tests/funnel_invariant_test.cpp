@@ -127,6 +127,8 @@ struct Case {
   long per_step;
 };
 
+void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
+
 class FunnelInvariant : public ::testing::TestWithParam<Case> {};
 
 TEST_P(FunnelInvariant, EveryAcceptedStateReachesTheNextSet) {
@@ -171,6 +173,7 @@ TEST(FunnelInvariant, ASuffixIsReportedAndHolds) {
     EXPECT_LE(from, ctrl.horizon()) << name;
     EXPECT_NE(r.message.find("invariant from step " + std::to_string(from)), std::string::npos) << r.message;
     const Counts c = sample(p, ctrl, 4000, 12);
+    std::printf("%s: sets invariant from step %d of %d, %ld accepted states sampled\n", name.c_str(), from, ctrl.horizon(), c.samples);
     EXPECT_GT(c.samples, 0) << name;
     EXPECT_EQ(c.refused + c.leaks + c.enclosure_leaks, 0) << name << ": " << c.refused << " " << c.leaks << " " << c.enclosure_leaks;
   }
