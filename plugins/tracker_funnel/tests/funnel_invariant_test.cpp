@@ -9,6 +9,7 @@
 #include <Eigen/LU>
 #include <random>
 
+#include "adversarial_period.hpp"
 #include "funnel_scenarios.hpp"
 #include "funnel_tracker.hpp"
 #include "invariant_sets.hpp"
@@ -78,12 +79,9 @@ Counts sample(const TrackingProblem& pr, const FunnelController& ctrl, long per_
   const FunnelData& d = ctrl.data();
   const Dynamics& f = *pr.dynamics;
   const int n = d.n, m = d.m, T = d.horizon();
-  const int P = static_cast<int>(d.enclosures.size()) / T;
-  constexpr int kFine = 32, kPieces = 8;
   std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> U(-1, 1), U01(0, 1);
   Counts c;
-  std::vector<double> x(n), u(m), w(n), nxt(n);
+  std::vector<double> x(n), u(m);
   for (int k = std::max(d.invariant_from, 0); k < T; ++k) {
     const StepSet& s = d.sets[static_cast<std::size_t>(k)];
     const StepSet& s1 = d.sets[static_cast<std::size_t>(k) + 1];
@@ -93,28 +91,11 @@ Counts sample(const TrackingProblem& pr, const FunnelController& ctrl, long per_
         ++c.refused;
         continue;
       }
-      const int mode = static_cast<int>(U01(rng) * 3);
-      for (int piece = 0; piece < kPieces; ++piece) {
-        if (piece == 0 || mode == 1)
-          for (int i = 0; i < n; ++i) w[i] = (U01(rng) < 0.5 ? -1 : 1) * d.w[i];
-        if (mode == 2)
-          for (int i = 0; i < n; ++i) w[i] = U(rng) * d.w[i];
-        for (int q = 0; q < kFine / kPieces; ++q) {
-          rk4_step<double>(f, x.data(), u.data(), w.data(), d.tau / kFine, 1, nxt.data());
-          x = nxt;
-          const int fine = piece * (kFine / kPieces) + q + 1;
-          const PeriodEnclosure& e = d.enclosures[static_cast<std::size_t>(k) * P + std::min(P - 1, fine * P / kFine)];
-          ++c.fine_states;
-          bool in = true, in_shrunk = true;
-          for (int i = 0; i < n; ++i) {
-            const double lo = e.state.lo[i], hi = e.state.hi[i], cut = 0.05 * (hi - lo);
-            in = in && x[i] >= lo && x[i] <= hi;
-            in_shrunk = in_shrunk && x[i] >= lo + cut && x[i] <= hi - cut;
-          }
-          c.enclosure_leaks += !in;
-          c.shrunk_enclosure_leaks += !in_shrunk;
-        }
-      }
+      testing::PeriodCheck pc;
+      testing::adversarial_period(f, d, k, x, u, rng, pc);
+      c.fine_states += pc.fine_states;
+      c.enclosure_leaks += pc.enclosure_leaks;
+      c.shrunk_enclosure_leaks += pc.shrunk_enclosure_leaks;
       c.leaks += !ctrl.in_set(x.data(), k + 1);
       c.shrunk_leaks += !in_scaled(ctrl, s1, k + 1, n, x.data(), 0.9);
     }

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <random>
 
+#include "adversarial_period.hpp"
 #include "funnel_scenarios.hpp"
 #include "funnel_tracker.hpp"
 #include "membership.hpp"
@@ -90,13 +91,11 @@ Counts sample(const Tracked& t, long total, std::uint64_t seed) {
   const FunnelData& d = ctrl.data();
   const Dynamics& f = *t.problem.dynamics;
   const int n = d.n, m = d.m, T = d.horizon();
-  const int P = static_cast<int>(d.enclosures.size()) / T;
-  constexpr int kFine = 32, kPieces = 8;
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> U(-1, 1), U01(0, 1);
   Counts c;
   const long per_step = total / T + 1;
-  std::vector<double> x(n), u(m), w(n), nxt(n), a(n);
+  std::vector<double> x(n), u(m), a(n);
   for (int k = 0; k < T; ++k) {
     const std::vector<Zonotope>& zs = t.reach[static_cast<std::size_t>(k)];
     const std::vector<Zonotope>& z1s = t.reach[static_cast<std::size_t>(k) + 1];
@@ -133,29 +132,11 @@ Counts sample(const Tracked& t, long total, std::uint64_t seed) {
         ++c.refused;
         continue;
       }
-      const int mode = static_cast<int>(U01(rng) * 3);
-      for (int piece = 0; piece < kPieces; ++piece) {
-        if (piece == 0 || mode == 1)
-          for (int i = 0; i < n; ++i) w[i] = (U01(rng) < 0.5 ? -1 : 1) * d.w[i];
-        if (mode == 2)
-          for (int i = 0; i < n; ++i) w[i] = U(rng) * d.w[i];
-        for (int q = 0; q < kFine / kPieces; ++q) {
-          rk4_step<double>(f, x.data(), u.data(), w.data(), d.tau / kFine, 1, nxt.data());
-          x = nxt;
-          const int fine = piece * (kFine / kPieces) + q + 1;  // time fine / kFine of the period
-          const int part = std::min(P - 1, fine * P / kFine);
-          const PeriodEnclosure& e = d.enclosures[static_cast<std::size_t>(k) * P + part];
-          ++c.fine_states;
-          bool in = true, in_shrunk = true;
-          for (int i = 0; i < n; ++i) {
-            const double lo = e.state.lo[i], hi = e.state.hi[i], cut = 0.05 * (hi - lo);
-            if (!(x[i] >= lo && x[i] <= hi)) in = false;
-            if (!(x[i] >= lo + cut && x[i] <= hi - cut)) in_shrunk = false;
-          }
-          c.enclosure_leaks += !in;
-          c.shrunk_enclosure_leaks += !in_shrunk;
-        }
-      }
+      testing::PeriodCheck pc;
+      testing::adversarial_period(f, d, k, x, u, rng, pc);
+      c.fine_states += pc.fine_states;
+      c.enclosure_leaks += pc.enclosure_leaks;
+      c.shrunk_enclosure_leaks += pc.shrunk_enclosure_leaks;
       c.leaks += !ctrl.in_set(x.data(), k + 1);
       c.reach_leaks += !in_next(x.data(), 1.0 + 1e-6);
       // Every 4th run against the shrunk enclosure: a proportion, not a proof (and the slow case
