@@ -110,7 +110,7 @@ void GridFigures::publish(TrackerStats& st) const {
   st.set("initial_state_winning", "x0's cell winning", initial_state_winning);
   st.set("winning_cells_per_step", "winning cells/step", winning_cells_per_step);
   // Winning sets are invariant by construction (docs/soundness.md section 6): from every step.
-  st.set("invariant_from", "sets invariant from step", 0LL);
+  st.set("invariant_from", "leading sets not invariant", 0LL);
 }
 
 }  // namespace marsyn::abcd

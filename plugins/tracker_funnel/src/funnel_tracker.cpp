@@ -563,7 +563,7 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
     msg << " of eps";
   }
   // From this step the controller's acceptance (and its exported monitor) means "safe from here".
-  res.stats.set("invariant_from", "sets invariant from step", static_cast<long long>(d.invariant_from));
+  res.stats.set("invariant_from", "leading sets not invariant", static_cast<long long>(d.invariant_from));
   if (best.rows > 0) msg << "; second-order remainder on " << 100 * best.second_order_rows / best.rows << "% of rows";
   res.message = msg.str();
   res.controller = controller;
