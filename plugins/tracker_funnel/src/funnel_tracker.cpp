@@ -72,6 +72,23 @@ std::vector<double> narrowest_accepted(const FunnelData& d) {
   return out;
 }
 
+// The stored sets' kinds, what accepting a state means (invariance_text) and how far the accepted
+// sets reach in every coordinate.
+std::string sets_text(const FunnelData& d, const InvariantOutcome& inv, bool asked, const std::vector<std::string>& names) {
+  std::ostringstream t;
+  t.precision(3);
+  int kinds[3] = {0, 0, 0};
+  for (const StepSet& st : d.sets) ++kinds[std::min<int>(st.kind, 2)];
+  t << "sets: " << kinds[1] << " parallelotopes, " << kinds[2] << " zonotopes; " << invariance_text(d, inv, asked);
+  if (d.horizon() > 1) {
+    const std::vector<double> w = narrowest_accepted(d);
+    t << "; accepted sets at least";
+    for (std::size_t i = 0; i < w.size(); ++i) t << (i ? ", " : " ") << names[i] << " +-" << 100 * w[i] << "%";
+    t << " of eps";
+  }
+  return t.str();
+}
+
 // A weight: positive and finite, checked as soon as it is read.
 void weight(ParamSet<Options>& s, std::string name, double Options::*member, std::string doc) {
   s.add(std::move(name), member, "(0, inf)", std::move(doc))
@@ -549,19 +566,7 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
     msg << "; tightness (verified half-width / largest deviation in " << t.runs << " adversarial runs): "
         << describe(t, p.dynamics->state_names());
   }
-  {
-    int kinds[3] = {0, 0, 0};
-    for (const StepSet& st : d.sets) ++kinds[std::min<int>(st.kind, 2)];
-    msg << "; sets: " << kinds[1] << " parallelotopes, " << kinds[2] << " zonotopes";
-  }
-  msg << "; " << invariance_text(best.data, best.invariant, s_.invariant_sets);
-  if (T > 1) {
-    const std::vector<double> w = narrowest_accepted(d);
-    const auto names = p.dynamics->state_names();
-    msg << "; accepted sets at least";
-    for (int i = 0; i < n; ++i) msg << (i ? ", " : " ") << names[static_cast<std::size_t>(i)] << " +-" << 100 * w[static_cast<std::size_t>(i)] << "%";
-    msg << " of eps";
-  }
+  msg << "; " << sets_text(d, best.invariant, s_.invariant_sets, p.dynamics->state_names());
   // From this step the controller's acceptance (and its exported monitor) means "safe from here".
   res.stats.set("invariant_from", "leading sets not invariant", static_cast<long long>(d.invariant_from));
   if (best.rows > 0) msg << "; second-order remainder on " << 100 * best.second_order_rows / best.rows << "% of rows";
