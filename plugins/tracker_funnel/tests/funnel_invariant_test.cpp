@@ -22,7 +22,7 @@ using testing::scenario_params;
 
 struct Counts {
   long samples = 0, refused = 0, leaks = 0, shrunk_leaks = 0;
-  long fine_states = 0, enclosure_leaks = 0, shrunk_enclosure_leaks = 0;
+  testing::PeriodCheck period;  // the fine states between the samples
 };
 
 // A state the controller accepts at step k, biased to the set's boundary: a vertex of the
@@ -91,11 +91,7 @@ Counts sample(const TrackingProblem& pr, const FunnelController& ctrl, long per_
         ++c.refused;
         continue;
       }
-      testing::PeriodCheck pc;
-      testing::adversarial_period(f, d, k, x, u, rng, pc);
-      c.fine_states += pc.fine_states;
-      c.enclosure_leaks += pc.enclosure_leaks;
-      c.shrunk_enclosure_leaks += pc.shrunk_enclosure_leaks;
+      testing::adversarial_period(f, d, k, x, u, rng, c.period);
       c.leaks += !ctrl.in_set(x.data(), k + 1);
       c.shrunk_leaks += !in_scaled(ctrl, s1, k + 1, n, x.data(), 0.9);
     }
@@ -126,13 +122,13 @@ TEST_P(FunnelInvariant, EveryAcceptedStateReachesTheNextSet) {
   const Counts c = sample(p, ctrl, cs.per_step, 11);
   EXPECT_EQ(c.refused, 0) << "draws the controller did not accept, of " << c.samples;
   EXPECT_EQ(c.leaks, 0) << "accepted states whose successor is refused, of " << c.samples;
-  EXPECT_EQ(c.enclosure_leaks, 0) << "of " << c.fine_states;
+  EXPECT_EQ(c.period.enclosure_leaks, 0) << "of " << c.period.fine_states;
   // The next set and the enclosures 10 % smaller: the same runs must leak.
   EXPECT_GT(c.shrunk_leaks, c.samples / 100) << "the sets are more than 10 % larger than one period needs";
-  EXPECT_GT(c.shrunk_enclosure_leaks, c.fine_states / 100);
+  EXPECT_GT(c.period.shrunk_enclosure_leaks, c.period.fine_states / 100);
   std::printf("%s: T = %d, %ld accepted states: %ld of them leave V_{k+1} shrunk 10 %%, %ld of %ld fine states the shrunk "
               "enclosures (%s)\n",
-              cs.name.c_str(), T, c.samples, c.shrunk_leaks, c.shrunk_enclosure_leaks, c.fine_states, r.message.c_str());
+              cs.name.c_str(), T, c.samples, c.shrunk_leaks, c.period.shrunk_enclosure_leaks, c.period.fine_states, r.message.c_str());
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, FunnelInvariant,
@@ -156,7 +152,7 @@ TEST(FunnelInvariant, ASuffixIsReportedAndHolds) {
     const Counts c = sample(p, ctrl, 4000, 12);
     std::printf("%s: sets invariant from step %d of %d, %ld accepted states sampled\n", name.c_str(), from, ctrl.horizon(), c.samples);
     EXPECT_GT(c.samples, 0) << name;
-    EXPECT_EQ(c.refused + c.leaks + c.enclosure_leaks, 0) << name << ": " << c.refused << " " << c.leaks << " " << c.enclosure_leaks;
+    EXPECT_EQ(c.refused + c.leaks + c.period.enclosure_leaks, 0) << name << ": " << c.refused << " " << c.leaks << " " << c.period.enclosure_leaks;
   }
 }
 

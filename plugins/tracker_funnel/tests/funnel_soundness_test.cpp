@@ -53,7 +53,7 @@ const Tracked& tracked(const std::string& name, double remainder_scale = 1.0) {
 
 struct Counts {
   long samples = 0, refused = 0, leaks = 0, reach_leaks = 0, shrunk_samples = 0, shrunk_leaks = 0;
-  long fine_states = 0, enclosure_leaks = 0, shrunk_enclosure_leaks = 0;
+  testing::PeriodCheck period;  // the fine states between the samples
 };
 
 // x in c + factor G xi, |xi| <= 1, up to a residual of 1e-9 of the radius per coordinate (the
@@ -132,11 +132,7 @@ Counts sample(const Tracked& t, long total, std::uint64_t seed) {
         ++c.refused;
         continue;
       }
-      testing::PeriodCheck pc;
-      testing::adversarial_period(f, d, k, x, u, rng, pc);
-      c.fine_states += pc.fine_states;
-      c.enclosure_leaks += pc.enclosure_leaks;
-      c.shrunk_enclosure_leaks += pc.shrunk_enclosure_leaks;
+      testing::adversarial_period(f, d, k, x, u, rng, c.period);
       c.leaks += !ctrl.in_set(x.data(), k + 1);
       c.reach_leaks += !in_next(x.data(), 1.0 + 1e-6);
       // Every 4th run against the shrunk enclosure: a proportion, not a proof (and the slow case
@@ -165,17 +161,17 @@ TEST_P(FunnelSoundness, SuccessorsStayInTheNextVerifiedSet) {
   EXPECT_EQ(c.refused, 0) << "reachable states the controller does not accept, of " << c.samples;
   EXPECT_EQ(c.leaks, 0) << "of " << c.samples;
   EXPECT_EQ(c.reach_leaks, 0) << "successors outside the next reachable-set enclosure, of " << c.samples;
-  EXPECT_EQ(c.enclosure_leaks, 0) << "of " << c.fine_states;
+  EXPECT_EQ(c.period.enclosure_leaks, 0) << "of " << c.period.fine_states;
   // The same samples against enclosures 10% smaller: the test must be able to fail.
   EXPECT_GT(c.shrunk_leaks, c.shrunk_samples / 100) << "the enclosures are more than 10% larger than the reachable states";
-  EXPECT_GT(c.shrunk_enclosure_leaks, c.fine_states / 100);
+  EXPECT_GT(c.period.shrunk_enclosure_leaks, c.period.fine_states / 100);
   RecordProperty("shrunk_leaks", std::to_string(c.shrunk_leaks));
   long kinds[3] = {0, 0, 0};
   for (const auto& st : dynamic_cast<const FunnelController&>(*t.result.controller).data().sets) ++kinds[st.kind];
   std::printf("%s: sets: %ld box, %ld parallelotopes, %ld zonotopes\n", GetParam().c_str(), kinds[0], kinds[1], kinds[2]);
   EXPECT_GT(kinds[1] + kinds[2], 0);
   std::printf("%s: %ld samples, %ld of %ld leak the 10%%-shrunk enclosure, %ld of %ld fine states leak the shrunk period enclosures (%s)\n",
-              GetParam().c_str(), c.samples, c.shrunk_leaks, c.shrunk_samples, c.shrunk_enclosure_leaks, c.fine_states,
+              GetParam().c_str(), c.samples, c.shrunk_leaks, c.shrunk_samples, c.period.shrunk_enclosure_leaks, c.period.fine_states,
               t.result.message.c_str());
 }
 
