@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 
 #include <Eigen/LU>
@@ -210,7 +211,7 @@ class StepGrower {
     const double forward_det = std::fabs(Sf.determinant());
     if (!(forward_det > 0) || !std::isfinite(forward_det)) return 0.0;
     auto width = [&](const StepSet& c) { return std::pow(forward_det / std::fabs(shape(c, n_).determinant()), 1.0 / n_); };
-    if (const double a = scale_forward(k, s, target, must); a > 0) return a;
+    if (const double a = scale_forward(k, s, must); a > 0) return a;
     // The target's shape pulled back: row i of S_t Phi (x - c) is, to first order, row i of the
     // target's test at the period's end, so each row may take what the target's row has left.
     Eigen::MatrixXd St;
@@ -236,31 +237,33 @@ class StepGrower {
   // (tried largest first; the set as it is, 1, is invariant already and kept otherwise).
   double scale_up(int k, const std::vector<Zonotope>& must) {
     const StepSet s = d_.sets[static_cast<std::size_t>(k)];
-    const StepSet& target = d_.sets[static_cast<std::size_t>(k) + 1];
     if (s.kind != kParallelotope) return 1.0;  // a zonotope's image has no containment test here
-    Eigen::FullPivLU<Eigen::MatrixXd> lu(shape(s, n_));
-    if (!lu.isInvertible()) return 1.0;
-    const double top = room_in_box(s, lu.inverse(), n_);
-    for (double f : {1.0, 0.3})
-      if (const double a = 1.0 + f * (top - 1.0); top > 1.0 && accept(k, scaled(s, a), target, must, nullptr)) return a;
-    return 1.0;
+    const double a = scale_toward_box(k, s, must, {1.0, 0.3});
+    return a > 0 ? a : 1.0;
   }
 
-  // The forward set scaled about its centre toward its box, largest first; 0 when none fits.
-  double scale_forward(int k, const StepSet& s, const StepSet& target, const std::vector<Zonotope>& must) {
-    Eigen::FullPivLU<Eigen::MatrixXd> lu(shape(s, n_));
-    if (!lu.isInvertible()) return 0.0;
-    const double top = room_in_box(s, lu.inverse(), n_);
-    std::vector<double> tries;
-    if (top > 1.0)
-      for (double f : {1.0, 0.25}) tries.push_back(1.0 + f * (top - 1.0));
-    tries.push_back(1.0);
-    for (double a : tries)
-      if (accept(k, a == 1.0 ? s : scaled(s, a), target, must, nullptr)) return a;
-    return 0.0;
+  // The forward set scaled about its centre toward its box, largest first, itself last; 0 when
+  // none fits.
+  double scale_forward(int k, const StepSet& s, const std::vector<Zonotope>& must) {
+    return scale_toward_box(k, s, must, {1.0, 0.25, 0.0});
   }
 
  private:
+  // s scaled by 1 + f (top - 1) for each fraction f in turn, top the scale that reaches its box
+  // (f = 0: s itself); the first that accept() takes as V_k, or 0.
+  double scale_toward_box(int k, const StepSet& s, const std::vector<Zonotope>& must, std::initializer_list<double> fractions) {
+    Eigen::FullPivLU<Eigen::MatrixXd> lu(shape(s, n_));
+    if (!lu.isInvertible()) return 0.0;
+    const double top = room_in_box(s, lu.inverse(), n_);
+    const StepSet& target = d_.sets[static_cast<std::size_t>(k) + 1];
+    for (double f : fractions) {
+      if (f > 0 && !(top > 1.0)) continue;
+      const double a = 1.0 + f * (top - 1.0);
+      if (accept(k, f > 0 ? scaled(s, a) : s, target, must, nullptr)) return a;
+    }
+    return 0.0;
+  }
+
   // cand as V_k if it holds `must` and its period ends in the target; then its period
   // enclosures replace step k's. room (may be null): per target row, 1 minus the end's need.
   bool accept(int k, const StepSet& cand, const StepSet& target, const std::vector<Zonotope>& must, Eigen::VectorXd* room) {
