@@ -61,7 +61,7 @@ std::string lever_name(const LeverChoice& l) {
     case Lever::FallBack: return "fall back to the next tracker (tracker: auto)";
     case Lever::EnlargeEps: return "enlarge eps by 1.25 and re-plan";
     case Lever::MoreClearance: return "re-plan with more clearance where certification fell short";
-    case Lever::WidenForMiss: return "widen eps by the small miss in its coordinate (the plan re-checked)";
+    case Lever::WidenForMiss: return "widen eps by the small miss (its coordinate and those at the edge; the plan re-checked)";
   }
   return "?";
 }
@@ -236,7 +236,11 @@ class Proposer {
       const int i = failure_.agents[w];
       AgentSpec b = p_.agents[i];
       if (why.coordinate >= b.n()) continue;
-      b.tube.eps[why.coordinate] = widened_eps(b.tube.eps[why.coordinate], why.amount);
+      const double was = b.tube.eps[why.coordinate];
+      b.tube.eps[why.coordinate] = widened_eps(was, why.amount);
+      const double factor = b.tube.eps[why.coordinate] / was;
+      for (int c = 0; c < b.n() && c < static_cast<int>(why.tube_use.size()); ++c)
+        if (c != why.coordinate && why.tube_use[static_cast<std::size_t>(c)] >= kNearEdge) b.tube.eps[c] *= factor;
       consider(i, b);
     }
     p_.replan = true;

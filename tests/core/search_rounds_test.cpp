@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 
 #include "marsyn/core/problem/problem_loader.hpp"
 #include "marsyn/core/search_levers.hpp"
@@ -176,6 +177,23 @@ TEST(SearchRounds, ASmallMissIsClosedByAWiderTubeWithoutAReplan) {
   EXPECT_NE(std::find_if(log.begin(), log.end(),
                          [](const std::string& l) { return l.rfind("[search] the plan is still eps-robust with the wider tube", 0) == 0; }),
             log.end());
+}
+
+// The coordinates at the tube's edge are widened with the missed one, by the same factor
+// (0.2725 / 0.25 = 1.09): missedge's sets reached 0.96 of eps in the angle before the miss
+// (within kSmallMiss of the edge), missnear's 0.94 (not). Before TrackFailure::tube_use only the
+// missed coordinate was widened, and the next round found the miss in the other one.
+TEST(SearchRounds, ASmallMissWidensTheCoordinatesAtTheEdgeWithIt) {
+  const auto lp =
+      marsyn::load_problem(never_team("rounds_small_miss_edge", {"missedge_pendulum", "missnear_pendulum"}, "[0.2, 0.25]", "[0.5, 2.0]"));
+  const marsyn::SolveOutcome o = marsyn::solve(lp, quick());
+  // Each agent's first wider tube (the plan's end may send one agent's to a later round).
+  std::map<std::string, std::string> eps;
+  for (const auto& r : o.search.rounds)
+    for (const auto& c : r.changes)
+      if (c.what == "eps" && c.from == "(0.2,0.25)") eps[c.agent] = c.to;
+  EXPECT_EQ(eps["missedge_pendulum"], "(0.218,0.2725)") << o.search.message();
+  EXPECT_EQ(eps["missnear_pendulum"], "(0.2,0.2725)") << o.search.message();
 }
 
 // The same miss with the goal's rate tolerance 0.3: the plan ends on the edge of the shrunk goal

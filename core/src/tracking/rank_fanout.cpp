@@ -71,6 +71,20 @@ void get_stats(mpi::ByteReader& r, TrackerStats& s) {
   for (auto& f : s.figures) get_figure(r, f);
 }
 
+// Every rank runs the search in lock step and picks its levers from the failures: the owner's
+// reason must reach every rank, or the ranks choose different rounds. One list of the fields for
+// both directions.
+template <class Failure, class Io>
+void failure_fields(Failure& f, Io&& io) {
+  io(f.kind);
+  io(f.coordinate);
+  io(f.step);
+  io(f.amount);
+  io(f.input_saturation);
+  io(f.off_centre);
+  io(f.tube_use);
+}
+
 // A controller crosses ranks as the bytes of its file (the one format every tracker already
 // writes and reads back), through a private file in the temporary directory ($TMPDIR).
 fs::path scratch_path(int rank, const std::string& agent) {
@@ -221,6 +235,7 @@ std::vector<AgentOutcome> track_agents_over_ranks(const Problem& pb, const std::
     w.put<std::int32_t>(static_cast<std::int32_t>(o.track.status));
     w.put(o.track.message);
     put_stats(w, o.track.stats);
+    failure_fields(o.track.failure, [&](const auto& x) { w.put(x); });
     w.put<std::uint8_t>(o.track.controller ? 1 : 0);
     if (o.track.controller) w.put(controller_bytes(*o.track.controller, me, o.name));
   }
@@ -239,6 +254,7 @@ std::vector<AgentOutcome> track_agents_over_ranks(const Problem& pb, const std::
       o.track.status = static_cast<TrackerStatus>(status);
       r.get(o.track.message);
       get_stats(r, o.track.stats);
+      failure_fields(o.track.failure, [&](auto& x) { r.get(x); });
       std::uint8_t has = 0;
       r.get(has);
       if (has) {

@@ -202,6 +202,12 @@ struct TrackFailure {
   // by more than its half-width (typically inputs held at a bound of U): a tighter enclosure does
   // not help, a nominal that leaves the feedback room (U tightened for it) may.
   bool off_centre = false;
+  // TubeMiss: per state coordinate, the largest share of eps that the verified sets' distance
+  // from the nominal reached before the miss (1 at the tube's edge); empty when the tracker cannot
+  // say. The search widens the coordinates at the edge together with the missed one: a
+  // 12-state drone that misses in vx is at 0.998 of eps in vy, and widening vx alone moves the
+  // miss there in the next round.
+  std::vector<double> tube_use;
 };
 
 struct TrackResult {

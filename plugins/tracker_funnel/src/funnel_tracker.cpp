@@ -26,6 +26,15 @@ constexpr double kRoomyFill = 0.25;
 
 // What the controller's acceptance means: the guarantee from every accepted state (invariant
 // sets), from some step on, or only for what the initial set reaches.
+// Per coordinate the largest |x_i - x_k,i| / eps_i over the verified sets of the steps reached
+// (TrackFailure::tube_use).
+std::vector<double> tube_use(const std::vector<std::vector<double>>& half_width, const Eigen::VectorXd& eps) {
+  std::vector<double> use(static_cast<std::size_t>(eps.size()), 0.0);
+  for (const auto& hw : half_width)
+    for (std::size_t i = 0; i < use.size() && i < hw.size(); ++i) use[i] = std::max(use[i], hw[i] / eps[static_cast<Eigen::Index>(i)]);
+  return use;
+}
+
 std::string invariance_text(const FunnelData& d, const InvariantOutcome& inv, bool asked) {
   const int T = d.horizon();
   std::ostringstream t;
@@ -540,6 +549,9 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
       res.failure.step = best.reached_step + 1;
       res.failure.amount = best.miss_amount;
       res.failure.off_centre = best.miss_off_centre;
+      res.failure.tube_use = tube_use(best.half_width, p.tube.eps);
+      auto& missed = res.failure.tube_use[static_cast<std::size_t>(best.miss_coordinate)];
+      missed = std::max(missed, 1.0 + best.miss_amount / p.tube.eps[best.miss_coordinate]);
     }
     if (best.reached_step > 0) res.failure.input_saturation = static_cast<double>(best.saturated_steps) / best.reached_step;
     return res;

@@ -6,6 +6,8 @@
 // loose by more than that.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <Eigen/LU>
 #include <map>
 #include <mutex>
@@ -205,6 +207,14 @@ TEST(FunnelSoundness, TooLargeADisturbanceGivesNoController) {
   EXPECT_EQ(r.status, TrackerStatus::NoController) << r.message;
   EXPECT_FALSE(r.controller);
   EXPECT_NE(r.message.find("eps-tube"), std::string::npos) << r.message;
+  // The search's evidence: the missed coordinate past the tube's edge by the miss, every
+  // coordinate's share of eps reached before it (TrackFailure::tube_use).
+  ASSERT_EQ(r.failure.kind, TrackFailureKind::TubeMiss);
+  ASSERT_EQ(r.failure.tube_use.size(), 3u);
+  const int c = r.failure.coordinate;
+  ASSERT_GE(c, 0);
+  EXPECT_GE(r.failure.tube_use[static_cast<std::size_t>(c)], 1.0 + r.failure.amount / p.tube.eps[c] - 1e-12);
+  for (double u : r.failure.tube_use) EXPECT_TRUE(std::isfinite(u) && u >= 0) << u;
 }
 
 TEST(FunnelSoundness, InitialSetMustFitTheTube) {

@@ -25,7 +25,8 @@ enum class Lever {
   EnlargeEps,     // the failed agents' eps x 1.25 in every coordinate
   MoreClearance,  // certification short between the samples: clearance where it fell short
   // A small tube miss (at most kSmallMiss of eps): eps widened in the missed coordinate by the
-  // miss plus a margin; the plan is kept when the exact check passes with the wider tubes.
+  // miss plus a margin, and by the same factor in the coordinates at the tube's edge
+  // (kNearEdge); the plan is kept when the exact check passes with the wider tubes.
   WidenForMiss,
 };
 
@@ -39,6 +40,10 @@ inline constexpr double kMissFactor = 2.0;
 inline constexpr double kMissMargin = 0.01;
 // eps_c after the widening for a miss of `amount` (state units).
 double widened_eps(double eps, double amount);
+// A coordinate whose verified sets came this near its eps before the miss (TrackFailure::tube_use)
+// is widened with the missed one, by the same factor: it would miss next (a drone's vy after vx),
+// and each round that finds it costs a tracking of every failed agent.
+inline constexpr double kNearEdge = 1.0 - kSmallMiss;
 
 // A lever as tried: its kind and, for TrackerLever, the tracker's own name for it.
 struct LeverChoice {
