@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "marsyn/core/problem/auto_tube.hpp"
+#include "marsyn/number_text.hpp"
 
 namespace marsyn::search {
 
@@ -26,6 +27,13 @@ Eigen::VectorXd kept_tube(const Controller& c, const NominalTrajectory& nom, dou
   return kept;
 }
 
+Eigen::VectorXd kept_tube(const TrackResult& r, const NominalTrajectory& nom, double tau) {
+  const auto n = nom.x.empty() ? 0 : nom.x.front().size();
+  if (n > 0 && r.stats.tube_kept.size() == static_cast<std::size_t>(n))
+    return Eigen::Map<const Eigen::VectorXd>(r.stats.tube_kept.data(), n);
+  return r.controller ? kept_tube(*r.controller, nom, tau) : Eigen::VectorXd();
+}
+
 Eigen::VectorXd narrower_auto_eps(const AgentSpec& a, const Eigen::VectorXd& kept, double tau,
                                   const Eigen::VectorXd& first) {
   if (kept.size() != a.tube.eps.size() || !kept.allFinite() || first.size() != kept.size()) return {};
@@ -34,6 +42,28 @@ Eigen::VectorXd narrower_auto_eps(const AgentSpec& a, const Eigen::VectorXd& kep
   for (Eigen::Index i = 0; i < next.size(); ++i)
     if (!(next[i] > 0)) next[i] = a.tube.eps[i];
   return (next.array() <= 0.9 * a.tube.eps.array()).any() ? next : Eigen::VectorXd();
+}
+
+std::string auto_eps_rule_text(const AgentSpec& a, const Eigen::VectorXd& kept, double tau, const Eigen::VectorXd& first,
+                               const Eigen::VectorXd& next, const std::vector<std::string>& names) {
+  std::vector<std::string> floor, push, cap;
+  for (Eigen::Index i = 0; i < next.size() && i < kept.size(); ++i) {
+    const std::string name = i < static_cast<Eigen::Index>(names.size()) ? names[static_cast<std::size_t>(i)] : "x" + std::to_string(i);
+    if (next[i] == (1 + kAutoEpsMargin) * kept[i]) continue;
+    if (next[i] == a.tube.eps[i]) cap.push_back(name);
+    else if (next[i] == kAutoEpsFloor * first[i]) floor.push_back(name);
+    else if (next[i] == a.tube.w[i] * tau) push.push_back(name);
+  }
+  auto join = [](const std::vector<std::string>& v) {
+    std::string s;
+    for (std::size_t k = 0; k < v.size(); ++k) s += (k ? ", " : "") + v[k];
+    return s;
+  };
+  std::string out = "+" + std::to_string(static_cast<int>(100 * kAutoEpsMargin)) + " %";
+  if (!floor.empty()) out += "; " + number_text(kAutoEpsFloor, 3) + " of the first value in " + join(floor);
+  if (!push.empty()) out += "; the disturbance's push w tau in " + join(push);
+  if (!cap.empty()) out += "; unchanged in " + join(cap);
+  return out;
 }
 
 }  // namespace marsyn::search

@@ -995,7 +995,7 @@ bool Search::narrow_auto_eps(double elapsed, SearchRound& next) {
   for (std::size_t i = 0; i < agents.size(); ++i) {
     const AutoTube& at = loaded_.auto_tube[i];
     if (!at.eps || i >= out_.agents.size() || !out_.agents[i].track.controller || i >= out_.plan.nominal.size()) continue;
-    const Eigen::VectorXd kept = search::kept_tube(*out_.agents[i].track.controller, out_.plan.nominal[i], pb_.tau);
+    const Eigen::VectorXd kept = search::kept_tube(out_.agents[i].track, out_.plan.nominal[i], pb_.tau);
     const Eigen::VectorXd eps = search::narrower_auto_eps(agents[i], kept, pb_.tau, loaded_.problem.agents[i].tube.eps);
     if (!eps.size()) continue;
     AgentSpec b = agents[i];
@@ -1006,7 +1006,10 @@ bool Search::narrow_auto_eps(double elapsed, SearchRound& next) {
     out_.auto_notes.resize(pb_.agents.size());
     out_.auto_notes[i] += (out_.auto_notes[i].empty() ? "" : "; ") + std::string("round ") + std::to_string(next.index - 1) +
                           "'s controller kept " + search::vector_text(kept) + " at the samples: eps " +
-                          search::vector_text(eps) + " (+" + std::to_string(static_cast<int>(100 * kAutoEpsMargin)) + " %)";
+                          search::vector_text(eps) + " (" +
+                          search::auto_eps_rule_text(agents[i], kept, pb_.tau, loaded_.problem.agents[i].tube.eps, eps,
+                                                     agents[i].dynamics ? agents[i].dynamics->state_names() : std::vector<std::string>{}) +
+                          ")";
     agents[i] = b;
   }
   if (changes.empty() || seen_.count(search::fingerprint(agents, extra_, input_share_, min_horizon_))) return false;

@@ -160,6 +160,38 @@ TEST(AutoTube, TheKeptTubeComesFromThePeriodEnclosuresAtTheSamples) {
   EXPECT_DOUBLE_EQ(marsyn::search::narrower_auto_eps(a, kept, 0.1, Eigen::VectorXd::Constant(1, 1.0))[0], 0.625);
   EXPECT_DOUBLE_EQ(marsyn::search::narrower_auto_eps(a, kept, 0.1, Eigen::VectorXd::Constant(1, 1.6))[0], 0.8);
   EXPECT_EQ(marsyn::search::narrower_auto_eps(a, Eigen::VectorXd::Constant(1, 0.78), 0.1, Eigen::VectorXd::Constant(1, 1.0)).size(), 0);
+  // A tracker that states its reachable tube (the funnel, whose invariant sets are wider on
+  // purpose) is read by that figure; one that does not, by its enclosures.
+  marsyn::TrackResult r;
+  r.controller = std::shared_ptr<const marsyn::Controller>(&c, [](const marsyn::Controller*) {});
+  EXPECT_DOUBLE_EQ(marsyn::search::kept_tube(r, nom, 0.1)[0], 0.5);
+  r.stats.tube_kept = {0.2};
+  EXPECT_DOUBLE_EQ(marsyn::search::kept_tube(r, nom, 0.1)[0], 0.2);
+  r.stats.tube_kept = {0.2, 0.3};  // not one per state: not the tracker's figure for this nominal
+  EXPECT_DOUBLE_EQ(marsyn::search::kept_tube(r, nom, 0.1)[0], 0.5);
+}
+
+// The summary says which rule gave each narrowed coordinate: +25 % of the kept tube, the floor
+// (half the first value), the disturbance's push, or the eps it had (users2/10: a kept 0.035
+// gave 0.074 by the floor, and the note said "+25 %").
+TEST(AutoTube, TheNoteNamesTheRuleThatSetEachCoordinate) {
+  marsyn::AgentSpec a;
+  a.tube.eps = Eigen::Vector4d(1, 1, 1, 0.3);
+  a.tube.w = Eigen::Vector4d(0, 0, 5, 0);
+  const Eigen::VectorXd first = Eigen::VectorXd::Constant(4, 1.0);
+  const Eigen::VectorXd kept = Eigen::Vector4d(0.6, 0.1, 0.1, 0.5);
+  const Eigen::VectorXd next = marsyn::search::narrower_auto_eps(a, kept, 0.1, first);
+  ASSERT_EQ(next.size(), 4);
+  EXPECT_DOUBLE_EQ(next[0], 0.75);  // +25 %
+  EXPECT_DOUBLE_EQ(next[1], 0.5);   // the floor
+  EXPECT_DOUBLE_EQ(next[2], 0.5);   // w tau = 0.5 and the floor: the floor is named
+  EXPECT_DOUBLE_EQ(next[3], 0.3);   // no wider than it was
+  EXPECT_EQ(marsyn::search::auto_eps_rule_text(a, kept, 0.1, first, next, {"x", "y", "v", "w"}),
+            "+25 %; 0.5 of the first value in y, v; unchanged in w");
+  a.tube.w = Eigen::Vector4d(0, 0, 7, 0);
+  const Eigen::VectorXd pushed = marsyn::search::narrower_auto_eps(a, kept, 0.1, first);
+  EXPECT_EQ(marsyn::search::auto_eps_rule_text(a, kept, 0.1, first, pushed, {"x", "y", "v", "w"}),
+            "+25 %; 0.5 of the first value in y; the disturbance's push w tau in v; unchanged in w");
 }
 
 }  // namespace

@@ -56,6 +56,7 @@ void put_stats(mpi::ByteWriter& w, const TrackerStats& s) {
   w.put(s.enclosure_substeps);
   w.put(static_cast<std::int64_t>(s.figures.size()));
   for (const auto& f : s.figures) put_figure(w, f);
+  w.put(s.tube_kept);
 }
 void get_stats(mpi::ByteReader& r, TrackerStats& s) {
   r.get(s.state_input_pairs);
@@ -69,6 +70,7 @@ void get_stats(mpi::ByteReader& r, TrackerStats& s) {
   r.get(count);
   s.figures.resize(static_cast<std::size_t>(count));
   for (auto& f : s.figures) get_figure(r, f);
+  r.get(s.tube_kept);
 }
 
 // Every rank runs the search in lock step and picks its levers from the failures: the owner's

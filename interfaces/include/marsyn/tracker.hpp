@@ -137,6 +137,12 @@ struct TrackerStats {
   double enclosure_time_s = 0.0;  // period enclosures (continuous time), after the synthesis
   int enclosure_substeps = 0;     // boxes per sampling period; 0: no enclosures
   std::vector<TrackerFigure> figures;  // the tracker's own, in the order it sets them
+  // Per state coordinate, the largest distance from the nominal that the closed loop reaches at
+  // the samples from the initial set; empty: the tracker does not say, and core reads the period
+  // enclosures instead. A tracker whose stored sets are wider than the reachable tube on purpose
+  // (the funnel's invariant sets) states it, or `eps: auto` narrows to those sets and not to the
+  // tube the controller keeps (docs/search.md, "eps: auto").
+  std::vector<double> tube_kept;
 
   // Sets the figure `name` (appended the first time, replaced after).
   void set(const std::string& name, const std::string& label, TrackerFigure::Value value) {

@@ -26,8 +26,8 @@ constexpr double kRoomyFill = 0.25;
 
 // What the controller's acceptance means: the guarantee from every accepted state (invariant
 // sets), from some step on, or only for what the initial set reaches.
-// Per coordinate the largest |x_i - x_k,i| / eps_i over the verified sets of the steps reached
-// (TrackFailure::tube_use).
+// Per coordinate the largest |x_i - x_k,i| / scale_i over the verified sets of the steps reached
+// (TrackFailure::tube_use with scale eps, TrackerStats::tube_kept with 1).
 std::vector<double> tube_use(const std::vector<std::vector<double>>& half_width, const Eigen::VectorXd& eps) {
   std::vector<double> use(static_cast<std::size_t>(eps.size()), 0.0);
   for (const auto& hw : half_width)
@@ -520,6 +520,8 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
     return res;
   }
   Search found = search(p);
+  // The reachable tube, before the invariant sets widen the stored ones.
+  if (found.best.ok) res.stats.tube_kept = tube_use(found.best.half_width, Eigen::VectorXd::Ones(n));
   if (s_.invariant_sets) make_invariant(p, verify_options(p.tube.eps, p.initial_radius), found.best);
   const VerifyOutcome& best = found.best;
   const int best_order = found.order, weight_choices = found.weight_choices;

@@ -167,5 +167,39 @@ TEST(FunnelInvariant, OffKeepsTheReachableSets) {
   EXPECT_NE(r.message.find("not invariant (invariant_sets: false)"), std::string::npos) << r.message;
 }
 
+// The tube the closed loop keeps (TrackerStats::tube_kept, what `eps: auto` narrows to) is the
+// forward pass's, with or without invariant sets: the same figure both ways, no wider than the
+// sets the reach-only controller stores at the samples, while the invariant sets' enclosures
+// are wider (so reading them instead would tell the search a wider tube than is kept).
+TEST(FunnelInvariant, TheKeptTubeIsTheReachableOne) {
+  const TrackingProblem p = scenario("unicycle");
+  Params off;
+  off.set("invariant_sets", false);
+  const TrackResult with = FunnelTracker().track(p, {}), without = FunnelTracker(off).track(p, {});
+  ASSERT_EQ(with.status, TrackerStatus::ControllerFound) << with.message;
+  ASSERT_EQ(without.status, TrackerStatus::ControllerFound) << without.message;
+  const int n = p.dynamics->state_dim();
+  ASSERT_EQ(with.stats.tube_kept.size(), static_cast<std::size_t>(n));
+  EXPECT_EQ(with.stats.tube_kept, without.stats.tube_kept);
+  // Over the enclosures that begin at a sample: the stored sets there, around the nominal.
+  auto at_samples = [&](const Controller& c) {
+    std::vector<double> kept(static_cast<std::size_t>(n), 0.0);
+    for (const auto& e : c.period_enclosures()) {
+      if (e.step < 0 || std::abs(e.t0 - e.step * p.tau) > 1e-9) continue;
+      const Eigen::VectorXd& x = p.nominal.x[static_cast<std::size_t>(e.step)];
+      for (int i = 0; i < n; ++i) kept[i] = std::max({kept[i], e.state.hi[i] - x[i], x[i] - e.state.lo[i]});
+    }
+    return kept;
+  };
+  const std::vector<double> reach = at_samples(*without.controller), invariant = at_samples(*with.controller);
+  bool wider = false;
+  for (int i = 0; i < n; ++i) {
+    EXPECT_GT(with.stats.tube_kept[i], 0.0) << i;
+    EXPECT_LE(with.stats.tube_kept[i], reach[i] + 1e-12) << i;
+    wider = wider || invariant[i] > 1.05 * with.stats.tube_kept[i];
+  }
+  EXPECT_TRUE(wider) << "the invariant sets are wider than the reachable tube in some coordinate";
+}
+
 }  // namespace
 }  // namespace marsyn::funnel

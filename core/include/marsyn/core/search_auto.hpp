@@ -16,6 +16,9 @@ namespace marsyn::search {
 // enclosures that begin or end at a sample, the largest distance of the state box from the
 // nominal state there. Empty when the controller has no period enclosures.
 Eigen::VectorXd kept_tube(const Controller& controller, const NominalTrajectory& nominal, double tau);
+// The tracker's own figure of that tube when it states one (TrackerStats::tube_kept: the funnel's
+// invariant sets are wider than what the closed loop reaches, on purpose), else the above.
+Eigen::VectorXd kept_tube(const TrackResult& result, const NominalTrajectory& nominal, double tau);
 
 // An auto agent's next eps: (1 + kAutoEpsMargin) x kept, no wider than its eps, no narrower than
 // its disturbance's one-period push w tau nor kAutoEpsFloor x `first` (the loader's first value:
@@ -24,5 +27,11 @@ Eigen::VectorXd kept_tube(const Controller& controller, const NominalTrajectory&
 // would narrow by 10 % or more.
 Eigen::VectorXd narrower_auto_eps(const AgentSpec& agent, const Eigen::VectorXd& kept, double tau,
                                   const Eigen::VectorXd& first);
+
+// Which rule set each coordinate of `next` (narrower_auto_eps's result), for the summary:
+// "+25 %", or "+25 %; half the first value in x, y" where the floor, the disturbance's push or
+// the current eps decided instead (a kept tube of 0.035 does not give an eps of 0.074 by +25 %).
+std::string auto_eps_rule_text(const AgentSpec& agent, const Eigen::VectorXd& kept, double tau, const Eigen::VectorXd& first,
+                               const Eigen::VectorXd& next, const std::vector<std::string>& names);
 
 }  // namespace marsyn::search
