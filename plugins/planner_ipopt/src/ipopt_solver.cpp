@@ -12,6 +12,31 @@
 namespace marsyn::ipopt_planner {
 
 namespace {
+
+// Ipopt's return status in its manual's words (a user reads "converged to a point of local
+// infeasibility", not "status 2"); the number stays beside an unknown one.
+std::string status_words(Ipopt::ApplicationReturnStatus st) {
+  switch (st) {
+    case Ipopt::Solve_Succeeded: return "solved";
+    case Ipopt::Solved_To_Acceptable_Level: return "solved to an acceptable level";
+    case Ipopt::Infeasible_Problem_Detected: return "converged to a point of local infeasibility";
+    case Ipopt::Search_Direction_Becomes_Too_Small: return "the search direction became too small";
+    case Ipopt::Diverging_Iterates: return "the iterates diverged";
+    case Ipopt::User_Requested_Stop: return "stopped on request";
+    case Ipopt::Feasible_Point_Found: return "a feasible point found";
+    case Ipopt::Maximum_Iterations_Exceeded: return "the iteration limit was reached";
+    case Ipopt::Restoration_Failed: return "the restoration phase failed";
+    case Ipopt::Error_In_Step_Computation: return "an error in the step computation";
+    case Ipopt::Maximum_CpuTime_Exceeded: return "the CPU time limit was reached";
+    case Ipopt::Not_Enough_Degrees_Of_Freedom: return "not enough degrees of freedom";
+    case Ipopt::Invalid_Problem_Definition: return "an invalid problem definition";
+    case Ipopt::Invalid_Option: return "an invalid option";
+    case Ipopt::Invalid_Number_Detected: return "an invalid number (NaN or Inf) in a function or derivative";
+    default: break;
+  }
+  return "status " + std::to_string(static_cast<int>(st));
+}
+
 // Debian's Ipopt 3.11 solves with sequential MUMPS, which keeps global state: two solves at once
 // in one process crash. Every solve in this library takes this lock.
 std::mutex& ipopt_mutex() {
@@ -88,7 +113,7 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
   for (const auto& u : U) res.cost += 0.5 * o.r_input * u.squaredNorm();
   const bool converged = st == Ipopt::Solve_Succeeded || st == Ipopt::Solved_To_Acceptable_Level;
   std::ostringstream os;
-  os << "ipopt status " << static_cast<int>(st) << " (" << o.hessian << " Hessian";
+  os << "Ipopt: " << status_words(st) << " (" << o.hessian << " Hessian";
   if (o.hessian == "exact") {
     // Blocks the interfaces cannot differentiate twice are differenced; say which.
     const auto& b = nlp->hessian_blocks();

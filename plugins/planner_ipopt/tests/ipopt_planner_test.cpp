@@ -34,6 +34,9 @@ TEST(IpoptPlanner, SwingsThePendulumUp) {
   std::cout << planning::summary(testproblems::pendulum_problem(), out) << out.result.message << "\n";
   EXPECT_TRUE(out.feasible) << out.check.message << " / " << out.result.message;
   EXPECT_EQ(out.result.status, PlannerStatus::ExactSolution) << out.result.message;
+  // Ipopt's status in words, not its number (issue 54: "ipopt status 2").
+  EXPECT_EQ(out.result.message.rfind("Ipopt: solved", 0), 0u) << out.result.message;
+  EXPECT_EQ(out.result.message.find("status"), std::string::npos) << out.result.message;
 }
 
 TEST(IpoptPlanner, TwoUnicyclesPassEachOther) {

@@ -92,7 +92,11 @@ double RowSet::worst(const double* x, std::string* name, int knot) const {
     for (int i = 0; i < rows; ++i, ++r)
       if (scratch_g_[r] > v) {
         v = scratch_g_[r];
-        if (name) *name = it.c ? it.c->name() : (it.sign < 0 ? "lower bound of x" : "upper bound of x") + std::to_string(it.coord);
+        if (name)
+          *name = it.c ? it.c->name()
+                       : std::string(it.sign < 0 ? "lower bound of " : "upper bound of ") +
+                             (it.coord < static_cast<int>(coord_names_.size()) ? coord_names_[static_cast<std::size_t>(it.coord)]
+                                                                                : "x" + std::to_string(it.coord));
       }
   }
   return v;
@@ -119,6 +123,18 @@ ProductModel::ProductModel(const PlanningProblem& p) : pp(p) {
   }
   n = layout.state_dim();
   m = layout.input_dim();
+  std::vector<std::string> names(static_cast<std::size_t>(n));
+  for (std::size_t i = 0; i < prob.agents.size(); ++i) {
+    const AgentSpec& a = prob.agents[i];
+    const auto states = a.dynamics ? a.dynamics->state_names() : std::vector<std::string>{};
+    for (int c = 0; c < a.n(); ++c)
+      names[static_cast<std::size_t>(layout.state[i] + c)] =
+          (c < static_cast<int>(states.size()) ? states[static_cast<std::size_t>(c)] : "x" + std::to_string(c)) + " of " + a.name;
+  }
+  path.name_coordinates(names);
+  between.name_coordinates(names);
+  for (auto& s : names) s += " (goal)";
+  terminal.name_coordinates(std::move(names));
   for (int i = 0; i < n; ++i) {
     if (std::isfinite(pp.state_bounds.lo[i])) path.add_lower(i, pp.state_bounds.lo[i]);
     if (std::isfinite(pp.state_bounds.hi[i])) path.add_upper(i, pp.state_bounds.hi[i]);

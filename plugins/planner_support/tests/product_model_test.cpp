@@ -110,6 +110,26 @@ TEST(RowSet, SparseJacobianIsCentralDifferencesOfTheRows) {
   EXPECT_FALSE(name.empty());
 }
 
+// A state bound's row is named by its agent and state, never by its product index ("upper bound
+// of x4" told a user nothing); the goal's rows say so.
+TEST(RowSet, BoundsAreNamedByAgentAndState) {
+  const auto p = testproblems::unicycle_crossing(6, false);
+  const auto pp = planning::assemble(p, p.horizon);
+  const ProductModel M(pp);
+  const std::vector<std::string> states = p.agents[1].dynamics->state_names();
+  // right's second state far above every bound: that row is the worst.
+  Eigen::VectorXd x = pp.x0;
+  x[M.agents[1].xo + 1] = 1e6;
+  std::string name;
+  M.path.worst(x.data(), &name);
+  EXPECT_EQ(name, "upper bound of " + states[1] + " of right");
+  M.terminal.worst(x.data(), &name);
+  EXPECT_EQ(name, "upper bound of " + states[1] + " of right (goal)");
+  x[M.agents[1].xo + 1] = -1e6;
+  M.path.worst(x.data(), &name);
+  EXPECT_EQ(name, "lower bound of " + states[1] + " of right");
+}
+
 // Between the samples (continuous guarantee): the interior points are the sampled map's own
 // substep states, their Jacobians are central differences, and the rows there count in the
 // violation.

@@ -31,6 +31,9 @@ class RowSet {
   void dense(const double* jac, Eigen::MatrixXd& J) const;
   // The largest g, and the name of the row attaining it.
   double worst(const double* x, std::string* name, int knot = -1) const;
+  // Names of the product state's coordinates ("theta of e2"), for the bounds' rows in worst():
+  // a user reads agents and states, not product indices.
+  void name_coordinates(std::vector<std::string> names) { coord_names_ = std::move(names); }
 
  private:
   struct Item {
@@ -39,6 +42,7 @@ class RowSet {
     double sign = 0.0, bound = 0.0;
   };
   std::vector<Item> items_;
+  std::vector<std::string> coord_names_;
   int rows_ = 0, nnz_ = 0;
   mutable std::vector<double> scratch_g_, scratch_j_;
 };
