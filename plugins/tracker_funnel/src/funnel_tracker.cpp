@@ -35,6 +35,24 @@ std::vector<double> tube_use(const std::vector<std::vector<double>>& half_width,
   return use;
 }
 
+// What the outer search reads of a miss (TrackFailure): where, by how much, how near its edge
+// every coordinate came, how often inputs saturated.
+TrackFailure failure_of(const VerifyOutcome& best, const Eigen::VectorXd& eps) {
+  TrackFailure f;
+  if (best.miss_coordinate >= 0) {
+    f.kind = TrackFailureKind::TubeMiss;
+    f.coordinate = best.miss_coordinate;
+    f.step = best.reached_step + 1;
+    f.amount = best.miss_amount;
+    f.off_centre = best.miss_off_centre;
+    f.tube_use = tube_use(best.half_width, eps);
+    auto& missed = f.tube_use[static_cast<std::size_t>(best.miss_coordinate)];
+    missed = std::max(missed, 1.0 + best.miss_amount / eps[best.miss_coordinate]);
+  }
+  if (best.reached_step > 0) f.input_saturation = static_cast<double>(best.saturated_steps) / best.reached_step;
+  return f;
+}
+
 std::string invariance_text(const FunnelData& d, const InvariantOutcome& inv, bool asked) {
   const int T = d.horizon();
   std::ostringstream t;
@@ -545,17 +563,7 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
                                                                        std::to_string(s_.split_depth)
                                                                  : std::string()) +
                                               "): " + best.why;
-    if (best.miss_coordinate >= 0) {
-      res.failure.kind = TrackFailureKind::TubeMiss;
-      res.failure.coordinate = best.miss_coordinate;
-      res.failure.step = best.reached_step + 1;
-      res.failure.amount = best.miss_amount;
-      res.failure.off_centre = best.miss_off_centre;
-      res.failure.tube_use = tube_use(best.half_width, p.tube.eps);
-      auto& missed = res.failure.tube_use[static_cast<std::size_t>(best.miss_coordinate)];
-      missed = std::max(missed, 1.0 + best.miss_amount / p.tube.eps[best.miss_coordinate]);
-    }
-    if (best.reached_step > 0) res.failure.input_saturation = static_cast<double>(best.saturated_steps) / best.reached_step;
+    res.failure = failure_of(best, p.tube.eps);
     return res;
   }
   if (reach_out_) *reach_out_ = best.reach;
