@@ -116,7 +116,12 @@ TEST(CrowdedStarts, StartsCloserThanDeltaAndBothTubesAreNamedWithTheFactorThatFr
   EXPECT_NEAR(c[0].distance, 0.6, 1e-12);
   EXPECT_NEAR(c[0].needed, 0.64, 1e-12);
   EXPECT_NEAR(c[0].eps_factor, (0.6 - 0.24) / 0.4, 1e-12);
-  EXPECT_NE(describe(c[0], side_by_side(0.6)).find("no horizon can help"), std::string::npos);
+  const std::string text = describe(c[0], side_by_side(0.6));
+  EXPECT_NE(text.find("no horizon can help"), std::string::npos);
+  // One sentence to its end (issue 54: it stopped at "... or starts further apart) would").
+  const std::string end = " or less (or starts further apart) would make step 0 eps-robust";
+  ASSERT_GT(text.size(), end.size());
+  EXPECT_EQ(text.substr(text.size() - end.size()), end) << text;
   EXPECT_NEAR(start_eps_factor(side_by_side(0.6)), 0.9, 1e-12);
   // At the factor itself the start is exactly robust, just below it robust with room.
   Problem scaled = side_by_side(0.6);

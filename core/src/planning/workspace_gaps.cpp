@@ -247,9 +247,9 @@ std::string describe(const CrowdedStart& c, const Problem& problem) {
        << c.lambda << " +- " << c.mu << ", with the tubes around them " << c.lambda << " +- " << std::max(c.robust_mu, 0.0)
        << " at every step, step 0 included: no horizon can help; ";
     if (c.eps_factor > 0)
-      os << "eps x " << std::floor(c.eps_factor * 100) / 100 << " or less (or starts nearer " << c.lambda << " apart) would";
+      os << "eps x " << std::floor(c.eps_factor * 100) / 100 << " or less (or starts nearer " << c.lambda << " apart) would make step 0 eps-robust";
     else
-      os << "only starts nearer " << c.lambda << " apart would";
+      os << "only starts nearer " << c.lambda << " apart would make step 0 eps-robust";
     return os.str();
   }
   const std::string norm = problem.delta_norm == Norm::Inf ? "inf-norm" : "Euclidean";
@@ -258,9 +258,9 @@ std::string describe(const CrowdedStart& c, const Problem& problem) {
      << "); the eps-robust plan keeps " << c.needed
      << " (delta and the tubes) at every step, step 0 included: no horizon can help; ";
   if (c.eps_factor > 0)
-    os << "eps x " << std::floor(c.eps_factor * 100) / 100 << " or less (or starts further apart) would";
+    os << "eps x " << std::floor(c.eps_factor * 100) / 100 << " or less (or starts further apart) would make step 0 eps-robust";
   else
-    os << "only starts further apart would";
+    os << "only starts further apart would make step 0 eps-robust";
   return os.str();
 }
 

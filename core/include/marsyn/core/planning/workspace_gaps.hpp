@@ -57,7 +57,8 @@ struct CrowdedStart {
 std::vector<CrowdedStart> crowded_starts(const Problem& problem, std::size_t limit = 8, std::size_t* total = nullptr);
 
 // "a12 and a13 start 0.533 apart (inf-norm); the eps-robust plan keeps 0.64 at every step, step 0
-// included: no horizon can help; eps x 0.73 or less (or starts further apart) would".
+// included: no horizon can help; eps x 0.73 or less (or starts further apart) would make step 0
+// eps-robust".
 std::string describe(const CrowdedStart& c, const Problem& problem);
 
 // The largest factor on every eps that leaves all starts robust (below the smallest
