@@ -206,8 +206,20 @@ void read_agent(const Field& af, std::size_t idx, LoadedProblem& out, AgentsRead
                "-D one; all agents share one workspace (give every 'position' 2 or every one 3 entries)");
     }
   } else if (r.spatial) {
-    af.fail("missing required field 'workspace' (the problem has obstacles, collisions or a formation, so "
-            "each agent needs a point in the plane: {position: [i, j]} or {footprint: name})");
+    // A model whose states are named x and y (the unicycle, the bicycle, the quadrotor, most
+    // models written as equations) is in the plane at (x, y) unless the file says otherwise: the
+    // plane is conservative for a 3-D model too (a column of the workspace for each point).
+    const auto names = a.dynamics->state_names();
+    const auto ix = std::find(names.begin(), names.end(), "x"), iy = std::find(names.begin(), names.end(), "y");
+    if (ix == names.end() || iy == names.end())
+      af.fail("missing required field 'workspace' (the problem has obstacles, collisions or a formation, so "
+              "each agent needs a point in the plane: {position: [i, j]} or {footprint: name}; its states have no "
+              "x and y to take by default)");
+    a.workspace.index = {static_cast<int>(ix - names.begin()), static_cast<int>(iy - names.begin())};
+    if (pb.agents.empty()) pb.workspace_dim = 2;
+    else if (pb.workspace_dim != 2)
+      af.fail("missing required field 'workspace': the team's workspace is " + std::to_string(pb.workspace_dim) +
+              "-D (the first agent's), and this agent's default (its states x and y) is the plane; give its 'position'");
   } else {
     a.workspace.index = {0, n > 1 ? 1 : -1};
   }
