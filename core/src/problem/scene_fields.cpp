@@ -159,7 +159,7 @@ Obstacle read_obstacle(const Field& f, std::size_t index, int dim) {
     // In space a box gives 3 entries (or 2 and a `z` interval, or 2 for full height).
     const Field first = bf.child("lo").present() ? bf.child("lo") : bf.child("center");
     const bool box3 = dim == 3 && first.present() && first.is_sequence() && first.size() == 3;
-    const Box b = read_box(bf, box3 ? 3 : 2, box3 ? "a box in space [x, y, z]" : dim == 3 ? "a box in space [x, y, z] (or [x, y] for the whole height)" : "a box in the plane");
+    const Box b = read_box(bf, box3 ? 3 : 2, box3 ? "a box in space [x, y, z]" : dim == 3 ? "a box in space [x, y, z] (or [x, y] for the whole height)" : "a box in the plane: the agents' workspace is the plane; for boxes in space give each agent `workspace: {position: [x, y, z]}`");
     if (box3) {
       if (f.child("z").present()) f.child("z").fail("give the heights either in the box's third entries or in 'z', not both");
       o.z_lo = b.lo[2];
