@@ -3,6 +3,7 @@
 // (zero-order hold) and depends on the state at the sample, so the flow is enclosed for the
 // augmented state z = (x, u), u' = 0: a zonotope over (x, u) keeps the correlation between the
 // state and its own feedback input. docs/soundness.md section 11 has the argument.
+#include <cstddef>
 #include <vector>
 
 #include "marsyn/dynamics.hpp"
@@ -40,6 +41,10 @@ struct FlowResult {
   std::vector<FastInterval> boxes;  // substeps x n: every state during each substep
   long rows = 0, second_order_rows = 0;  // state rows enclosed, and of them by the Lagrange form
 };
+
+// sum_k a[k] b[k b_stride] over k < N, enclosed: the round-to-nearest sum widened by the a priori
+// bound of its rounding error (docs/soundness.md section 7). Not finite: (-inf, inf).
+FastInterval dot_enclosure(const double* a, const double* b, std::ptrdiff_t b_stride, int N);
 
 // `start` lives in R^{n+m} (states first, then inputs) and contains every (x(t0), u) the closed
 // loop can have at the sample; w bounds the disturbance (n numbers). For every such start and
