@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes a circle-swap problem: N unicycles on a circle, each to the antipodal point.
 
-The scaling problem of docs/benchmarks.md (plan, track and verification time against the number
+The scaling problem of `git show f9b6c78:docs/benchmarks.md` ("Circle swap end to end"; plan, track and verification time against the number
 of agents). Parameters follow examples/multi_drone.yaml (eps, eta, W, U, delta); the circle's
 radius, the horizon and the tracker are options.
 
@@ -10,7 +10,7 @@ radius, the horizon and the tracker are options.
 
 At radius 12 neighbours stand 2 pi 12 / N apart: for N = 100 closer (0.533 in the inf-norm)
 than delta plus both tubes (0.64), so no eps-robust plan exists at any horizon (`marsyn check`
-warns, "crowded starts"); the script warns too. docs/benchmarks.md scales the circle with N
+warns, "crowded starts"); the script warns too. That diary scaled the circle with N
 past 50 (radius 12 N / 50, horizon 160 N / 50: the 50-agent swap's density and speed).
 """
 import argparse

@@ -482,7 +482,8 @@ class HorizonSearch {
       if (left <= 0 || (options_.stop && options_.stop())) break;
       const MissionSchedule next = retime_missions(problem_, best_.visits, best_.plan.x);
       // Knots that move a step or two are the plan's own jitter: a re-solve for them costs a
-      // solve and changes the effort by little (warehouse.yaml: docs/benchmarks.md). Knots that
+      // solve and changes the effort by little (warehouse.yaml: `git show f9b6c78:docs/benchmarks.md`,
+      // "Missions: the plan's visit knots"). Knots that
       // come back near ones already solved for oscillate (the rendezvous: 51, 45, then 49).
       const int jitter = std::max(2, horizon_ / 40);
       if (std::any_of(tried.begin(), tried.end(), [&](const MissionSchedule& s) { return largest_shift(s, next) < jitter; }))

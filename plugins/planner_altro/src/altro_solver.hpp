@@ -65,7 +65,8 @@ PlanResult solve(const PlanningProblem& problem, const PlanOptions& run, const O
 // and one multiplier per requirement row (at the samples and at the point between them), and per
 // row, once, its constraint objects, the solver's reference to it and the broad phase's entry.
 // The rows' gradients are computed where needed and never stored, so a pair costs bytes per
-// step, not its Jacobian (measured: docs/benchmarks.md, "Memory of a plan").
+// step, not its Jacobian (measured: `git show f9b6c78:docs/benchmarks.md`, "Large teams: memory
+// and time of a plan").
 PlannerMemory memory(const Problem& problem);
 
 }  // namespace marsyn::altro

@@ -1,4 +1,4 @@
-// Benchmark of the funnel tracker's enclosures (docs/benchmarks.md, "funnel"): every test
+// Benchmark of the funnel tracker's enclosures (docs/funnel.md): every test
 // scenario over its full horizon, with the mean-value and the second-order enclosure in the same
 // run: how many steps verify, the track time, how much of eps the verified sets fill, and the
 // tightness figure (verified half-width / largest deviation in sampled adversarial runs).
