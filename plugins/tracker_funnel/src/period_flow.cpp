@@ -25,12 +25,13 @@ bool finite(const FastInterval& x) { return std::isfinite(x.lower()) && std::isf
 
 // One interval per dot product instead of one interval product per term (the enclosure's
 // generator product, most of a 12-state funnel's time): s, the round-to-nearest sum, and
-// |s - exact| <= gamma_N sum_k |a_k b_k| in any order of summation, an FMA's single rounding included (Higham, Accuracy and Stability of Numerical
-// Algorithms, section 3.1), gamma_N = N u / (1 - N u), u = 2^-53; the sum of magnitudes t is
+// |s - exact| <= gamma_N sum_k |a_k b_k| in any order of summation, an FMA's single rounding
+// included (Higham, Accuracy and Stability of Numerical Algorithms, section 3.1),
+// gamma_N = N u / (1 - N u), u = 2^-53; the sum of magnitudes t is
 // itself a round-to-nearest sum, so sum |a_k b_k| <= t / (1 - gamma_N) and the error is at most
 // gamma_N / (1 - gamma_N) t <= 2 N u t (N u <= 1/4). The relative bound fails only where a
 // product underflows, by at most half the smallest subnormal each: N + 1 of them are added.
-// docs/soundness.md, section 7.
+// docs/soundness.md, section 2.
 FastInterval dot_enclosure(const double* a, const double* b, std::ptrdiff_t b_stride, int N) {
   double s = 0.0, t = 0.0;
   for (int k = 0; k < N; ++k) {

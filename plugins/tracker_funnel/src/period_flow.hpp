@@ -43,7 +43,7 @@ struct FlowResult {
 };
 
 // sum_k a[k] b[k b_stride] over k < N, enclosed: the round-to-nearest sum widened by the a priori
-// bound of its rounding error (docs/soundness.md section 7). Not finite: (-inf, inf).
+// bound of its rounding error (docs/soundness.md section 2). Not finite: (-inf, inf).
 FastInterval dot_enclosure(const double* a, const double* b, std::ptrdiff_t b_stride, int N);
 
 // `start` lives in R^{n+m} (states first, then inputs) and contains every (x(t0), u) the closed

@@ -83,7 +83,7 @@ TEST(Zonotope, ReductionContainsRandomPoints) {
 }
 
 
-// The enclosure's generator product (dot_enclosure, docs/soundness.md section 7): the interval
+// The enclosure's generator product (dot_enclosure, docs/soundness.md section 2): the interval
 // holds the exact dot product, computed here in quad precision (each product exact, the sum's
 // own error far below the bound), on random terms spanning 2^-600..2^600 with cancellation, on
 // terms that underflow, and on near-cancelling pairs. Without its error term (the plain
