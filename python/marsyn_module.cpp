@@ -103,7 +103,13 @@ py::dict agent_dict(const AgentSpec& a) {
   d["goal"] = py::make_tuple(vector(a.goal.lo), vector(a.goal.hi));
   d["state_bounds"] = py::make_tuple(vector(a.state_bounds.lo), vector(a.state_bounds.hi));
   d["input_bounds"] = py::make_tuple(vector(a.input_bounds.lo), vector(a.input_bounds.hi));
-  d["w"] = vector(a.tube.w);
+  d["w"] = vector(a.tube.w);  // W's largest value over X and U
+  if (a.tube.state_dependent()) {  // W(x, u) = w_base + sum of w_per[name] |name|
+    d["w_base"] = vector(a.tube.w_base);
+    py::dict per;
+    for (const auto& g : a.tube.w_growth) per[g.name.c_str()] = vector(g.gain);
+    d["w_per"] = per;
+  }
   d["eps"] = vector(a.tube.eps);
   for (const auto& f : a.fields.items) d[f.name.c_str()] = vector(f.value);  // the trackers' own (abcd: eta_x, eta_u)
   d["tracker"] = a.tracker.name;  // resolved per agent (never "auto")

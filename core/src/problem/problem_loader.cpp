@@ -13,6 +13,7 @@
 #include "marsyn/core/problem/tracker_assessment.hpp"
 #include "marsyn/core/problem/tracker_fields.hpp"
 #include "agent_fields.hpp"
+#include "disturbance_fields.hpp"
 #include "marsyn/core/problem/auto_tube.hpp"
 #include "tube_fields.hpp"
 #include "equations/equation_yaml.hpp"
@@ -189,7 +190,7 @@ void read_agent(const Field& af, std::size_t idx, LoadedProblem& out, AgentsRead
   a.goal = read_box(goalf, n, sn);
   a.state_bounds = read_box(agent_required(af, defaults, "state_bounds"), n, sn);
   a.input_bounds = read_box(agent_required(af, defaults, "input_bounds"), m, sm);
-  a.tube.w = agent_required(af, defaults, "disturbance").non_negative_vector(n, sn);
+  read_disturbance(agent_required(af, defaults, "disturbance"), a, sn);
   // eps and the trackers' fields: numbers, or `auto` (auto_tube.hpp; an absent eps is auto, and
   // so are then absent fields).
   const AutoTube at = read_tube(af, defaults, pb.tau, a, sn, sm, r.tracker_fields, r.tracker_instances);

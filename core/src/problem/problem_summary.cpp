@@ -81,6 +81,14 @@ std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& track
     for (std::size_t c = 0; c + 1 < r.size(); ++c) s << std::left << std::setw(static_cast<int>(width[c])) << r[c];
     s << r.back() << "\n";
   }
+  // A W that grows with the state or input (docs/problem-format.md): its formula and its largest
+  // value, which a tracker that cannot read W(x, u) takes.
+  for (const auto& a : pb.agents) {
+    if (!a.tube.state_dependent()) continue;
+    s << "disturbance " << a.name << ": W = " << list_text(a.tube.w_base);
+    for (const auto& g : a.tube.w_growth) s << " + " << list_text(g.gain) << " |" << g.name << "|";
+    s << ", at most " << list_text(a.tube.w) << " over X and U (what a tracker that cannot read W(x, u) takes)\n";
+  }
   s << "\nconstraints per step: " << c.per_step() << " (obstacle " << c.obstacle << ", collision " << c.collision
     << ", formation " << c.formation << "); obstacles " << pb.obstacles.size() << "\n";
   s << "constraints over the horizon: " << static_cast<long long>(c.per_step()) * (pb.horizon + 1)

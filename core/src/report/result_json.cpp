@@ -152,6 +152,14 @@ nlohmann::json agent_json(const SolveOutcome& o, std::size_t i) {
   for (const auto& f : spec.fields.items) j[f.name] = std::vector<double>(f.value.data(), f.value.data() + f.value.size());
   // The stated initial set the controller was made to accept (--resume keeps it only for the same).
   if (spec.x0_radius.size()) j["x0_radius"] = std::vector<double>(spec.x0_radius.data(), spec.x0_radius.data() + spec.x0_radius.size());
+  // W (its largest value over X and U), and where it grows with the state or input its formula.
+  j["w"] = std::vector<double>(spec.tube.w.data(), spec.tube.w.data() + spec.tube.w.size());
+  if (spec.tube.state_dependent()) {
+    json per = json::object();
+    for (const auto& g : spec.tube.w_growth) per[g.name] = std::vector<double>(g.gain.data(), g.gain.data() + g.gain.size());
+    j["w_base"] = std::vector<double>(spec.tube.w_base.data(), spec.tube.w_base.data() + spec.tube.w_base.size());
+    j["w_per"] = per;
+  }
   if (i < o.auto_tube.size() && o.auto_tube[i].any()) j["auto"] = auto_json(o, i);
   return j;
 }

@@ -9,6 +9,7 @@
 
 #include "marsyn/core/verification/broad_phase.hpp"
 #include "marsyn/core/verification/lanes_rk4.hpp"
+#include "marsyn/disturbance.hpp"
 #include "marsyn/sampled_map.hpp"
 
 namespace marsyn {
@@ -232,6 +233,7 @@ class Batch {
       next_[i].resize(X_[i].size());
       U_[i].resize(static_cast<size_t>(pb_.agents[i].m()));
       W_[i].resize(static_cast<size_t>(pb_.agents[i].tube.w.size()));
+      bounds_.emplace_back(pb_.agents[i].tube);
     }
     for (int i = 0; i < N_; ++i) pack(X_[i], &Lane::x, i);
   }
@@ -573,9 +575,14 @@ class Batch {
     for (int g = 0; g < N_; g += kGroup) {
       const int end = std::min(N_, g + kGroup);
       for (int i = g; i < end; ++i) {
-        // Within a period only the adversary's disturbances change.
-        if (sub == 0) pack(W_[i], &Lane::w, i);
-        else
+        // Within a period only the adversary's disturbances change, and a W that grows with the
+        // state or input, which scales each run's draw at every substep.
+        if (!bounds_[static_cast<size_t>(i)].constant()) {
+          pack(W_[i], &Lane::w, i);
+          scale_to_state(i);
+        } else if (sub == 0) {
+          pack(W_[i], &Lane::w, i);
+        } else
           for (int l : adversary_lanes_) {
             const Eigen::VectorXd& w = run_of(l).w[static_cast<size_t>(i)];
             for (Eigen::Index c = 0; c < w.size(); ++c) W_[i][static_cast<size_t>(c)][l] = w[c];
@@ -591,6 +598,25 @@ class Batch {
     }
     // The windowed check reads the substeps' points from the lanes (window_points).
     if (!windowed_ || sub + 1 == S_) unpack();
+  }
+
+  // The draws are made at W's largest value (TubeParams::w); where W(x, u) grows with the state
+  // or input, each lane's draw is scaled to W at its state and input at the substep's start
+  // (the adversary's vertex stays a vertex).
+  void scale_to_state(int i) {
+    const AgentSpec& a = pb_.agents[i];
+    const int n = a.n(), m = a.m();
+    double x[64], u[64], w[64];
+    if (n > 64 || m > 64) throw std::logic_error("a state-dependent W for more than 64 states or inputs");
+    for (int l = 0; l < Lanes::kWidth; ++l) {
+      for (int c = 0; c < n; ++c) x[c] = X_[i][static_cast<size_t>(c)][l];
+      for (int j = 0; j < m; ++j) u[j] = U_[i][static_cast<size_t>(j)][l];
+      bounds_[static_cast<size_t>(i)].at(x, u, w);
+      for (int c = 0; c < n; ++c) {
+        const double top = a.tube.w[c];
+        W_[i][static_cast<size_t>(c)][l] = top > 0 ? W_[i][static_cast<size_t>(c)][l] * std::min(1.0, w[c] / top) : 0.0;
+      }
+    }
   }
 
   const SimulationSetup& s_;
@@ -616,6 +642,7 @@ class Batch {
   std::vector<int> stage_v_;
   std::vector<Eigen::Vector4d> lane_boxes_;  // one lane's boxes (x_lo, y_lo, x_hi, y_hi) per agent
   std::vector<std::vector<Lanes>> X_, U_, W_, next_;
+  std::vector<DisturbanceBound> bounds_;  // each agent's W(x, u)
   std::vector<verification_detail::LanesRk4> rk_;  // per agent
   std::vector<double> lane_x_;                     // one lane's state of one agent
 };

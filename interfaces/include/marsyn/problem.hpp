@@ -62,9 +62,26 @@ struct PluginChoice {
 
 // One agent's tube (paper Sec. 3), as the problem file gives it and every stage passes it on:
 // the disturbance bound and the tube's half-width.
+// A term of a disturbance bound that grows with the magnitude of one state or input coordinate
+// (wheel slip with speed): it adds gain[i] |s| to W_i, s = x[index] or u[index].
+struct DisturbanceGrowth {
+  bool input = false;    // s is an input (u[index]), else a state (x[index])
+  int index = 0;
+  std::string name;      // the coordinate's name, for messages
+  Eigen::VectorXd gain;  // n numbers >= 0, one per state coordinate of W
+};
+
 struct TubeParams {
-  Eigen::VectorXd w;    // disturbance bound: w in [-w, w] componentwise
+  // Disturbance bound: w in [-w, w] componentwise, for every state in X and input in U. When W
+  // grows with the state (w_growth below) this is its largest value there, so that a reader of
+  // w alone (a tracker without TrackerCapabilities::state_dependent_disturbance) stays sound.
+  Eigen::VectorXd w;
   Eigen::VectorXd eps;  // tube half-width per state coordinate (robustness margin)
+  // W(x, u) = w_base + sum_t gain_t |s_t| (marsyn/disturbance.hpp); empty w_growth: W = w.
+  Eigen::VectorXd w_base;
+  std::vector<DisturbanceGrowth> w_growth;
+
+  bool state_dependent() const { return !w_growth.empty(); }
 };
 
 // An agent-level field that belongs to a tracker, not to the problem: abcd's grid (eta_x,

@@ -279,6 +279,10 @@ struct TrackerCapabilities {
   // holds from, every state of the stated initial set at step 0. Agents that state one are not
   // given to a tracker without it.
   bool initial_set = false;
+  // track() reads the state-dependent disturbance (TubeParams::w_base, w_growth) and its
+  // guarantee holds under W(x, u). A tracker without it reads TubeParams::w, the largest W over X
+  // and U, which is sound and only more cautious.
+  bool state_dependent_disturbance = false;
 };
 
 class Tracker {

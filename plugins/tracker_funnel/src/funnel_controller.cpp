@@ -137,6 +137,7 @@ FunnelData deserialize(const std::string& s, const std::string& what) {
   if (!(d.tau > 0) || !std::isfinite(d.tau)) r.fail("tau must be positive");
   d.eps = r.reals(n);
   d.w = r.reals(n);
+  d.dist = DisturbanceBound(d.w);
   d.u_lo = r.reals(m);
   d.u_hi = r.reals(m);
   auto finite_all = [](const std::vector<double>& v) {

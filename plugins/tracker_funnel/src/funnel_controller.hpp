@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "marsyn/disturbance.hpp"
 #include "marsyn/tracker.hpp"
 
 namespace marsyn::funnel {
@@ -42,7 +43,9 @@ struct FunnelData {
   std::string dynamics_type, agent;
   int n = 0, m = 0;
   double tau = 0.0;
-  std::vector<double> eps, w, u_lo, u_hi;
+  std::vector<double> eps, w, u_lo, u_hi;  // w: W's largest value (TubeParams::w)
+  // W(x, u) as the synthesis reads it (not stored: a controller read back has W = w).
+  DisturbanceBound dist;
   std::vector<std::vector<double>> x_nom;  // T + 1
   std::vector<std::vector<double>> u_nom;  // T
   std::vector<std::vector<double>> K;      // T, m x n row-major

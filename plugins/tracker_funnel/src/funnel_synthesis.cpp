@@ -249,6 +249,7 @@ void describe_law(const TrackingProblem& p, const std::vector<Eigen::MatrixXd>& 
   d.tau = p.tau;
   d.eps.assign(p.tube.eps.data(), p.tube.eps.data() + n);
   d.w.assign(p.tube.w.data(), p.tube.w.data() + n);
+  d.dist = DisturbanceBound(p.tube);
   d.u_lo.assign(p.input_bounds.lo.data(), p.input_bounds.lo.data() + m);
   d.u_hi.assign(p.input_bounds.hi.data(), p.input_bounds.hi.data() + m);
   for (int k = 0; k <= T; ++k) d.x_nom.emplace_back(p.nominal.x[k].data(), p.nominal.x[k].data() + n);

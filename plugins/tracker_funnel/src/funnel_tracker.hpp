@@ -42,7 +42,9 @@ class FunnelTracker : public marsyn::Tracker {
   static std::vector<ParamSpec> param_specs();
 
   std::string name() const override { return "funnel"; }
-  TrackerCapabilities capabilities() const override { return {.initial_set = true}; }
+  TrackerCapabilities capabilities() const override {
+    return {.initial_set = true, .state_dependent_disturbance = true};
+  }
   TrackResult track(const TrackingProblem& problem, const TrackOptions& options) const override;
   TrackerAssessment assess(const AgentSpec& agent, int horizon, double tau) const override;
   bool refine(AgentSpec& agent) const override;

@@ -46,11 +46,54 @@ FastInterval dot_enclosure(const double* a, const double* b, std::ptrdiff_t b_st
   return FastInterval(fast_detail::sub_down(s, e), fast_detail::add_up(s, e));
 }
 
+namespace {
+
+// The a priori box B of one substep under W(x, u): W taken over the start box X, then over B
+// grown by a hair, until W over that neighbourhood of B lies within the W that B was computed
+// with. Then no solution leaves B: up to a first exit from the neighbourhood, w(t) lies in the W
+// used, so the solution is one of the box's and stays in B, strictly inside the neighbourhood
+// (docs/soundness.md section 12). `w` gets the W used, `W` the same as intervals.
+bool substep_box(const Dynamics& f, const DisturbanceBound& dist, const FastInterval* X, const FastInterval* U,
+                 const FastInterval& h, int iterations, std::vector<double>& w, IVector& W, FastInterval* B) {
+  const int n = f.state_dim();
+  std::vector<double> next(static_cast<std::size_t>(n));
+  std::vector<FastInterval> grown(static_cast<std::size_t>(n));
+  auto hair = [](const FastInterval& b) {
+    const double r = fast_detail::add_up(fast_detail::mul_up(1e-9, mag(b)), 1e-300);
+    return FastInterval(fast_detail::sub_down(b.lower(), r), fast_detail::add_up(b.upper(), r));
+  };
+  for (int i = 0; i < n; ++i) grown[static_cast<std::size_t>(i)] = hair(X[i]);
+  dist.sup(grown.data(), U, w.data());
+  for (int attempt = 0; attempt < 8; ++attempt) {
+    for (int i = 0; i < n; ++i) W[i] = FastInterval(-w[static_cast<std::size_t>(i)], w[static_cast<std::size_t>(i)]);
+    if (!apriori_enclosure(f, X, U, W.data(), h, iterations, B)) return false;
+    for (int i = 0; i < n; ++i) grown[static_cast<std::size_t>(i)] = hair(B[i]);
+    dist.sup(grown.data(), U, next.data());
+    bool inside = true;
+    for (int i = 0; i < n; ++i)
+      if (!(next[static_cast<std::size_t>(i)] <= w[static_cast<std::size_t>(i)])) inside = false;
+    if (inside) return true;
+    // A little more than asked, so that the next box's W settles inside it.
+    for (int i = 0; i < n; ++i)
+      w[static_cast<std::size_t>(i)] = std::max(w[static_cast<std::size_t>(i)],
+                                                fast_detail::mul_up(next[static_cast<std::size_t>(i)], 1.0 + 1e-6));
+  }
+  return false;
+}
+
+}  // namespace
+
 FlowResult enclose_period(const Dynamics& f, const Zonotope& start, const std::vector<double>& w, int basis,
+                          const FlowOptions& opt) {
+  return enclose_period(f, start, DisturbanceBound(w), basis, opt);
+}
+
+FlowResult enclose_period(const Dynamics& f, const Zonotope& start, const DisturbanceBound& dist, int basis,
                           const FlowOptions& opt) {
   FlowResult r;
   const int n = f.state_dim(), m = f.input_dim(), N = n + m;
-  if (start.dim() != N || static_cast<int>(w.size()) != n || opt.substeps < 1 || !(opt.tau > 0)) return r;
+  if (start.dim() != N || dist.dim() != n || opt.substeps < 1 || !(opt.tau > 0)) return r;
+  std::vector<double> w = dist.base();
   const int S = opt.substeps;
   const int max_generators = std::max(opt.max_generators > 0 ? opt.max_generators : 3 * N, basis + N);
   const FastInterval h = FastInterval(opt.tau) / FastInterval(static_cast<double>(S));
@@ -75,7 +118,12 @@ FlowResult enclose_period(const Dynamics& f, const Zonotope& start, const std::v
     }
     const FastInterval* U = X.data() + n;
     // B holds every state over the substep, for every start in X, input in U and disturbance.
-    if (!apriori_enclosure(f, X.data(), U, W.data(), h, opt.picard_iterations, B.data())) return r;
+    if (dist.constant()) {
+      if (!apriori_enclosure(f, X.data(), U, W.data(), h, opt.picard_iterations, B.data())) return r;
+    } else {
+      if (!substep_box(f, dist, X.data(), U, h, opt.picard_iterations, w, W, B.data())) return r;
+      for (int i = 0; i < n; ++i) hw[i] = (h * FastInterval(w[i])).upper();
+    }
     for (int i = 0; i < n; ++i) r.boxes.push_back(B[i]);
 
     // x(t + h) = x + h f(x, u) + int_0^h (f(x(t+s), u) - f(x, u)) ds + int_0^h w ds. The middle

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "marsyn/disturbance.hpp"
 #include "marsyn/dynamics.hpp"
 #include "zonotope.hpp"
 
@@ -53,6 +54,10 @@ FastInterval dot_enclosure(const double* a, const double* b, std::ptrdiff_t b_st
 // front through the whole period (the caller fits its verified set to their image).
 // Runs in round-to-nearest (the caller holds a RoundToNearestScope).
 FlowResult enclose_period(const Dynamics& f, const Zonotope& start, const std::vector<double>& w, int basis,
+                          const FlowOptions& opt);
+// The same under a disturbance bound that may grow with the state and input: each substep
+// takes W over its own a priori box and input range (docs/soundness.md section 12).
+FlowResult enclose_period(const Dynamics& f, const Zonotope& start, const DisturbanceBound& w, int basis,
                           const FlowOptions& opt);
 
 }  // namespace marsyn::funnel

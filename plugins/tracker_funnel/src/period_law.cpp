@@ -93,7 +93,7 @@ Period PeriodLaw::enclose(Rows r, int k, const std::vector<double>& u) const {
     }
   }
   const Zonotope za = from_intervals(r.center, r.gens, extra);
-  out_p.fr = enclose_period(*p_.dynamics, za, d_.w, 0, flow_);
+  out_p.fr = enclose_period(*p_.dynamics, za, d_.dist, 0, flow_);
   return out_p;
 }
 

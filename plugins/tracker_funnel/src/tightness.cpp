@@ -120,7 +120,7 @@ Tightness measure_tightness(const Dynamics& f, const FunnelController& ctrl, std
   t.sampled.assign(static_cast<std::size_t>(T) + 1, std::vector<double>(n, 0.0));
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> U01(0, 1);
-  std::vector<double> x(n), u(m), w(n), next(n);
+  std::vector<double> x(n), u(m), w(n), wx(n), next(n);
   // One closed-loop run from x (inputs held over each period, as deployed); `disturb` sets w for
   // fine step q of period k.
   auto run = [&](const std::function<void(int k, int q)>& disturb) {
@@ -131,6 +131,11 @@ Tightness measure_tightness(const Dynamics& f, const FunnelController& ctrl, std
       if (ctrl.input(x.data(), k, u.data()) != ControlStatus::Ok) break;
       for (int q = 0; q < kFine; ++q) {
         disturb(k, q);
+        if (!d.dist.constant()) {
+          // Drawn at W's largest value; scaled to W(x, u) where W grows with the state or input.
+          d.dist.at(x.data(), u.data(), wx.data());
+          for (int i = 0; i < n; ++i) w[i] = d.w[i] > 0 ? w[i] * std::min(1.0, wx[i] / d.w[i]) : 0.0;
+        }
         rk4_step<double>(f, x.data(), u.data(), w.data(), d.tau / kFine, 1, next.data());
         x = next;
       }

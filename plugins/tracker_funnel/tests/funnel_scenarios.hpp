@@ -141,8 +141,21 @@ inline TrackingProblem quadrotor(int steps = 30) {
 // outgrow eps after 14 (crane), 20 (bicycle) and 16 (planar quadrotor) steps of these scenarios,
 // although the closed loop linearized along the nominal, under the worst disturbance, stays
 // within a third to a half of it (docs/tracker.md, "funnel: limits").
+// The unicycle under wheel slip that grows with its speed (input v) and, a little, with its
+// heading's magnitude: W(x, u) = base + gain_v |v| + gain_theta |theta| (TubeParams::w_growth);
+// w is W's largest value over X and U, as the loader computes it.
+inline TrackingProblem unicycle_slip(double gain_scale = 1.0) {
+  TrackingProblem p = unicycle();
+  p.tube.w_base = vec({0.004, 0.004, 0.004});
+  p.tube.w_growth = {{true, 0, "v", gain_scale * vec({0.02, 0.02, 0.01})},
+                     {false, 2, "theta", gain_scale * vec({0.002, 0.002, 0.0})}};
+  p.tube.w = p.tube.w_base + 2.4 * p.tube.w_growth[0].gain + 3.3 * p.tube.w_growth[1].gain;
+  return p;
+}
+
 inline TrackingProblem scenario(const std::string& name) {
   if (name == "unicycle") return unicycle();
+  if (name == "unicycle_slip") return unicycle_slip();
   if (name == "unicycle_at_bound") return unicycle_at_bound();
   if (name == "unicycle_near_bound") return unicycle_near_bound();
   if (name == "crane") return crane(12);

@@ -88,7 +88,7 @@ bool in_zonotope(const Zonotope& z, const std::vector<double>& least_norm, const
 // Runs start from vertex-biased points of Z_k (half of them true vertices, the support point in
 // a random direction); each must be accepted by the controller, stay in its part's period
 // enclosure at every fine step, and end in Z_{k+1} and in V_{k+1}.
-Counts sample(const Tracked& t, long total, std::uint64_t seed) {
+Counts sample(const Tracked& t, long total, std::uint64_t seed, const DisturbanceBound* truth = nullptr) {
   const auto& ctrl = dynamic_cast<const FunnelController&>(*t.result.controller);
   const FunnelData& d = ctrl.data();
   const Dynamics& f = *t.problem.dynamics;
@@ -134,7 +134,7 @@ Counts sample(const Tracked& t, long total, std::uint64_t seed) {
         ++c.refused;
         continue;
       }
-      testing::adversarial_period(f, d, k, x, u, rng, c.period);
+      testing::adversarial_period(f, d, k, x, u, rng, c.period, truth);
       c.leaks += !ctrl.in_set(x.data(), k + 1);
       c.reach_leaks += !in_next(x.data(), 1.0 + 1e-6);
       // Every 4th run against the shrunk enclosure: a proportion, not a proof (and the slow case
@@ -178,7 +178,7 @@ TEST_P(FunnelSoundness, SuccessorsStayInTheNextVerifiedSet) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, FunnelSoundness,
-                         ::testing::Values("unicycle", "unicycle_at_bound", "unicycle_near_bound", "crane", "bicycle", "planar_quadrotor", "quadrotor",
+                         ::testing::Values("unicycle", "unicycle_slip", "unicycle_at_bound", "unicycle_near_bound", "crane", "bicycle", "planar_quadrotor", "quadrotor",
                                            "bicycle_split"));
 
 // bicycle_split (a wide initial box) has no funnel without splitting; with it, the parts are
@@ -198,6 +198,28 @@ TEST(FunnelSoundness, SplittingTurnsAMissIntoAFunnel) {
   const TrackResult r = FunnelTracker(none).track(t.problem, {});
   EXPECT_EQ(r.status, TrackerStatus::NoController) << r.message;
   std::printf("bicycle_split: with splits: %s\nwithout: %s\n", t.result.message.c_str(), r.message.c_str());
+}
+
+// W that grows with the speed: the runs above ("unicycle_slip") draw in W(x, u) and stay in the
+// enclosures. The same runs against a funnel built for W with 10 % less growth, and for the base
+// alone, must leave its enclosures: each substep's W is what holds them.
+TEST(FunnelSoundness, AStateDependentWIsWhatTheEnclosuresHold) {
+  const TrackingProblem truth_problem = testing::unicycle_slip();
+  const DisturbanceBound truth(truth_problem.tube);
+  for (const double scale : {0.9, 0.0}) {
+    Tracked t;
+    t.problem = testing::unicycle_slip(scale);
+    Params params;
+    params.set("invariant_sets", false);
+    FunnelTracker tracker(params);
+    tracker.keep_reach_sets_for_tests(&t.reach);
+    t.result = tracker.track(t.problem, {});
+    ASSERT_EQ(t.result.status, TrackerStatus::ControllerFound) << t.result.message;
+    const Counts c = sample(t, 200'000, 11, &truth);
+    std::printf("growth x %g: %ld of %ld fine states leave the period enclosures, %ld of %ld successors the next set\n",
+                scale, c.period.enclosure_leaks, c.period.fine_states, c.reach_leaks, c.samples);
+    EXPECT_GT(c.period.enclosure_leaks + c.reach_leaks, 0) << "W's growth x " << scale << " should not hold the runs";
+  }
 }
 
 TEST(FunnelSoundness, TooLargeADisturbanceGivesNoController) {
