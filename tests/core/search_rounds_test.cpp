@@ -186,7 +186,15 @@ TEST(SearchRounds, ASmallMissIsClosedByAWiderTubeWithoutAReplan) {
 TEST(SearchRounds, ASmallMissWidensTheCoordinatesAtTheEdgeWithIt) {
   const auto lp =
       marsyn::load_problem(never_team("rounds_small_miss_edge", {"missedge_pendulum", "missnear_pendulum"}, "[0.2, 0.25]", "[0.5, 2.0]"));
-  const marsyn::SolveOutcome o = marsyn::solve(lp, quick());
+  std::vector<std::string> log;
+  const marsyn::SolveOutcome o = marsyn::solve(lp, quick(&log));
+  // Both agents' wider tubes in one exact check of the plan (each alone would cost one each).
+  EXPECT_NE(std::find_if(log.begin(), log.end(),
+                         [](const std::string& l) {
+                           return l.rfind("[search] the plan is eps-robust with the wider tubes of 2 agents at once (missedge_pendulum, "
+                                          "missnear_pendulum; smallest margin ", 0) == 0;
+                         }),
+            log.end());
   // Each agent's first wider tube (the plan's end may send one agent's to a later round).
   std::map<std::string, std::string> eps;
   for (const auto& r : o.search.rounds)
