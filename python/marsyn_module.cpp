@@ -594,7 +594,7 @@ void bind_solve(py::module_& m) {
         d["changes"] = python::search_changes(p.lp->problem, outcome);
         return d;
       },
-      py::arg("problem"), py::arg("runs") = 1000, py::arg("threads") = 2, py::arg("global_budget") = 2e9,
+      py::arg("problem"), py::arg("runs") = 0, py::arg("threads") = 2, py::arg("global_budget") = 2e9,
       py::arg("out") = py::none(), py::arg("log") = py::none(), py::arg("time_limit") = py::none(),
       "Everything, as `marsyn solve` (time_limit: the search's budget in seconds, as --time-limit; default the file's "
       "search.time_limit): the result.json fields as a dict, plus verified, nominal {name: {x, u}} (numpy), "

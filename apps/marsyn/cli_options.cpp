@@ -37,7 +37,7 @@ void add_plan_track_solve(CLI::App& app, CliOptions& o) {
   o.solve = app.add_subcommand("solve", "plan, track every agent, verify, and write result.json, controllers, report.html");
   o.solve->add_option("CONFIG", o.config, "problem file (YAML); default: the multi-drone example");
   o.solve->add_option("--out", o.out, "output folder (default marsyn-out/<problem name>)");
-  o.solve->add_option("--runs", o.runs, "closed-loop verification runs (default 1000)")->check(CLI::Range(5, 10000000));
+  o.solve->add_option("--runs", o.runs, "closed-loop verification runs (default 1000; above 100 agents 100,000 / agents, at least 200)")->check(CLI::Range(5, 10000000));
   o.solve->add_option("--threads", o.threads, "threads (default 2)")->check(CLI::Range(1, 256));
   o.solve->add_option("--global-budget", o.global_budget,
                       "memory budget [bytes] under which the global ABCD baseline is attempted (default 2e9; 0: never)")
@@ -63,7 +63,7 @@ void add_simulate_verify(CLI::App& app, CliOptions& o) {
   o.verify->add_option("CONFIG", o.config, "problem file (YAML)")->required();
   o.verify->add_option("--controllers", o.controllers, "a folder written by `marsyn solve`")->required();
   o.verify->add_option("--plan", o.plan_file, "the nominal plan: a plan.json or 'straight-line' (default <controllers>/plan.json)");
-  o.verify->add_option("--runs", o.runs, "closed-loop runs (default 1000)")->check(CLI::Range(5, 10000000));
+  o.verify->add_option("--runs", o.runs, "closed-loop runs (default 1000; above 100 agents 100,000 / agents, at least 200)")->check(CLI::Range(5, 10000000));
   o.verify->add_option("--threads", o.threads, "threads (default 2)")->check(CLI::Range(1, 256));
   o.verify->add_flag("--all-pairs", o.all_pairs, "check every requirement at every substep (the broad phase's reference)");
 }
@@ -75,7 +75,7 @@ void add_bench(CLI::App& app, CliOptions& o) {
   o.bench->add_option("--stage", o.bench_stage, "plan (planners, then tracking) or solve (the whole method)")
       ->check(CLI::IsMember({"plan", "solve"}));
   o.bench->add_flag("--no-track", o.no_track, "with --stage plan: skip tracking after planning");
-  o.bench->add_option("--runs", o.runs, "with --stage solve: verification runs (default 1000)")->check(CLI::Range(5, 10000000));
+  o.bench->add_option("--runs", o.runs, "with --stage solve: verification runs (default 1000; above 100 agents 100,000 / agents, at least 200)")->check(CLI::Range(5, 10000000));
   o.bench->add_option("--threads", o.threads, "threads (default 2)")->check(CLI::Range(1, 256));
   o.bench->add_option("--out", o.bench_out, "folder for bench.csv and bench.md (default marsyn-out/bench)");
 }

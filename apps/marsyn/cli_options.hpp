@@ -15,7 +15,7 @@ struct CliOptions {
   std::string memory_budget;
   bool show_params = false;
   std::string config, out, agent, plan_file, controllers, mode = "uniform", sim_out;
-  int threads = 2, runs = 1000;
+  int threads = 2, runs = 0;  // runs 0: the default for the team (default_verification_runs)
   double global_budget = 2e9;
   double time_limit = 0;
   std::string resume;  // solve --resume DIR

@@ -37,6 +37,10 @@ namespace {
 
 // Wider tubes for one agent before its tracker's own knobs that keep the plan go first.
 constexpr int kWidenBeforeKnobs = 2;
+// An agent's tracker knobs that did not help it (helped()) before another tracker goes first: a
+// knob rarely closes a miss the one before it left (30 of the 400-robot field's unicycles went
+// through five knob rounds, 15-22 s each, before abcd gave all of them controllers in 4 s).
+constexpr int kKnobsBeforeFallback = 1;
 
 using search::Failure;
 using search::Lever;
@@ -150,6 +154,9 @@ class Search {
   // The candidate an agent's failure picks first (the wider tube behind the tracker's knobs
   // once it was used kWidenBeforeKnobs times); -1: none.
   int first_choice(const std::vector<search::Candidate>& candidates, int agent);
+  // `best`, or another tracker in its place when it is a knob and the agent's knobs have not
+  // helped it kKnobsBeforeFallback times.
+  int fallback_over_knob(const std::vector<search::Candidate>& candidates, int best, int agent);
   // The agents whose first choice is a wider tube that keeps the plan, all checked at once; empty
   // when that check fails (each agent is then checked alone).
   std::set<int> wider_tubes_keep_plan(const Failure& failure, const std::vector<std::vector<search::Candidate>>& all,
@@ -206,6 +213,7 @@ class Search {
   std::map<std::string, double> extra_;  // per constraint: grows where certification fell short
   std::set<std::string> seen_;           // fingerprints of the attempts made
   std::map<std::string, int> uses_;      // per lever (by name): the rounds it ran
+  std::map<int, int> knob_misses_;       // per agent: the rounds a tracker's own knob did not help it (helped())
   std::vector<double> input_share_;      // per agent: the share of U the nominal may use (1: all)
   int min_horizon_ = 0;                  // the horizon the planning starts from at least (0: the file's)
   // eps: auto (search_auto.hpp): the rounds that narrowed it, and the last verified round's state.
@@ -520,6 +528,25 @@ double Search::estimate(const search::Proposal& p, double cost) {
   return last_plan_s_ + std::max(last_track_s_, full_track_s_) * ratio + last_certify_s_;
 }
 
+// Whether an agent's record in result.json (`w`, and `w_base`, `w_per` where W grows with the
+// state) states the disturbance bound `tube` has, number for number.
+bool same_disturbance(const nlohmann::json& rec, const TubeParams& tube) {
+  auto same_vector = [](const nlohmann::json& j, const Eigen::VectorXd& v) {
+    if (!j.is_array() || static_cast<Eigen::Index>(j.size()) != v.size()) return false;
+    for (Eigen::Index c = 0; c < v.size(); ++c)
+      if (!j[static_cast<std::size_t>(c)].is_number() || j[static_cast<std::size_t>(c)].get<double>() != v[c]) return false;
+    return true;
+  };
+  if (!rec.contains("w") || !same_vector(rec["w"], tube.w)) return false;
+  if (!tube.state_dependent()) return !rec.contains("w_base") && !rec.contains("w_per");
+  if (!rec.contains("w_base") || !same_vector(rec["w_base"], tube.w_base)) return false;
+  const nlohmann::json per = rec.value("w_per", nlohmann::json());
+  if (!per.is_object() || per.size() != tube.w_growth.size()) return false;
+  for (const DisturbanceGrowth& g : tube.w_growth)
+    if (!per.contains(g.name) || !same_vector(per[g.name], g.gain)) return false;
+  return true;
+}
+
 // Whether a tracker's knob got an agent further: a controller, a miss later or at least a quarter
 // smaller, an empty winning set from an earlier step.
 bool helped(const TrackFailure& before, const Failure& now, int agent) {
@@ -551,7 +578,9 @@ void Search::judge_last_knobs(const Failure& failure) {
       bool any = false;
       std::string story;
       for (const auto& [i, before] : knob.before) {
-        any = any || helped(before, failure, i);
+        const bool it_helped = helped(before, failure, i);
+        any = any || it_helped;
+        if (!it_helped) ++knob_misses_[i];
         const auto it = std::find(failure.agents.begin(), failure.agents.end(), i);
         const std::size_t w = static_cast<std::size_t>(it - failure.agents.begin());
         if (story.empty() && it != failure.agents.end() && w < failure.why.size())
@@ -665,6 +694,9 @@ bool Search::resume(const std::string& dir, SearchRound& round) {
       const nlohmann::json* r = listed ? &radius[static_cast<std::size_t>(c)] : nullptr;
       same = same && (r ? (r->is_number() ? r->get<double>() : -1.0) : 0.0) == a.x0_half(c);
     }
+    // ... and one made for another disturbance bound keeps another tube: tracked again too (a
+    // folder from before W was recorded counts as another).
+    same = same && same_disturbance(*rec, a.tube);
     same_start[static_cast<std::size_t>(&a - agents.data())] = same;
   }
   std::swap(pb_.agents, agents);  // the plan is read and checked with the recorded tubes
@@ -726,7 +758,8 @@ bool Search::resume(const std::string& dir, SearchRound& round) {
     out_.agents[i].tracker = recorded.count(pb_.agents[i].name) ? recorded.at(pb_.agents[i].name) : pb_.agents[i].tracker.name;
     if (!controllers[i]) continue;
     if (!same_start[i]) {
-      log("[search] --resume: " + pb_.agents[i].name + "'s controller was made for another initial set (x0_radius): tracked again");
+      log("[search] --resume: " + pb_.agents[i].name +
+          "'s controller was made for another initial set (x0_radius) or disturbance (W): tracked again");
       continue;
     }
     out_.agents[i].track.status = TrackerStatus::ControllerFound;
@@ -853,7 +886,7 @@ bool Search::agents_round(const Failure& failure, double elapsed, SearchRound& n
             keep.push_back(candidates[k]);
             at.push_back(static_cast<int>(k));
           }
-        const int alt = search::best_candidate(keep);
+        const int alt = fallback_over_knob(keep, search::best_candidate(keep), failure.agents[w]);
         if (alt >= 0 && keep[alt].predicted_s < wide.predicted_s) {
           log("[search] " + pb_.agents[failure.agents[w]].name + ": the plan is not eps-robust with the wider tube (" + c.message +
               "): " + search::lever_name(keep[alt].lever) + " first (about " + seconds(keep[alt].predicted_s) +
@@ -880,6 +913,15 @@ bool Search::agents_round(const Failure& failure, double elapsed, SearchRound& n
   return take(picks, names, failure, next, replan, who);
 }
 
+int Search::fallback_over_knob(const std::vector<search::Candidate>& candidates, int best, int agent) {
+  // A knob after knobs that did not help: another tracker first, whatever the predictions say.
+  if (best >= 0 && candidates[static_cast<std::size_t>(best)].lever.lever == Lever::TrackerLever &&
+      knob_misses_[agent] >= kKnobsBeforeFallback)
+    for (std::size_t k = 0; k < candidates.size(); ++k)
+      if (candidates[k].lever.lever == Lever::FallBack) return static_cast<int>(k);
+  return best;
+}
+
 int Search::first_choice(const std::vector<search::Candidate>& candidates, int agent) {
   int best = search::best_candidate(candidates);
   if (best < 0) return best;
@@ -897,7 +939,7 @@ int Search::first_choice(const std::vector<search::Candidate>& candidates, int a
       }
     if (const int alt = search::best_candidate(rest); alt >= 0) best = at[alt];
   }
-  return best;
+  return fallback_over_knob(candidates, best, agent);
 }
 
 std::set<int> Search::wider_tubes_keep_plan(const Failure& failure, const std::vector<std::vector<search::Candidate>>& all,

@@ -47,6 +47,17 @@ TEST(StateDependentDisturbance, ARoverStandingStillIsHeldOnlyUnderTheSlipItHas) 
   EXPECT_NE(result.find("\"w_per\": {\n        \"v\": [\n          0.04,"), std::string::npos) << result.substr(0, 3000);
   EXPECT_NE(result.find("\"w_base\": ["), std::string::npos);
 
+  // --resume with another W: the controllers were made for the old one, so each agent is tracked
+  // again (the plan is kept).
+  const std::string less = with(funnel, kSlip, "  disturbance: {base: [0.003, 0.004, 0.005], per: {v: [0.04, 0.04, 0.03]}}\n");
+  const auto resumed = run_marsyn("solve " + write_temp("rovers_slip_less.yaml", less) + " --resume " + out.string() +
+                                  " --runs 50 --out " + out.string() + "_resumed");
+  EXPECT_EQ(resumed.code, 0) << resumed.out << resumed.err;
+  EXPECT_NE(resumed.err.find("rover1's controller was made for another initial set (x0_radius) or disturbance (W): tracked again"),
+            std::string::npos)
+      << resumed.err;
+  fs::remove_all(out.string() + "_resumed");
+
   // The largest W everywhere: the funnel finds no controller for a rover at rest.
   const std::string constant = with(funnel, kSlip, "  disturbance: [0.024, 0.024, 0.02]\n");
   const auto c = run_marsyn("solve " + write_temp("rovers_constant_funnel.yaml", constant) + " --runs 50 --time-limit 20 --out " +

@@ -293,3 +293,20 @@ TEST(SearchRounds, AMissThatTwoWiderTubesDidNotCloseTurnsTheKnobNext) {
   EXPECT_EQ(o.search.rounds[3].action, "the tracker's tighter knob");
   EXPECT_FALSE(o.search.rounds[3].planned);
 }
+
+// A tracker knob that did not help the agent (never's tighter knob: the miss stays 0.01 at step 5)
+// is not followed by another knob (never's other knob for miss_knobs agents, predicted cheaper)
+// while another tracker accepts the agent: tracker: auto falls back to abcd next, which verifies
+// (solve.cpp, kKnobsBeforeFallback).
+TEST(SearchRounds, AKnobThatDidNotHelpIsFollowedByAnotherTracker) {
+  std::vector<std::string> log;
+  marsyn::LoadedProblem lp =
+      marsyn::load_problem(never_team("rounds_knob_then_fallback", {"miss_knobs"}, "[0.2, 0.25]", "[0.3, 0.3]", "tracker: auto"));
+  ASSERT_EQ(lp.problem.agents[0].tracker.name, "never");
+  lp.trackers[0].fallbacks = {{"abcd", {}}};
+  const marsyn::SolveOutcome o = marsyn::solve(lp, quick(&log));
+  ASSERT_GE(o.search.rounds.size(), 3u) << o.search.message();
+  EXPECT_EQ(o.search.rounds[1].action, "the tracker's tighter knob") << o.search.message();
+  EXPECT_EQ(o.search.rounds[2].action, marsyn::search::lever_name({marsyn::search::Lever::FallBack, ""})) << o.search.message();
+  EXPECT_TRUE(o.verified) << o.failure;
+}

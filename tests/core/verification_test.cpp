@@ -138,3 +138,15 @@ TEST(Verification, ScenariosCoverEveryModeDeterministically) {
   }
   for (int c : counts) EXPECT_GT(c, 0);
 }
+
+// No --runs: 1000 runs for teams of up to 100 agents, then 100,000 agent runs over the team, at
+// least 200; a run count asked for is kept (the small fixture: 10 runs above, 0 means the default).
+TEST(Verification, TheDefaultRunsSpreadAHundredThousandAgentRunsOverLargeTeams) {
+  EXPECT_EQ(marsyn::default_verification_runs(1), 1000);
+  EXPECT_EQ(marsyn::default_verification_runs(100), 1000);
+  EXPECT_EQ(marsyn::default_verification_runs(101), 990);
+  EXPECT_EQ(marsyn::default_verification_runs(400), 250);
+  EXPECT_EQ(marsyn::default_verification_runs(1000), 200);
+  EXPECT_EQ(marsyn::default_verification_runs(5000), 200);
+  EXPECT_EQ(marsyn::VerificationOptions{}.runs, 0);
+}

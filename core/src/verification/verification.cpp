@@ -114,6 +114,12 @@ void add_open_loop(const SpecMonitor& monitor, int v, const ClosedLoopRun& o, Ve
 
 }  // namespace
 
+int default_verification_runs(int agents) {
+  constexpr int kSmallTeam = 100, kRuns = 1000, kAgentRuns = 100'000, kFewest = 200;
+  if (agents <= kSmallTeam) return kRuns;
+  return std::max(kFewest, kAgentRuns / agents);
+}
+
 VerificationReport verify(const Problem& problem, const std::vector<NominalTrajectory>& nominal,
                           const std::vector<std::shared_ptr<const Controller>>& controllers,
                           const VerificationOptions& opt) {
@@ -149,7 +155,8 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
   };
   const int n_kept = static_cast<int>(kept.size());
 
-  const std::vector<Scenario> scenarios = verification_scenarios(std::max(opt.runs, 5), opt.seed);
+  const int asked = opt.runs > 0 ? opt.runs : default_verification_runs(static_cast<int>(problem.agents.size()));
+  const std::vector<Scenario> scenarios = verification_scenarios(std::max(asked, 5), opt.seed);
   std::vector<RunSummary> results(scenarios.size());
   // This rank's runs, in batches of Lanes::kWidth that advance together (closed_loop.hpp).
   std::vector<int> owned;

@@ -9,7 +9,7 @@
 namespace marsyn {
 
 struct SolveOptions {
-  int verification_runs = 1000;
+  int verification_runs = 0;  // 0: default_verification_runs (1000 up to 100 agents)
   int threads = 2;
   // The search's budget (docs/search.md): it goes on while a lever is left and its estimate of
   // the next round fits in what is left of this many seconds.

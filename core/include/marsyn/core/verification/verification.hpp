@@ -14,8 +14,14 @@
 
 namespace marsyn {
 
+// The closed-loop runs when none are asked for: 1000 for teams of up to 100 agents, else
+// 100,000 agent runs spread over the team (250 for 400 agents), at least 200. The runs are
+// evidence that can refute, not the guarantee (docs/soundness.md): a run of 400 robots is 400
+// closed loops and every pair among them, and its cost grows faster than the team.
+int default_verification_runs(int agents);
+
 struct VerificationOptions {
-  int runs = 1000;        // closed-loop runs in total (at least the 4 paper scenarios + 1 undisturbed)
+  int runs = 0;  // closed-loop runs in total (at least the 4 paper scenarios + 1 undisturbed); 0: default_verification_runs
   std::uint64_t seed = 1;
   int threads = 2;
   int fine_substeps = 20;  // RK4 steps per period; the dense check's resolution is tau / fine_substeps
