@@ -547,6 +547,37 @@ bool same_disturbance(const nlohmann::json& rec, const TubeParams& tube) {
   return true;
 }
 
+// Agent a's record in an earlier solve's result.json: the eps it was tracked with (into a.tube),
+// and whether its controller was made for this problem's initial set and disturbance.
+bool read_recorded_tube(const nlohmann::json& j, const std::string& result_file, AgentSpec& a) {
+  const nlohmann::json* rec = nullptr;
+  if (j.contains("agents") && j["agents"].is_array())
+    for (const auto& r : j["agents"])
+      if (r.is_object() && r.value("name", "") == a.name) rec = &r;
+  if (!rec) throw ConfigError(result_file, 0, 0, "agents", "no record of agent " + a.name + ": the folder is of another problem");
+  const auto& e = (*rec)["eps"];
+  if (!e.is_array() || static_cast<int>(e.size()) != a.n())
+    throw ConfigError(result_file, 0, 0, "agents." + a.name + ".eps", "expected " + std::to_string(a.n()) + " numbers");
+  for (int c = 0; c < a.n(); ++c) {
+    if (!e[c].is_number() || !(e[c].get<double>() > 0))
+      throw ConfigError(result_file, 0, 0, "agents." + a.name + ".eps", "expected positive numbers");
+    a.tube.eps[c] = e[c].get<double>();
+  }
+  // A controller made for another initial set may not accept this one's starts: tracked again.
+  // No list of n entries: a point start (zeros); an entry that is not a number matches nothing.
+  const nlohmann::json radius = rec->value("x0_radius", nlohmann::json());
+  const bool listed = radius.is_array() && static_cast<int>(radius.size()) == a.n();
+  bool same = true;
+  for (int c = 0; c < a.n(); ++c) {
+    const nlohmann::json* r = listed ? &radius[static_cast<std::size_t>(c)] : nullptr;
+    same = same && (r ? (r->is_number() ? r->get<double>() : -1.0) : 0.0) == a.x0_half(c);
+  }
+  // ... and one made for another disturbance bound keeps another tube: tracked again too (a
+  // folder from before W was recorded counts as another).
+  same = same && same_disturbance(*rec, a.tube);
+  return same;
+}
+
 // Whether a tracker's knob got an agent further: a controller, a miss later or at least a quarter
 // smaller, an empty winning set from an earlier step.
 bool helped(const TrackFailure& before, const Failure& now, int agent) {
@@ -671,34 +702,7 @@ bool Search::resume(const std::string& dir, SearchRound& round) {
   }
   std::vector<AgentSpec> agents = pb_.agents;
   std::vector<char> same_start(agents.size(), 1);
-  for (auto& a : agents) {
-    const nlohmann::json* rec = nullptr;
-    if (j.contains("agents") && j["agents"].is_array())
-      for (const auto& r : j["agents"])
-        if (r.is_object() && r.value("name", "") == a.name) rec = &r;
-    if (!rec) throw ConfigError(result_file, 0, 0, "agents", "no record of agent " + a.name + ": the folder is of another problem");
-    const auto& e = (*rec)["eps"];
-    if (!e.is_array() || static_cast<int>(e.size()) != a.n())
-      throw ConfigError(result_file, 0, 0, "agents." + a.name + ".eps", "expected " + std::to_string(a.n()) + " numbers");
-    for (int c = 0; c < a.n(); ++c) {
-      if (!e[c].is_number() || !(e[c].get<double>() > 0))
-        throw ConfigError(result_file, 0, 0, "agents." + a.name + ".eps", "expected positive numbers");
-      a.tube.eps[c] = e[c].get<double>();
-    }
-    // A controller made for another initial set may not accept this one's starts: tracked again.
-    // No list of n entries: a point start (zeros); an entry that is not a number matches nothing.
-    const nlohmann::json radius = rec->value("x0_radius", nlohmann::json());
-    const bool listed = radius.is_array() && static_cast<int>(radius.size()) == a.n();
-    bool same = true;
-    for (int c = 0; c < a.n(); ++c) {
-      const nlohmann::json* r = listed ? &radius[static_cast<std::size_t>(c)] : nullptr;
-      same = same && (r ? (r->is_number() ? r->get<double>() : -1.0) : 0.0) == a.x0_half(c);
-    }
-    // ... and one made for another disturbance bound keeps another tube: tracked again too (a
-    // folder from before W was recorded counts as another).
-    same = same && same_disturbance(*rec, a.tube);
-    same_start[static_cast<std::size_t>(&a - agents.data())] = same;
-  }
+  for (auto& a : agents) same_start[static_cast<std::size_t>(&a - agents.data())] = read_recorded_tube(j, result_file, a);
   std::swap(pb_.agents, agents);  // the plan is read and checked with the recorded tubes
   std::vector<NominalTrajectory> nominal;
   try {

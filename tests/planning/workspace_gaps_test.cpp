@@ -212,3 +212,35 @@ TEST(WorkspaceGaps, ABlockJustAboveTheFloor) {
   EXPECT_NE(gaps[0].second.find("the edge z = 0"), std::string::npos) << gaps[0].second;
   EXPECT_NEAR(gaps[0].width, 0.2, 1e-12);
 }
+
+// Crop beds side by side (issue 54): a gap runs across x, so the tube's width across it is eps in
+// x, not the largest eps. Robots with eps (0.1, 0.5) pass a 1.2-wide row (needs 2 (0.35 + 0.1) =
+// 0.9; with the largest eps it was 1.7 and "closed"); at a workspace edge the tube keeps eps from
+// the bound and delta + eps from the bed: delta + 2 eps.
+TEST(WorkspaceGaps, AGapAcrossXNeedsTheTubeInXOnly) {
+  Problem p;
+  p.delta = 0.35;
+  p.delta_norm = Norm::Inf;
+  AgentSpec a = agent("weeder", 0.1);
+  a.tube.eps = Eigen::Vector3d(0.1, 0.5, 0.3);
+  a.state_bounds = {Eigen::Vector3d(0, -5, -3), Eigen::Vector3d(20, 25, 3)};
+  p.agents = {a};
+  p.obstacles = {box("bed0", 1.0, 2, 2.8, 10), box("bed1", 4.0, 2, 5.8, 10), box("bed2", 6.7, 2, 8.5, 10)};
+  auto gaps = narrow_gaps(p);
+  // bed1-bed2 is 0.9 wide: 0.9 >= 0.9, open; the edge x = 0 is 1.0 from bed0: needs 0.35 + 0.2.
+  EXPECT_TRUE(gaps.empty()) << describe(gaps.front());
+  p.obstacles.push_back(box("bed3", 9.3, 2, 11.1, 10));  // 0.8 from bed2: closed
+  gaps = narrow_gaps(p);
+  ASSERT_EQ(gaps.size(), 1u);
+  EXPECT_EQ(gaps[0].axis, 0);
+  EXPECT_NEAR(gaps[0].needed, 0.9, 1e-12);
+  EXPECT_NE(describe(gaps[0]).find("0.8 wide across x; passing it needs 0.9 (2 (delta + eps in x))"), std::string::npos)
+      << describe(gaps[0]);
+  // Against a workspace edge: 0.5 from x = 0 needs 0.35 + 2 x 0.1 = 0.55.
+  p.obstacles = {box("bed0", 0.5, 2, 2.8, 10)};
+  gaps = narrow_gaps(p);
+  ASSERT_EQ(gaps.size(), 1u);
+  EXPECT_NEAR(gaps[0].needed, 0.55, 1e-12);
+  EXPECT_NE(describe(gaps[0]).find("(delta + 2 eps in x)"), std::string::npos) << describe(gaps[0]);
+}
+

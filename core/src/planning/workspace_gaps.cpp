@@ -46,24 +46,53 @@ struct Edge {
 
 }  // namespace
 
+// The workspace coordinate along which two obstacles are apart while their extents overlap in
+// every other one (beds side by side across x), or -1 (apart diagonally).
+int separating_axis(const Obstacle& a, const Obstacle& b) {
+  double lo[2][3], hi[2][3];
+  const Obstacle* o[2] = {&a, &b};
+  for (int k = 0; k < 2; ++k) {
+    for (int c = 0; c < 2; ++c) lo[k][c] = std::numeric_limits<double>::infinity(), hi[k][c] = -lo[k][c];
+    for (const auto& v : o[k]->vertices)
+      for (int c = 0; c < 2; ++c) lo[k][c] = std::min(lo[k][c], v[c]), hi[k][c] = std::max(hi[k][c], v[c]);
+    lo[k][2] = o[k]->z_lo, hi[k][2] = o[k]->z_hi;
+  }
+  int axis = -1;
+  for (int c = 0; c < 3; ++c) {
+    if (!(lo[1][c] > hi[0][c] || lo[0][c] > hi[1][c])) continue;  // overlapping (or unbounded) along c
+    if (axis >= 0) return -1;
+    axis = c;
+  }
+  return axis;
+}
+
 std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
   std::vector<NarrowGap> out;
   const bool inf = problem.delta_norm == Norm::Inf;
-  std::vector<double> need(problem.agents.size());
+  const double delta = problem.obstacle_delta();
+  std::vector<WorkspaceMargin> margin(problem.agents.size());
   for (size_t i = 0; i < problem.agents.size(); ++i) {
     const auto& a = problem.agents[i];
-    const WorkspaceMargin m = global_margin(a, a.state_bounds.shrunk(a.tube.eps), 16);
-    need[i] = 2.0 * (problem.obstacle_delta() + (inf ? m.inf() : m.two()));
+    margin[i] = global_margin(a, a.state_bounds.shrunk(a.tube.eps), 16);
   }
-  auto closed = [&](const std::string& first, const std::string& second, double width,
-                    const std::vector<size_t>& who) {
-    NarrowGap g{first, second, width, 0.0, {}};
-    for (size_t i : who)
-      if (width < need[i]) {
-        g.needed = std::max(g.needed, need[i]);
+  // The tube's share of a gap across `axis` (its margin in that coordinate; the largest one for
+  // a slanted gap), on each side.
+  auto tube = [&](size_t i, int axis) {
+    const WorkspaceMargin& m = margin[i];
+    return axis == 0 ? m.x : axis == 1 ? m.y : axis == 2 ? m.z : inf ? m.inf() : m.two();
+  };
+  // fixed: what no tube changes (2 delta between obstacles, delta at a workspace edge).
+  auto closed = [&](const std::string& first, const std::string& second, double width, const std::vector<size_t>& who,
+                    int axis, double fixed) {
+    NarrowGap g{first, second, width, 0.0, fixed, {}, false, axis};
+    for (size_t i : who) {
+      const double need = fixed + 2.0 * tube(i, axis);
+      if (width < need) {
+        g.needed = std::max(g.needed, need);
         g.agents.push_back(problem.agents[i].name);
         g.footprint = g.footprint || !problem.agents[i].workspace.linear();
       }
+    }
     if (!g.agents.empty()) out.push_back(std::move(g));
   };
   std::vector<size_t> everyone(problem.agents.size());
@@ -74,7 +103,7 @@ std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
     for (size_t q = p + 1; q < obs.size(); ++q) {
       if (obs[p].staged || obs[q].staged) continue;
       const double w = prism_distance(obs[p], obs[q], problem.delta_norm);
-      if (w > 0) closed("obstacle " + obs[p].name, "obstacle " + obs[q].name, w, everyone);
+      if (w > 0) closed("obstacle " + obs[p].name, "obstacle " + obs[q].name, w, everyone, separating_axis(obs[p], obs[q]), 2 * delta);
     }
   // An obstacle near the edge of an agent's workspace (a linear workspace: its state bounds).
   for (size_t i = 0; i < problem.agents.size(); ++i) {
@@ -105,7 +134,7 @@ std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
           for (const auto& v : o.vertices) lo = std::min(lo, v[e.axis]), hi = std::max(hi, v[e.axis]);
         }
         const double w = e.low ? lo - e.at : e.at - hi;
-        if (w > 0 && std::isfinite(w)) closed("obstacle " + o.name, e.name, w, {i});
+        if (w > 0 && std::isfinite(w)) closed("obstacle " + o.name, e.name, w, {i}, e.axis, delta);
       }
   }
   return out;
@@ -124,22 +153,25 @@ double gap_eps_factor(const Problem& problem, const RobustCheck& check) {
   }
   if (side.empty()) return 1.0;
   const std::string& who = a.name;
-  const double delta = problem.obstacle_delta();
   double f = 1.0;
   for (const auto& g : narrow_gaps(problem)) {
     if ((g.first != side && g.second != side) || std::find(g.agents.begin(), g.agents.end(), who) == g.agents.end())
       continue;
-    const double margin = 0.5 * g.needed - delta;  // the largest agent's margin among those it closes
-    if (!(margin > 0)) continue;
-    f = std::min(f, 0.95 * (0.5 * g.width - delta) / margin);
+    const double tubes = g.needed - g.fixed;  // the largest agent's tubes among those it closes
+    if (!(tubes > 0)) continue;
+    f = std::min(f, 0.95 * (g.width - g.fixed) / tubes);
   }
   return f;
 }
 
 std::string describe(const NarrowGap& g) {
   std::ostringstream os;
-  os << g.first << " and " << g.second << " leave a gap " << g.width << " wide; passing it needs " << g.needed
-     << (g.footprint ? " (2 (delta + how far the footprint moves inside its eps-tube)): closed to " : " (2 (delta + eps)): closed to ");
+  const char* axis = g.axis == 0 ? "x" : g.axis == 1 ? "y" : g.axis == 2 ? "z" : nullptr;
+  const bool edge = g.second.rfind("the edge ", 0) == 0;
+  const std::string tube = g.footprint ? std::string("how far the footprint moves inside its eps-tube") + (axis ? std::string(" in ") + axis : "")
+                           : axis ? std::string("eps in ") + axis : std::string("eps");
+  os << g.first << " and " << g.second << " leave a gap " << g.width << " wide" << (axis ? std::string(" across ") + axis : "")
+     << "; passing it needs " << g.needed << (edge ? " (delta + 2 " + tube + ")" : " (2 (delta + " + tube + "))") << ": closed to ";
   for (size_t i = 0; i < g.agents.size(); ++i) os << (i ? ", " : "") << g.agents[i];
   os << " at every horizon";
   return os.str();

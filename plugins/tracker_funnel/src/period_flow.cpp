@@ -52,10 +52,17 @@ namespace {
 // grown by a hair, until W over that neighbourhood of B lies within the W that B was computed
 // with. Then no solution leaves B: up to a first exit from the neighbourhood, w(t) lies in the W
 // used, so the solution is one of the box's and stays in B, strictly inside the neighbourhood
-// (docs/soundness.md section 12). `w` gets the W used, `W` the same as intervals.
+// (docs/soundness.md section 12). `w` gets the W used, `W` the same as intervals, `hw` h w rounded
+// up. A constant W is the a priori box alone.
 bool substep_box(const Dynamics& f, const DisturbanceBound& dist, const FastInterval* X, const FastInterval* U,
-                 const FastInterval& h, int iterations, std::vector<double>& w, IVector& W, FastInterval* B) {
+                 const FastInterval& h, int iterations, std::vector<double>& w, IVector& W, std::vector<double>& hw,
+                 FastInterval* B) {
+  if (dist.constant()) return apriori_enclosure(f, X, U, W.data(), h, iterations, B);
   const int n = f.state_dim();
+  auto settle = [&] {
+    for (int i = 0; i < n; ++i) hw[static_cast<std::size_t>(i)] = (h * FastInterval(w[static_cast<std::size_t>(i)])).upper();
+    return true;
+  };
   std::vector<double> next(static_cast<std::size_t>(n));
   std::vector<FastInterval> grown(static_cast<std::size_t>(n));
   auto hair = [](const FastInterval& b) {
@@ -72,7 +79,7 @@ bool substep_box(const Dynamics& f, const DisturbanceBound& dist, const FastInte
     bool inside = true;
     for (int i = 0; i < n; ++i)
       if (!(next[static_cast<std::size_t>(i)] <= w[static_cast<std::size_t>(i)])) inside = false;
-    if (inside) return true;
+    if (inside) return settle();
     // A little more than asked, so that the next box's W settles inside it.
     for (int i = 0; i < n; ++i)
       w[static_cast<std::size_t>(i)] = std::max(w[static_cast<std::size_t>(i)],
@@ -118,12 +125,7 @@ FlowResult enclose_period(const Dynamics& f, const Zonotope& start, const Distur
     }
     const FastInterval* U = X.data() + n;
     // B holds every state over the substep, for every start in X, input in U and disturbance.
-    if (dist.constant()) {
-      if (!apriori_enclosure(f, X.data(), U, W.data(), h, opt.picard_iterations, B.data())) return r;
-    } else {
-      if (!substep_box(f, dist, X.data(), U, h, opt.picard_iterations, w, W, B.data())) return r;
-      for (int i = 0; i < n; ++i) hw[i] = (h * FastInterval(w[i])).upper();
-    }
+    if (!substep_box(f, dist, X.data(), U, h, opt.picard_iterations, w, W, hw, B.data())) return r;
     for (int i = 0; i < n; ++i) r.boxes.push_back(B[i]);
 
     // x(t + h) = x + h f(x, u) + int_0^h (f(x(t+s), u) - f(x, u)) ds + int_0^h w ds. The middle

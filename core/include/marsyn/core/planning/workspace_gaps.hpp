@@ -14,15 +14,19 @@ namespace marsyn::planning {
 struct NarrowGap {
   std::string first, second;        // obstacle names, or "the edge x >= lo of <agent>'s workspace" etc.
   double width = 0.0;               // the gap's width in the problem's norm
-  double needed = 0.0;              // the largest 2 (delta + margin) among the agents it closes
+  double needed = 0.0;              // the largest clearance (fixed + tube) among the agents it closes
+  double fixed = 0.0;               // of it, the part no tube changes: 2 delta between obstacles, delta at an edge
   std::vector<std::string> agents;  // the agents it is closed to
   bool footprint = false;           // some of them have a footprint (their margin is its reach, not eps)
+  int axis = -1;                    // the workspace coordinate the gap runs across (x 0, y 1, z 2); -1: slanted
 };
 
 // Every closed gap (width > 0: overlapping obstacles form one obstacle, not a gap). The margin
-// is the largest per-coordinate workspace margin over the agent's state bounds (for a linear
-// workspace its eps in the mapped coordinates), so `needed` is what the eps-robust plan keeps
-// on both sides.
+// is the per-coordinate workspace margin over the agent's state bounds (for a linear workspace
+// its eps in the mapped coordinates): across x between two obstacles `needed` is 2 (delta +
+// margin in x), what the eps-robust plan keeps on both sides; at a workspace edge delta + 2
+// margins (the tube stays inside the bounds, delta from the obstacle); a slanted gap takes the
+// largest margin.
 std::vector<NarrowGap> narrow_gaps(const Problem& problem);
 
 // One line: "obstacles A and B leave a gap 0.62 wide (inf-norm); passing it needs 0.88
