@@ -3,16 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "field_text.hpp"
 #include "marsyn/directed_rounding.hpp"
 
 namespace marsyn::loader {
 namespace {
-
-std::string join(const std::vector<std::string>& names) {
-  std::string s;
-  for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
-  return s;
-}
 
 // The largest |s| over [lo, hi] grown by a little: a tracker reading only the constant bound
 // argues that the state stays in X, and a first exit needs W on a neighbourhood of X

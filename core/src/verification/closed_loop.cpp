@@ -606,16 +606,13 @@ class Batch {
   void scale_to_state(int i) {
     const AgentSpec& a = pb_.agents[i];
     const int n = a.n(), m = a.m();
-    double x[64], u[64], w[64];
+    double x[64], u[64], w[64], scratch[64];
     if (n > 64 || m > 64) throw std::logic_error("a state-dependent W for more than 64 states or inputs");
     for (int l = 0; l < Lanes::kWidth; ++l) {
-      for (int c = 0; c < n; ++c) x[c] = X_[i][static_cast<size_t>(c)][l];
+      for (int c = 0; c < n; ++c) x[c] = X_[i][static_cast<size_t>(c)][l], w[c] = W_[i][static_cast<size_t>(c)][l];
       for (int j = 0; j < m; ++j) u[j] = U_[i][static_cast<size_t>(j)][l];
-      bounds_[static_cast<size_t>(i)].at(x, u, w);
-      for (int c = 0; c < n; ++c) {
-        const double top = a.tube.w[c];
-        W_[i][static_cast<size_t>(c)][l] = top > 0 ? W_[i][static_cast<size_t>(c)][l] * std::min(1.0, w[c] / top) : 0.0;
-      }
+      bounds_[static_cast<size_t>(i)].scale(x, u, a.tube.w.data(), w, scratch);
+      for (int c = 0; c < n; ++c) W_[i][static_cast<size_t>(c)][l] = w[c];
     }
   }
 

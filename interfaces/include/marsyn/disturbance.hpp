@@ -34,6 +34,13 @@ class DisturbanceBound {
     }
   }
 
+  // A draw w made at W's largest value `top` (TubeParams::w), scaled coordinate by coordinate to
+  // W(x, u) (a vertex stays a vertex; never beyond `top`). `scratch`: dim() numbers.
+  void scale(const double* x, const double* u, const double* top, double* w, double* scratch) const {
+    at(x, u, scratch);
+    for (int i = 0; i < dim(); ++i) w[i] = top[i] > 0 ? w[i] * std::min(1.0, scratch[i] / top[i]) : 0.0;
+  }
+
   // An upper bound of W over the boxes x (states) and u (inputs), every operation rounded up:
   // W_i(x', u') <= out[i] for every x' in x and u' in u.
   void sup(const FastInterval* x, const FastInterval* u, double* out) const {

@@ -131,11 +131,8 @@ Tightness measure_tightness(const Dynamics& f, const FunnelController& ctrl, std
       if (ctrl.input(x.data(), k, u.data()) != ControlStatus::Ok) break;
       for (int q = 0; q < kFine; ++q) {
         disturb(k, q);
-        if (!d.dist.constant()) {
-          // Drawn at W's largest value; scaled to W(x, u) where W grows with the state or input.
-          d.dist.at(x.data(), u.data(), wx.data());
-          for (int i = 0; i < n; ++i) w[i] = d.w[i] > 0 ? w[i] * std::min(1.0, wx[i] / d.w[i]) : 0.0;
-        }
+        // Drawn at W's largest value; scaled to W(x, u) where W grows with the state or input.
+        if (!d.dist.constant()) d.dist.scale(x.data(), u.data(), d.w.data(), w.data(), wx.data());
         rk4_step<double>(f, x.data(), u.data(), w.data(), d.tau / kFine, 1, next.data());
         x = next;
       }
