@@ -100,6 +100,7 @@ py::dict agent_dict(const AgentSpec& a) {
   d["input_names"] = a.dynamics->input_names();
   d["x0"] = vector(a.x0);
   d["x0_radius"] = vector(a.x0_radius.size() ? a.x0_radius : Eigen::VectorXd::Zero(a.n()));
+  d["radius"] = a.radius;  // the body's half-width, added to its clearances
   d["goal"] = py::make_tuple(vector(a.goal.lo), vector(a.goal.hi));
   d["state_bounds"] = py::make_tuple(vector(a.state_bounds.lo), vector(a.state_bounds.hi));
   d["input_bounds"] = py::make_tuple(vector(a.input_bounds.lo), vector(a.input_bounds.hi));

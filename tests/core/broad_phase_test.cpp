@@ -272,6 +272,22 @@ TEST(BroadPhase, RandomTeamsGiveTheAllPairsMinimaBitForBit) {
   }
 }
 
+// Bodies of their own size (issue 51): a pair keeps delta plus both radii, so the sweep's reach
+// must hold the two largest; with the team's delta alone it skips pairs whose bodies meet.
+TEST(BroadPhase, TeamsWithBodiesGiveTheAllPairsMinimaBitForBit) {
+  std::mt19937_64 rng(51);
+  std::uniform_real_distribution<double> radius(0.0, 2.0);
+  for (int team = 0; team < 60; ++team) {
+    const int n = 2 + static_cast<int>(rng() % 30);
+    Team t(n, rng, static_cast<int>(rng() % 4), team % 2 == 0, 0);
+    for (auto& a : t.pb.agents) a.radius = rng() % 4 == 0 ? 0.0 : radius(rng);
+    const std::vector<std::vector<Point>> states = random_walks(rng, n, 40);
+    SCOPED_TRACE("team " + std::to_string(team) + " of " + std::to_string(n) + " agents");
+    expect_same_folds(t, states);
+    expect_same_window_folds(t, states, 5);
+  }
+}
+
 // Folds the states with the broad phase alone; the requirement named at each state where the
 // smallest part fell ("" where it did not).
 std::vector<std::string> falls(const Team& t, const std::vector<std::vector<Point>>& states) {

@@ -81,7 +81,6 @@ class Assembly {
 
   // The requirements once; `clear[i]` is agent i's clearance beyond the buffer (0 at the knots).
   void requirements(const std::vector<double>& clear, std::vector<std::shared_ptr<const Constraint>>& out) {
-    const double delta = problem_.delta;
     const bool inf = problem_.delta_norm == Norm::Inf;
     // The larger of the two, not the sum: the relative motion reaches the sum only when both
     // move at full speed against each other, and the band of a formation is narrow.
@@ -101,7 +100,7 @@ class Assembly {
           if (steps.empty()) continue;
         }
         const std::string name = obstacle_name(problem_, static_cast<int>(o), a);
-        const double od = problem_.obstacle_delta();
+        const double od = problem_.obstacle_clearance(i);
         auto c = std::make_shared<ObstacleConstraint>(name, a, xo_[i], obs.vertices, margin_[i], inf ? od : 0.0,
                                                       (inf ? 0.0 : od) + opt_.buffer + clear[i] + more(name),
                                                       problem_.distance_model);
@@ -115,7 +114,7 @@ class Assembly {
         for (int j = i + 1; j < N_; ++j) {
           const auto &a = problem_.agents[i], &b = problem_.agents[j];
           const std::string name = collision_name(a, b);
-          out.push_back(std::make_shared<PairConstraint>(name, a, xo_[i], b, xo_[j], problem_.delta_norm, delta,
+          out.push_back(std::make_shared<PairConstraint>(name, a, xo_[i], b, xo_[j], problem_.delta_norm, problem_.pair_clearance(i, j),
                                                          margin_[i], margin_[j], opt_.inf_norm_corner,
                                                          opt_.buffer + pair_clear(i, j) + more(name)));
         }

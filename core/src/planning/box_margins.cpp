@@ -168,13 +168,24 @@ double box_formation_margin(const Box& a, const Box& b, double lambda, double mu
   return std::min(sub_down(dmin, band_lo), sub_down(band_hi, dmax));
 }
 
+double obstacle_clearance_up(const Problem& problem, int a) {
+  const RoundToNearestScope nearest;
+  return add_up(problem.obstacle_delta(), problem.agents[static_cast<size_t>(a)].radius);
+}
+
+double pair_clearance_up(const Problem& problem, int a, int b) {
+  const RoundToNearestScope nearest;
+  return add_up(add_up(problem.delta, problem.agents[static_cast<size_t>(a)].radius), problem.agents[static_cast<size_t>(b)].radius);
+}
+
 double box_requirement_margin(const Problem& problem, const Requirement& r, const std::vector<Box>& ws) {
   const Box& a = ws[static_cast<size_t>(r.a)];
   switch (r.kind) {
     case Requirement::Obstacle:
-      return box_obstacle_margin(a, problem.obstacles[static_cast<size_t>(r.b)], problem.obstacle_delta(), problem.delta_norm);
+      return box_obstacle_margin(a, problem.obstacles[static_cast<size_t>(r.b)], obstacle_clearance_up(problem, r.a),
+                                 problem.delta_norm);
     case Requirement::Collision:
-      return box_pair_margin(a, ws[static_cast<size_t>(r.b)], problem.delta, problem.delta_norm);
+      return box_pair_margin(a, ws[static_cast<size_t>(r.b)], pair_clearance_up(problem, r.a, r.b), problem.delta_norm);
     case Requirement::Formation: break;
   }
   const FormationPair& f = problem.formation[static_cast<size_t>(r.index)];

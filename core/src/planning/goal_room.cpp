@@ -66,7 +66,7 @@ double obstacle_room(const Problem& pb, const AgentSpec& a, const Obstacle& obst
   const auto g = goal_image(a, f);
   if (!g) return std::numeric_limits<double>::infinity();
   double best = -std::numeric_limits<double>::infinity();
-  for (const auto& p : g->corners) best = std::max(best, obstacle_margin(obstacle, p, g->margin, pb.obstacle_delta(), pb.delta_norm));
+  for (const auto& p : g->corners) best = std::max(best, obstacle_margin(obstacle, p, g->margin, pb.obstacle_delta() + a.radius, pb.delta_norm));
   return best;
 }
 
@@ -76,7 +76,7 @@ double pair_room(const Problem& pb, const AgentSpec& a, const AgentSpec& b, doub
   double best = -std::numeric_limits<double>::infinity();
   for (const auto& p : ga->corners)
     for (const auto& q : gb->corners)
-      best = std::max(best, collision_margin(p, ga->margin, q, gb->margin, pb.delta, pb.delta_norm));
+      best = std::max(best, collision_margin(p, ga->margin, q, gb->margin, pb.delta + a.radius + b.radius, pb.delta_norm));
   return best;
 }
 
@@ -136,12 +136,21 @@ double goal_eps_factor(const Problem& problem) {
   return f;
 }
 
+namespace {
+bool radii(const Problem& problem, const CrowdedGoal& c) {
+  for (const auto& a : problem.agents)
+    if ((a.name == c.agent || a.name == c.other) && a.radius > 0) return true;
+  return false;
+}
+}  // namespace
+
 std::string describe(const CrowdedGoal& c, const Problem& problem) {
   std::ostringstream os;
   const bool obstacle = c.other.rfind("obstacle ", 0) == 0;
   os << (obstacle ? c.agent + "'s goal leaves no room for its tube beside " + c.other
                   : c.agent + "'s and " + c.other + "'s goals leave no room for their tubes between them")
-     << ": ending inside the goal" << (obstacle ? "" : "s") << " shrunk by eps, the robust margin (delta " << problem.delta
+     << ": ending inside the goal" << (obstacle ? "" : "s") << " shrunk by eps, the robust margin (delta "
+     << (obstacle ? problem.obstacle_delta() : problem.delta) << (radii(problem, c) ? " and the bodies' radii" : "")
      << (problem.delta_norm == Norm::Inf ? " in the inf-norm" : " Euclidean") << " and the tube"
      << (obstacle ? "'s" : "s'") << " margin) is at most " << (std::abs(c.room) < kNoRoom ? 0.0 : c.room)
      << ": no horizon can help; ";

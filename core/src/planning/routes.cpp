@@ -193,7 +193,7 @@ std::vector<Waypoint> route_waypoints(const Problem& problem, int horizon, const
     if (dim == 3 && ws.index[2] < 0) continue;
     // What the plan keeps from an obstacle (the obstacle constraint's growth), and 10% more.
     const WorkspaceMargin m = global_margin(a, a.state_bounds.shrunk(a.tube.eps), 16);
-    const Eigen::Vector3d g = 1.1 * (Eigen::Vector3d::Constant(problem.obstacle_delta()) +
+    const Eigen::Vector3d g = 1.1 * (Eigen::Vector3d::Constant(problem.obstacle_clearance(static_cast<int>(i))) +
                                      (inf ? Eigen::Vector3d(m.x, m.y, m.z) : Eigen::Vector3d::Constant(m.two())));
     // The position bounds the robust plan keeps (less the margin, and 10% of it more): routes
     // stay inside them (a serpentine's walls reach the bounds; a route around their ends outside

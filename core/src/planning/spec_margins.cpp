@@ -70,10 +70,11 @@ double requirement_margin(const Problem& problem, const Requirement& r, const st
   const auto& pa = p[static_cast<size_t>(r.a)];
   switch (r.kind) {
     case Requirement::Obstacle:
-      return obstacle_margin(problem.obstacles[static_cast<size_t>(r.b)], pa, box(r.a), problem.obstacle_delta(),
+      return obstacle_margin(problem.obstacles[static_cast<size_t>(r.b)], pa, box(r.a), problem.obstacle_clearance(r.a),
                              problem.delta_norm);
     case Requirement::Collision:
-      return collision_margin(pa, box(r.a), p[static_cast<size_t>(r.b)], box(r.b), problem.delta, problem.delta_norm);
+      return collision_margin(pa, box(r.a), p[static_cast<size_t>(r.b)], box(r.b), problem.pair_clearance(r.a, r.b),
+                             problem.delta_norm);
     case Requirement::Formation: break;
   }
   const FormationPair& f = problem.formation[static_cast<size_t>(r.index)];

@@ -81,13 +81,20 @@ std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
     const WorkspaceMargin& m = margin[i];
     return axis == 0 ? m.x : axis == 1 ? m.y : axis == 2 ? m.z : inf ? m.inf() : m.two();
   };
-  // fixed: what no tube changes (2 delta between obstacles, delta at a workspace edge).
+  // sides: how many clearances the gap holds besides the tubes (2 between obstacles, 1 at a
+  // workspace edge, whose bounds already hold the body); each is delta plus the agent's radius,
+  // what no tube changes.
   auto closed = [&](const std::string& first, const std::string& second, double width, const std::vector<size_t>& who,
-                    int axis, double fixed) {
-    NarrowGap g{first, second, width, 0.0, fixed, {}, false, axis};
+                    int axis, int sides) {
+    NarrowGap g{first, second, width, 0.0, 0.0, {}, false, axis};
     for (size_t i : who) {
+      const double fixed = sides * (delta + problem.agents[i].radius);
       const double need = fixed + 2.0 * tube(i, axis);
       if (width < need) {
+        if (need > g.needed) {
+          g.fixed = fixed;
+          g.body = problem.agents[i].radius > 0;
+        }
         g.needed = std::max(g.needed, need);
         g.agents.push_back(problem.agents[i].name);
         g.footprint = g.footprint || !problem.agents[i].workspace.linear();
@@ -103,7 +110,7 @@ std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
     for (size_t q = p + 1; q < obs.size(); ++q) {
       if (obs[p].staged || obs[q].staged) continue;
       const double w = prism_distance(obs[p], obs[q], problem.delta_norm);
-      if (w > 0) closed("obstacle " + obs[p].name, "obstacle " + obs[q].name, w, everyone, separating_axis(obs[p], obs[q]), 2 * delta);
+      if (w > 0) closed("obstacle " + obs[p].name, "obstacle " + obs[q].name, w, everyone, separating_axis(obs[p], obs[q]), 2);
     }
   // An obstacle near the edge of an agent's workspace (a linear workspace: its state bounds).
   for (size_t i = 0; i < problem.agents.size(); ++i) {
@@ -134,7 +141,7 @@ std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
           for (const auto& v : o.vertices) lo = std::min(lo, v[e.axis]), hi = std::max(hi, v[e.axis]);
         }
         const double w = e.low ? lo - e.at : e.at - hi;
-        if (w > 0 && std::isfinite(w)) closed("obstacle " + o.name, e.name, w, {i}, e.axis, delta);
+        if (w > 0 && std::isfinite(w)) closed("obstacle " + o.name, e.name, w, {i}, e.axis, 1);
       }
   }
   return out;
@@ -170,8 +177,10 @@ std::string describe(const NarrowGap& g) {
   const bool edge = g.second.rfind("the edge ", 0) == 0;
   const std::string tube = g.footprint ? std::string("how far the footprint moves inside its eps-tube") + (axis ? std::string(" in ") + axis : "")
                            : axis ? std::string("eps in ") + axis : std::string("eps");
-  os << g.first << " and " << g.second << " leave a gap " << g.width << " wide" << (axis ? std::string(" across ") + axis : "")
-     << "; passing it needs " << g.needed << (edge ? " (delta + 2 " + tube + ")" : " (2 (delta + " + tube + "))") << ": closed to ";
+  os << g.first << " and " << g.second << " leave a gap " << g.width << " wide" << (axis ? std::string(" across ") + axis : "");
+  const std::string fixed = g.body ? "delta + radius" : "delta";
+  os << "; passing it needs " << g.needed << (edge ? " (" + fixed + " + 2 " + tube + ")" : " (2 (" + fixed + " + " + tube + "))")
+     << ": closed to ";
   for (size_t i = 0; i < g.agents.size(); ++i) os << (i ? ", " : "") << g.agents[i];
   os << " at every horizon";
   return os.str();
@@ -204,18 +213,20 @@ std::vector<CrowdedStart> all_crowded_starts(const Problem& problem) {
     for (std::size_t o = 0; o < problem.obstacles.size(); ++o) {
       if (!windows.binds(static_cast<int>(i), static_cast<int>(o), {0, false})) continue;
       const Obstacle& poly = problem.obstacles[o];
-      const double g0 = obstacle_margin(poly, p[i], {}, problem.obstacle_delta(), problem.delta_norm);
-      const double g1 = obstacle_margin(poly, p[i], m[i], problem.obstacle_delta(), problem.delta_norm);
-      crowded(problem.agents[i].name, "obstacle " + problem.obstacles[o].name, g0, g1, g0 + problem.obstacle_delta());
+      const double clearance = problem.obstacle_clearance(static_cast<int>(i));
+      const double g0 = obstacle_margin(poly, p[i], {}, clearance, problem.delta_norm);
+      const double g1 = obstacle_margin(poly, p[i], m[i], clearance, problem.delta_norm);
+      crowded(problem.agents[i].name, "obstacle " + problem.obstacles[o].name, g0, g1, g0 + clearance);
     }
   if (problem.pairwise_collision)
     for (std::size_t i = 0; i < n; ++i)
       for (std::size_t j = i + 1; j < n; ++j) {
-        const double g0 = collision_margin(p[i], {}, p[j], {}, problem.delta, problem.delta_norm);
+        const double clearance = problem.pair_clearance(static_cast<int>(i), static_cast<int>(j));
+        const double g0 = collision_margin(p[i], {}, p[j], {}, clearance, problem.delta_norm);
         // A cheap reject first: teams of hundreds have tens of thousands of pairs.
         if (g0 > 2 * ((inf ? m[i].inf() : m[i].two()) + (inf ? m[j].inf() : m[j].two()))) continue;
-        const double g1 = collision_margin(p[i], m[i], p[j], m[j], problem.delta, problem.delta_norm);
-        crowded(problem.agents[i].name, problem.agents[j].name, g0, g1, g0 + problem.delta);
+        const double g1 = collision_margin(p[i], m[i], p[j], m[j], clearance, problem.delta_norm);
+        crowded(problem.agents[i].name, problem.agents[j].name, g0, g1, g0 + clearance);
       }
   // A formation pair whose starts keep the tolerance but not with the tubes around them: g0 > 0
   // (the loader refuses a start outside lambda +- mu), the slack affine in the eps factor.

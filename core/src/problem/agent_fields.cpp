@@ -97,22 +97,26 @@ Workspace read_workspace(const Field& f, const Dynamics& dyn) {
   return ws;
 }
 
-void validate_agent(const AgentSpec& a, const Field& x0f, const Field& radiusf, const Field& goalf) {
+void validate_agent(const AgentSpec& a, const Field& x0f, const Field& radiusf, const Field& goalf, double bounds_clearance) {
   const auto names = a.dynamics->state_names();
+  const auto& ix = a.workspace.index;
   for (int i = 0; i < a.n(); ++i) {
     const std::string coord = "'" + names[i] + "'";
     const std::size_t si = static_cast<std::size_t>(i);
     const double lo = a.state_bounds.lo[i], hi = a.state_bounds.hi[i];
+    // Bounds the body's clearance pulled in are named as such: the file's numbers differ.
+    const bool pulled = bounds_clearance > 0 && a.workspace.linear() && std::find(ix.begin(), ix.end(), i) != ix.end();
+    const std::string in_bounds = "[" + number_text(lo) + ", " + number_text(hi) + "]" +
+                                  (pulled ? " (the state bounds less the body's clearance " + number_text(bounds_clearance) + ")" : "");
     switch (agent_defect(a, i)) {
       case AgentDefect::None:
         break;
       case AgentDefect::X0OutsideBounds:
-        x0f[si].fail("x0 = " + number_text(a.x0[i]) + " in " + coord + " lies outside the state bounds [" +
-                     number_text(lo) + ", " + number_text(hi) + "]");
+        x0f[si].fail("x0 = " + number_text(a.x0[i]) + " in " + coord + " lies outside " + (pulled ? "" : "the state bounds ") + in_bounds);
       case AgentDefect::TubeOutsideBounds:
         x0f[si].fail("the tube around x0 leaves the state bounds in " + coord + ": x0 +- eps = [" +
                      number_text(a.x0[i] - a.tube.eps[i]) + ", " + number_text(a.x0[i] + a.tube.eps[i]) +
-                     "] is not inside [" + number_text(lo) + ", " + number_text(hi) + "]");
+                     "] is not inside " + in_bounds);
       case AgentDefect::InitialSetOutsideTube:
         (radiusf.is_sequence() ? radiusf[si] : radiusf).fail("the stated initial set x0 +- " + number_text(a.x0_half(i)) + " in " + coord +
                      " does not fit strictly inside the tube x0 +- eps = x0 +- " + number_text(a.tube.eps[i]) +
@@ -124,7 +128,7 @@ void validate_agent(const AgentSpec& a, const Field& x0f, const Field& radiusf, 
                    number_text(a.goal.hi[i] - a.tube.eps[i]) + "]; enlarge the goal or reduce eps");
       case AgentDefect::GoalOutsideBounds:
         goalf.fail("the goal [" + number_text(a.goal.lo[i]) + ", " + number_text(a.goal.hi[i]) + "] in " + coord +
-                   " lies outside the state bounds [" + number_text(lo) + ", " + number_text(hi) + "]");
+                   " lies outside " + (pulled ? "" : "the state bounds ") + in_bounds);
       case AgentDefect::GoalUnreachable:
         goalf.fail("no eps-robust final state in " + coord + ": the goal shrunk by eps [" +
                    number_text(a.goal.lo[i] + a.tube.eps[i]) + ", " + number_text(a.goal.hi[i] - a.tube.eps[i]) +

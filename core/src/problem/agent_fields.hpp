@@ -17,7 +17,9 @@ Field agent_required(const Field& agent, const Field& defaults, const std::strin
 
 Box read_box(const Field& f, int n, const std::string& why);
 Workspace read_workspace(const Field& f, const Dynamics& dyn);
-void validate_agent(const AgentSpec& a, const Field& x0f, const Field& radiusf, const Field& goalf);
+// bounds_clearance: what the body's clearance pulled the workspace coordinates' bounds in by.
+void validate_agent(const AgentSpec& a, const Field& x0f, const Field& radiusf, const Field& goalf,
+                    double bounds_clearance = 0.0);
 
 // The vector field at x0 and at the goal's centre, with the input at U's centre: a division by
 // zero or a log of a negative number there would otherwise send every planner and enclosure to

@@ -38,7 +38,7 @@ const std::vector<std::string> kTopKeys = {
 const std::vector<std::string> kAgentKeys = {"name",         "dynamics",     "x0",          "goal",
                                              "state_bounds", "input_bounds", "disturbance", "eps",
                                              "workspace",    "tracker",      "stages",      "ltl",
-                                             "x0_radius"};
+                                             "x0_radius",    "radius"};
 
 // An agent's keys: core's, with the installed trackers' own fields (abcd: eta_x, eta_u) after eps.
 std::vector<std::string> agent_keys(const std::vector<AgentFieldSpec>& fields) {
@@ -85,10 +85,11 @@ void read_timing_and_norms(const Field& top, LoadedProblem& out) {
   if (Field f = top.child("rk4_substeps"); f.present())
     pb.rk4_substeps = static_cast<int>(f.integer_in(1, kMaxRk4Substeps, "RK4 substeps per step"));
   if (Field f = top.child("delta"); f.present()) {
-    if (f.is_map()) {  // clearance by kind: between agents, to obstacles
-      f.allow_only({"agents", "obstacles"});
+    if (f.is_map()) {  // clearance by kind: between agents, to obstacles, to the state bounds
+      f.allow_only({"agents", "obstacles", "bounds"});
       pb.delta = f.required("agents").non_negative();
       pb.delta_obstacles = f.required("obstacles").non_negative();
+      if (Field b = f.child("bounds"); b.present()) pb.delta_bounds = b.non_negative();
     } else {
       pb.delta = f.non_negative();
     }
@@ -156,6 +157,68 @@ void read_mission(const Field& af, const Problem& pb, AgentSpec& a, AgentsRead& 
   }
 }
 
+// The agent's workspace point: given, or the plane at its states x and y by default. One
+// workspace dimension for the team (the first agent's).
+void read_agent_workspace(const Field& af, const Field& defaults, bool spatial, Problem& pb, AgentSpec& a) {
+  const int n = a.dynamics->state_dim();
+  if (Field ws = agent_field(af, defaults, "workspace"); ws.present()) {
+    a.workspace = read_workspace(ws, *a.dynamics);
+    // One workspace for the team: the first agent's dimension, every other agent's the same.
+    if (pb.agents.empty()) {
+      pb.workspace_dim = a.workspace.dim();
+    } else if (a.workspace.dim() != pb.workspace_dim) {
+      const Field pos = ws.child("position").present() ? ws.child("position") : ws;
+      pos.fail("agent '" + a.name + "' has a " + std::to_string(a.workspace.dim()) + "-D workspace, but '" +
+               pb.agents.front().name + "' (the first agent) has a " + std::to_string(pb.workspace_dim) +
+               "-D one; all agents share one workspace (give every 'position' 2 or every one 3 entries)");
+    }
+  } else if (spatial) {
+    // A model whose states are named x and y (the unicycle, the bicycle, the quadrotor, most
+    // models written as equations) is in the plane at (x, y) unless the file says otherwise: the
+    // plane is conservative for a 3-D model too (a column of the workspace for each point).
+    const auto names = a.dynamics->state_names();
+    const auto ix = std::find(names.begin(), names.end(), "x"), iy = std::find(names.begin(), names.end(), "y");
+    if (ix == names.end() || iy == names.end())
+      af.fail("missing required field 'workspace' (the problem has obstacles, collisions or a formation, so "
+              "each agent needs a point in the plane: {position: [i, j]} or {footprint: name}; its states have no "
+              "x and y to take by default)");
+    a.workspace.index = {static_cast<int>(ix - names.begin()), static_cast<int>(iy - names.begin())};
+    if (pb.agents.empty()) pb.workspace_dim = 2;
+    else if (pb.workspace_dim != 2)
+      af.fail("missing required field 'workspace': the team's workspace is " + std::to_string(pb.workspace_dim) +
+              "-D (the first agent's), and this agent's default (its states x and y) is the plane; give its 'position'");
+  } else {
+    a.workspace.index = {0, n > 1 ? 1 : -1};
+  }
+}
+
+// The body (`radius`) and its clearance from the state bounds (`delta: {bounds: b}`): a body of a
+// linear workspace map keeps b + radius inside the bounds of every state its point reads, so
+// those bounds are pulled in here and every reader of X holds the body inside the given ones.
+void read_body(const Field& af, const Field& defaults, const Field& boundsf, const Problem& pb, AgentSpec& a) {
+  if (Field r = agent_field(af, defaults, "radius"); r.present()) a.radius = r.non_negative();
+  const double clear = pb.delta_bounds + a.radius;
+  if (!a.workspace.linear() && pb.delta_bounds > 0.0)
+    agent_field(af, defaults, "workspace")
+        .fail("delta's bounds keep a body clear of the state bounds of the states its point reads, but agent '" + a.name +
+              "''s point is the footprint '" + a.workspace.footprint_name +
+              "', a function of its state with no bounds of its own; give delta's bounds 0 and this agent's state "
+              "bounds with the clearance it needs");
+  if (!(clear > 0.0) || !a.workspace.linear()) return;
+  const auto names = a.dynamics->state_names();
+  for (int i : a.workspace.index) {
+    if (i < 0) continue;
+    double& lo = a.state_bounds.lo[i];
+    double& hi = a.state_bounds.hi[i];
+    if (!(hi - lo > 2.0 * clear))
+      boundsf.fail("the state bounds [" + number_text(lo) + ", " + number_text(hi) + "] in '" + names[static_cast<std::size_t>(i)] +
+                   "' leave no room for the body: it keeps " + number_text(clear) + " from each side (delta's bounds " +
+                   number_text(pb.delta_bounds) + " + radius " + number_text(a.radius) + ")");
+    lo += clear;
+    hi -= clear;
+  }
+}
+
 void read_agent(const Field& af, std::size_t idx, LoadedProblem& out, AgentsRead& r) {
   Problem& pb = out.problem;
   const Field& defaults = r.defaults;
@@ -188,43 +251,17 @@ void read_agent(const Field& af, std::size_t idx, LoadedProblem& out, AgentsRead
   if (radiusf.present()) a.x0_radius = radiusf.non_negative_vector(n, sn);
   Field goalf = agent_required(af, defaults, "goal");
   a.goal = read_box(goalf, n, sn);
-  a.state_bounds = read_box(agent_required(af, defaults, "state_bounds"), n, sn);
+  const Field boundsf = agent_required(af, defaults, "state_bounds");
+  a.state_bounds = read_box(boundsf, n, sn);
+  read_agent_workspace(af, defaults, r.spatial, pb, a);
+  read_body(af, defaults, boundsf, pb, a);
   a.input_bounds = read_box(agent_required(af, defaults, "input_bounds"), m, sm);
   read_disturbance(agent_required(af, defaults, "disturbance"), a, sn);
   // eps and the trackers' fields: numbers, or `auto` (auto_tube.hpp; an absent eps is auto, and
   // so are then absent fields).
   const AutoTube at = read_tube(af, defaults, pb.tau, a, sn, sm, r.tracker_fields, r.tracker_instances);
   out.auto_tube.push_back(at);
-  if (Field ws = agent_field(af, defaults, "workspace"); ws.present()) {
-    a.workspace = read_workspace(ws, *a.dynamics);
-    // One workspace for the team: the first agent's dimension, every other agent's the same.
-    if (pb.agents.empty()) {
-      pb.workspace_dim = a.workspace.dim();
-    } else if (a.workspace.dim() != pb.workspace_dim) {
-      const Field pos = ws.child("position").present() ? ws.child("position") : ws;
-      pos.fail("agent '" + a.name + "' has a " + std::to_string(a.workspace.dim()) + "-D workspace, but '" +
-               pb.agents.front().name + "' (the first agent) has a " + std::to_string(pb.workspace_dim) +
-               "-D one; all agents share one workspace (give every 'position' 2 or every one 3 entries)");
-    }
-  } else if (r.spatial) {
-    // A model whose states are named x and y (the unicycle, the bicycle, the quadrotor, most
-    // models written as equations) is in the plane at (x, y) unless the file says otherwise: the
-    // plane is conservative for a 3-D model too (a column of the workspace for each point).
-    const auto names = a.dynamics->state_names();
-    const auto ix = std::find(names.begin(), names.end(), "x"), iy = std::find(names.begin(), names.end(), "y");
-    if (ix == names.end() || iy == names.end())
-      af.fail("missing required field 'workspace' (the problem has obstacles, collisions or a formation, so "
-              "each agent needs a point in the plane: {position: [i, j]} or {footprint: name}; its states have no "
-              "x and y to take by default)");
-    a.workspace.index = {static_cast<int>(ix - names.begin()), static_cast<int>(iy - names.begin())};
-    if (pb.agents.empty()) pb.workspace_dim = 2;
-    else if (pb.workspace_dim != 2)
-      af.fail("missing required field 'workspace': the team's workspace is " + std::to_string(pb.workspace_dim) +
-              "-D (the first agent's), and this agent's default (its states x and y) is the plane; give its 'position'");
-  } else {
-    a.workspace.index = {0, n > 1 ? 1 : -1};
-  }
-  validate_agent(a, x0f, radiusf.present() ? radiusf : x0f, goalf);
+  validate_agent(a, x0f, radiusf.present() ? radiusf : x0f, goalf, pb.delta_bounds + a.radius);
   check_field_finite(a, agent_field(af, defaults, "dynamics"));
   read_mission(af, pb, a, r);
   // The agent's own tracker, else the default's, else the top level's (Fields are never

@@ -11,6 +11,37 @@
 
 namespace marsyn {
 
+namespace {
+
+// "bodies    tug1, tug2: radius 0.3; drone1: radius 0.2 (two agents keep delta plus both radii, ...)":
+// agents grouped by radius, so that a team of hundreds stays one line.
+std::string bodies_line(const Problem& pb) {
+  std::vector<std::pair<double, std::vector<std::string>>> by_radius;
+  for (const auto& a : pb.agents) {
+    if (!(a.radius > 0)) continue;
+    auto it = std::find_if(by_radius.begin(), by_radius.end(), [&](const auto& e) { return e.first == a.radius; });
+    if (it == by_radius.end()) by_radius.push_back({a.radius, {a.name}});
+    else it->second.push_back(a.name);
+  }
+  if (by_radius.empty()) return "";
+  std::ostringstream s;
+  s << "bodies    ";
+  for (std::size_t k = 0; k < by_radius.size(); ++k) {
+    const auto& names = by_radius[k].second;
+    s << (k ? "; " : "");
+    if (names.size() > 4) s << names.front() << " .. " << names.back() << " (" << names.size() << " agents)";
+    else
+      for (std::size_t i = 0; i < names.size(); ++i) s << (i ? ", " : "") << names[i];
+    s << ": radius " << by_radius[k].first;
+  }
+  s << " (two agents keep delta plus both radii, an agent keeps the obstacles' delta plus its radius and the state "
+       "bounds of its position shrunk by "
+    << (pb.delta_bounds > 0 ? "delta's bounds plus " : "") << "its radius)\n";
+  return s.str();
+}
+
+}  // namespace
+
 ConstraintCounts count_constraints(const Problem& pb) {
   ConstraintCounts c;
   const int n = static_cast<int>(pb.agents.size());
@@ -30,8 +61,10 @@ std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& track
     << " s)\n";
   s << "safety    delta = " << pb.delta;
   if (pb.delta_obstacles >= 0) s << " between agents, " << pb.delta_obstacles << " to obstacles";
+  if (pb.delta_bounds > 0) s << ", " << pb.delta_bounds << " to the state bounds";
   s << " (" << (pb.delta_norm == Norm::Inf ? "inf-norm" : "2-norm")
     << (pb.workspace_dim == 3 ? ", in space: x, y, z; obstacles are vertical prisms" : "") << ")\n";
+  s << bodies_line(pb);
   s << "guarantee " << (pb.guarantee == Guarantee::Continuous
                             ? "continuous (every t in [0, T tau], between the samples too)"
                             : "sampled (t = k tau only, the paper's semantics)")

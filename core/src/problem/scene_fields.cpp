@@ -40,14 +40,16 @@ void check_start_geometry(const Problem& pb, const std::vector<Field>& x0_fields
         continue;
       // The real specification's own margins (spec_margins.hpp), with no tube around x0.
       const double depth = planning::obstacle_margin(o, p[i], {}, 0.0, Norm::Two);
-      const double margin = planning::obstacle_margin(o, p[i], {}, pb.obstacle_delta(), pb.delta_norm);
+      const double clearance = pb.obstacle_clearance(static_cast<int>(i));
+      const double margin = planning::obstacle_margin(o, p[i], {}, clearance, pb.delta_norm);
       const std::string what = "x0 puts " + a.name + "'s workspace point " + point(p[i]);
       if (depth < 0) x0_fields[i].fail(what + " inside obstacle '" + o.name + "'");
       if (margin < 0)
-        x0_fields[i].fail(what + " at " + norm + " distance " + number_text(margin + pb.obstacle_delta()) +
+        x0_fields[i].fail(what + " at " + norm + " distance " + number_text(margin + clearance) +
                           " from obstacle '" + o.name + "', less than " +
                           (pb.delta_obstacles >= 0 ? "delta's obstacles = " : "delta = ") + number_text(pb.obstacle_delta()) +
-                          " (inside the obstacle grown by delta)");
+                          (a.radius > 0 ? " plus its radius " + number_text(a.radius) + " = " + number_text(clearance) : "") +
+                          " (inside the obstacle grown by " + (a.radius > 0 ? "that" : "delta") + ")");
     }
   }
   // A formation pair (Euclidean distance within lambda +- mu at every time, t = 0 included).
@@ -63,12 +65,17 @@ void check_start_geometry(const Problem& pb, const std::vector<Field>& x0_fields
   if (!pb.pairwise_collision) return;
   for (std::size_t j = 0; j < pb.agents.size(); ++j)
     for (std::size_t i = 0; i < j; ++i) {
-      const double margin = planning::collision_margin(p[j], {}, p[i], {}, pb.delta, pb.delta_norm);
-      const double dist = margin + pb.delta;
+      const double clearance = pb.pair_clearance(static_cast<int>(i), static_cast<int>(j));
+      const double margin = planning::collision_margin(p[j], {}, p[i], {}, clearance, pb.delta_norm);
+      const double dist = margin + clearance;
+      const bool radii = pb.agents[i].radius > 0 || pb.agents[j].radius > 0;
       if (margin < 0)
         x0_fields[j].fail("x0 puts " + pb.agents[j].name + " at " + point(p[j]) + ", " + norm + " distance " +
                           number_text(dist) + " from " + pb.agents[i].name + " at " + point(p[i]) + " (agents[" +
-                          std::to_string(i) + "]), less than delta = " + number_text(pb.delta));
+                          std::to_string(i) + "]), less than delta = " + number_text(pb.delta) +
+                          (radii ? " plus their radii " + number_text(pb.agents[j].radius) + " and " +
+                                       number_text(pb.agents[i].radius) + " = " + number_text(clearance)
+                                 : ""));
     }
 }
 

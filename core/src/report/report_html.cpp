@@ -175,6 +175,10 @@ return function draw(k) {
     if (pe) { ctx.globalAlpha = 0.7; ctx.strokeStyle = c; ctx.lineWidth = 1; pe.forEach(e => ctx.strokeRect(X(e[0]), Y(e[3]), (e[2] - e[0]) * scale, (e[3] - e[1]) * scale)); }
     ctx.globalAlpha = 1;
   });
+  // A body with a radius is drawn at its point: a square in the inf-norm, a disc in the 2-norm.
+  const body = (a, p, c) => { if (!a || !a.radius || !p) return; ctx.save(); ctx.strokeStyle = c; ctx.lineWidth = 1.5; ctx.beginPath();
+    if (S.norm === '2') ctx.arc(X(p[0]), Y(p[1]), a.radius * scale, 0, 7); else ctx.rect(X(p[0] - a.radius), Y(p[1] + a.radius), 2 * a.radius * scale, 2 * a.radius * scale);
+    ctx.stroke(); ctx.restore(); };
   const r = (S.runs || [])[+$('run').value];
   if (r) r.points.forEach((tr, i) => {
     const c = colors[i % colors.length];
@@ -182,7 +186,9 @@ return function draw(k) {
     tr.slice(0, k + 1).forEach((p, j) => j ? ctx.lineTo(X(p[0]), Y(p[1])) : ctx.moveTo(X(p[0]), Y(p[1]))); ctx.stroke();
     const p = tr[Math.min(k, tr.length - 1)];
     if (p) { ctx.fillStyle = c; ctx.beginPath(); ctx.arc(X(p[0]), Y(p[1]), 4, 0, 7); ctx.fill(); }
+    body(S.agents[i], p, c);
   });
+  else S.agents.forEach((a, i) => body(a, a.nominal[Math.min(k, a.nominal.length - 1)], colors[i % colors.length]));
   $('kt').textContent = 'k = ' + k + ' (t = ' + (k * S.tau).toFixed(1) + ' s)';
   if (S.axes) { ctx.fillStyle = '#52606d'; ctx.font = '11px system-ui'; ctx.fillText(S.axes[0] + ' \u2192, ' + S.axes[1] + ' \u2191', 6, 14); }
 };

@@ -109,6 +109,7 @@ nlohmann::json agent_scene_json(const Problem& pb, std::size_t i, const std::vec
   const AgentSpec& a = pb.agents[i];
   json ag;
   ag["name"] = a.name;
+  if (a.radius > 0) ag["radius"] = a.radius;
   const auto g = workspace_box(a, a.goal.lo, a.goal.hi, view);
   ag["goal"] = {g[0], g[1], g[2], g[3]};
   json tube = json::array(), path = json::array();
@@ -179,6 +180,7 @@ nlohmann::json view_scene(const Problem& pb, const std::vector<NominalTrajectory
   scene["tau"] = pb.tau;
   scene["delta"] = pb.delta;
   scene["delta_obstacles"] = pb.obstacle_delta();
+  scene["norm"] = pb.delta_norm == Norm::Inf ? "inf" : "2";
   const int horizon = !nominal.empty() && !nominal.front().u.empty() ? static_cast<int>(nominal.front().u.size()) : pb.horizon;
   scene["obstacles"] = obstacles_json(pb, horizon, view);
   json agents = json::array();

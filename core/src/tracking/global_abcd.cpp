@@ -45,13 +45,14 @@ std::function<bool(const double*, const double*)> product_unsafe(const Problem& 
       workspace_point<Interval>(*a.dynamics, a.workspace, x.data(), p);
       ws.push_back({p[0].lower(), p[1].lower(), p[0].upper(), p[1].upper()});
     }
-    for (const auto& w : ws)
+    for (std::size_t i = 0; i < ws.size(); ++i)
       for (const auto& o : obstacle_boxes)
-        if (box_distance(w.data(), o.data(), pb.delta_norm) < pb.obstacle_delta()) return true;
+        if (box_distance(ws[i].data(), o.data(), pb.delta_norm) < pb.obstacle_clearance(static_cast<int>(i))) return true;
     if (pb.pairwise_collision)
       for (std::size_t i = 0; i < ws.size(); ++i)
         for (std::size_t j = i + 1; j < ws.size(); ++j)
-          if (box_distance(ws[i].data(), ws[j].data(), pb.delta_norm) < pb.delta) return true;
+          if (box_distance(ws[i].data(), ws[j].data(), pb.delta_norm) < pb.pair_clearance(static_cast<int>(i), static_cast<int>(j)))
+            return true;
     return false;
   };
 }

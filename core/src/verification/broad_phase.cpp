@@ -72,7 +72,7 @@ Eigen::Vector2d outside(const Eigen::Vector4d& box, const planning::Point& p) {
 
 }  // namespace
 
-BroadPhase::BroadPhase(const Problem& problem) : pb_(problem) {
+BroadPhase::BroadPhase(const Problem& problem) : pb_(problem), pair_clear_(problem.largest_pair_clearance()) {
   plane_start_.push_back(0);
   for (const auto& o : problem.obstacles) {
     Eigen::Vector4d b(1e300, 1e300, -1e300, -1e300);
@@ -193,22 +193,23 @@ void BroadPhase::fold_one(const Requirement& q, const std::vector<planning::Poin
   }
 }
 
-bool BroadPhase::obstacle_clears(const StepMargins& run, int o, const planning::Point& at) const {
+bool BroadPhase::obstacle_clears(const StepMargins& run, int i, int o, const planning::Point& at) const {
   // Outside its bounding box, a point is at least as far from the obstacle as from the box.
   const Eigen::Vector2d g = outside(bbox_[static_cast<size_t>(o)], at);
   const bool inf = pb_.delta_norm == Norm::Inf;
   const double d = inf ? g.maxCoeff() : g.norm();  // > 0 outside the box; no bound inside it
   const double clear = run.obstacle + slack(run.obstacle, scale_ + at.cwiseAbs().maxCoeff());
-  if (d > 0 && d - pb_.obstacle_delta() > clear) return true;
+  const double delta = pb_.obstacle_clearance(i);
+  if (d > 0 && d - delta > clear) return true;
   // A slanted edge's half-plane: a bound inside the box too (asked only where the box's fails).
   if (!slanted(o)) return false;
   const double h = plane_gap(o, at.x(), at.y(), inf);
-  return h > 0 && h - pb_.obstacle_delta() > clear;
+  return h > 0 && h - delta > clear;
 }
 
 // (Inlined: it is read once per candidate pair, and its call cost more than its arithmetic.)
 [[gnu::always_inline]] inline double BroadPhase::pair_reach(const StepMargins& run) const {
-  return run.collision + pb_.delta + slack(run.collision, pb_.delta);
+  return run.collision + pair_clear_ + slack(run.collision, pair_clear_);
 }
 
 bool BroadPhase::accumulate(StepMargins& run, Requirement* worst, planning::Moment when) const {
@@ -220,12 +221,11 @@ bool BroadPhase::accumulate(StepMargins& run, Requirement* worst, planning::Mome
   double best = run.min();
   long best_rank = -1;
   auto fold = [&](const Requirement& q, double& slot) { fold_one(q, p, slot, best, best_rank, worst); };
-  const double delta = pb_.delta;
   const bool windowed = when.k >= 0 && windows_ && windows_->any();
   for (int i = 0; i < n; ++i)
     for (int o = 0; o < static_cast<int>(bbox_.size()); ++o) {
       if (windowed && !windows_->binds(i, o, when)) continue;
-      if (obstacle_clears(run, o, p[static_cast<size_t>(i)])) continue;
+      if (obstacle_clears(run, i, o, p[static_cast<size_t>(i)])) continue;
       fold({Requirement::Obstacle, i, o}, run.obstacle);
     }
   if (pb_.pairwise_collision) {
@@ -289,7 +289,7 @@ void BroadPhase::window_from_boxes(const std::vector<std::vector<planning::Point
   double mag = 0;  // the largest coordinate: the slack's scale for a difference of two
   for (const Eigen::Vector4d& b : boxes_) mag = std::max(mag, b.cwiseAbs().maxCoeff());
   const bool inf = pb_.delta_norm == Norm::Inf;
-  const double delta = pb_.delta, obstacle_delta = pb_.obstacle_delta();
+  const double delta = pair_clear_;
   // Formation pairs (planar: every point's z is 0, so x and y hold the whole distance): over the
   // window the pair's difference p_i - p_j (the very subtraction the margin takes) stays in its
   // box, so the distance lies between the box's nearest and farthest points from the origin, and
@@ -320,7 +320,8 @@ void BroadPhase::window_from_boxes(const std::vector<std::vector<planning::Point
     formation_candidates_.push_back(q);
   }
   const bool windowed = when.k >= 0 && windows_ && windows_->any();
-  for (int i = 0; i < n; ++i)
+  for (int i = 0; i < n; ++i) {
+    const double obstacle_delta = pb_.obstacle_clearance(i);
     for (int o = 0; o < static_cast<int>(bbox_.size()); ++o) {
       if (windowed && !windows_->binds(i, o, when)) continue;
       // Every point of the agent's box is at least as far from the obstacle as the two boxes
@@ -336,6 +337,7 @@ void BroadPhase::window_from_boxes(const std::vector<std::vector<planning::Point
       }
       candidates_.push_back({Requirement::Obstacle, i, o});
     }
+  }
   if (!pb_.pairwise_collision) return;
   if (static_cast<int>(box_order_.size()) != n) {
     box_order_.resize(static_cast<size_t>(n));
@@ -377,7 +379,7 @@ bool BroadPhase::accumulate_window(int s, StepMargins& run, Requirement* worst) 
   // The point-level rules of accumulate() at this state, against the minima as they now stand.
   for (const Requirement& q : candidates_) {
     if (q.kind == Requirement::Obstacle) {
-      if (!obstacle_clears(run, q.b, p[static_cast<size_t>(q.a)])) fold(q, run.obstacle);
+      if (!obstacle_clears(run, q.a, q.b, p[static_cast<size_t>(q.a)])) fold(q, run.obstacle);
       continue;
     }
     const planning::Point d = p[static_cast<size_t>(q.b)] - p[static_cast<size_t>(q.a)];

@@ -92,6 +92,7 @@ void certify_agents(const Problem& pb, const ByStep& by_step, int T, Certificati
   const planning::ObstacleWindows windows(pb, T);
   for (int i = 0; i < static_cast<int>(pb.agents.size()); ++i) {
     const auto& a = pb.agents[i];
+    const double clearance = planning::obstacle_clearance_up(pb, i);
     for (int k = 0; k < T; ++k)
       for (const PeriodEnclosure* e : by_step[i][static_cast<size_t>(k)]) {
         for (int c = 0; c < a.state_bounds.dim(); ++c) {
@@ -101,7 +102,7 @@ void certify_agents(const Problem& pb, const ByStep& by_step, int T, Certificati
         }
         for (size_t o = 0; o < pb.obstacles.size(); ++o) {
           if (!windows.binds(i, static_cast<int>(o), {k, true})) continue;
-          const double mo = planning::box_obstacle_margin(e->workspace, pb.obstacles[o], pb.obstacle_delta(), pb.delta_norm);
+          const double mo = planning::box_obstacle_margin(e->workspace, pb.obstacles[o], clearance, pb.delta_norm);
           record(r.obstacle, mo, k, [&] { return planning::obstacle_name(pb, static_cast<int>(o), a); }, r.shortfalls);
           note(failing, mo, {i});
         }
@@ -127,14 +128,16 @@ void certify_pairs(const Problem& pb, const ByStep& by_step, int T, Certificatio
   const int N = static_cast<int>(pb.agents.size());
   if (pb.pairwise_collision)
     for (int i = 0; i < N; ++i)
-      for (int j = i + 1; j < N; ++j)
+      for (int j = i + 1; j < N; ++j) {
+        const double clearance = planning::pair_clearance_up(pb, i, j);
         for (int k = 0; k < T; ++k)
           overlapping(by_step, i, j, k, [&](const PeriodEnclosure& ea, const PeriodEnclosure& eb) {
-            const double m = planning::box_pair_margin(ea.workspace, eb.workspace, pb.delta, pb.delta_norm);
+            const double m = planning::box_pair_margin(ea.workspace, eb.workspace, clearance, pb.delta_norm);
             record(r.collision, m, k, [&] { return planning::collision_name(pb.agents[i], pb.agents[j]); },
                    r.shortfalls);
             note(failing, m, {i, j});
           });
+      }
   for (const auto& f : pb.formation)
     for (int k = 0; k < T; ++k)
       overlapping(by_step, f.i, f.j, k, [&](const PeriodEnclosure& ea, const PeriodEnclosure& eb) {

@@ -156,6 +156,9 @@ struct AgentSpec {
   TubeParams tube;  // w, eps: what the agent's tracker is asked to keep
   AgentFields fields;  // the trackers' own agent-level fields (abcd's grid), core never reads them
   Workspace workspace;
+  // The body's half-width around its workspace point (a square in the inf-norm, a disc in the
+  // 2-norm): added to every clearance the agent keeps, pairwise between two agents (`radius`).
+  double radius = 0.0;
   // The agent's tracker (name and parameters); the name is never "auto" once the problem is
   // loaded: the loader resolves `tracker: auto` per agent from each tracker's assessment.
   PluginChoice tracker;
@@ -231,6 +234,24 @@ struct Problem {
   // a robot keeps one body from a wall, two bodies from another robot. Negative: `delta`.
   double delta_obstacles = -1.0;
   double obstacle_delta() const { return delta_obstacles >= 0.0 ? delta_obstacles : delta; }
+  // Clearance of a body from the state bounds in its workspace coordinates (`delta: {bounds: b}`);
+  // the loader has already pulled each agent's state bounds in by it plus the agent's radius.
+  double delta_bounds = 0.0;
+  // What each requirement keeps, with the bodies' radii: two agents keep delta plus both radii,
+  // an agent keeps the obstacles' delta plus its own.
+  double pair_clearance(int a, int b) const {
+    return delta + agents[static_cast<std::size_t>(a)].radius + agents[static_cast<std::size_t>(b)].radius;
+  }
+  double obstacle_clearance(int a) const { return obstacle_delta() + agents[static_cast<std::size_t>(a)].radius; }
+  double largest_radius() const {
+    double r = 0.0;
+    for (const auto& a : agents) r = r > a.radius ? r : a.radius;
+    return r;
+  }
+  // Bounds on every pair's and every agent's clearance, for screens that skip far requirements.
+  // (Summed in pair_clearance's order: rounding is monotone, so no pair's value exceeds it.)
+  double largest_pair_clearance() const { return delta + largest_radius() + largest_radius(); }
+  double largest_obstacle_clearance() const { return obstacle_delta() + largest_radius(); }
   Norm delta_norm = Norm::Inf;
   bool pairwise_collision = true;
   Guarantee guarantee = Guarantee::Continuous;

@@ -30,6 +30,10 @@ double box_formation_margin(const Box& a, const Box& b, double lambda, double mu
 
 // One requirement (spec_margins.hpp) on the agents' workspace boxes ws (problem order).
 double box_requirement_margin(const Problem& problem, const Requirement& r, const std::vector<Box>& ws);
+// Agent a's clearance to obstacles and pair (a, b)'s, with their radii, rounded up: the
+// certified margins subtract them rounded down.
+double obstacle_clearance_up(const Problem& problem, int a);
+double pair_clearance_up(const Problem& problem, int a, int b);
 
 // min over coordinates of (box.lo - X.lo, X.hi - box.hi): >= 0 iff the box lies in X; with
 // coord >= 0, that coordinate only.

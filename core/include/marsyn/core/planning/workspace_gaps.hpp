@@ -15,10 +15,11 @@ struct NarrowGap {
   std::string first, second;        // obstacle names, or "the edge x >= lo of <agent>'s workspace" etc.
   double width = 0.0;               // the gap's width in the problem's norm
   double needed = 0.0;              // the largest clearance (fixed + tube) among the agents it closes
-  double fixed = 0.0;               // of it, the part no tube changes: 2 delta between obstacles, delta at an edge
+  double fixed = 0.0;               // of it, the part no tube changes: 2 (delta + radius) between obstacles, delta + radius at an edge
   std::vector<std::string> agents;  // the agents it is closed to
   bool footprint = false;           // some of them have a footprint (their margin is its reach, not eps)
   int axis = -1;                    // the workspace coordinate the gap runs across (x 0, y 1, z 2); -1: slanted
+  bool body = false;                // the agent it needs most for has a radius (counted with delta)
 };
 
 // Every closed gap (width > 0: overlapping obstacles form one obstacle, not a gap). The margin

@@ -67,7 +67,7 @@ class BroadPhase {
   long rank(const planning::Requirement& q) const;
   // accumulate()'s rules at one state: obstacle o cannot lower run.obstacle at an agent's point
   // `at`; a pair farther apart than pair_reach(run) along x or y cannot lower run.collision.
-  bool obstacle_clears(const StepMargins& run, int o, const planning::Point& at) const;
+  bool obstacle_clears(const StepMargins& run, int i, int o, const planning::Point& at) const;
   double pair_reach(const StepMargins& run) const;
   // window()'s candidates from boxes_.
   void window_from_boxes(const std::vector<std::vector<planning::Point>>& states, int count, bool finite,
@@ -93,6 +93,8 @@ class BroadPhase {
   double plane_gap(int o, const Eigen::Vector4d& box, bool inf) const;
   bool slanted(int o) const { return plane_start_[static_cast<size_t>(o)] < plane_start_[static_cast<size_t>(o) + 1]; }
   double scale_ = 0;                   // largest obstacle coordinate: the slack's scale
+  // Every pair's clearance is at most this (the two largest radii): one reach for the sweep.
+  double pair_clear_ = 0;
   mutable std::vector<int> order_;     // agents by increasing x (when sorted_)
   mutable std::vector<int> place_;     // place_[i]: agent i's position in order_
   mutable bool sorted_ = false;
