@@ -9,6 +9,7 @@
 #include <climits>
 
 #include "marsyn/core/problem/agent_checks.hpp"
+#include "marsyn/directed_rounding.hpp"
 #include "marsyn/core/problem/input_limits.hpp"
 #include "marsyn/core/problem/tracker_assessment.hpp"
 #include "marsyn/core/problem/tracker_fields.hpp"
@@ -197,7 +198,9 @@ void read_agent_workspace(const Field& af, const Field& defaults, bool spatial, 
 // those bounds are pulled in here and every reader of X holds the body inside the given ones.
 void read_body(const Field& af, const Field& defaults, const Field& boundsf, const Problem& pb, AgentSpec& a) {
   if (Field r = agent_field(af, defaults, "radius"); r.present()) a.radius = r.non_negative();
-  const double clear = pb.delta_bounds + a.radius;
+  // Rounded toward a smaller X: the body stays inside the given bounds, not an ulp outside.
+  const RoundToNearestScope nearest;
+  const double clear = fast_detail::add_up(pb.delta_bounds, a.radius);
   if (!a.workspace.linear() && pb.delta_bounds > 0.0)
     agent_field(af, defaults, "workspace")
         .fail("delta's bounds keep a body clear of the state bounds of the states its point reads, but agent '" + a.name +
@@ -206,16 +209,18 @@ void read_body(const Field& af, const Field& defaults, const Field& boundsf, con
               "bounds with the clearance it needs");
   if (!(clear > 0.0) || !a.workspace.linear()) return;
   const auto names = a.dynamics->state_names();
-  for (int i : a.workspace.index) {
-    if (i < 0) continue;
+  std::vector<int> states;  // each state once (a map may read one state twice)
+  for (int i : a.workspace.index)
+    if (i >= 0 && std::find(states.begin(), states.end(), i) == states.end()) states.push_back(i);
+  for (int i : states) {
     double& lo = a.state_bounds.lo[i];
     double& hi = a.state_bounds.hi[i];
     if (!(hi - lo > 2.0 * clear))
       boundsf.fail("the state bounds [" + number_text(lo) + ", " + number_text(hi) + "] in '" + names[static_cast<std::size_t>(i)] +
                    "' leave no room for the body: it keeps " + number_text(clear) + " from each side (delta's bounds " +
                    number_text(pb.delta_bounds) + " + radius " + number_text(a.radius) + ")");
-    lo += clear;
-    hi -= clear;
+    if (std::isfinite(lo)) lo = fast_detail::add_up(lo, clear);  // an unbounded side stays unbounded
+    if (std::isfinite(hi)) hi = fast_detail::sub_down(hi, clear);
   }
 }
 

@@ -34,9 +34,8 @@ std::string bodies_line(const Problem& pb) {
       for (std::size_t i = 0; i < names.size(); ++i) s << (i ? ", " : "") << names[i];
     s << ": radius " << by_radius[k].first;
   }
-  s << " (two agents keep delta plus both radii, an agent keeps the obstacles' delta plus its radius and the state "
-       "bounds of its position shrunk by "
-    << (pb.delta_bounds > 0 ? "delta's bounds plus " : "") << "its radius)\n";
+  s << " (a pair keeps delta + both radii; an obstacle " << (pb.delta_bounds > 0 ? "and the state bounds keep their" : "keeps its")
+    << " delta + the agent's radius" << (pb.delta_bounds > 0 ? "" : ", the state bounds the radius") << ")\n";
   return s.str();
 }
 

@@ -86,7 +86,7 @@ table($('t2'), ['T_plan [s]', 'N_l', 'T_abs [s]', 'T_syn [s]', 'N_g', 'global AB
 const safeFrom = t => t.invariant_from === undefined ? '-' : t.invariant_from === 0 ? 'every step' :
   t.invariant_from <= ((R.plan || {}).horizon || Infinity) ? 'from step ' + t.invariant_from : 'no';
 table($('ag'), ['agent', 'tracker', 'status', 'N_l', 'boxes', 'abs [s]', 'syn [s]', 'memory [MB]', 'start covered', 'safe from any accepted state'],
-  ags.map(a => { const t = a.tracker || {}; return [a.name + (a.x0_radius ? '<br><span class="muted" style="white-space:nowrap">x0 &plusmn; (' + a.x0_radius.map(r => String(+r.toPrecision(3))).join(', ') + ')</span>' : ''), esc(t.name || '-') + (t.chosen === 'auto' ? ' <span class="muted">(auto)</span>' : ''),
+  ags.map(a => { const t = a.tracker || {}; return [a.name + (a.radius ? '<br><span class="muted" style="white-space:nowrap">body radius ' + String(+a.radius.toPrecision(3)) + '</span>' : '') + (a.x0_radius ? '<br><span class="muted" style="white-space:nowrap">x0 &plusmn; (' + a.x0_radius.map(r => String(+r.toPrecision(3))).join(', ') + ')</span>' : ''), esc(t.name || '-') + (t.chosen === 'auto' ? ' <span class="muted">(auto)</span>' : ''),
     t.status, fmt(t.state_input_pairs, 0), fmt(t.boxes_computed, 0),
     fmt(t.abstraction_time_s, 3), fmt(t.synthesis_time_s, 3), fmt((t.peak_memory_bytes || 0) / 1048576, 1), t.initial_state_winning ? 'yes' : 'no', safeFrom(t)]; }));
 const v = R.verification || {}, ol = R.open_loop || {}, ce = R.certification || {}, pl = R.plan || {};
