@@ -41,3 +41,16 @@ for tracker in abcd funnel; do
   grep -q "(${tracker}): controller" "$out.txt" || fail "multi_drone: $tracker was not used" "$out.txt"
   echo "multi_drone: VERIFIED with $tracker"
 done
+# Bodies of their own size (issue 51): two ground robots and a drone with their radii and delta
+# by kind verify, the adversarial closed loop keeps the bodies apart, and check names the bodies.
+out="$scratch/air_ground"
+"$exe" check "$src/examples/air_ground.yaml" > "$out-check.txt" 2>&1 || fail "air_ground: check failed" "$out-check.txt"
+grep -q "^bodies    robot1, robot2: radius 0.25; drone: radius 0.15" "$out-check.txt" || fail "air_ground: no bodies line" "$out-check.txt"
+"$exe" solve "$src/examples/air_ground.yaml" --out "$out" --runs 200 --global-budget 0 > "$out.txt" 2>&1
+code=$?
+[ "$code" -eq 0 ] || fail "air_ground: should verify (exit $code)" "$out.txt"
+grep -q "^status        VERIFIED" "$out.txt" || fail "air_ground: not VERIFIED" "$out.txt"
+"$exe" simulate "$src/examples/air_ground.yaml" --controllers "$out" --disturbance adversarial --seed 1 > "$out-adv.txt" 2>&1
+[ "$?" -eq 0 ] || fail "air_ground: adversarial run violates" "$out-adv.txt"
+grep -q "^between       satisfied" "$out-adv.txt" || fail "air_ground: not satisfied between samples" "$out-adv.txt"
+echo "air_ground: VERIFIED with bodies; adversarial closed loop satisfied"
