@@ -8,6 +8,7 @@
 
 #include "marsyn/core/planning/workspace_gaps.hpp"
 #include "marsyn/core/problem/problem_advice.hpp"
+#include "marsyn/core/problem/problem_summary.hpp"
 #include "pendulum_variant.hpp"
 
 namespace {
@@ -164,4 +165,32 @@ TEST(FormationFields, StartsOutsideTheFormationAreNamed) {
   EXPECT_LT(marsyn::planning::start_eps_factor(lp.problem), 0.15);
   // Starting at lambda: nothing to say.
   EXPECT_TRUE(marsyn::planning::crowded_starts(marsyn::load_problem(formation_with_starts("fine", "[0, 1, 0]", "0.3")).problem).empty());
+}
+
+// A team of alike robots is one line in `check`'s table and one block in its advice (issue 54:
+// a field of 1000 printed 4000 lines); an agent that differs, or an alike one after it, has its own.
+TEST(ProblemAdvice, AlikeAgentsInARowShareOneLine) {
+  std::ostringstream y;
+  y << "name: alike\ntau: 0.1\nhorizon: 40\ndelta: 0.2\n"
+       "defaults:\n  dynamics: unicycle\n  tracker: funnel\n"
+       "  state_bounds: {lo: [-20, -20, -4], hi: [20, 20, 4]}\n  input_bounds: {lo: [-1, -2], hi: [1, 2]}\n"
+       "  disturbance: [0.01, 0.01, 0.01]\n  eps: [0.2, 0.2, 0.3]\n"
+       "agents:\n";
+  for (int i = 1; i <= 6; ++i) {
+    y << "  - name: u" << i << "\n    x0: [" << 2 * i << ", 0, 0]\n    goal: {center: [" << 2 * i
+      << ", 3, 0], radius: [0.5, 0.5, 3.9]}\n";
+    if (i == 5) y << "    eps: [0.25, 0.2, 0.3]\n";
+  }
+  const std::string path = testing::TempDir() + "alike.yaml";
+  std::ofstream(path) << y.str();
+  const auto lp = marsyn::load_problem(path);
+  const std::string table = marsyn::summarize(lp.problem);
+  EXPECT_NE(table.find("\nu1 .. u4 (4 agents)  unicycle"), std::string::npos) << table;
+  EXPECT_NE(table.find("\nu5 "), std::string::npos) << table;
+  EXPECT_NE(table.find("\nu6 "), std::string::npos) << table;
+  EXPECT_EQ(table.find("\nu2 "), std::string::npos) << table;
+  const std::string advice = marsyn::to_text(marsyn::advise(lp));
+  EXPECT_NE(advice.find("  u1 .. u4 (4 agents): funnel (named in the file)"), std::string::npos) << advice;
+  EXPECT_NE(advice.find("  u5: funnel"), std::string::npos) << advice;
+  EXPECT_NE(advice.find("  u6: funnel"), std::string::npos) << advice;
 }

@@ -7,6 +7,7 @@
 #include "marsyn/core/problem/tracker_fields.hpp"
 #include "marsyn/memory_budget.hpp"
 #include "marsyn/number_text.hpp"
+#include "agent_runs.hpp"
 
 namespace marsyn {
 
@@ -103,28 +104,42 @@ Advice advise(const LoadedProblem& lp) {
   return out;
 }
 
+namespace {
+
+// One agent's trackers, its auto note and their estimates, without its name.
+std::string agent_block(const AgentAdvice& a) {
+  std::ostringstream s;
+  s << a.chosen << (a.automatic ? " (auto's pick" : " (named in the file");
+  if (a.automatic) {
+    s << "; fallback order: " << a.chosen;
+    for (const auto& f : a.fallbacks) s << ", then " << f;
+  }
+  s << ")\n";
+  if (!a.auto_note.empty()) s << "    " << a.auto_note << "\n";
+  for (const auto& t : a.trackers) {
+    s << "    " << t.tracker << ": ";
+    if (t.assessment.ok)
+      s << "accepts, about " << seconds_or_minutes(t.assessment.work_s) << ", " << format_bytes(t.assessment.memory_bytes)
+        << (t.assessment.summary.empty() ? "" : "; " + t.assessment.summary);
+    else
+      s << "refuses" << (t.assessment.field.empty() ? "" : " (" + t.assessment.field + ")") << ": " << t.assessment.message;
+    s << "\n";
+  }
+  return s.str();
+}
+
+}  // namespace
+
 std::string to_text(const Advice& adv) {
   std::ostringstream s;
   s << "trackers per agent (estimates: one core's time, peak memory)\n";
+  // Each agent's block without its name; consecutive agents with the same block share one.
+  std::vector<std::string> names, blocks;
   for (const auto& a : adv.agents) {
-    s << "  " << a.agent << ": " << a.chosen << (a.automatic ? " (auto's pick" : " (named in the file");
-    if (a.automatic) {
-      s << "; fallback order: " << a.chosen;
-      for (const auto& f : a.fallbacks) s << ", then " << f;
-    }
-    s << ")\n";
-    if (!a.auto_note.empty()) s << "    " << a.auto_note << "\n";
-    for (const auto& t : a.trackers) {
-      s << "    " << t.tracker << ": ";
-      if (t.assessment.ok)
-        s << "accepts, about " << seconds_or_minutes(t.assessment.work_s) << ", "
-          << format_bytes(t.assessment.memory_bytes)
-          << (t.assessment.summary.empty() ? "" : "; " + t.assessment.summary);
-      else
-        s << "refuses" << (t.assessment.field.empty() ? "" : " (" + t.assessment.field + ")") << ": " << t.assessment.message;
-      s << "\n";
-    }
+    names.push_back(a.agent);
+    blocks.push_back(agent_block(a));
   }
+  for (const AgentRun& run : agent_runs(names, blocks)) s << "  " << run.label << ": " << blocks[run.first];
   for (const auto& w : adv.warnings) s << "warning: " << w << "\n";
   return s.str();
 }

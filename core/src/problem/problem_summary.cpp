@@ -8,6 +8,7 @@
 #include "marsyn/core/planning/goal_room.hpp"
 #include "marsyn/core/planning/workspace_gaps.hpp"
 #include "marsyn/number_text.hpp"
+#include "agent_runs.hpp"
 
 namespace marsyn {
 
@@ -105,6 +106,22 @@ std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& track
     }
     row.push_back(tracker);
     rows.push_back(std::move(row));
+  }
+  // Consecutive agents with the same row share one (a field of 1000 alike robots is one line).
+  {
+    std::vector<std::string> names, keys;
+    for (std::size_t r = 1; r < rows.size(); ++r) {
+      names.push_back(rows[r][0]);
+      std::string key;
+      for (std::size_t c = 1; c < rows[r].size(); ++c) key += rows[r][c] + '\x1f';
+      keys.push_back(std::move(key));
+    }
+    std::vector<std::vector<std::string>> grouped{rows[0]};
+    for (const AgentRun& run : agent_runs(names, keys)) {
+      grouped.push_back(rows[run.first + 1]);
+      grouped.back()[0] = run.label;
+    }
+    rows = std::move(grouped);
   }
   std::vector<std::size_t> width(rows[0].size(), 0);
   for (const auto& r : rows)
