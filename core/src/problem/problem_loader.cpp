@@ -203,8 +203,8 @@ void read_body(const Field& af, const Field& defaults, const Field& boundsf, con
   const double clear = fast_detail::add_up(pb.delta_bounds, a.radius);
   if (!a.workspace.linear() && pb.delta_bounds > 0.0)
     agent_field(af, defaults, "workspace")
-        .fail("delta's bounds keep a body clear of the state bounds of the states its point reads, but agent '" + a.name +
-              "''s point is the footprint '" + a.workspace.footprint_name +
+        .fail("delta's bounds keep a body clear of the state bounds of the states its point reads, but agent " + a.name +
+              "'s point is the footprint '" + a.workspace.footprint_name +
               "', a function of its state with no bounds of its own; give delta's bounds 0 and this agent's state "
               "bounds with the clearance it needs");
   if (!(clear > 0.0) || !a.workspace.linear()) return;
