@@ -193,4 +193,13 @@ TEST(ProblemAdvice, AlikeAgentsInARowShareOneLine) {
   EXPECT_NE(advice.find("  u1 .. u4 (4 agents): funnel (named in the file)"), std::string::npos) << advice;
   EXPECT_NE(advice.find("  u5: funnel"), std::string::npos) << advice;
   EXPECT_NE(advice.find("  u6: funnel"), std::string::npos) << advice;
+  // A warning many agents share is one line naming them all (u5's eps in x differs).
+  std::string strong = y.str();
+  strong.replace(strong.find("disturbance: [0.01, 0.01, 0.01]"), 31, "disturbance: [2.5, 2.5, 0.01]");
+  std::ofstream(path) << strong;
+  const std::string warned = marsyn::to_text(marsyn::advise(marsyn::load_problem(path)));
+  EXPECT_NE(warned.find("warning: u1 .. u4 (4 agents), u6: eps 0.2 in 'x'"), std::string::npos) << warned;
+  EXPECT_NE(warned.find("warning: u1 .. u6 (6 agents): eps 0.2 in 'y'"), std::string::npos) << warned;
+  EXPECT_NE(warned.find("warning: u5: eps 0.25 in 'x'"), std::string::npos) << warned;
+  EXPECT_EQ(warned.find("warning: u2:"), std::string::npos) << warned;
 }

@@ -181,7 +181,11 @@ std::string describe(const NarrowGap& g) {
   const std::string fixed = g.body ? "delta + radius" : "delta";
   os << "; passing it needs " << g.needed << (edge ? " (" + fixed + " + 2 " + tube + ")" : " (2 (" + fixed + " + " + tube + "))")
      << ": closed to ";
-  for (size_t i = 0; i < g.agents.size(); ++i) os << (i ? ", " : "") << g.agents[i];
+  // A field of hundreds names a few and counts the rest.
+  constexpr size_t kNamed = 5;
+  const size_t named = g.agents.size() > kNamed + 1 ? kNamed : g.agents.size();
+  for (size_t i = 0; i < named; ++i) os << (i ? ", " : "") << g.agents[i];
+  if (named < g.agents.size()) os << " and " << g.agents.size() - named << " more agents";
   os << " at every horizon";
   return os.str();
 }

@@ -29,4 +29,19 @@ inline std::vector<AgentRun> agent_runs(const std::vector<std::string>& names, c
   return out;
 }
 
+// The agents `indices` (ascending) by name, runs of three or more in a row as "a1 .. a9 (9 agents)":
+// "u1 .. u4 (4 agents), u6".
+inline std::string agents_label(const std::vector<std::string>& names, const std::vector<std::size_t>& indices) {
+  std::string out;
+  for (std::size_t k = 0; k < indices.size();) {
+    std::size_t e = k + 1;
+    while (e < indices.size() && indices[e] == indices[e - 1] + 1) ++e;
+    if (e - k < 3) e = k + 1;
+    out += (out.empty() ? "" : ", ") + names[indices[k]];
+    if (e - k > 1) out += " .. " + names[indices[e - 1]] + " (" + std::to_string(e - k) + " agents)";
+    k = e;
+  }
+  return out;
+}
+
 }  // namespace marsyn

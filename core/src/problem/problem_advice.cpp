@@ -1,5 +1,6 @@
 #include "marsyn/core/problem/problem_advice.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -140,7 +141,28 @@ std::string to_text(const Advice& adv) {
     blocks.push_back(agent_block(a));
   }
   for (const AgentRun& run : agent_runs(names, blocks)) s << "  " << run.label << ": " << blocks[run.first];
-  for (const auto& w : adv.warnings) s << "warning: " << w << "\n";
+  // An agent's warning ("a7: eps 0.01 in y is at most ...") said by many alike agents in a row is
+  // said once for all of them; a warning of no agent (a formation's) stands alone.
+  std::vector<std::pair<std::string, std::vector<std::size_t>>> said;  // text, the agents saying it
+  for (const auto& w : adv.warnings) {
+    std::size_t agent = names.size();
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      const std::string& n = names[i];
+      if (w.size() > n.size() + 2 && w.compare(0, n.size(), n) == 0 && w.compare(n.size(), 2, ": ") == 0 &&
+          (agent == names.size() || n.size() > names[agent].size()))
+        agent = i;
+    }
+    if (agent == names.size()) {
+      said.push_back({w, {}});
+      continue;
+    }
+    const std::string text = w.substr(names[agent].size() + 2);
+    auto it = std::find_if(said.begin(), said.end(), [&](const auto& e) { return !e.second.empty() && e.first == text; });
+    if (it == said.end()) said.push_back({text, {agent}});
+    else if (it->second.back() != agent) it->second.push_back(agent);
+  }
+  for (const auto& [text, agents] : said)
+    s << "warning: " << (agents.empty() ? "" : agents_label(names, agents) + ": ") << text << "\n";
   return s.str();
 }
 

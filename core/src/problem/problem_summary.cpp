@@ -164,7 +164,13 @@ std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& track
     }
     if (!sched.feasible) s << "warning: " << sched.why << "\n";
   }
-  for (const auto& gap : planning::narrow_gaps(pb)) s << "warning: " << planning::describe(gap) << "\n";
+  // The narrowest gaps first; a room of many alike gaps (crop beds, shelves) names a few.
+  std::vector<planning::NarrowGap> gaps = planning::narrow_gaps(pb);
+  std::stable_sort(gaps.begin(), gaps.end(), [](const auto& a, const auto& b) { return a.width < b.width; });
+  constexpr std::size_t kGaps = 8;
+  for (std::size_t g = 0; g < gaps.size() && g < kGaps; ++g) s << "warning: " << planning::describe(gaps[g]) << "\n";
+  if (gaps.size() > kGaps)
+    s << "warning: " << gaps.size() - kGaps << " more closed gaps, each at least " << gaps[kGaps].width << " wide\n";
   std::size_t crowded = 0;
   for (const auto& c : planning::crowded_starts(pb, 5, &crowded)) s << "warning: " << planning::describe(c, pb) << "\n";
   if (crowded > 5) s << "warning: " << crowded - 5 << " more crowded starts\n";
