@@ -67,9 +67,11 @@ struct Team {
     pb.tau = 0.1;
     pb.workspace_dim = dim;
   }
+  // The agents' states from their points (the first N; further bodies' points follow from them).
   VectorXd state(const std::vector<Point>& p) const {
-    VectorXd x = VectorXd::Zero(3 * static_cast<Eigen::Index>(p.size()));
-    for (std::size_t i = 0; i < p.size(); ++i)
+    const std::size_t n = std::min(p.size(), pb.agents.size());
+    VectorXd x = VectorXd::Zero(3 * static_cast<Eigen::Index>(n));
+    for (std::size_t i = 0; i < n; ++i)
       x.segment(3 * static_cast<Eigen::Index>(i), dim) = p[i].head(dim);
     return x;
   }
@@ -283,6 +285,49 @@ TEST(BroadPhase, TeamsWithBodiesGiveTheAllPairsMinimaBitForBit) {
     for (auto& a : t.pb.agents) a.radius = rng() % 4 == 0 ? 0.0 : radius(rng);
     const std::vector<std::vector<Point>> states = random_walks(rng, n, 40);
     SCOPED_TRACE("team " + std::to_string(team) + " of " + std::to_string(n) + " agents");
+    expect_same_folds(t, states);
+    expect_same_window_folds(t, states, 5);
+  }
+}
+
+// Agents with further bodies (issue 51): each a point of the agent's state at an offset, so a
+// team's states are its agents' points and the bodies are body slots after them. The broad phase
+// over the slots (never a pair of one agent's own bodies) gives the all-pairs minima bit for bit.
+// Up to two further bodies per agent, each at a random planar offset from its point, in agent
+// order (the loader's).
+void add_bodies(Team& t, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> radius(0.0, 1.0), offset(-1.5, 1.5);
+  for (int i = 0; i < static_cast<int>(t.pb.agents.size()); ++i)
+    for (int k = 0; k < static_cast<int>(rng() % 3); ++k) {
+      marsyn::ExtraBody e;
+      e.agent = i;
+      e.body = "b" + std::to_string(k);
+      e.spec = t.pb.agents[static_cast<std::size_t>(i)];
+      e.spec.name = e.spec.name + "'s " + e.body;
+      e.spec.workspace.offset.assign(e.spec.workspace.index.size(), 0.0);
+      e.spec.workspace.offset[0] = offset(rng);
+      e.spec.workspace.offset[1] = offset(rng);
+      e.spec.radius = radius(rng);
+      t.pb.extra_bodies.push_back(e);
+    }
+}
+
+TEST(BroadPhase, AgentsWithSeveralBodiesGiveTheAllPairsMinimaBitForBit) {
+  std::mt19937_64 rng(52);
+  for (int team = 0; team < 40; ++team) {
+    const int n = 2 + static_cast<int>(rng() % 20);
+    Team t(n, rng, static_cast<int>(rng() % 4), team % 2 == 0, 0);
+    add_bodies(t, rng);
+    const std::vector<std::vector<Point>> agents = random_walks(rng, n, 30);
+    std::vector<std::vector<Point>> states;
+    for (const auto& p : agents) {
+      std::vector<Point> q = p;
+      for (const auto& e : t.pb.extra_bodies)
+        q.push_back(p[static_cast<std::size_t>(e.agent)] + Point(e.spec.workspace.offset[0], e.spec.workspace.offset[1], 0));
+      states.push_back(q);
+    }
+    SCOPED_TRACE("team " + std::to_string(team) + " of " + std::to_string(n) + " agents, " +
+                 std::to_string(t.pb.extra_bodies.size()) + " further bodies");
     expect_same_folds(t, states);
     expect_same_window_folds(t, states, 5);
   }
@@ -674,6 +719,23 @@ TEST(BroadPhase, WindowedRunsGiveTheAllPairsMargins) {
   // boxes found as the substeps' points are written, several runs in one batch) against the
   // all-pairs reference: the same minima bit for bit, the same requirement named at the same time.
   expect_same_windowed_teams(31, false);
+}
+
+TEST(BroadPhase, WindowedRunsOfAgentsWithSeveralBodiesGiveTheAllPairsMargins) {
+  // The runs' own path reads every body's point from its agent's state (a map per body) in the
+  // windows; the reference evaluates every requirement of every body at each substep.
+  std::mt19937_64 rng(53);
+  for (int team = 0; team < 6; ++team) {
+    Team t(4 + 2 * team, rng, team % 3 + 1, team % 2 == 1, 0);
+    add_bodies(t, rng);
+    const std::vector<marsyn::NominalTrajectory> nominal = random_open_loop(t, rng, 5.0, 12);
+    const marsyn::SpecMonitor monitor(t.pb);
+    SCOPED_TRACE("team " + std::to_string(team) + ", " + std::to_string(t.pb.extra_bodies.size()) + " further bodies");
+    expect_same_windowed_runs(t, nominal, monitor,
+                              {marsyn::DisturbanceMode::Adversarial, marsyn::DisturbanceMode::UniformRandom,
+                               marsyn::DisturbanceMode::VertexSwitching, marsyn::DisturbanceMode::None},
+                              team * 10);
+  }
 }
 
 TEST(BroadPhase, WindowedMissionRunsGiveTheAllPairsMargins) {

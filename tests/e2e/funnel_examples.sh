@@ -54,3 +54,14 @@ grep -q "^status        VERIFIED" "$out.txt" || fail "air_ground: not VERIFIED" 
 [ "$?" -eq 0 ] || fail "air_ground: adversarial run violates" "$out-adv.txt"
 grep -q "^between       satisfied" "$out-adv.txt" || fail "air_ground: not satisfied between samples" "$out-adv.txt"
 echo "air_ground: VERIFIED with bodies; adversarial closed loop satisfied"
+# Several bodies (issue 51): the tractor and its cart verify, and the adversarial closed loop keeps
+# both clear of the wall.
+out="$scratch/tractor_trailer"
+"$exe" solve "$src/examples/tractor_trailer.yaml" --out "$out" --runs 200 --global-budget 0 > "$out.txt" 2>&1
+[ "$?" -eq 0 ] || fail "tractor_trailer: should verify" "$out.txt"
+grep -q "^status        VERIFIED" "$out.txt" || fail "tractor_trailer: not VERIFIED" "$out.txt"
+grep -q '"name": "cart"' "$out/result.json" || fail "tractor_trailer: result.json lists no cart" "$out/result.json"
+"$exe" simulate "$src/examples/tractor_trailer.yaml" --controllers "$out" --disturbance adversarial --seed 1 > "$out-adv.txt" 2>&1
+[ "$?" -eq 0 ] || fail "tractor_trailer: adversarial run violates" "$out-adv.txt"
+grep -q "^between       satisfied" "$out-adv.txt" || fail "tractor_trailer: not satisfied between samples" "$out-adv.txt"
+echo "tractor_trailer: VERIFIED with two bodies; adversarial closed loop satisfied"

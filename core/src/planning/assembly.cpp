@@ -57,7 +57,7 @@ class Assembly {
     pp_.input_bounds = {Eigen::VectorXd(m), Eigen::VectorXd(m)};
     pp_.state_bounds = {Eigen::VectorXd(n), Eigen::VectorXd(n)};
     pp_.goal = {Eigen::VectorXd(n), Eigen::VectorXd(n)};
-    margin_.resize(N_);
+    margin_.resize(static_cast<size_t>(problem_.body_count()));
     for (int i = 0; i < N_; ++i) {
       const auto& a = problem_.agents[i];
       if (a.dynamics == nullptr || a.dynamics->state_dim() != a.n() || a.dynamics->input_dim() != a.m() ||
@@ -77,6 +77,11 @@ class Assembly {
       pp_.input_bounds.hi.segment(uo_[i], a.m()) = a.input_bounds.hi;
       margin_[i] = std::make_shared<MarginTable>(a, a.state_bounds.shrunk(a.tube.eps));
     }
+    // Further bodies: how far each one's point moves inside its agent's tube.
+    for (int b = N_; b < problem_.body_count(); ++b) {
+      const AgentSpec& body = problem_.body_spec(b);
+      margin_[static_cast<size_t>(b)] = std::make_shared<MarginTable>(body, body.state_bounds.shrunk(body.tube.eps));
+    }
   }
 
   // The requirements once; `clear[i]` is agent i's clearance beyond the buffer (0 at the knots).
@@ -85,8 +90,12 @@ class Assembly {
     // The larger of the two, not the sum: the relative motion reaches the sum only when both
     // move at full speed against each other, and the band of a formation is narrow.
     auto pair_clear = [&](int i, int j) { return std::max(clear[i], clear[j]); };
-    for (int i = 0; i < N_; ++i) {
-      const auto& a = problem_.agents[i];
+    // Obstacles and pairs are of body slots (the agents' first bodies, then the further ones:
+    // Problem::body_count); a slot's state is its agent's.
+    const int B = problem_.body_count();
+    for (int s = 0; s < B; ++s) {
+      const int i = problem_.body_agent(s);
+      const auto& a = problem_.body_spec(s);
       for (size_t o = 0; o < problem_.obstacles.size(); ++o) {
         const auto& obs = problem_.obstacles[o];
         // A staged obstacle binds at its window's knots only. Between them the planners, whose
@@ -100,8 +109,8 @@ class Assembly {
           if (steps.empty()) continue;
         }
         const std::string name = obstacle_name(problem_, static_cast<int>(o), a);
-        const double od = problem_.obstacle_clearance(i);
-        auto c = std::make_shared<ObstacleConstraint>(name, a, xo_[i], obs.vertices, margin_[i], inf ? od : 0.0,
+        const double od = problem_.obstacle_clearance(s);
+        auto c = std::make_shared<ObstacleConstraint>(name, a, xo_[i], obs.vertices, margin_[s], inf ? od : 0.0,
                                                       (inf ? 0.0 : od) + opt_.buffer + clear[i] + more(name),
                                                       problem_.distance_model);
         c->set_z(obs.z_lo, obs.z_hi);
@@ -110,12 +119,14 @@ class Assembly {
       }
     }
     if (problem_.pairwise_collision)
-      for (int i = 0; i < N_; ++i)
-        for (int j = i + 1; j < N_; ++j) {
-          const auto &a = problem_.agents[i], &b = problem_.agents[j];
+      for (int s = 0; s < B; ++s)
+        for (int t = s + 1; t < B; ++t) {
+          const int i = problem_.body_agent(s), j = problem_.body_agent(t);
+          if (i == j) continue;  // one agent's own bodies
+          const auto &a = problem_.body_spec(s), &b = problem_.body_spec(t);
           const std::string name = collision_name(a, b);
-          out.push_back(std::make_shared<PairConstraint>(name, a, xo_[i], b, xo_[j], problem_.delta_norm, problem_.pair_clearance(i, j),
-                                                         margin_[i], margin_[j], opt_.inf_norm_corner,
+          out.push_back(std::make_shared<PairConstraint>(name, a, xo_[i], b, xo_[j], problem_.delta_norm, problem_.pair_clearance(s, t),
+                                                         margin_[s], margin_[t], opt_.inf_norm_corner,
                                                          opt_.buffer + pair_clear(i, j) + more(name)));
         }
     for (const auto& f : problem_.formation) {

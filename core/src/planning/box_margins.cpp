@@ -170,12 +170,12 @@ double box_formation_margin(const Box& a, const Box& b, double lambda, double mu
 
 double obstacle_clearance_up(const Problem& problem, int a) {
   const RoundToNearestScope nearest;
-  return add_up(problem.obstacle_delta(), problem.agents[static_cast<size_t>(a)].radius);
+  return add_up(problem.obstacle_delta(), problem.body_spec(a).radius);
 }
 
 double pair_clearance_up(const Problem& problem, int a, int b) {
   const RoundToNearestScope nearest;
-  return add_up(add_up(problem.delta, problem.agents[static_cast<size_t>(a)].radius), problem.agents[static_cast<size_t>(b)].radius);
+  return add_up(add_up(problem.delta, problem.body_spec(a).radius), problem.body_spec(b).radius);
 }
 
 double box_requirement_margin(const Problem& problem, const Requirement& r, const std::vector<Box>& ws) {

@@ -37,8 +37,21 @@ std::vector<Eigen::VectorXd> rollout(const Problem& problem, const std::vector<E
 
 namespace {
 
-std::array<int, 2> agents_of(const Requirement& q) {
-  return {q.a, q.kind == Requirement::Obstacle ? -1 : q.b};
+// The agents a requirement binds (its body slots' owners; a formation's are agents already).
+std::array<int, 2> agents_of(const Problem& problem, const Requirement& q) {
+  switch (q.kind) {
+    case Requirement::Obstacle: return {problem.body_agent(q.a), -1};
+    case Requirement::Collision: return {problem.body_agent(q.a), problem.body_agent(q.b)};
+    case Requirement::Formation: break;
+  }
+  return {q.a, q.b};
+}
+
+// Each agent's body slots: its first body, then its further ones.
+std::vector<std::vector<int>> bodies_by_agent(const Problem& problem) {
+  std::vector<std::vector<int>> out(problem.agents.size());
+  for (int s = 0; s < problem.body_count(); ++s) out[static_cast<size_t>(problem.body_agent(s))].push_back(s);
+  return out;
 }
 
 class Tally {
@@ -153,27 +166,27 @@ bool check_period(const Problem& problem, const ProductLayout& at, const std::ve
                   const std::vector<Eigen::VectorXd>& u, int k, int parts, const ObstacleWindows& windows,
                   const PeriodBoxes& whole, bool floors, PeriodScratch& scratch, NamedTally& t) {
   const auto &xo = at.state, &uo = at.input;
-  const int N = static_cast<int>(problem.agents.size());
+  const int N = static_cast<int>(problem.agents.size()), B = problem.body_count();
   const int P = parts;
-  // ws[s][i]: agent i's workspace box over part s of the period.
+  // ws[s][b]: body b's workspace box over part s of the period.
   const int D = problem.workspace_dim;
   auto& ws = scratch.ws;
   if (static_cast<int>(ws.size()) < P) ws.resize(static_cast<size_t>(P));
   for (int s = 0; s < P; ++s)
-    if (ws[s].size() != static_cast<size_t>(N)) ws[s].assign(static_cast<size_t>(N), Box{Eigen::VectorXd(D), Eigen::VectorXd(D)});
+    if (ws[s].size() != static_cast<size_t>(B)) ws[s].assign(static_cast<size_t>(B), Box{Eigen::VectorXd(D), Eigen::VectorXd(D)});
+  const std::vector<std::vector<int>> bodies = bodies_by_agent(problem);
   auto& flow = scratch.flow;
   std::vector<Interval> xb, pb(kMaxWorkspaceDim);
   const bool inf = problem.delta_norm == Norm::Inf;
   // Knot-to-knot motion of the workspace points: an agent's own (obstacles) and, for a pair, of
   // their difference (collisions, formation), in the problem's norm.
-  std::vector<Point> step(N);
+  std::vector<Point> step(static_cast<size_t>(B));
   auto size = [&](const Point& d) { return inf ? d.lpNorm<Eigen::Infinity>() : distance2(d); };
-  for (int i = 0; i < N; ++i) {
-    const auto& a = problem.agents[i];
-    Point p0, p1;
-    workspace_point3<double>(*a.dynamics, a.workspace, x[k].data() + xo[i], p0.data());
-    workspace_point3<double>(*a.dynamics, a.workspace, x[k + 1].data() + xo[i], p1.data());
-    step[i] = p1 - p0;
+  {
+    std::vector<Point> p0, p1;
+    body_points(problem, xo, x[k].data(), p0);
+    body_points(problem, xo, x[k + 1].data(), p1);
+    for (int b = 0; b < B; ++b) step[static_cast<size_t>(b)] = p1[static_cast<size_t>(b)] - p0[static_cast<size_t>(b)];
   }
   for (int i = 0; i < N; ++i) {
     const auto& a = problem.agents[i];
@@ -203,7 +216,7 @@ bool check_period(const Problem& problem, const ProductLayout& at, const std::ve
       for (int c = 0; c < a.n(); ++c)
         t.record(box_inside_margin(grown, a.state_bounds, c), k, [&] { return state_bound_name(a, c); },
                  std::abs(x[k + 1][xo[i] + c] - x[k][xo[i] + c]));
-      workspace_box(a, D, grown, xb, pb, ws[s][i]);
+      for (int b : bodies[static_cast<size_t>(i)]) workspace_box(problem.body_spec(b), D, grown, xb, pb, ws[s][b]);
     }
   }
   auto motion = [&](const Requirement& q) {
@@ -214,9 +227,9 @@ bool check_period(const Problem& problem, const ProductLayout& at, const std::ve
   // Each requirement once on the hull of its agents' boxes over the period, then part by part
   // where that floor leaves the outcome open (same tally as every part of every requirement).
   auto& hull = scratch.hull;
-  if (floors) hull.assign(ws[0].begin(), ws[0].begin() + N);
+  if (floors) hull.assign(ws[0].begin(), ws[0].begin() + B);
   for (int s = 1; floors && s < P; ++s)
-    for (int i = 0; i < N; ++i) {
+    for (int i = 0; i < B; ++i) {
       hull[i].lo = hull[i].lo.cwiseMin(ws[s][i].lo);
       hull[i].hi = hull[i].hi.cwiseMax(ws[s][i].hi);
     }
@@ -229,7 +242,8 @@ bool check_period(const Problem& problem, const ProductLayout& at, const std::ve
     std::size_t r = 0;
     for_each_requirement(problem, windows, Moment{k, true}, [&](const Requirement& q) {
       if (floors && floor_decides(floor[r++], t.min_)) return;
-      t.record(box_requirement_margin(problem, q, ws[s]), k, [&] { return q.name(problem); }, motion(q), agents_of(q));
+      t.record(box_requirement_margin(problem, q, ws[s]), k, [&] { return q.name(problem); }, motion(q),
+               agents_of(problem, q));
     });
   }
   return true;
@@ -245,7 +259,8 @@ double period_floor(const Problem& problem, const ProductLayout& at, const std::
   whole.box.resize(static_cast<size_t>(N));
   whole.have.assign(static_cast<size_t>(N), 0);
   auto& hull = scratch.hull;
-  hull.assign(static_cast<size_t>(N), Box{Eigen::VectorXd(D), Eigen::VectorXd(D)});
+  hull.assign(static_cast<size_t>(problem.body_count()), Box{Eigen::VectorXd(D), Eigen::VectorXd(D)});
+  const std::vector<std::vector<int>> bodies = bodies_by_agent(problem);
   std::vector<Interval> xb, pb(kMaxWorkspaceDim);
   double low = std::numeric_limits<double>::infinity();
   auto take = [&](double m) {
@@ -263,7 +278,7 @@ double period_floor(const Problem& problem, const ProductLayout& at, const std::
     Box grown{Eigen::VectorXd(a.n()), Eigen::VectorXd(a.n())};
     grow_by_eps(whole.box[i], a.tube.eps, grown);
     for (int c = 0; c < a.n(); ++c) take(box_inside_margin(grown, a.state_bounds, c));
-    workspace_box(a, D, grown, xb, pb, hull[i]);
+    for (int b : bodies[static_cast<size_t>(i)]) workspace_box(problem.body_spec(b), D, grown, xb, pb, hull[b]);
   }
   if (low == -std::numeric_limits<double>::infinity()) return low;
   for_each_requirement(problem, windows, Moment{k, true},
@@ -440,15 +455,13 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan, const M
 
   const int N = static_cast<int>(problem.agents.size());
   Tally t, tu;
-  std::vector<Point> p(N);
-  std::vector<WorkspaceMargin> m(N);
+  std::vector<Point> p;
+  std::vector<WorkspaceMargin> m(static_cast<size_t>(problem.body_count()));
   const ObstacleWindows windows(problem, visits);
   for (int k = 0; k <= T; ++k) {
     for (int i = 0; i < N; ++i) {
       const auto& a = problem.agents[i];
       const Eigen::VectorXd xi = x[k].segment(xo[i], a.n());
-      m[i] = margin_at(a, xi);
-      workspace_point3(*a.dynamics, a.workspace, xi.data(), p[i].data());
       const Box X = a.state_bounds.shrunk(a.tube.eps);
       for (int c = 0; c < a.n(); ++c) t.record(inside_margin(X, c, xi[c]), k, [&] { return state_bound_name(a, c); });
       if (k < T) {
@@ -463,8 +476,11 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan, const M
           t.record(inside_margin(G, c, xi[c]), k, [&] { return "goal " + a.dynamics->state_names()[c] + " of " + a.name; });
       }
     }
+    body_points(problem, xo, x[k].data(), p);
+    for (int b = 0; b < problem.body_count(); ++b)
+      m[static_cast<size_t>(b)] = margin_at(problem.body_spec(b), x[k].segment(xo[problem.body_agent(b)], problem.body_spec(b).n()));
     for_each_requirement(problem, windows, Moment{k, false}, [&](const Requirement& q) {
-      t.record(requirement_margin(problem, q, p, &m), k, [&] { return q.name(problem); }, agents_of(q));
+      t.record(requirement_margin(problem, q, p, &m), k, [&] { return q.name(problem); }, agents_of(problem, q));
     });
   }
   NamedTally b;

@@ -19,8 +19,8 @@ std::string state_bound_name(const AgentSpec& a, int c) {
 std::string Requirement::name(const Problem& problem) const {
   const auto& ag = problem.agents;
   switch (kind) {
-    case Obstacle: return obstacle_name(problem, b, ag[static_cast<size_t>(a)]);
-    case Collision: return collision_name(ag[static_cast<size_t>(a)], ag[static_cast<size_t>(b)]);
+    case Obstacle: return obstacle_name(problem, b, problem.body_spec(a));
+    case Collision: return collision_name(problem.body_spec(a), problem.body_spec(b));
     case Formation: break;
   }
   return formation_name(ag[static_cast<size_t>(a)], ag[static_cast<size_t>(b)]);

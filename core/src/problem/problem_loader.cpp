@@ -39,7 +39,7 @@ const std::vector<std::string> kTopKeys = {
 const std::vector<std::string> kAgentKeys = {"name",         "dynamics",     "x0",          "goal",
                                              "state_bounds", "input_bounds", "disturbance", "eps",
                                              "workspace",    "tracker",      "stages",      "ltl",
-                                             "x0_radius",    "radius"};
+                                             "x0_radius",    "radius",       "bodies"};
 
 // An agent's keys: core's, with the installed trackers' own fields (abcd: eta_x, eta_u) after eps.
 std::vector<std::string> agent_keys(const std::vector<AgentFieldSpec>& fields) {
@@ -162,7 +162,19 @@ void read_mission(const Field& af, const Problem& pb, AgentSpec& a, AgentsRead& 
 // workspace dimension for the team (the first agent's).
 void read_agent_workspace(const Field& af, const Field& defaults, bool spatial, Problem& pb, AgentSpec& a) {
   const int n = a.dynamics->state_dim();
-  if (Field ws = agent_field(af, defaults, "workspace"); ws.present()) {
+  // With `bodies`, the first body's map is the agent's workspace point.
+  const Field bodies = agent_field(af, defaults, "bodies");
+  if (bodies.present()) {
+    for (const char* key : {"workspace", "radius"})
+      if (af.child("bodies").present() ? af.child(key).present() : (defaults.child("bodies").present() && defaults.child(key).present()))
+        (af.child("bodies").present() ? af.child(key) : defaults.child(key))
+            .fail(std::string("give the agent's ") + key + " in its first body of 'bodies', not beside it");
+    if (!bodies.is_sequence() || bodies.size() == 0)
+      bodies.fail("expected a list of bodies, each {workspace: {...}, radius: r, name: n}, the first the agent's own point");
+    bodies[0].expect_map();
+    bodies[0].allow_only({"name", "workspace", "radius"});
+  }
+  if (Field ws = bodies.present() ? bodies[0].required("workspace") : agent_field(af, defaults, "workspace"); ws.present()) {
     a.workspace = read_workspace(ws, *a.dynamics);
     // One workspace for the team: the first agent's dimension, every other agent's the same.
     if (pb.agents.empty()) {
@@ -196,8 +208,47 @@ void read_agent_workspace(const Field& af, const Field& defaults, bool spatial, 
 // The body (`radius`) and its clearance from the state bounds (`delta: {bounds: b}`): a body of a
 // linear workspace map keeps b + radius inside the bounds of every state its point reads, so
 // those bounds are pulled in here and every reader of X holds the body inside the given ones.
+// A further body (`bodies` after the first): its map, radius and name, owned by the agent read.
+struct PendingBody {
+  std::string name;
+  Workspace workspace;
+  double radius = 0.0;
+};
+
+// `bodies` after the first: each a workspace map of the agent's state and a radius, in the team's
+// workspace dimension, named uniquely within the agent.
+std::vector<PendingBody> read_further_bodies(const Field& bodies, const Problem& pb, const AgentSpec& a) {
+  std::vector<PendingBody> out;
+  std::vector<std::string> names;
+  for (std::size_t k = 0; k < bodies.size(); ++k) {
+    const Field e = bodies[k];
+    e.expect_map();
+    e.allow_only({"name", "workspace", "radius"});
+    std::string name = "body" + std::to_string(k + 1);
+    if (Field nf = e.child("name"); nf.present()) {
+      name = nf.text();
+      if (const std::string why = name_defect(name); !why.empty()) nf.fail(why);
+      if (std::find(names.begin(), names.end(), name) != names.end()) nf.fail("duplicate body name '" + name + "' in agent " + a.name);
+    }
+    names.push_back(name);
+    if (k == 0) continue;  // the first body is the agent's own workspace point and radius
+    PendingBody b{name, read_workspace(e.required("workspace"), *a.dynamics), 0.0};
+    if (b.workspace.dim() != pb.workspace_dim)
+      e.child("workspace").fail("body '" + name + "' has a " + std::to_string(b.workspace.dim()) + "-D workspace point; the team's is " +
+                                std::to_string(pb.workspace_dim) + "-D");
+    if (Field r = e.child("radius"); r.present()) b.radius = r.non_negative();
+    out.push_back(std::move(b));
+  }
+  return out;
+}
+
 void read_body(const Field& af, const Field& defaults, const Field& boundsf, const Problem& pb, AgentSpec& a) {
-  if (Field r = agent_field(af, defaults, "radius"); r.present()) a.radius = r.non_negative();
+  const Field bodies = agent_field(af, defaults, "bodies");
+  if (bodies.present()) {
+    if (Field r = bodies[0].child("radius"); r.present()) a.radius = r.non_negative();
+  } else if (Field r = agent_field(af, defaults, "radius"); r.present()) {
+    a.radius = r.non_negative();
+  }
   // Rounded toward a smaller X: the body stays inside the given bounds, not an ulp outside.
   const RoundToNearestScope nearest;
   const double clear = fast_detail::add_up(pb.delta_bounds, a.radius);
@@ -260,6 +311,14 @@ void read_agent(const Field& af, std::size_t idx, LoadedProblem& out, AgentsRead
   a.state_bounds = read_box(boundsf, n, sn);
   read_agent_workspace(af, defaults, r.spatial, pb, a);
   read_body(af, defaults, boundsf, pb, a);
+  const Field bodiesf = agent_field(af, defaults, "bodies");
+  std::vector<PendingBody> further = bodiesf.present() ? read_further_bodies(bodiesf, pb, a) : std::vector<PendingBody>{};
+  for (const PendingBody& b : further)
+    if (!b.workspace.linear() && pb.delta_bounds > 0.0)
+      bodiesf.fail("delta's bounds keep a body clear of the state bounds of the states its point reads, but body '" + b.name +
+                   "' of " + a.name + " is the footprint '" + b.workspace.footprint_name +
+                   "', a function of its state with no bounds of its own; give delta's bounds 0 and this agent's state "
+                   "bounds with the clearance it needs");
   a.input_bounds = read_box(agent_required(af, defaults, "input_bounds"), m, sm);
   read_disturbance(agent_required(af, defaults, "disturbance"), a, sn);
   // eps and the trackers' fields: numbers, or `auto` (auto_tube.hpp; an absent eps is auto, and
@@ -278,6 +337,18 @@ void read_agent(const Field& af, std::size_t idx, LoadedProblem& out, AgentsRead
   r.agent_fields.push_back(af);
   r.tracker_requests.push_back(req);
   pb.agents.push_back(std::move(a));
+  // Each further body reads the agent as loaded (its tube, bounds, dynamics), with its own map.
+  for (PendingBody& b : further) {
+    ExtraBody e;
+    e.agent = static_cast<int>(pb.agents.size()) - 1;
+    e.body = b.name;
+    e.spec = pb.agents.back();
+    e.spec.name = pb.agents.back().name + "'s " + b.name;
+    e.spec.workspace = std::move(b.workspace);
+    e.spec.radius = b.radius;
+    e.spec.stages.clear();
+    pb.extra_bodies.push_back(std::move(e));
+  }
 }
 
 // The planners' memory against the budget (the main one's and a warm start's, which runs on the

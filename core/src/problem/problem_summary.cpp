@@ -17,11 +17,23 @@ namespace {
 // "bodies    tug1, tug2: radius 0.3; drone1: radius 0.2 (two agents keep delta plus both radii, ...)":
 // agents grouped by radius, so that a team of hundreds stays one line.
 std::string bodies_line(const Problem& pb) {
-  std::vector<std::pair<double, std::vector<std::string>>> by_radius;
-  for (const auto& a : pb.agents) {
-    if (!(a.radius > 0)) continue;
-    auto it = std::find_if(by_radius.begin(), by_radius.end(), [&](const auto& e) { return e.first == a.radius; });
-    if (it == by_radius.end()) by_radius.push_back({a.radius, {a.name}});
+  // Each agent's bodies in words ("radius 0.3"; "radius 1, cart: footprint 'cart' radius 1.2").
+  std::vector<std::pair<std::string, std::vector<std::string>>> by_radius;
+  for (std::size_t i = 0; i < pb.agents.size(); ++i) {
+    const AgentSpec& a = pb.agents[i];
+    std::ostringstream d;
+    d << "radius " << a.radius;
+    bool more = false;
+    for (const auto& e : pb.extra_bodies) {
+      if (e.agent != static_cast<int>(i)) continue;
+      more = true;
+      d << ", " << e.body << ": "
+        << (e.spec.workspace.linear() ? std::string("a linear point") : "footprint '" + e.spec.workspace.footprint_name + "'")
+        << " radius " << e.spec.radius;
+    }
+    if (!(a.radius > 0) && !more) continue;
+    auto it = std::find_if(by_radius.begin(), by_radius.end(), [&](const auto& e) { return e.first == d.str(); });
+    if (it == by_radius.end()) by_radius.push_back({d.str(), {a.name}});
     else it->second.push_back(a.name);
   }
   if (by_radius.empty()) return "";
@@ -33,7 +45,7 @@ std::string bodies_line(const Problem& pb) {
     if (names.size() > 4) s << names.front() << " .. " << names.back() << " (" << names.size() << " agents)";
     else
       for (std::size_t i = 0; i < names.size(); ++i) s << (i ? ", " : "") << names[i];
-    s << ": radius " << by_radius[k].first;
+    s << ": " << by_radius[k].first;
   }
   s << " (a pair keeps delta + both radii; an obstacle " << (pb.delta_bounds > 0 ? "and the state bounds keep their" : "keeps its")
     << " delta + the agent's radius" << (pb.delta_bounds > 0 ? "" : ", the state bounds the radius") << ")\n";
@@ -44,36 +56,25 @@ std::string bodies_line(const Problem& pb) {
 
 ConstraintCounts count_constraints(const Problem& pb) {
   ConstraintCounts c;
-  const int n = static_cast<int>(pb.agents.size());
-  c.obstacle = n * static_cast<int>(pb.obstacles.size());
-  c.collision = pb.pairwise_collision ? n * (n - 1) / 2 : 0;
+  // Per body (planning::for_each_requirement): every body against every obstacle, every two bodies
+  // of different agents.
+  const long n = pb.body_count();
+  c.obstacle = static_cast<int>(n * static_cast<long>(pb.obstacles.size()));
+  long pairs = n * (n - 1) / 2;
+  std::vector<long> per_agent(pb.agents.size(), 0);
+  for (int b = 0; b < pb.body_count(); ++b) ++per_agent[static_cast<std::size_t>(pb.body_agent(b))];
+  for (long k : per_agent) pairs -= k * (k - 1) / 2;
+  c.collision = pb.pairwise_collision ? static_cast<int>(pairs) : 0;
   c.formation = static_cast<int>(pb.formation.size());
   return c;
 }
 
-std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& trackers) {
+namespace {
+
+// The agent table: each column as wide as its widest cell plus two spaces, so that no value
+// (a long vector) runs into the next column. The trackers' own fields (abcd's grid) by name.
+std::string agent_table(const Problem& pb, const std::vector<AgentTrackers>& trackers) {
   std::ostringstream s;
-  const ConstraintCounts c = count_constraints(pb);
-  s << "problem   " << pb.name << "  (" << pb.source << ")\n";
-  s << "agents    " << pb.agents.size() << "    product system: " << pb.product_state_dim() << " states, "
-    << pb.product_input_dim() << " inputs\n";
-  s << "time      tau = " << pb.tau << " s, horizon T = " << pb.horizon << " steps (" << pb.tau * pb.horizon
-    << " s)\n";
-  s << "safety    delta = " << pb.delta;
-  if (pb.delta_obstacles >= 0) s << " between agents, " << pb.delta_obstacles << " to obstacles";
-  if (pb.delta_bounds > 0) s << ", " << pb.delta_bounds << " to the state bounds";
-  s << " (" << (pb.delta_norm == Norm::Inf ? "inf-norm" : "2-norm")
-    << (pb.workspace_dim == 3 ? ", in space: x, y, z; obstacles are vertical prisms" : "") << ")\n";
-  s << bodies_line(pb);
-  s << "guarantee " << (pb.guarantee == Guarantee::Continuous
-                            ? "continuous (every t in [0, T tau], between the samples too)"
-                            : "sampled (t = k tau only, the paper's semantics)")
-    << "\n";
-  s << "plugins   planner "
-    << (pb.warm_start_planner.name.empty() ? "" : pb.warm_start_planner.name + " -> ") << pb.planner.name << ", tracker " << pb.tracker.name << ", obstacle distances "
-    << (pb.collision.name.empty() ? "exact (core)" : pb.collision.name) << "\n\n";
-  // The agent table: each column as wide as its widest cell plus two spaces, so that no value
-  // (a long vector) runs into the next column. The trackers' own fields (abcd's grid) by name.
   std::vector<std::string> field_names;
   for (const auto& a : pb.agents)
     for (const auto& f : a.fields.items)
@@ -130,6 +131,33 @@ std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& track
     for (std::size_t c = 0; c + 1 < r.size(); ++c) s << std::left << std::setw(static_cast<int>(width[c])) << r[c];
     s << r.back() << "\n";
   }
+  return s.str();
+}
+
+}  // namespace
+
+std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& trackers) {
+  std::ostringstream s;
+  const ConstraintCounts c = count_constraints(pb);
+  s << "problem   " << pb.name << "  (" << pb.source << ")\n";
+  s << "agents    " << pb.agents.size() << "    product system: " << pb.product_state_dim() << " states, "
+    << pb.product_input_dim() << " inputs\n";
+  s << "time      tau = " << pb.tau << " s, horizon T = " << pb.horizon << " steps (" << pb.tau * pb.horizon
+    << " s)\n";
+  s << "safety    delta = " << pb.delta;
+  if (pb.delta_obstacles >= 0) s << " between agents, " << pb.delta_obstacles << " to obstacles";
+  if (pb.delta_bounds > 0) s << ", " << pb.delta_bounds << " to the state bounds";
+  s << " (" << (pb.delta_norm == Norm::Inf ? "inf-norm" : "2-norm")
+    << (pb.workspace_dim == 3 ? ", in space: x, y, z; obstacles are vertical prisms" : "") << ")\n";
+  s << bodies_line(pb);
+  s << "guarantee " << (pb.guarantee == Guarantee::Continuous
+                            ? "continuous (every t in [0, T tau], between the samples too)"
+                            : "sampled (t = k tau only, the paper's semantics)")
+    << "\n";
+  s << "plugins   planner "
+    << (pb.warm_start_planner.name.empty() ? "" : pb.warm_start_planner.name + " -> ") << pb.planner.name << ", tracker " << pb.tracker.name << ", obstacle distances "
+    << (pb.collision.name.empty() ? "exact (core)" : pb.collision.name) << "\n\n";
+  s << agent_table(pb, trackers);
   // A W that grows with the state or input (docs/problem-format.md): its formula and its largest
   // value, which a tracker that cannot read W(x, u) takes.
   for (const auto& a : pb.agents) {

@@ -22,34 +22,42 @@ std::string point(const planning::Point& p, int dim) {
 void check_start_geometry(const Problem& pb, const std::vector<Field>& x0_fields) {
   const bool inf = pb.delta_norm == Norm::Inf;
   const std::string norm = inf ? "inf-norm" : "Euclidean";
-  std::vector<planning::Point> p(pb.agents.size());
+  const int N = static_cast<int>(pb.agents.size()), B = pb.body_count();
+  std::vector<planning::Point> p(static_cast<std::size_t>(B));
   const int D = pb.workspace_dim;
   auto point = [D](const planning::Point& q) { return loader::point(q, D); };
-  for (std::size_t i = 0; i < pb.agents.size(); ++i) {
-    const AgentSpec& a = pb.agents[i];
-    workspace_point3(*a.dynamics, a.workspace, a.x0.data(), p[i].data());
-    if (!p[i].allFinite()) x0_fields[i].fail("the workspace point of x0 is not finite: " + point(p[i]));
+  // Every body (slot b: planning::body_points), named as the agent's point or as "a's cart".
+  auto whose = [&](int b) { return b < N ? pb.agents[static_cast<std::size_t>(b)].name + "'s workspace point" : pb.body_spec(b).name; };
+  auto field = [&](int b) -> const Field& { return x0_fields[static_cast<std::size_t>(pb.body_agent(b))]; };
+  for (int b = 0; b < B; ++b) {
+    const AgentSpec& a = pb.body_spec(b);
+    workspace_point3(*a.dynamics, a.workspace, a.x0.data(), p[static_cast<std::size_t>(b)].data());
+    if (!p[static_cast<std::size_t>(b)].allFinite())
+      field(b).fail("the workspace point of " + (b < N ? std::string("x0") : a.name + " at x0") + " is not finite: " +
+                    point(p[static_cast<std::size_t>(b)]));
   }
-  for (std::size_t i = 0; i < pb.agents.size(); ++i) {
-    const AgentSpec& a = pb.agents[i];
+  for (int b = 0; b < B; ++b) {
+    const AgentSpec& a = pb.body_spec(b);
+    const AgentSpec& owner = pb.agents[static_cast<std::size_t>(pb.body_agent(b))];
+    const planning::Point& pt = p[static_cast<std::size_t>(b)];
     for (std::size_t oi = 0; oi < pb.obstacles.size(); ++oi) {
       const Obstacle& o = pb.obstacles[oi];
       // A staged obstacle binds at step 0 only on the first stage's way (its `avoid`).
-      if (o.staged && (a.stages.empty() || std::find(a.stages[0].avoid.begin(), a.stages[0].avoid.end(),
-                                                     static_cast<int>(oi)) == a.stages[0].avoid.end()))
+      if (o.staged && (owner.stages.empty() || std::find(owner.stages[0].avoid.begin(), owner.stages[0].avoid.end(),
+                                                         static_cast<int>(oi)) == owner.stages[0].avoid.end()))
         continue;
       // The real specification's own margins (spec_margins.hpp), with no tube around x0.
-      const double depth = planning::obstacle_margin(o, p[i], {}, 0.0, Norm::Two);
-      const double clearance = pb.obstacle_clearance(static_cast<int>(i));
-      const double margin = planning::obstacle_margin(o, p[i], {}, clearance, pb.delta_norm);
-      const std::string what = "x0 puts " + a.name + "'s workspace point " + point(p[i]);
-      if (depth < 0) x0_fields[i].fail(what + " inside obstacle '" + o.name + "'");
+      const double depth = planning::obstacle_margin(o, pt, {}, 0.0, Norm::Two);
+      const double clearance = pb.obstacle_clearance(b);
+      const double margin = planning::obstacle_margin(o, pt, {}, clearance, pb.delta_norm);
+      const std::string what = "x0 puts " + whose(b) + " " + point(pt);
+      if (depth < 0) field(b).fail(what + " inside obstacle '" + o.name + "'");
       if (margin < 0)
-        x0_fields[i].fail(what + " at " + norm + " distance " + number_text(margin + clearance) +
-                          " from obstacle '" + o.name + "', less than " +
-                          (pb.delta_obstacles >= 0 ? "delta's obstacles = " : "delta = ") + number_text(pb.obstacle_delta()) +
-                          (a.radius > 0 ? " plus its radius " + number_text(a.radius) + " = " + number_text(clearance) : "") +
-                          " (inside the obstacle grown by " + (a.radius > 0 ? "that" : "delta") + ")");
+        field(b).fail(what + " at " + norm + " distance " + number_text(margin + clearance) + " from obstacle '" + o.name +
+                      "', less than " + (pb.delta_obstacles >= 0 ? "delta's obstacles = " : "delta = ") +
+                      number_text(pb.obstacle_delta()) +
+                      (a.radius > 0 ? " plus its radius " + number_text(a.radius) + " = " + number_text(clearance) : "") +
+                      " (inside the obstacle grown by " + (a.radius > 0 ? "that" : "delta") + ")");
     }
   }
   // A formation pair (Euclidean distance within lambda +- mu at every time, t = 0 included).
@@ -63,19 +71,27 @@ void check_start_geometry(const Problem& pb, const std::vector<Field>& x0_fields
     }
   }
   if (!pb.pairwise_collision) return;
-  for (std::size_t j = 0; j < pb.agents.size(); ++j)
-    for (std::size_t i = 0; i < j; ++i) {
-      const double clearance = pb.pair_clearance(static_cast<int>(i), static_cast<int>(j));
-      const double margin = planning::collision_margin(p[j], {}, p[i], {}, clearance, pb.delta_norm);
+  for (int j = 0; j < B; ++j)
+    for (int i = 0; i < j; ++i) {
+      if (pb.body_agent(i) == pb.body_agent(j)) continue;
+      const double clearance = pb.pair_clearance(i, j);
+      const planning::Point &pj = p[static_cast<std::size_t>(j)], &pi = p[static_cast<std::size_t>(i)];
+      const double margin = planning::collision_margin(pj, {}, pi, {}, clearance, pb.delta_norm);
       const double dist = margin + clearance;
-      const bool radii = pb.agents[i].radius > 0 || pb.agents[j].radius > 0;
+      const double ri = pb.body_spec(i).radius, rj = pb.body_spec(j).radius;
+      const bool radii = ri > 0 || rj > 0;
+      // The later agent's x0 is at fault (its start is the one read second).
+      const int later = std::max(pb.body_agent(i), pb.body_agent(j));
+      const int first = later == pb.body_agent(j) ? i : j, second = first == i ? j : i;
       if (margin < 0)
-        x0_fields[j].fail("x0 puts " + pb.agents[j].name + " at " + point(p[j]) + ", " + norm + " distance " +
-                          number_text(dist) + " from " + pb.agents[i].name + " at " + point(p[i]) + " (agents[" +
-                          std::to_string(i) + "]), less than delta = " + number_text(pb.delta) +
-                          (radii ? " plus their radii " + number_text(pb.agents[j].radius) + " and " +
-                                       number_text(pb.agents[i].radius) + " = " + number_text(clearance)
-                                 : ""));
+        x0_fields[static_cast<std::size_t>(later)].fail(
+            "x0 puts " + (second < N ? pb.agents[static_cast<std::size_t>(second)].name : pb.body_spec(second).name) + " at " +
+            point(p[static_cast<std::size_t>(second)]) + ", " + norm + " distance " + number_text(dist) + " from " +
+            pb.body_spec(first).name + " at " + point(p[static_cast<std::size_t>(first)]) + " (agents[" +
+            std::to_string(pb.body_agent(first)) + "]), less than delta = " + number_text(pb.delta) +
+            (radii ? " plus their radii " + number_text(pb.body_spec(second).radius) + " and " +
+                         number_text(pb.body_spec(first).radius) + " = " + number_text(clearance)
+                   : ""));
     }
 }
 

@@ -86,7 +86,7 @@ table($('t2'), ['T_plan [s]', 'N_l', 'T_abs [s]', 'T_syn [s]', 'N_g', 'global AB
 const safeFrom = t => t.invariant_from === undefined ? '-' : t.invariant_from === 0 ? 'every step' :
   t.invariant_from <= ((R.plan || {}).horizon || Infinity) ? 'from step ' + t.invariant_from : 'no';
 table($('ag'), ['agent', 'tracker', 'status', 'N_l', 'boxes', 'abs [s]', 'syn [s]', 'memory [MB]', 'start covered', 'safe from any accepted state'],
-  ags.map(a => { const t = a.tracker || {}; return [a.name + (a.radius ? '<br><span class="muted" style="white-space:nowrap">body radius ' + String(+a.radius.toPrecision(3)) + '</span>' : '') + (a.x0_radius ? '<br><span class="muted" style="white-space:nowrap">x0 &plusmn; (' + a.x0_radius.map(r => String(+r.toPrecision(3))).join(', ') + ')</span>' : ''), esc(t.name || '-') + (t.chosen === 'auto' ? ' <span class="muted">(auto)</span>' : ''),
+  ags.map(a => { const t = a.tracker || {}; return [a.name + (a.radius || a.bodies ? '<br><span class="muted" style="white-space:nowrap">body radius ' + String(+(a.radius || 0).toPrecision(3)) + (a.bodies || []).map(b => ', ' + esc(b.name) + ' ' + String(+b.radius.toPrecision(3))).join('') + '</span>' : '') + (a.x0_radius ? '<br><span class="muted" style="white-space:nowrap">x0 &plusmn; (' + a.x0_radius.map(r => String(+r.toPrecision(3))).join(', ') + ')</span>' : ''), esc(t.name || '-') + (t.chosen === 'auto' ? ' <span class="muted">(auto)</span>' : ''),
     t.status, fmt(t.state_input_pairs, 0), fmt(t.boxes_computed, 0),
     fmt(t.abstraction_time_s, 3), fmt(t.synthesis_time_s, 3), fmt((t.peak_memory_bytes || 0) / 1048576, 1), t.initial_state_winning ? 'yes' : 'no', safeFrom(t)]; }));
 const v = R.verification || {}, ol = R.open_loop || {}, ce = R.certification || {}, pl = R.plan || {};
@@ -189,6 +189,12 @@ return function draw(k) {
     body(S.agents[i], p, c);
   });
   else S.agents.forEach((a, i) => body(a, a.nominal[Math.min(k, a.nominal.length - 1)], colors[i % colors.length]));
+  // Further bodies (a cart behind its tractor) along the nominal, dashed, with their radius.
+  S.agents.forEach((a, i) => (a.bodies || []).forEach(b => { const c = colors[i % colors.length];
+    ctx.save(); ctx.setLineDash([2, 2]); ctx.strokeStyle = c; ctx.globalAlpha = 0.5; ctx.beginPath();
+    b.nominal.forEach((p, j) => j ? ctx.lineTo(X(p[0]), Y(p[1])) : ctx.moveTo(X(p[0]), Y(p[1]))); ctx.stroke(); ctx.restore();
+    const p = b.nominal[Math.min(k, b.nominal.length - 1)];
+    if (p) { ctx.fillStyle = c; ctx.beginPath(); ctx.arc(X(p[0]), Y(p[1]), 3, 0, 7); ctx.fill(); body(b, p, c); } }));
   $('kt').textContent = 'k = ' + k + ' (t = ' + (k * S.tau).toFixed(1) + ' s)';
   if (S.axes) { ctx.fillStyle = '#52606d'; ctx.font = '11px system-ui'; ctx.fillText(S.axes[0] + ' \u2192, ' + S.axes[1] + ' \u2191', 6, 14); }
 };

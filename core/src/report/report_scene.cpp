@@ -122,6 +122,20 @@ nlohmann::json agent_scene_json(const Problem& pb, std::size_t i, const std::vec
     }
   ag["tube"] = tube;
   ag["nominal"] = path;
+  // Further bodies (a tractor's cart): each one's point along the nominal, drawn with its radius.
+  json bodies = json::array();
+  for (int b = static_cast<int>(pb.agents.size()); b < pb.body_count(); ++b) {
+    if (pb.body_agent(b) != static_cast<int>(i) || i >= nominal.size()) continue;
+    const AgentSpec& body = pb.body_spec(b);
+    json pts = json::array();
+    for (const auto& x : nominal[i].x) {
+      const auto p = point_in(body, x.data(), view);
+      pts.push_back({round4(p[0]), round4(p[1])});
+    }
+    bodies.push_back({{"name", pb.extra_bodies[static_cast<std::size_t>(b) - pb.agents.size()].body}, {"radius", body.radius},
+                      {"nominal", pts}});
+  }
+  if (!bodies.empty()) ag["bodies"] = bodies;
   // [step][part] = workspace box of the closed loop during that part of the period.
   json periods = json::array();
   if (i < enc.size() && enc[i])

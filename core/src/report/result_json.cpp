@@ -152,6 +152,10 @@ nlohmann::json agent_json(const SolveOutcome& o, std::size_t i) {
   for (const auto& f : spec.fields.items) j[f.name] = std::vector<double>(f.value.data(), f.value.data() + f.value.size());
   // The stated initial set the controller was made to accept (--resume keeps it only for the same).
   if (spec.radius > 0) j["radius"] = spec.radius;
+  json more = json::array();  // further bodies (a tractor's cart)
+  for (const auto& e : o.problem.extra_bodies)
+    if (e.agent == static_cast<int>(i)) more.push_back({{"name", e.body}, {"radius", e.spec.radius}});
+  if (!more.empty()) j["bodies"] = more;
   if (spec.x0_radius.size()) j["x0_radius"] = std::vector<double>(spec.x0_radius.data(), spec.x0_radius.data() + spec.x0_radius.size());
   // W (its largest value over X and U), and where it grows with the state or input its formula.
   j["w"] = std::vector<double>(spec.tube.w.data(), spec.tube.w.data() + spec.tube.w.size());

@@ -35,10 +35,10 @@ std::function<bool(const double*, const double*)> product_unsafe(const Problem& 
     obstacle_boxes.push_back(b);  // contains the polygon: distances to it are never larger
   }
   return [&pb, obstacle_boxes, layout = ProductLayout(pb)](const double* lo, const double* hi) {
-    std::vector<std::array<double, 4>> ws;
-    for (std::size_t k = 0; k < pb.agents.size(); ++k) {
-      const AgentSpec& a = pb.agents[k];
-      const int off = layout.state[k];
+    std::vector<std::array<double, 4>> ws;  // per body slot (an agent's bodies read its state)
+    for (int k = 0; k < pb.body_count(); ++k) {
+      const AgentSpec& a = pb.body_spec(k);
+      const int off = layout.state[static_cast<std::size_t>(pb.body_agent(k))];
       std::vector<Interval> x(a.n());
       for (int i = 0; i < a.n(); ++i) x[i] = Interval(lo[off + i], hi[off + i]);
       Interval p[kMaxWorkspaceDim];  // x-y only in 3-D: never farther than in space (conservative)
@@ -51,7 +51,8 @@ std::function<bool(const double*, const double*)> product_unsafe(const Problem& 
     if (pb.pairwise_collision)
       for (std::size_t i = 0; i < ws.size(); ++i)
         for (std::size_t j = i + 1; j < ws.size(); ++j)
-          if (box_distance(ws[i].data(), ws[j].data(), pb.delta_norm) < pb.pair_clearance(static_cast<int>(i), static_cast<int>(j)))
+          if (pb.body_agent(static_cast<int>(i)) != pb.body_agent(static_cast<int>(j)) &&
+              box_distance(ws[i].data(), ws[j].data(), pb.delta_norm) < pb.pair_clearance(static_cast<int>(i), static_cast<int>(j)))
             return true;
     return false;
   };

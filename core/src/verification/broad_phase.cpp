@@ -172,7 +172,7 @@ void BroadPhase::sort() const {
 }
 
 long BroadPhase::rank(const Requirement& q) const {
-  const long n = static_cast<long>(pb_.agents.size()), obstacles = static_cast<long>(pb_.obstacles.size());
+  const long n = static_cast<long>(pb_.body_count()), obstacles = static_cast<long>(pb_.obstacles.size());
   const long pairs = pb_.pairwise_collision ? n * (n - 1) / 2 : 0;
   switch (q.kind) {
     case Requirement::Obstacle: return q.a * obstacles + q.b;
@@ -224,7 +224,7 @@ bool BroadPhase::accumulate(StepMargins& run, Requirement* worst, planning::Mome
   const bool windowed = when.k >= 0 && windows_ && windows_->any();
   for (int i = 0; i < n; ++i)
     for (int o = 0; o < static_cast<int>(bbox_.size()); ++o) {
-      if (windowed && !windows_->binds(i, o, when)) continue;
+      if (windowed && !windows_->binds(pb_.body_agent(i), o, when)) continue;
       if (obstacle_clears(run, i, o, p[static_cast<size_t>(i)])) continue;
       fold({Requirement::Obstacle, i, o}, run.obstacle);
     }
@@ -239,6 +239,7 @@ bool BroadPhase::accumulate(StepMargins& run, Requirement* worst, planning::Mome
         const planning::Point d = p[static_cast<size_t>(j)] - p[static_cast<size_t>(i)];
         if (finite_ && d.x() > r) break;  // sorted: every later one is farther along x
         if (finite_ && std::abs(d.y()) > r) continue;
+        if (pb_.body_agent(i) == pb_.body_agent(j)) continue;  // one agent's own bodies
         fold({Requirement::Collision, std::min(i, j), std::max(i, j)}, run.collision);
         r = reach();
       }
@@ -252,7 +253,7 @@ bool BroadPhase::accumulate(StepMargins& run, Requirement* worst, planning::Mome
 
 void BroadPhase::window(const std::vector<std::vector<planning::Point>>& states, int count, const StepMargins& run,
                         planning::Moment when) {
-  const int n = static_cast<int>(pb_.agents.size());
+  const int n = pb_.body_count();
   boxes_.resize(static_cast<size_t>(n));
   bool finite = true;
   for (int i = 0; i < n; ++i) {
@@ -285,7 +286,7 @@ void BroadPhase::window_from_boxes(const std::vector<std::vector<planning::Point
                                    const StepMargins& run, planning::Moment when) {
   window_ = &states;
   candidates_.clear();
-  const int n = static_cast<int>(pb_.agents.size());
+  const int n = pb_.body_count();
   double mag = 0;  // the largest coordinate: the slack's scale for a difference of two
   for (const Eigen::Vector4d& b : boxes_) mag = std::max(mag, b.cwiseAbs().maxCoeff());
   const bool inf = pb_.delta_norm == Norm::Inf;
@@ -323,7 +324,7 @@ void BroadPhase::window_from_boxes(const std::vector<std::vector<planning::Point
   for (int i = 0; i < n; ++i) {
     const double obstacle_delta = pb_.obstacle_clearance(i);
     for (int o = 0; o < static_cast<int>(bbox_.size()); ++o) {
-      if (windowed && !windows_->binds(i, o, when)) continue;
+      if (windowed && !windows_->binds(pb_.body_agent(i), o, when)) continue;
       // Every point of the agent's box is at least as far from the obstacle as the two boxes
       // are apart along x and along y.
       const Eigen::Vector4d &a = boxes_[static_cast<size_t>(i)], &b = bbox_[static_cast<size_t>(o)];
@@ -345,7 +346,8 @@ void BroadPhase::window_from_boxes(const std::vector<std::vector<planning::Point
   }
   if (!finite) {
     for (int i = 0; i < n; ++i)
-      for (int j = i + 1; j < n; ++j) candidates_.push_back({Requirement::Collision, i, j});
+      for (int j = i + 1; j < n; ++j)
+        if (pb_.body_agent(i) != pb_.body_agent(j)) candidates_.push_back({Requirement::Collision, i, j});
     return;
   }
   // By increasing x_lo (insertion sort from the last window's order: the boxes move little).
@@ -366,6 +368,7 @@ void BroadPhase::window_from_boxes(const std::vector<std::vector<planning::Point
       const Eigen::Vector4d& bj = boxes_[static_cast<size_t>(j)];
       if (bj[0] - bi[2] > r) break;  // sorted by x_lo: every later box is as far along x
       if (std::max(bj[1] - bi[3], bi[1] - bj[3]) > r) continue;
+      if (pb_.body_agent(i) == pb_.body_agent(j)) continue;
       candidates_.push_back({Requirement::Collision, std::min(i, j), std::max(i, j)});
     }
   }

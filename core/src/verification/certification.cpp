@@ -8,6 +8,7 @@
 
 #include "marsyn/core/planning/box_margins.hpp"
 #include "marsyn/core/planning/constraints.hpp"
+#include "marsyn/interval.hpp"
 #include "marsyn/stopwatch.hpp"
 #include "marsyn/number_text.hpp"
 
@@ -31,6 +32,25 @@ void record(CertifiedPart& part, double margin, int step, const std::function<st
 
 // Per agent and step: its enclosures in time order.
 using ByStep = std::vector<std::vector<std::vector<const PeriodEnclosure*>>>;
+
+// Body slot b's workspace box over an enclosure of its agent: the tracker's own for the first
+// body; for a further one, the body's map evaluated in interval arithmetic on the enclosure's
+// state box (it holds every state of that part, so the image holds every point of the body).
+Box body_workspace(const Problem& pb, int b, const PeriodEnclosure& e) {
+  if (b < static_cast<int>(pb.agents.size())) return e.workspace;
+  const AgentSpec& body = pb.body_spec(b);
+  std::vector<Interval> x(static_cast<size_t>(e.state.dim()));
+  for (int c = 0; c < e.state.dim(); ++c) x[static_cast<size_t>(c)] = Interval(e.state.lo[c], e.state.hi[c]);
+  Interval p[kMaxWorkspaceDim];
+  workspace_point<Interval>(*body.dynamics, body.workspace, x.data(), p);
+  const int D = std::max(body.workspace.dim(), e.workspace.dim());
+  Box w{Eigen::VectorXd::Zero(D), Eigen::VectorXd::Zero(D)};
+  for (int c = 0; c < body.workspace.dim(); ++c) {
+    w.lo[c] = p[c].lower();
+    w.hi[c] = p[c].upper();
+  }
+  return w;
+}
 
 // A margin below 0 fails its agents.
 void note(std::set<int>& failing, double margin, std::initializer_list<int> agents) {
@@ -92,18 +112,25 @@ void certify_agents(const Problem& pb, const ByStep& by_step, int T, Certificati
   const planning::ObstacleWindows windows(pb, T);
   for (int i = 0; i < static_cast<int>(pb.agents.size()); ++i) {
     const auto& a = pb.agents[i];
-    const double clearance = planning::obstacle_clearance_up(pb, i);
     for (int k = 0; k < T; ++k)
-      for (const PeriodEnclosure* e : by_step[i][static_cast<size_t>(k)]) {
+      for (const PeriodEnclosure* e : by_step[i][static_cast<size_t>(k)])
         for (int c = 0; c < a.state_bounds.dim(); ++c) {
           const double mb = planning::box_inside_margin(e->state, a.state_bounds, c);
           record(r.state_bounds, mb, k, [&] { return planning::state_bound_name(a, c); }, r.shortfalls);
           note(failing, mb, {i});
         }
+  }
+  for (int b = 0; b < pb.body_count(); ++b) {
+    const int i = pb.body_agent(b);
+    const double clearance = planning::obstacle_clearance_up(pb, b);
+    for (int k = 0; k < T; ++k)
+      for (const PeriodEnclosure* e : by_step[i][static_cast<size_t>(k)]) {
+        const Box w = body_workspace(pb, b, *e);
         for (size_t o = 0; o < pb.obstacles.size(); ++o) {
           if (!windows.binds(i, static_cast<int>(o), {k, true})) continue;
-          const double mo = planning::box_obstacle_margin(e->workspace, pb.obstacles[o], clearance, pb.delta_norm);
-          record(r.obstacle, mo, k, [&] { return planning::obstacle_name(pb, static_cast<int>(o), a); }, r.shortfalls);
+          const double mo = planning::box_obstacle_margin(w, pb.obstacles[o], clearance, pb.delta_norm);
+          record(r.obstacle, mo, k, [&] { return planning::obstacle_name(pb, static_cast<int>(o), pb.body_spec(b)); },
+                 r.shortfalls);
           note(failing, mo, {i});
         }
       }
@@ -125,15 +152,21 @@ void overlapping(const ByStep& by_step, int i, int j, int k,
 
 // Pairs of agents: collisions and the formation.
 void certify_pairs(const Problem& pb, const ByStep& by_step, int T, CertificationReport& r, std::set<int>& failing) {
-  const int N = static_cast<int>(pb.agents.size());
+  const int B = pb.body_count(), N = static_cast<int>(pb.agents.size());
+  // Body slots s < t of two agents (each agent's first bodies are slots 0..N-1: two agents
+  // without further bodies are compared on the trackers' own workspace boxes).
   if (pb.pairwise_collision)
-    for (int i = 0; i < N; ++i)
-      for (int j = i + 1; j < N; ++j) {
-        const double clearance = planning::pair_clearance_up(pb, i, j);
+    for (int s = 0; s < B; ++s)
+      for (int t = s + 1; t < B; ++t) {
+        const int i = pb.body_agent(s), j = pb.body_agent(t);
+        if (i == j) continue;
+        const double clearance = planning::pair_clearance_up(pb, s, t);
         for (int k = 0; k < T; ++k)
           overlapping(by_step, i, j, k, [&](const PeriodEnclosure& ea, const PeriodEnclosure& eb) {
-            const double m = planning::box_pair_margin(ea.workspace, eb.workspace, clearance, pb.delta_norm);
-            record(r.collision, m, k, [&] { return planning::collision_name(pb.agents[i], pb.agents[j]); },
+            const double m = s < N && t < N ? planning::box_pair_margin(ea.workspace, eb.workspace, clearance, pb.delta_norm)
+                                            : planning::box_pair_margin(body_workspace(pb, s, ea), body_workspace(pb, t, eb),
+                                                                        clearance, pb.delta_norm);
+            record(r.collision, m, k, [&] { return planning::collision_name(pb.body_spec(s), pb.body_spec(t)); },
                    r.shortfalls);
             note(failing, m, {i, j});
           });

@@ -144,7 +144,7 @@ struct Lane {
     u.resize(n_agents);
     uc.resize(n_agents);
     w.resize(n_agents);
-    pts.resize(n_agents);
+    pts.resize(static_cast<size_t>(pb.body_count()));
     dist.reserve(static_cast<size_t>(n_agents));
     for (int i = 0; i < n_agents; ++i) {
       const AgentSpec& a = pb.agents[i];
@@ -181,7 +181,7 @@ namespace {
 class Batch {
  public:
   Batch(const SimulationSetup& s, std::span<const Scenario> scenarios)
-      : s_(s), pb_(*s.problem), N_(static_cast<int>(pb_.agents.size())), S_(s.fine_substeps),
+      : s_(s), pb_(*s.problem), N_(static_cast<int>(pb_.agents.size())), B_(pb_.body_count()), S_(s.fine_substeps),
         L_(static_cast<int>(scenarios.size())), closed_(!s.controllers.empty()) {
     lanes_.reserve(static_cast<size_t>(L_));
     for (const Scenario& sc : scenarios) lanes_.emplace_back(pb_, sc);
@@ -198,9 +198,9 @@ class Batch {
     windowed_ = s.between && !s.keep_dense && !s.all_pairs && S_ > 1;
     if (windowed_) {
       for (Lane& r : lanes_)
-        r.window.assign(static_cast<size_t>(S_ - 1), std::vector<planning::Point>(static_cast<size_t>(N_)));
-      boxes_.resize(static_cast<size_t>(N_));
-      lane_boxes_.resize(static_cast<size_t>(N_));
+        r.window.assign(static_cast<size_t>(S_ - 1), std::vector<planning::Point>(static_cast<size_t>(B_)));
+      boxes_.resize(static_cast<size_t>(B_));
+      lane_boxes_.resize(static_cast<size_t>(B_));
       if (s.between->has_stages()) {
         stage_m_.resize(static_cast<size_t>(L_ * (S_ - 1)));
         stage_v_.resize(stage_m_.size());
@@ -208,8 +208,9 @@ class Batch {
     }
     // The integrator's view: per agent, its state, input and disturbance as Lanes (one lane per
     // run; lanes past L repeat run 0 so that they compute ordinary numbers, which are dropped).
-    for (int i = 0; i < N_; ++i) {
-      const Workspace& ws = pb_.agents[i].workspace;
+    // Per body (an agent's first body, then the further ones), read from its agent's state.
+    for (int b = 0; b < B_; ++b) {
+      const Workspace& ws = pb_.body_spec(b).workspace;
       PointMap m;
       m.linear = ws.linear();
       m.dim = ws.dim();
@@ -306,7 +307,11 @@ class Batch {
 
   void points(Lane& r) const {
     if (!track_points_) return;
-    for (int i = 0; i < N_; ++i) workspace_point3<double>(*pb_.agents[i].dynamics, pb_.agents[i].workspace, r.x[i].data(), r.pts[i].data());
+    for (int b = 0; b < B_; ++b) {
+      const AgentSpec& a = pb_.body_spec(b);
+      workspace_point3<double>(*a.dynamics, a.workspace, r.x[static_cast<size_t>(pb_.body_agent(b))].data(),
+                               r.pts[static_cast<size_t>(b)].data());
+    }
     r.now = &r.pts;
     r.broad.update(r.pts);
   }
@@ -324,8 +329,8 @@ class Batch {
     planning::Point* to[Lanes::kWidth];
     for (int l = 0; l < L_; ++l) to[l] = lanes_[static_cast<size_t>(l)].window[static_cast<size_t>(sub)].data();
     constexpr double kInf = std::numeric_limits<double>::infinity();
-    for (int i = 0; i < N_; ++i) {
-      const std::vector<Lanes>& x = X_[static_cast<size_t>(i)];
+    for (int i = 0; i < B_; ++i) {
+      const std::vector<Lanes>& x = X_[static_cast<size_t>(pb_.body_agent(i))];
       const PointMap& m = maps_[static_cast<size_t>(i)];
       // The agent's box over the window so far and the sum of its coordinates (finite only when
       // every one is), all lanes at once: BroadPhase::window's, without reading the states again.
@@ -345,7 +350,7 @@ class Batch {
       for (int l = 0; l < L_; ++l) {
         for (std::size_t d = 0; d < x.size(); ++d) lane_x_[d] = x[d][l];
         planning::Point& q = to[l][i];
-        workspace_point3<double>(*pb_.agents[i].dynamics, pb_.agents[i].workspace, lane_x_.data(), q.data());
+        workspace_point3<double>(*pb_.body_spec(i).dynamics, pb_.body_spec(i).workspace, lane_x_.data(), q.data());
         box.xl[l] = std::min(box.xl[l], q.x());
         box.yl[l] = std::min(box.yl[l], q.y());
         box.xh[l] = std::max(box.xh[l], q.x());
@@ -420,7 +425,7 @@ class Batch {
   void fold_window(int l, int k) {
     Lane& r = lanes_[static_cast<size_t>(l)];
     bool finite = true;
-    for (int i = 0; i < N_; ++i) {
+    for (int i = 0; i < B_; ++i) {
       const WindowBox& b = boxes_[static_cast<size_t>(i)];
       lane_boxes_[static_cast<size_t>(i)] = {b.xl[l], b.yl[l], b.xh[l], b.yh[l]};
       // sum - sum is 0 only when every coordinate is finite (a sum that overflows on finite
@@ -618,7 +623,7 @@ class Batch {
 
   const SimulationSetup& s_;
   const Problem& pb_;
-  const int N_, S_, L_;
+  const int N_, B_, S_, L_;  // agents, bodies (body slots: planning::body_points), substeps, lanes
   const bool closed_;
   std::vector<Lane> lanes_;
   bool any_adversary_ = false, track_points_ = false, windowed_ = false;
@@ -631,13 +636,13 @@ class Batch {
     double offset[kMaxWorkspaceDim] = {0, 0, 0};
   };
   std::vector<PointMap> maps_;
-  std::vector<WindowBox> boxes_;  // per agent
+  std::vector<WindowBox> boxes_;  // per body
   // Windowed runs with stages: the visits dwelling over the current period, and per lane and
   // substep between two samples the smallest depth among them and its visit.
   std::vector<int> active_;
   std::vector<double> stage_m_;
   std::vector<int> stage_v_;
-  std::vector<Eigen::Vector4d> lane_boxes_;  // one lane's boxes (x_lo, y_lo, x_hi, y_hi) per agent
+  std::vector<Eigen::Vector4d> lane_boxes_;  // one lane's boxes (x_lo, y_lo, x_hi, y_hi) per body
   std::vector<std::vector<Lanes>> X_, U_, W_, next_;
   std::vector<DisturbanceBound> bounds_;  // each agent's W(x, u)
   std::vector<verification_detail::LanesRk4> rk_;  // per agent

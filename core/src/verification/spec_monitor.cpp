@@ -85,11 +85,7 @@ double& part(StepMargins& m, planning::Requirement::Kind kind) {
 }  // namespace
 
 void SpecMonitor::points(const Eigen::VectorXd& x, std::vector<planning::Point>& p) const {
-  p.resize(problem_.agents.size());
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const AgentSpec& a = problem_.agents[i];
-    workspace_point3<double>(*a.dynamics, a.workspace, x.data() + offset_[i], p[i].data());
-  }
+  planning::body_points(problem_, offset_, x.data(), p);
 }
 
 StepMargins SpecMonitor::step(const Eigen::VectorXd& x, std::string* worst, planning::Moment when) const {

@@ -186,6 +186,16 @@ struct Obstacle {
   bool staged = false;
 };
 
+// A further body of an agent (`bodies:`, a tractor's cart): a point of the agent's own state with
+// a radius. `spec` is the owner's AgentSpec with this body's workspace map, radius and name
+// ("rig1's cart"), so that everything written for an agent's point reads it unchanged; its state
+// is the owner's (agent's slice of the product state).
+struct ExtraBody {
+  int agent = 0;     // the owner, an index into Problem::agents
+  std::string body;  // the body's own name ("cart")
+  AgentSpec spec;
+};
+
 struct FormationPair {
   int i = 0, j = 0;     // agent indices
   double lambda = 0.0;  // desired Euclidean distance between the workspace points
@@ -239,13 +249,13 @@ struct Problem {
   double delta_bounds = 0.0;
   // What each requirement keeps, with the bodies' radii: two agents keep delta plus both radii,
   // an agent keeps the obstacles' delta plus its own.
-  double pair_clearance(int a, int b) const {
-    return delta + agents[static_cast<std::size_t>(a)].radius + agents[static_cast<std::size_t>(b)].radius;
-  }
-  double obstacle_clearance(int a) const { return obstacle_delta() + agents[static_cast<std::size_t>(a)].radius; }
+  // Indices are body slots (below): the agents' first bodies 0..N-1, then the further ones.
+  double pair_clearance(int a, int b) const { return delta + body_spec(a).radius + body_spec(b).radius; }
+  double obstacle_clearance(int a) const { return obstacle_delta() + body_spec(a).radius; }
   double largest_radius() const {
     double r = 0.0;
     for (const auto& a : agents) r = r > a.radius ? r : a.radius;
+    for (const auto& e : extra_bodies) r = r > e.spec.radius ? r : e.spec.radius;
     return r;
   }
   // Bounds on every pair's and every agent's clearance, for screens that skip far requirements.
@@ -256,6 +266,19 @@ struct Problem {
   bool pairwise_collision = true;
   Guarantee guarantee = Guarantee::Continuous;
   std::vector<FormationPair> formation;
+  // The agents' further bodies, in agent order. Body slot s < N is agent s's first body (its
+  // `workspace` and `radius`), slot N + e is extra_bodies[e]; obstacles bind every slot, pairs
+  // every two slots of different agents.
+  std::vector<ExtraBody> extra_bodies;
+  int body_count() const { return static_cast<int>(agents.size() + extra_bodies.size()); }
+  int body_agent(int s) const {
+    const int n = static_cast<int>(agents.size());
+    return s < n ? s : extra_bodies[static_cast<std::size_t>(s - n)].agent;
+  }
+  const AgentSpec& body_spec(int s) const {
+    const int n = static_cast<int>(agents.size());
+    return s < n ? agents[static_cast<std::size_t>(s)] : extra_bodies[static_cast<std::size_t>(s - n)].spec;
+  }
   double tau = 0.1;        // sampling time [s]
   int horizon = 0;         // T [steps]
   int rk4_substeps = 4;    // substeps of the sampled map f_tau used by planners and simulation

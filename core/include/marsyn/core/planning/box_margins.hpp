@@ -30,7 +30,7 @@ double box_formation_margin(const Box& a, const Box& b, double lambda, double mu
 
 // One requirement (spec_margins.hpp) on the agents' workspace boxes ws (problem order).
 double box_requirement_margin(const Problem& problem, const Requirement& r, const std::vector<Box>& ws);
-// Agent a's clearance to obstacles and pair (a, b)'s, with their radii, rounded up: the
+// Body slot a's clearance to obstacles and the pair (a, b)'s, with their radii, rounded up: the
 // certified margins subtract them rounded down.
 double obstacle_clearance_up(const Problem& problem, int a);
 double pair_clearance_up(const Problem& problem, int a, int b);

@@ -31,8 +31,8 @@ std::string state_bound_name(const AgentSpec& agent, int coordinate);
 
 struct Requirement {
   enum Kind { Obstacle, Collision, Formation } kind;
-  int a = 0;      // the agent (obstacle), the first agent (collision, formation)
-  int b = 0;      // the obstacle's index (obstacle), the second agent (collision, formation)
+  int a = 0;      // the body slot (obstacle), the first body slot (collision), the first agent (formation)
+  int b = 0;      // the obstacle's index (obstacle), the second body slot (collision), agent (formation)
   int index = 0;  // the formation pair's index in problem.formation (formation only)
 
   std::string name(const Problem& problem) const;  // "obstacle wall vs drone1", "collision a vs b", ...
@@ -40,14 +40,17 @@ struct Requirement {
 
 // Every workspace requirement of the problem once, always in this order: obstacles agent by
 // agent, then pairs i < j (when pairwise collision is on), then the formation pairs.
+// Obstacles and collisions are of body slots (Problem::body_count: each agent's first body, then
+// the further ones), two bodies of one agent never a pair.
 template <class Visit>
 void for_each_requirement(const Problem& problem, Visit&& visit) {
-  const int n = static_cast<int>(problem.agents.size());
+  const int n = problem.body_count();
   for (int i = 0; i < n; ++i)
     for (int o = 0; o < static_cast<int>(problem.obstacles.size()); ++o) visit(Requirement{Requirement::Obstacle, i, o});
   if (problem.pairwise_collision)
     for (int i = 0; i < n; ++i)
-      for (int j = i + 1; j < n; ++j) visit(Requirement{Requirement::Collision, i, j});
+      for (int j = i + 1; j < n; ++j)
+        if (problem.body_agent(i) != problem.body_agent(j)) visit(Requirement{Requirement::Collision, i, j});
   for (int q = 0; q < static_cast<int>(problem.formation.size()); ++q)
     visit(Requirement{Requirement::Formation, problem.formation[q].i, problem.formation[q].j, q});
 }
@@ -56,7 +59,7 @@ void for_each_requirement(const Problem& problem, Visit&& visit) {
 template <class Visit>
 void for_each_requirement(const Problem& problem, const ObstacleWindows& windows, Moment when, Visit&& visit) {
   for_each_requirement(problem, [&](const Requirement& q) {
-    if (q.kind != Requirement::Obstacle || windows.binds(q.a, q.b, when)) visit(q);
+    if (q.kind != Requirement::Obstacle || windows.binds(problem.body_agent(q.a), q.b, when)) visit(q);
   });
 }
 
@@ -79,10 +82,22 @@ double collision_margin(const Point& p, const WorkspaceMargin& mp, const Point& 
 double formation_margin(const Point& p, const WorkspaceMargin& mp, const Point& q, const WorkspaceMargin& mq,
                         double lambda, double mu);
 
-// One requirement at the agents' points p (problem order); m: their margin boxes, or nullptr for
-// the real specification.
+// One requirement at the bodies' points p (by body slot: the agents' first bodies in problem
+// order, then the further ones; body_points below); m: their margin boxes, or nullptr for the
+// real specification.
 double requirement_margin(const Problem& problem, const Requirement& r, const std::vector<Point>& p,
                           const std::vector<WorkspaceMargin>* m = nullptr);
+
+// p (resized to problem.body_count()): every body's workspace point at the product state x.
+template <class S>
+void body_points(const Problem& problem, const std::vector<int>& state_offsets, const S* x, std::vector<Point>& p) {
+  p.resize(static_cast<std::size_t>(problem.body_count()));
+  for (int s = 0; s < problem.body_count(); ++s) {
+    const AgentSpec& b = problem.body_spec(s);
+    workspace_point3(*b.dynamics, b.workspace, x + state_offsets[static_cast<std::size_t>(problem.body_agent(s))],
+                     p[static_cast<std::size_t>(s)].data());
+  }
+}
 
 // min(v - box.lo[c], box.hi[c] - v): how far coordinate c of a state keeps inside a box (goal,
 // state bounds; shrink the box by eps for the robust version).

@@ -8,8 +8,8 @@ namespace marsyn {
 
 // Counts of the eps-robust constraints a planner will see per step (paper eq. 2 and 3).
 struct ConstraintCounts {
-  int obstacle = 0;   // agent x obstacle
-  int collision = 0;  // agent pairs
+  int obstacle = 0;   // body x obstacle (an agent has one body unless it lists `bodies`)
+  int collision = 0;  // pairs of bodies of different agents
   int formation = 0;  // formation pairs (each a two-sided constraint)
   int per_step() const { return obstacle + collision + formation; }
 };
