@@ -92,7 +92,7 @@ std::function<void(const std::string&)> progress(py::object log) {
   };
 }
 
-py::dict agent_dict(const AgentSpec& a) {
+py::dict agent_dict(const Problem& pb, const AgentSpec& a) {
   py::dict d;
   d["name"] = a.name;
   d["dynamics"] = a.dynamics_type;
@@ -101,6 +101,15 @@ py::dict agent_dict(const AgentSpec& a) {
   d["x0"] = vector(a.x0);
   d["x0_radius"] = vector(a.x0_radius.size() ? a.x0_radius : Eigen::VectorXd::Zero(a.n()));
   d["radius"] = a.radius;  // the body's half-width, added to its clearances
+  py::list bodies;  // further bodies (a tractor's cart): name and radius
+  for (const auto& e : pb.extra_bodies)
+    if (e.spec.n() == a.n() && pb.agents[static_cast<std::size_t>(e.agent)].name == a.name) {
+      py::dict b;
+      b["name"] = e.body;
+      b["radius"] = e.spec.radius;
+      bodies.append(b);
+    }
+  d["bodies"] = bodies;
   d["goal"] = py::make_tuple(vector(a.goal.lo), vector(a.goal.hi));
   d["state_bounds"] = py::make_tuple(vector(a.state_bounds.lo), vector(a.state_bounds.hi));
   d["input_bounds"] = py::make_tuple(vector(a.input_bounds.lo), vector(a.input_bounds.hi));
@@ -335,7 +344,7 @@ void bind_problem(py::module_& m) {
       .def_property_readonly("agents",
                              [](const PyProblem& p) {
                                py::list l;
-                               for (const auto& a : p.lp->problem.agents) l.append(agent_dict(a));
+                               for (const auto& a : p.lp->problem.agents) l.append(agent_dict(p.lp->problem, a));
                                return l;
                              })
       .def_property_readonly("obstacles",
