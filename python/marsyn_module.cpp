@@ -101,7 +101,13 @@ py::dict agent_dict(const Problem& pb, const AgentSpec& a) {
   d["x0"] = vector(a.x0);
   d["x0_radius"] = vector(a.x0_radius.size() ? a.x0_radius : Eigen::VectorXd::Zero(a.n()));
   d["radius"] = a.radius;  // the body's half-width, added to its clearances
-  py::list bodies;  // further bodies (a tractor's cart): name and radius
+  py::list bodies;  // every body when the agent lists them (its own point first): name and radius
+  if (!a.body.empty()) {
+    py::dict b;
+    b["name"] = a.body;
+    b["radius"] = a.radius;
+    bodies.append(b);
+  }
   for (const auto& e : pb.extra_bodies)
     if (e.spec.n() == a.n() && pb.agents[static_cast<std::size_t>(e.agent)].name == a.name) {
       py::dict b;

@@ -14,9 +14,8 @@
 #include "marsyn/core/problem/problem_loader.hpp"
 #include "marsyn/core/problem/problem_summary.hpp"
 #include "marsyn/core/solve.hpp"
-#include "marsyn/core/verification/certification.hpp"
 #include "quick_solve.hpp"
-#include "../../plugins/dynamics_unicycle/src/unicycle.hpp"
+#include "side_by_side.hpp"
 
 namespace {
 
@@ -90,7 +89,8 @@ TEST(AgentBodies, TheLoaderMakesABodySlotPerFurtherBody) {
   marsyn::planning::for_each_requirement(pb, [&](const marsyn::planning::Requirement& q) { names.push_back(q.name(pb)); });
   EXPECT_EQ(names, (std::vector<std::string>{"obstacle wall vs rig", "obstacle wall vs rig's cart"}));
   const std::string text = marsyn::summarize(pb);
-  EXPECT_NE(text.find("bodies    rig: radius 0.8, cart: footprint 'cart' radius 0.8"), std::string::npos) << text;
+  EXPECT_NE(text.find("bodies    rig: tractor: radius 0.8, cart: footprint 'cart' radius 0.8"), std::string::npos) << text;
+  EXPECT_EQ(pb.agents[0].body, "tractor");
   EXPECT_NE(text.find("constraints per step: 2 (obstacle 2, collision 0"), std::string::npos) << text;
 }
 
@@ -104,6 +104,19 @@ TEST(AgentBodies, BadBodiesAreLocatedErrors) {
   EXPECT_NE(e.find("agents[0].bodies[1]"), std::string::npos) << e;
   e = load_error(edited(kBodies, "    bodies: {name: tractor}\n", "map"));
   EXPECT_NE(e.find("expected a list of bodies"), std::string::npos) << e;
+  e = load_error(edited(kBodies, "    bodies: []\n", "empty"));
+  EXPECT_NE(e.find("expected at least one body"), std::string::npos) << e;
+  // A body too wide for the bounds is the radius's fault, named with its agent.
+  e = load_error(edited("radius: 0.8}\n      - {name: cart", "radius: 7.5}\n      - {name: cart", "wide"));
+  EXPECT_NE(e.find("agents[0].bodies[0].radius"), std::string::npos) << e;
+  EXPECT_NE(e.find("leave no room for rig's body"), std::string::npos) << e;
+  // delta's bounds with a footprint as the first body: located at that body's map.
+  e = load_error(edited("delta: {agents: 0.2, obstacles: 0.2}", "delta: {agents: 0.2, obstacles: 0.2, bounds: 0.1}",
+                        "bounds"));
+  EXPECT_NE(e.find("agents[0].bodies"), std::string::npos) << e;
+  e = load_error(edited("{name: tractor, workspace: {position: [0, 1]}", "{name: tractor, workspace: {footprint: cart}",
+                        "first_footprint_bounds"));
+  EXPECT_EQ(e, "") << e;  // without delta's bounds a footprint first body is fine
   e = load_error(edited("{footprint: cart}", "{footprint: trailer}", "unknown"));
   EXPECT_NE(e.find("agents[0].bodies[1].workspace.footprint"), std::string::npos) << e;
 }
@@ -128,56 +141,10 @@ TEST(AgentBodies, TheCartIsKeptClearOfAWallTheTractorAloneCuts) {
 
 namespace {
 
-// Two unicycles side by side (1.0 apart in y) above a wall whose top is 0.9 below the first; the
-// first has a second body 0.5 below its point (a linear map with an offset). Each period's
-// enclosure is the stretch the agent covers, 0.05 wide on each side.
-constexpr int kT = 6;
-
-class BoxController : public marsyn::Controller {
- public:
-  explicit BoxController(double y) {
-    for (int k = 0; k < kT; ++k) {
-      marsyn::PeriodEnclosure q;
-      q.step = k;
-      q.t0 = 0.1 * k;
-      q.t1 = 0.1 * (k + 1);
-      q.state = {Eigen::Vector3d(0.5 * k - 0.05, y - 0.05, -0.05), Eigen::Vector3d(0.5 * (k + 1) + 0.05, y + 0.05, 0.05)};
-      q.workspace = {Eigen::Vector2d(0.5 * k - 0.05, y - 0.05), Eigen::Vector2d(0.5 * (k + 1) + 0.05, y + 0.05)};
-      e_.push_back(q);
-    }
-  }
-  int state_dim() const override { return 3; }
-  int input_dim() const override { return 2; }
-  int horizon() const override { return kT; }
-  marsyn::ControlStatus input(const double*, int, double*) const override { return marsyn::ControlStatus::OutsideDomain; }
-  void write(const std::string&) const override {}
-  const std::vector<marsyn::PeriodEnclosure>& period_enclosures() const override { return e_; }
-
- private:
-  std::vector<marsyn::PeriodEnclosure> e_;
-};
-
+// The side-by-side pair (side_by_side.hpp) whose first agent has a second body, its keel, at
+// an offset in y from its point (a linear map with an offset).
 marsyn::Problem with_keel(double keel_radius, double keel_offset) {
-  marsyn::Problem pb;
-  pb.tau = 0.1;
-  pb.horizon = kT;
-  pb.delta = 0.3;
-  pb.delta_obstacles = 0.2;
-  marsyn::Obstacle wall;
-  wall.name = "wall";
-  wall.is_box = true;
-  wall.vertices = {{-5, -1.0}, {10, -1.0}, {10, -0.9}, {-5, -0.9}};
-  pb.obstacles.push_back(wall);
-  for (int i = 0; i < 2; ++i) {
-    marsyn::AgentSpec a;
-    a.name = i ? "b" : "a";
-    a.dynamics = std::make_shared<marsyn::models::Unicycle>();
-    a.x0 = Eigen::Vector3d(0, i, 0);
-    a.state_bounds = {Eigen::Vector3d(-10, -10, -4), Eigen::Vector3d(10, 10, 4)};
-    a.goal = {Eigen::Vector3d(2.5, i - 0.5, -1), Eigen::Vector3d(3.5, i + 0.5, 1)};
-    a.tube.eps = Eigen::Vector3d(0.1, 0.1, 0.1);
-    pb.agents.push_back(a);
-  }
+  marsyn::Problem pb = marsyn::test::side_by_side(0.3, 0.2);
   marsyn::ExtraBody keel;
   keel.agent = 0;
   keel.body = "keel";
@@ -189,25 +156,21 @@ marsyn::Problem with_keel(double keel_radius, double keel_offset) {
   return pb;
 }
 
-marsyn::CertificationReport certify(const marsyn::Problem& pb) {
-  return marsyn::certify(pb, {std::make_shared<BoxController>(0.0), std::make_shared<BoxController>(1.0)});
-}
-
 }  // namespace
 
 // The keel 0.5 below a's point is 0.35 from the wall: it holds 0.2 + 0.1 and fails 0.2 + 0.2,
 // named as the keel; moved up 1.4 (to 0.9) it meets b's point (0.1 + 0.05 + 0.05 away) and the
 // pair is named, while a's own point and keel are never a pair.
 TEST(AgentBodies, TheCertifierHoldsEveryBodyToItsClearance) {
-  const auto ok = certify(with_keel(0.1, -0.5));
+  const auto ok = marsyn::test::certify_side_by_side(with_keel(0.1, -0.5));
   EXPECT_TRUE(ok.certified) << ok.message;
   EXPECT_NEAR(ok.obstacle.margin, 0.35 - 0.3, 1e-9);
   EXPECT_EQ(ok.obstacle.where, "obstacle wall vs a's keel");
-  const auto low = certify(with_keel(0.2, -0.5));
+  const auto low = marsyn::test::certify_side_by_side(with_keel(0.2, -0.5));
   EXPECT_FALSE(low.certified);
   EXPECT_NEAR(low.obstacle.margin, -0.05, 1e-9);
   EXPECT_EQ(low.obstacle.where, "obstacle wall vs a's keel");
-  const auto up = certify(with_keel(0.0, 0.9));
+  const auto up = marsyn::test::certify_side_by_side(with_keel(0.0, 0.9));
   EXPECT_FALSE(up.certified);
   EXPECT_NEAR(up.collision.margin, 0.1 - 0.1 - 0.3, 1e-9);
   EXPECT_EQ(up.collision.where, "collision b vs a's keel");

@@ -18,9 +18,8 @@
 #include "marsyn/core/problem/problem_loader.hpp"
 #include "marsyn/core/problem/problem_summary.hpp"
 #include "marsyn/core/solve.hpp"
-#include "marsyn/core/verification/certification.hpp"
 #include "quick_solve.hpp"
-#include "../../plugins/dynamics_unicycle/src/unicycle.hpp"
+#include "side_by_side.hpp"
 
 namespace {
 
@@ -62,61 +61,11 @@ double inf_distance_to_box(double x, double y, double x0, double y0, double x1, 
   return std::max({x0 - x, x - x1, y0 - y, y - y1, 0.0});
 }
 
-// Two unicycles driving side by side along x, 1.0 apart in y, above a wall whose top is 0.9
-// below the first; each period's enclosure is the stretch it covers, 0.05 wide on each side.
-constexpr int kT = 6;
-
-class BoxController : public marsyn::Controller {
- public:
-  explicit BoxController(double y) {
-    for (int k = 0; k < kT; ++k) {
-      marsyn::PeriodEnclosure q;
-      q.step = k;
-      q.t0 = 0.1 * k;
-      q.t1 = 0.1 * (k + 1);
-      q.state = {Eigen::Vector3d(0.5 * k - 0.05, y - 0.05, -0.05), Eigen::Vector3d(0.5 * (k + 1) + 0.05, y + 0.05, 0.05)};
-      q.workspace = {Eigen::Vector2d(0.5 * k - 0.05, y - 0.05), Eigen::Vector2d(0.5 * (k + 1) + 0.05, y + 0.05)};
-      e_.push_back(q);
-    }
-  }
-  int state_dim() const override { return 3; }
-  int input_dim() const override { return 2; }
-  int horizon() const override { return kT; }
-  marsyn::ControlStatus input(const double*, int, double*) const override { return marsyn::ControlStatus::OutsideDomain; }
-  void write(const std::string&) const override {}
-  const std::vector<marsyn::PeriodEnclosure>& period_enclosures() const override { return e_; }
-
- private:
-  std::vector<marsyn::PeriodEnclosure> e_;
-};
-
-marsyn::Problem side_by_side(double r0, double r1) {
-  marsyn::Problem pb;
-  pb.tau = 0.1;
-  pb.horizon = kT;
-  pb.delta = 0.8;
-  pb.delta_obstacles = 0.2;
-  marsyn::Obstacle wall;
-  wall.name = "wall";
-  wall.is_box = true;
-  wall.vertices = {{-5, -1.0}, {10, -1.0}, {10, -0.9}, {-5, -0.9}};
-  pb.obstacles.push_back(wall);
-  for (int i = 0; i < 2; ++i) {
-    marsyn::AgentSpec a;
-    a.name = i ? "b" : "a";
-    a.dynamics = std::make_shared<marsyn::models::Unicycle>();
-    a.x0 = Eigen::Vector3d(0, i, 0);
-    a.state_bounds = {Eigen::Vector3d(-10, -10, -4), Eigen::Vector3d(10, 10, 4)};
-    a.goal = {Eigen::Vector3d(2.5, i - 0.5, -1), Eigen::Vector3d(3.5, i + 0.5, 1)};
-    a.tube.eps = Eigen::Vector3d(0.1, 0.1, 0.1);
-    a.radius = i ? r1 : r0;
-    pb.agents.push_back(a);
-  }
-  return pb;
-}
-
 marsyn::CertificationReport certify_side_by_side(double r0, double r1) {
-  return marsyn::certify(side_by_side(r0, r1), {std::make_shared<BoxController>(0.0), std::make_shared<BoxController>(1.0)});
+  marsyn::Problem pb = marsyn::test::side_by_side(0.8, 0.2);
+  pb.agents[0].radius = r0;
+  pb.agents[1].radius = r1;
+  return marsyn::test::certify_side_by_side(pb);
 }
 
 }  // namespace
@@ -171,7 +120,8 @@ TEST(BodyRadius, BadBodiesAreLocatedErrors) {
   EXPECT_NE(e.find("agents[1].radius"), std::string::npos) << e;
   // y runs over [-3, 3]: a body of 3 leaves no room in it.
   e = load_error(second_with_radius(3, "huge"));
-  EXPECT_NE(e.find("leave no room for the body"), std::string::npos) << e;
+  EXPECT_NE(e.find("leave no room for second's body"), std::string::npos) << e;
+  EXPECT_NE(e.find("agents[1].radius"), std::string::npos) << e;
   EXPECT_NE(e.find("'y'"), std::string::npos) << e;
   // The second robot starts at x = 0, inside [-1, 9]; a body of 0.95 pulls the bounds to [-0.05, 8.05],
   // so that its tube (eps 0.1) leaves them: the message says why the numbers differ from the file's.

@@ -60,7 +60,8 @@ except ValueError as e:
 
 # A robot of several bodies (examples/tractor_trailer.yaml): its radius and its further bodies.
 rig = marsyn.load(os.path.join(source, "examples", "tractor_trailer.yaml")).agents[0]
-check(rig["radius"] == 0.8 and rig["bodies"] == [{"name": "cart", "radius": 0.8}], "agent dict radius and bodies: %s" % rig)
+check(rig["radius"] == 0.8 and rig["bodies"] == [{"name": "tractor", "radius": 0.8}, {"name": "cart", "radius": 0.8}],
+      "agent dict radius and bodies: %s" % rig)
 
 kinds = {(p["kind"], p["name"]) for p in marsyn.plugins()}
 check(("tracker", "abcd") in kinds and ("planner", "altro") in kinds, "plugins() lists abcd and altro: %s" % kinds)

@@ -169,8 +169,9 @@ void read_agent_workspace(const Field& af, const Field& defaults, bool spatial, 
       if (af.child("bodies").present() ? af.child(key).present() : (defaults.child("bodies").present() && defaults.child(key).present()))
         (af.child("bodies").present() ? af.child(key) : defaults.child(key))
             .fail(std::string("give the agent's ") + key + " in its first body of 'bodies', not beside it");
-    if (!bodies.is_sequence() || bodies.size() == 0)
+    if (!bodies.is_sequence())
       bodies.fail("expected a list of bodies, each {workspace: {...}, radius: r, name: n}, the first the agent's own point");
+    if (bodies.size() == 0) bodies.fail("expected at least one body: the agent's own point, {workspace: {...}, radius: r}");
     bodies[0].expect_map();
     bodies[0].allow_only({"name", "workspace", "radius"});
   }
@@ -234,8 +235,9 @@ std::vector<PendingBody> read_further_bodies(const Field& bodies, const Problem&
     if (k == 0) continue;  // the first body is the agent's own workspace point and radius
     PendingBody b{name, read_workspace(e.required("workspace"), *a.dynamics), 0.0};
     if (b.workspace.dim() != pb.workspace_dim)
-      e.child("workspace").fail("body '" + name + "' has a " + std::to_string(b.workspace.dim()) + "-D workspace point; the team's is " +
-                                std::to_string(pb.workspace_dim) + "-D");
+      e.child("workspace").fail("body '" + name + "' has a " + std::to_string(b.workspace.dim()) +
+                                "-D workspace point, but the workspace is " + std::to_string(pb.workspace_dim) +
+                                "-D (set by the first agent's first body); give every body's 'position' as many entries");
     if (Field r = e.child("radius"); r.present()) b.radius = r.non_negative();
     out.push_back(std::move(b));
   }
@@ -244,17 +246,17 @@ std::vector<PendingBody> read_further_bodies(const Field& bodies, const Problem&
 
 void read_body(const Field& af, const Field& defaults, const Field& boundsf, const Problem& pb, AgentSpec& a) {
   const Field bodies = agent_field(af, defaults, "bodies");
-  if (bodies.present()) {
-    if (Field r = bodies[0].child("radius"); r.present()) a.radius = r.non_negative();
-  } else if (Field r = agent_field(af, defaults, "radius"); r.present()) {
-    a.radius = r.non_negative();
-  }
+  // Where the body is written: its radius, else its map (a fault of its clearance is located there).
+  const Field radiusf = bodies.present() ? bodies[0].child("radius") : agent_field(af, defaults, "radius");
+  const Field mapf = bodies.present() ? bodies[0].child("workspace") : agent_field(af, defaults, "workspace");
+  if (radiusf.present()) a.radius = radiusf.non_negative();
+  if (bodies.present())
+    if (Field n = bodies[0].child("name"); n.present()) a.body = n.text();
   // Rounded toward a smaller X: the body stays inside the given bounds, not an ulp outside.
   const RoundToNearestScope nearest;
   const double clear = fast_detail::add_up(pb.delta_bounds, a.radius);
   if (!a.workspace.linear() && pb.delta_bounds > 0.0)
-    agent_field(af, defaults, "workspace")
-        .fail("delta's bounds keep a body clear of the state bounds of the states its point reads, but agent " + a.name +
+    mapf.fail("delta's bounds keep a body clear of the state bounds of the states its point reads, but agent " + a.name +
               "'s point is the footprint '" + a.workspace.footprint_name +
               "', a function of its state with no bounds of its own; give delta's bounds 0 and this agent's state "
               "bounds with the clearance it needs");
@@ -267,9 +269,10 @@ void read_body(const Field& af, const Field& defaults, const Field& boundsf, con
     double& lo = a.state_bounds.lo[i];
     double& hi = a.state_bounds.hi[i];
     if (!(hi - lo > 2.0 * clear))
-      boundsf.fail("the state bounds [" + number_text(lo) + ", " + number_text(hi) + "] in '" + names[static_cast<std::size_t>(i)] +
-                   "' leave no room for the body: it keeps " + number_text(clear) + " from each side (delta's bounds " +
-                   number_text(pb.delta_bounds) + " + radius " + number_text(a.radius) + ")");
+      (radiusf.present() && a.radius > 0 ? radiusf : boundsf)
+          .fail("the state bounds [" + number_text(lo) + ", " + number_text(hi) + "] in '" + names[static_cast<std::size_t>(i)] +
+                "' leave no room for " + a.name + "'s body: it keeps " + number_text(clear) + " from each side (delta's bounds " +
+                number_text(pb.delta_bounds) + " + radius " + number_text(a.radius) + ")");
     if (std::isfinite(lo)) lo = fast_detail::add_up(lo, clear);  // an unbounded side stays unbounded
     if (std::isfinite(hi)) hi = fast_detail::sub_down(hi, clear);
   }

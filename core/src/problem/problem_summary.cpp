@@ -22,7 +22,7 @@ std::string bodies_line(const Problem& pb) {
   for (std::size_t i = 0; i < pb.agents.size(); ++i) {
     const AgentSpec& a = pb.agents[i];
     std::ostringstream d;
-    d << "radius " << a.radius;
+    d << (a.body.empty() ? "" : a.body + ": ") << "radius " << a.radius;
     bool more = false;
     for (const auto& e : pb.extra_bodies) {
       if (e.agent != static_cast<int>(i)) continue;

@@ -152,7 +152,8 @@ nlohmann::json agent_json(const SolveOutcome& o, std::size_t i) {
   for (const auto& f : spec.fields.items) j[f.name] = std::vector<double>(f.value.data(), f.value.data() + f.value.size());
   // The stated initial set the controller was made to accept (--resume keeps it only for the same).
   if (spec.radius > 0) j["radius"] = spec.radius;
-  json more = json::array();  // further bodies (a tractor's cart)
+  json more = json::array();  // every body when the agent lists them: its own point first
+  if (!spec.body.empty()) more.push_back({{"name", spec.body}, {"radius", spec.radius}});
   for (const auto& e : o.problem.extra_bodies)
     if (e.agent == static_cast<int>(i)) more.push_back({{"name", e.body}, {"radius", e.spec.radius}});
   if (!more.empty()) j["bodies"] = more;

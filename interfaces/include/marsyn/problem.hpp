@@ -159,6 +159,7 @@ struct AgentSpec {
   // The body's half-width around its workspace point (a square in the inf-norm, a disc in the
   // 2-norm): added to every clearance the agent keeps, pairwise between two agents (`radius`).
   double radius = 0.0;
+  std::string body;  // the first body's name when the agent lists `bodies` ("tractor"); else empty
   // The agent's tracker (name and parameters); the name is never "auto" once the problem is
   // loaded: the loader resolves `tracker: auto` per agent from each tracker's assessment.
   PluginChoice tracker;
