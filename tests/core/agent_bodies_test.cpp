@@ -117,6 +117,17 @@ TEST(AgentBodies, BadBodiesAreLocatedErrors) {
   e = load_error(edited("{name: tractor, workspace: {position: [0, 1]}", "{name: tractor, workspace: {footprint: cart}",
                         "first_footprint_bounds"));
   EXPECT_EQ(e, "") << e;  // without delta's bounds a footprint first body is fine
+  // Bodies in the defaults and an agent's own workspace: which one counts would be a guess.
+  std::string moved = slurp(kExample);
+  moved.replace(moved.find(kBodies), kBodies.size(), "    workspace: {position: [0, 1]}\n");
+  moved.replace(moved.find("agents:\n"), 8,
+                "defaults:\n"
+                "  bodies:\n"
+                "    - {name: tractor, workspace: {position: [0, 1]}, radius: 0.8}\n"
+                "    - {name: cart, workspace: {footprint: cart}, radius: 0.8}\n"
+                "agents:\n");
+  e = load_error(write(moved, "defaults"));
+  EXPECT_NE(e.find("the defaults give 'bodies', which would replace this agent's workspace"), std::string::npos) << e;
   e = load_error(edited("{footprint: cart}", "{footprint: trailer}", "unknown"));
   EXPECT_NE(e.find("agents[0].bodies[1].workspace.footprint"), std::string::npos) << e;
 }

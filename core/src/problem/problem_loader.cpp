@@ -165,10 +165,15 @@ void read_agent_workspace(const Field& af, const Field& defaults, bool spatial, 
   // With `bodies`, the first body's map is the agent's workspace point.
   const Field bodies = agent_field(af, defaults, "bodies");
   if (bodies.present()) {
-    for (const char* key : {"workspace", "radius"})
+    for (const char* key : {"workspace", "radius"}) {
       if (af.child("bodies").present() ? af.child(key).present() : (defaults.child("bodies").present() && defaults.child(key).present()))
         (af.child("bodies").present() ? af.child(key) : defaults.child(key))
             .fail(std::string("give the agent's ") + key + " in its first body of 'bodies', not beside it");
+      // The defaults' bodies would silently replace this agent's own point or radius.
+      if (!af.child("bodies").present() && af.child(key).present())
+        af.child(key).fail(std::string("the defaults give 'bodies', which would replace this agent's ") + key +
+                           "; give this agent its own 'bodies' with it in the first body");
+    }
     if (!bodies.is_sequence())
       bodies.fail("expected a list of bodies, each {workspace: {...}, radius: r, name: n}, the first the agent's own point");
     if (bodies.size() == 0) bodies.fail("expected at least one body: the agent's own point, {workspace: {...}, radius: r}");
