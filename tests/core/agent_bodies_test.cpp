@@ -14,10 +14,13 @@
 #include "marsyn/core/problem/problem_loader.hpp"
 #include "marsyn/core/problem/problem_summary.hpp"
 #include "marsyn/core/solve.hpp"
+#include "load_error.hpp"
 #include "quick_solve.hpp"
 #include "side_by_side.hpp"
 
 namespace {
+
+using marsyn::test::load_error;
 
 const std::string kExample = std::string(MARSYN_SOURCE_DIR) + "/examples/tractor_trailer.yaml";
 
@@ -46,15 +49,6 @@ const std::string kBodies =
     "    bodies:\n"
     "      - {name: tractor, workspace: {position: [0, 1]}, radius: 0.8}\n"
     "      - {name: cart, workspace: {footprint: cart}, radius: 0.8}\n";
-
-std::string load_error(const std::string& path) {
-  try {
-    marsyn::load_problem(path);
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
-}
 
 // The wall of the example, [9, 10] x [0, 8]: inf-norm distance, negative inside.
 double wall_distance(double x, double y) {

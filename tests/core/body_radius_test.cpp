@@ -18,10 +18,13 @@
 #include "marsyn/core/problem/problem_loader.hpp"
 #include "marsyn/core/problem/problem_summary.hpp"
 #include "marsyn/core/solve.hpp"
+#include "load_error.hpp"
 #include "quick_solve.hpp"
 #include "side_by_side.hpp"
 
 namespace {
+
+using marsyn::test::load_error;
 
 std::string base_file() { return std::string(MARSYN_SOURCE_DIR) + "/tests/continuous/clearance_by_kind.yaml"; }
 
@@ -46,15 +49,6 @@ std::string second_with_radius(double r, const std::string& tag) {
   std::ostringstream to;
   to << "  - name: second\n    radius: " << r << "\n";
   return variant({{"  - name: second\n", to.str()}}, tag);
-}
-
-std::string load_error(const std::string& path) {
-  try {
-    marsyn::load_problem(path);
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
 }
 
 double inf_distance_to_box(double x, double y, double x0, double y0, double x1, double y1) {
