@@ -192,6 +192,37 @@ double box_requirement_margin(const Problem& problem, const Requirement& r, cons
   return box_formation_margin(a, ws[static_cast<size_t>(r.b)], f.lambda, f.mu);
 }
 
+// Agent a's workspace box over the state box `grown` (xb, pb: scratch).
+void workspace_box(const AgentSpec& a, int D, const Box& grown, std::vector<Interval>& xb, std::vector<Interval>& pb,
+                   Box& out) {
+  if (a.workspace.linear()) {  // exact up to one directed addition, no interval type needed
+    const RoundToNearestScope nearest;
+    for (int c = 0; c < D; ++c) {
+      const int at = a.workspace.index[c];
+      const double off = a.workspace.offset[c];
+      out.lo[c] = at >= 0 ? fast_detail::add_down(grown.lo[at], off) : off;
+      out.hi[c] = at >= 0 ? fast_detail::add_up(grown.hi[at], off) : off;
+    }
+    return;
+  }
+  xb.resize(a.n());
+  for (int c = 0; c < a.n(); ++c) xb[c] = Interval(grown.lo[c], grown.hi[c]);
+  pb.resize(kMaxWorkspaceDim);
+  workspace_point(*a.dynamics, a.workspace, xb.data(), pb.data());
+  for (int c = 0; c < 2; ++c) {
+    out.lo[c] = pb[c].lower();
+    out.hi[c] = pb[c].upper();
+  }
+}
+
+Box workspace_box(const AgentSpec& a, const Box& state) {
+  const int D = a.workspace.dim();
+  Box out{Eigen::VectorXd::Zero(D), Eigen::VectorXd::Zero(D)};
+  std::vector<Interval> xb, pb;
+  workspace_box(a, D, state, xb, pb, out);
+  return out;
+}
+
 double box_inside_margin(const Box& box, const Box& X, int coord) {
   double m = kInf;
   const RoundToNearestScope nearest;

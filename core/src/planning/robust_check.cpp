@@ -112,6 +112,7 @@ struct PeriodScratch {
   std::vector<Box> flow;
   std::vector<Box> hull;       // per agent, its workspace boxes over the whole period
   std::vector<double> floor;   // per requirement (visiting order), its margin on those hulls
+  std::vector<std::vector<int>> bodies;  // per agent its body slots (bodies_by_agent), made once
 };
 
 // out = the box f grown by eps, outward rounding (out sized like f). Directed rounding in
@@ -128,28 +129,6 @@ void grow_by_eps(const Box& f, const Eigen::VectorXd& eps, Box& out) {
 // A requirement's margin over a part is at least its margin over the period's hull boxes (the
 // box margins are distances between boxes, or tight lower bounds of them, and shrink as the
 // boxes grow): floor_decides (lowest_first.hpp) tells where a part cannot change the tally.
-
-// Agent a's workspace box over the state box `grown` (xb, pb: scratch).
-void workspace_box(const AgentSpec& a, int D, const Box& grown, std::vector<Interval>& xb, std::vector<Interval>& pb,
-                   Box& out) {
-  if (a.workspace.linear()) {  // exact up to one directed addition, no interval type needed
-    const RoundToNearestScope nearest;
-    for (int c = 0; c < D; ++c) {
-      const int at = a.workspace.index[c];
-      const double off = a.workspace.offset[c];
-      out.lo[c] = at >= 0 ? fast_detail::add_down(grown.lo[at], off) : off;
-      out.hi[c] = at >= 0 ? fast_detail::add_up(grown.hi[at], off) : off;
-    }
-    return;
-  }
-  xb.resize(a.n());
-  for (int c = 0; c < a.n(); ++c) xb[c] = Interval(grown.lo[c], grown.hi[c]);
-  workspace_point(*a.dynamics, a.workspace, xb.data(), pb.data());
-  for (int c = 0; c < 2; ++c) {
-    out.lo[c] = pb[c].lower();
-    out.hi[c] = pb[c].upper();
-  }
-}
 
 // One enclosure of each agent's flow over a whole period (flow_boxes with one part), kept for
 // the period's parts: a part's box is its own enclosure intersected with it (both enclose the
@@ -174,7 +153,8 @@ bool check_period(const Problem& problem, const ProductLayout& at, const std::ve
   if (static_cast<int>(ws.size()) < P) ws.resize(static_cast<size_t>(P));
   for (int s = 0; s < P; ++s)
     if (ws[s].size() != static_cast<size_t>(B)) ws[s].assign(static_cast<size_t>(B), Box{Eigen::VectorXd(D), Eigen::VectorXd(D)});
-  const std::vector<std::vector<int>> bodies = bodies_by_agent(problem);
+  if (scratch.bodies.size() != static_cast<size_t>(N)) scratch.bodies = bodies_by_agent(problem);
+  const std::vector<std::vector<int>>& bodies = scratch.bodies;
   auto& flow = scratch.flow;
   std::vector<Interval> xb, pb(kMaxWorkspaceDim);
   const bool inf = problem.delta_norm == Norm::Inf;
@@ -260,7 +240,8 @@ double period_floor(const Problem& problem, const ProductLayout& at, const std::
   whole.have.assign(static_cast<size_t>(N), 0);
   auto& hull = scratch.hull;
   hull.assign(static_cast<size_t>(problem.body_count()), Box{Eigen::VectorXd(D), Eigen::VectorXd(D)});
-  const std::vector<std::vector<int>> bodies = bodies_by_agent(problem);
+  if (scratch.bodies.size() != static_cast<size_t>(N)) scratch.bodies = bodies_by_agent(problem);
+  const std::vector<std::vector<int>>& bodies = scratch.bodies;
   std::vector<Interval> xb, pb(kMaxWorkspaceDim);
   double low = std::numeric_limits<double>::infinity();
   auto take = [&](double m) {

@@ -8,7 +8,6 @@
 
 #include "marsyn/core/planning/box_margins.hpp"
 #include "marsyn/core/planning/constraints.hpp"
-#include "marsyn/interval.hpp"
 #include "marsyn/stopwatch.hpp"
 #include "marsyn/number_text.hpp"
 
@@ -34,22 +33,11 @@ void record(CertifiedPart& part, double margin, int step, const std::function<st
 using ByStep = std::vector<std::vector<std::vector<const PeriodEnclosure*>>>;
 
 // Body slot b's workspace box over an enclosure of its agent: the tracker's own for the first
-// body; for a further one, the body's map evaluated in interval arithmetic on the enclosure's
-// state box (it holds every state of that part, so the image holds every point of the body).
+// body; for a further one, the body's map over the enclosure's state box (it holds every state of
+// that part, so the image holds every point of the body).
 Box body_workspace(const Problem& pb, int b, const PeriodEnclosure& e) {
   if (b < static_cast<int>(pb.agents.size())) return e.workspace;
-  const AgentSpec& body = pb.body_spec(b);
-  std::vector<Interval> x(static_cast<size_t>(e.state.dim()));
-  for (int c = 0; c < e.state.dim(); ++c) x[static_cast<size_t>(c)] = Interval(e.state.lo[c], e.state.hi[c]);
-  Interval p[kMaxWorkspaceDim];
-  workspace_point<Interval>(*body.dynamics, body.workspace, x.data(), p);
-  const int D = std::max(body.workspace.dim(), e.workspace.dim());
-  Box w{Eigen::VectorXd::Zero(D), Eigen::VectorXd::Zero(D)};
-  for (int c = 0; c < body.workspace.dim(); ++c) {
-    w.lo[c] = p[c].lower();
-    w.hi[c] = p[c].upper();
-  }
-  return w;
+  return planning::workspace_box(pb.body_spec(b), e.state);
 }
 
 // A margin below 0 fails its agents.

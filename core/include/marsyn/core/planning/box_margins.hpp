@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "marsyn/box.hpp"
+#include "marsyn/interval.hpp"
 #include "marsyn/core/planning/geometry.hpp"
 #include "marsyn/core/planning/spec_margins.hpp"
 #include "marsyn/problem.hpp"
@@ -21,6 +22,13 @@ double box_obstacle_margin(const Box& workspace, const Polygon& obstacle, double
 // 2-D box, or an obstacle unbounded in z, is judged by the polygon alone (the distance to the
 // prism is never below the distance in x-y).
 double box_obstacle_margin(const Box& workspace, const Obstacle& obstacle, double delta, Norm norm);
+
+// Agent (or body) a's workspace box over a box of its states, outward rounded: a linear map by one
+// directed addition per coordinate, a footprint in interval arithmetic. D: the box's dimension;
+// xb, pb: scratch. The second form sizes the box by a's map.
+void workspace_box(const AgentSpec& a, int D, const Box& state, std::vector<Interval>& xb, std::vector<Interval>& pb,
+                   Box& out);
+Box workspace_box(const AgentSpec& a, const Box& state);
 
 // A lower bound of dist(A, B) - delta between two workspace boxes (2 or 3 coordinates).
 double box_pair_margin(const Box& a, const Box& b, double delta, Norm norm);
