@@ -107,6 +107,25 @@ TEST(Stop, SigintDuringTrackingLeavesAReadablePartialResult) { expect_partial_re
 
 TEST(Stop, ResumeKeepsThePlanAndTheControllersFound) { expect_partial_result(SIGTERM, "resume", true); }
 
+// The time limit ends a synthesis in progress, not only the rounds between them: the run's stop
+// request reaches the tracker (TrackOptions::stop). The test tracker holds hold_pendulum until it
+// is asked to stop (60 s otherwise).
+TEST(Stop, TheTimeLimitEndsASynthesisInProgress) {
+  std::string s = two_agents();
+  s.replace(s.find("name: stall_pendulum"), 20, "name: hold_pendulum");
+  const fs::path out = fs::temp_directory_path() / ("marsyn_stop_hold_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  const auto r = marsyn::test::run_marsyn("solve " + write_temp("hold.yaml", s) + " --time-limit 1 --out " + out.string() +
+                                          " --runs 5");
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("hold_pendulum (never): resource limit"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("the test tracker was stopped by the run"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("the time limit (1 s) was reached in round 1"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(out / "result.json"));
+  EXPECT_TRUE(fs::exists(out / "pendulum.ctrl"));
+  fs::remove_all(out);
+}
+
 TEST(Stop, ResumeFromAFolderWithoutAPlanIsRefused) {
   const fs::path empty = fs::temp_directory_path() / ("marsyn_resume_empty_" + std::to_string(::getpid()));
   fs::create_directories(empty);

@@ -59,6 +59,7 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
   TrackOptions topt;
   topt.threads = dominated ? opt.threads : 1;
   topt.memory_budget_bytes = budget.bytes;
+  topt.stop = opt.stop;  // the time limit and signals end a long synthesis too, not only between agents
   std::atomic<int> done{0};
   std::mutex log_mutex;
   std::vector<char> running(N, 0);

@@ -176,6 +176,13 @@ struct TrackOptions {
   // Called from the calling thread as the synthesis advances (abcd: after each backward step,
   // done of total steps); may be empty.
   std::function<void(int done, int total)> progress;
+  // The run's stop request (its time limit, SIGINT, SIGTERM): a tracker polls it now and then
+  // (abcd: every few dozen columns of its sweep; funnel: every step of a verification), from any
+  // of its threads, and when it says true returns at once with TrackerStatus::ResourceLimit (a
+  // message that says it was stopped), so that a limit is kept to within a fraction of a second
+  // instead of a whole synthesis. Not polled where ranks share one agent's work (`collective` of more than
+  // one rank), whose ranks must leave together. May be empty.
+  std::function<bool()> stop;
 };
 
 // Why a tracker found no controller, as the outer search reads it to choose its next lever

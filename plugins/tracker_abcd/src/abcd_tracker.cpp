@@ -58,6 +58,7 @@ Options AbcdTracker::options_for(const TrackOptions& o) const {
   s.memory_budget_bytes = o.memory_budget_bytes;
   s.collective = o.collective;
   s.progress = o.progress;
+  s.stop = o.stop;
   return s;
 }
 

@@ -3,10 +3,12 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <memory>
 #include <numeric>
 
+#include "marsyn/number_text.hpp"
 #include "marsyn/stopwatch.hpp"
 #include "grid_fields.hpp"
 #include "period_enclosure.hpp"
@@ -223,11 +225,17 @@ void sweep_column(const Step& s, SuccessorTable& tab, Column& c, const std::vect
   }
 }
 
+// Columns a thread sweeps between two polls of the stop request: a poll is a clock read, a column
+// from microseconds (2 states) to tens of milliseconds (6 states, fine grids).
+constexpr std::int64_t kStopEvery = 16;
+
 // The backward sweep from step T-1; returns the last step swept: -1 when complete, else the
-// step whose winning set is empty.
+// step whose winning set is empty, or at which the stop request (o.stop) ended the sweep
+// (`stopped` set).
 int backward_sweep(const TrackingProblem& p, const Options& o, const InputGrid& ug,
                    const std::vector<bool>& inv, const SweepSplit& split,
-                   std::vector<std::unique_ptr<SuccessorTable>>& tables, ControllerData& d, GridFigures& fig) {
+                   std::vector<std::unique_ptr<SuccessorTable>>& tables, ControllerData& d, GridFigures& fig,
+                   bool& stopped) {
   const int T = static_cast<int>(p.nominal.x.size()) - 1;
   const int m = static_cast<int>(ug.lo().size());
   const int threads = static_cast<int>(tables.size());
@@ -238,6 +246,9 @@ int backward_sweep(const TrackingProblem& p, const Options& o, const InputGrid& 
   std::vector<std::int64_t> order(static_cast<size_t>(ug.size()));
   std::vector<double> dist(order.size());
 
+  // Ranks sharing the sweep exchange every step's winning set: none may leave it alone.
+  const bool stoppable = o.stop && !split.split();
+  std::atomic<bool> stop{false};
   int k = T - 1;
   for (; k >= 0; --k) {
     const WinningSet ws(d.boxes[k + 1], win);
@@ -246,13 +257,22 @@ int backward_sweep(const TrackingProblem& p, const Options& o, const InputGrid& 
     run_threads(threads, [&](int t) {
       SuccessorTable& tab = *tables[static_cast<size_t>(t)];
       Column c;
+      std::int64_t swept = 0;
       for (std::int64_t col = 0; col < s.columns; ++col) {
         s.colbox.unlinear(col, c.cidx);
         if ((threads > 1 || split.split()) && !split.owns(c.cidx, t)) continue;
+        if (stoppable && swept++ % kStopEvery == 0 && (stop.load(std::memory_order_relaxed) || o.stop())) {
+          stop = true;
+          return;
+        }
         c.reset(s);
         sweep_column(s, tab, c, order, d.inputs);
       }
     });
+    if (stop) {
+      stopped = true;
+      return k;
+    }
     for (auto& tab : tables) tab->next_generation();
 
     // Step k's winning set, this rank's cells and (split) the others' bits.
@@ -361,7 +381,16 @@ TrackResult synthesize_track(const TrackingProblem& p, const Options& o) {
   const int threads = std::max(1, o.threads);
   const SweepSplit split(o.collective, threads, inv);  // which rank and thread owns each column
   auto tables = make_tables(threads, sb, g, ug, inv, o.prefilter_substeps);
-  const int k = backward_sweep(p, o, ug, inv, split, tables, d, fig);
+  bool stopped = false;
+  const int k = backward_sweep(p, o, ug, inv, split, tables, d, fig, stopped);
+  if (stopped) {
+    r.status = TrackerStatus::ResourceLimit;
+    r.message = "agent " + p.agent + ": stopped at step " + std::to_string(k) + " of the backward sweep (from step " +
+                std::to_string(T - 1) + "), after " + number_text(clock.seconds()) + " s: the run's time limit or a stop request";
+    st.peak_memory_bytes = peak_rss_bytes();
+    fig.publish(st);
+    return r;
+  }
 
   const double box_seconds = sum_tables(tables, st.boxes_computed);
   st.boxes_computed = split.sum(st.boxes_computed);  // over the ranks: the same figure as one process's

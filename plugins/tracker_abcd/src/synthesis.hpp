@@ -32,6 +32,9 @@ struct Options {
   // Ranks sharing the sweep (split_sweep.hpp); nullptr: this process alone.
   const Collective* collective = nullptr;
   std::function<void(int done, int total)> progress;  // after each backward step; may be empty
+  // The run's stop request (TrackOptions::stop), polled every kStopEvery columns of the sweep by
+  // each thread; not polled when ranks share the sweep (they must leave it together). May be empty.
+  std::function<bool()> stop;
 };
 
 TrackResult synthesize_track(const TrackingProblem& p, const Options& o);

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cstdio>
 #include <fstream>
 #include <random>
@@ -308,5 +309,32 @@ TEST(Synthesis, LosingCellsOfABoxAreCountedExactly) {
         }
     EXPECT_EQ(c->losing_in_box(lo.data(), hi.data(), 0), brute) << "scale " << scale;
     if (brute == 0) EXPECT_TRUE(c->winning(lo.data(), 0) && c->winning(hi.data(), 0));
+  }
+}
+
+// The run's stop request ends the sweep where it is, on every thread count, and one that never
+// fires changes nothing (the time limit of `marsyn solve` is kept to within a few columns).
+TEST(Synthesis, AStopRequestEndsTheSweepAtOnce) {
+  const auto p = scenarios::drone(40);
+  const int T = static_cast<int>(p.nominal.x.size()) - 1;
+  AbcdTracker tracker;
+  for (int threads : {1, 2}) {
+    TrackOptions o;
+    o.threads = threads;
+    int steps = 0;
+    o.progress = [&](int done, int) { steps = done; };
+    std::atomic<int> polls{0};
+    o.stop = [&] { return ++polls > 5; };  // a few steps in (the drone has few columns a step)
+    const TrackResult r = tracker.track(p, o);
+    EXPECT_EQ(r.status, TrackerStatus::ResourceLimit) << threads << " thread(s): " << r.message;
+    EXPECT_NE(r.message.find("stopped"), std::string::npos) << r.message;
+    EXPECT_FALSE(r.controller);
+    EXPECT_LT(steps, T) << "the sweep went on after the stop request";
+    EXPECT_GT(polls.load(), 5);
+
+    o.stop = [] { return false; };
+    const TrackResult whole = tracker.track(p, o);
+    ASSERT_EQ(whole.status, TrackerStatus::ControllerFound) << whole.message;
+    EXPECT_EQ(steps, T);
   }
 }

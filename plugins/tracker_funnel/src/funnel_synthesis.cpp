@@ -461,6 +461,12 @@ class FunnelVerifier {
     law_.emplace(p_, K_, d, flow_, o_.shift_inputs);
     parts_.push_back({std::move(zx), 0});
     for (int k = 0; k < T_; ++k) {
+      if (o_.stop && o_.stop()) {
+        out_.stopped = true;
+        out_.reached_step = k;
+        out_.why = "stopped at step " + std::to_string(k) + " (the run's time limit or a stop request)";
+        return std::move(out_);
+      }
       const Step s = step(k);
       if (s == Step::failed) return std::move(out_);
       if (s == Step::last) break;

@@ -3,6 +3,7 @@
 // of the closed loop u = sat_U(u_k + K_k (x - x_k)) under every disturbance in [-W, W], the check
 // that it stays in the eps-box of the next nominal state, and the fit of the verified set V_{k+1}
 // the controller will accept (docs/soundness.md section 11).
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,9 @@ struct VerifyOptions {
   // run without splits encloses T): a failing agent pays at most that many passes' worth.
   int split_work = 8;
   Eigen::VectorXd initial_radius;  // half-widths of the initial box around x_0
+  // The run's stop request (TrackOptions::stop), polled before each step: true ends the
+  // verification unfinished (VerifyOutcome::stopped). May be empty.
+  std::function<bool()> stop;
 };
 
 struct VerifyOutcome {
@@ -45,6 +49,7 @@ struct VerifyOutcome {
   FunnelData data;
   std::string why;        // when !ok: the step, coordinate and amount that failed
   int reached_step = 0;   // steps verified before the failure
+  bool stopped = false;   // ended by VerifyOptions::stop, not by the funnel
   int miss_coordinate = -1;  // when the enclosure left the tube: the coordinate and by how much
   double miss_amount = 0.0;
   bool miss_off_centre = false;  // the enclosure's centre is further from x_{k+1} than its half-width

@@ -360,8 +360,10 @@ VerifyOptions FunnelTracker::verify_options(const Eigen::VectorXd& eps, const Ei
 // first verified funnel, or the one that got furthest.
 class FunnelTracker::Ladder {
  public:
-  Ladder(const FunnelTracker& tracker, const TrackingProblem& p)
-      : s_(tracker.s_), p_(p), vo_(tracker.verify_options(p.tube.eps, p.initial_radius)) {}
+  Ladder(const FunnelTracker& tracker, const TrackingProblem& p, const std::function<bool()>& stop)
+      : s_(tracker.s_), p_(p), vo_(tracker.verify_options(p.tube.eps, p.initial_radius)) {
+    vo_.stop = stop;
+  }
 
   Search run() {
     const int n = p_.dynamics->state_dim(), m = p_.dynamics->input_dim();
@@ -387,7 +389,7 @@ class FunnelTracker::Ladder {
     // Input-aware rounds go to the first weight choice whose furthest pass enclosed some input
     // as a saturated box (one agent pays for at most input_rounds more designs).
     bool rounds_left = s_.input_rounds > 0;
-    for (int t = 0; t < tries; ++t) {
+    for (int t = 0; t < tries && !out_.stopped; ++t) {
       for (int j = 0; j < m; ++j) {
         const double half = 0.5 * (p_.input_bounds.hi[j] - p_.input_bounds.lo[j]);
         wt.r[j] = s_.input_weight * kInputWeightLadder[t] / (half > 0 ? half * half : 1.0);
@@ -409,7 +411,7 @@ class FunnelTracker::Ladder {
         break;
       }
     }
-    if (!best().ok && split_depth > 0 && furthest_.ok()) verify_with_splits(split_depth);
+    if (!best().ok && !out_.stopped && split_depth > 0 && furthest_.ok()) verify_with_splits(split_depth);
     return std::move(out_);
   }
 
@@ -428,6 +430,7 @@ class FunnelTracker::Ladder {
     VerifyOutcome v = verify_funnel(p_, g.K, g.closed, vo_, g.cost);
     out_.verify_time += tv.seconds();
     ++out_.attempts;
+    out_.stopped = out_.stopped || v.stopped;
     return v;
   }
 
@@ -442,6 +445,7 @@ class FunnelTracker::Ladder {
     for (const int order : passes) {
       vo_.reach_order = order;
       VerifyOutcome v = verify(g);
+      if (out_.stopped) break;
       if (v.ok && order != orders_.back() && v.max_fill > kRoomyFill) {
         // Verified, but its sets use much of the tube: the tighter pass gives the monitor and
         // the tightness figure sets up to 2x smaller (funnel_bench); this one stays as the fallback.
@@ -463,7 +467,7 @@ class FunnelTracker::Ladder {
   // U, up to input_rounds times, while each redesign gets further and still saturates.
   void input_aware_rounds(LqrGains g, VerifyOutcome& last, const LqrWeights& wt) {
     int reached = last.reached_step;
-    for (int round = 0; round < s_.input_rounds && !best().ok && !cheap_.ok; ++round) {
+    for (int round = 0; round < s_.input_rounds && !best().ok && !cheap_.ok && !out_.stopped; ++round) {
       LqrWeights aware = wt;
       const InputReweighting rw = input_aware_weights(p_, g, last, aware.r_steps);
       if (rw.rows == 0) break;
@@ -504,9 +508,11 @@ class FunnelTracker::Ladder {
   LqrGains furthest_;    // the ladder's gains that got furthest
 };
 
-FunnelTracker::Search FunnelTracker::search(const TrackingProblem& p) const { return Ladder(*this, p).run(); }
+FunnelTracker::Search FunnelTracker::search(const TrackingProblem& p, const std::function<bool()>& stop) const {
+  return Ladder(*this, p, stop).run();
+}
 
-TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) const {
+TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions& options) const {
   TrackResult res;
   if (!p.dynamics) {
     res.message = "no dynamics";
@@ -537,7 +543,14 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions&) 
                   std::to_string(i);
     return res;
   }
-  Search found = search(p);
+  const Stopwatch clock;
+  Search found = search(p, options.stop);
+  if (found.stopped) {
+    res.status = TrackerStatus::ResourceLimit;
+    res.message = "stopped after " + std::to_string(found.attempts) + " verification(s) and " + number_text(clock.seconds()) +
+                  " s: the run's time limit or a stop request";
+    return res;
+  }
   // The reachable tube, before the invariant sets widen the stored ones.
   if (found.best.ok) res.stats.tube_kept = tube_use(found.best.half_width, Eigen::VectorXd::Ones(n));
   if (s_.invariant_sets) make_invariant(p, verify_options(p.tube.eps, p.initial_radius), found.best);

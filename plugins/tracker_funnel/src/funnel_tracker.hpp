@@ -2,6 +2,7 @@
 // The funnel tracker: time-varying LQR feedback around the nominal, held over each period, with
 // a sound zonotope verification of the closed loop (docs/tracker.md "funnel", docs/soundness.md
 // section 11). Its cost grows polynomially with the state dimension, not exponentially.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -81,9 +82,10 @@ class FunnelTracker : public marsyn::Tracker {
     int reweighted_rows = 0;   // (step, input) rows whose R the last of them raised
     int input_reached = -1;    // the furthest step they verified (when none verified)
     bool input_aware = false;  // the verified funnel is one of them
+    bool stopped = false;      // the run's stop request ended the search
   };
   class Ladder;  // search's run (funnel_tracker.cpp)
-  Search search(const TrackingProblem& p) const;
+  Search search(const TrackingProblem& p, const std::function<bool()>& stop) const;
 
   Options s_;
   double remainder_scale_ = 1.0;

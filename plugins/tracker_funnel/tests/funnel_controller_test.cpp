@@ -143,6 +143,24 @@ TEST(FunnelController, StatusesOutsideTheSetAndTheHorizon) {
   EXPECT_DOUBLE_EQ(u[1], d.u_nom[5][1]);
 }
 
+// The run's stop request ends the verification at the step it is at (the time limit of
+// `marsyn solve` is kept to within a step), and one that never fires changes nothing.
+TEST(FunnelController, AStopRequestEndsTheVerificationAtOnce) {
+  const TrackingProblem p = testing::unicycle(30);
+  TrackOptions o;
+  int polls = 0;
+  o.stop = [&] { return ++polls > 10; };  // within the first verification
+  const TrackResult r = FunnelTracker().track(p, o);
+  EXPECT_EQ(r.status, TrackerStatus::ResourceLimit) << r.message;
+  EXPECT_NE(r.message.find("stopped after 1 verification"), std::string::npos) << r.message;
+  EXPECT_FALSE(r.controller);
+  EXPECT_EQ(polls, 11) << "polled again after it said stop";
+
+  o.stop = [] { return false; };
+  const TrackResult whole = FunnelTracker().track(p, o);
+  EXPECT_EQ(whole.status, TrackerStatus::ControllerFound) << whole.message;
+}
+
 TEST(FunnelController, CorruptFilesAreRefusedWithTheReason) {
   const auto c = unicycle_controller();
   ASSERT_TRUE(c);
