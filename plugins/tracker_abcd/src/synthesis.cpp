@@ -385,8 +385,8 @@ TrackResult synthesize_track(const TrackingProblem& p, const Options& o) {
   const int k = backward_sweep(p, o, ug, inv, split, tables, d, fig, stopped);
   if (stopped) {
     r.status = TrackerStatus::ResourceLimit;
-    r.message = "agent " + p.agent + ": stopped at step " + std::to_string(k) + " of the backward sweep (from step " +
-                std::to_string(T - 1) + "), after " + number_text(clock.seconds()) + " s: the run's time limit or a stop request";
+    r.message = "agent " + p.agent + ": stopped by the run after " + number_text(clock.seconds(), 3) + " s, " +
+                std::to_string(T - 1 - k) + " of " + std::to_string(T) + " backward steps swept";
     st.peak_memory_bytes = peak_rss_bytes();
     fig.publish(st);
     return r;

@@ -327,7 +327,7 @@ TEST(Synthesis, AStopRequestEndsTheSweepAtOnce) {
     o.stop = [&] { return ++polls > 5; };  // a few steps in (the drone has few columns a step)
     const TrackResult r = tracker.track(p, o);
     EXPECT_EQ(r.status, TrackerStatus::ResourceLimit) << threads << " thread(s): " << r.message;
-    EXPECT_NE(r.message.find("stopped"), std::string::npos) << r.message;
+    EXPECT_NE(r.message.find("stopped by the run after "), std::string::npos) << r.message;
     EXPECT_FALSE(r.controller);
     EXPECT_LT(steps, T) << "the sweep went on after the stop request";
     EXPECT_GT(polls.load(), 5);

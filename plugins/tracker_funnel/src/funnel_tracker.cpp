@@ -547,8 +547,8 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions& o
   Search found = search(p, options.stop);
   if (found.stopped) {
     res.status = TrackerStatus::ResourceLimit;
-    res.message = "stopped after " + std::to_string(found.attempts) + " verification(s) and " + number_text(clock.seconds()) +
-                  " s: the run's time limit or a stop request";
+    res.message = "stopped by the run after " + number_text(clock.seconds(), 3) + " s, in verification " +
+                  std::to_string(found.attempts);
     return res;
   }
   // The reachable tube, before the invariant sets widen the stored ones.
