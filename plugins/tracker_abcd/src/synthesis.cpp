@@ -383,6 +383,10 @@ TrackResult synthesize_track(const TrackingProblem& p, const Options& o) {
   auto tables = make_tables(threads, sb, g, ug, inv, o.prefilter_substeps);
   bool stopped = false;
   const int k = backward_sweep(p, o, ug, inv, split, tables, d, fig, stopped);
+
+  const double box_seconds = sum_tables(tables, st.boxes_computed);
+  st.boxes_computed = split.sum(st.boxes_computed);  // over the ranks: the same figure as one process's
+  record_times(box_seconds, threads, clock, st);
   if (stopped) {
     r.status = TrackerStatus::ResourceLimit;
     r.message = "agent " + p.agent + ": stopped by the run after " + number_text(clock.seconds(), 3) + " s, " +
@@ -391,10 +395,6 @@ TrackResult synthesize_track(const TrackingProblem& p, const Options& o) {
     fig.publish(st);
     return r;
   }
-
-  const double box_seconds = sum_tables(tables, st.boxes_computed);
-  st.boxes_computed = split.sum(st.boxes_computed);  // over the ranks: the same figure as one process's
-  record_times(box_seconds, threads, clock, st);
 
   // Between the samples: only for a complete sweep (the controller is used from step 0).
   std::string enclosure_failure;
