@@ -448,6 +448,10 @@ std::vector<int> Search::agents_to_track() const {
 
 Failure Search::tracking_failure(const std::vector<int>& redo) {
   Failure f{Failure::NoController, "no controller for", {}, {}};
+  // A synthesis the run's stop cut short (TrackOptions::stop) ended for no reason of its own: it
+  // counts as not tracked, as the agents never started do, so that the stop message still names
+  // the lever that would have come next. Every rank asks (a collective), the answer is rank 0's.
+  const bool cut_short = stopping();
   for (std::size_t i = 0; i < out_.agents.size(); ++i) {
     const auto& r = out_.agents[i].track;
     const bool kept = std::find(redo.begin(), redo.end(), static_cast<int>(i)) == redo.end();
@@ -458,7 +462,7 @@ Failure Search::tracking_failure(const std::vector<int>& redo) {
     if (r.status == TrackerStatus::ControllerFound) continue;
     // Only "no controller" is a reason to change parameters; bad input or an exhausted budget
     // would fail the same way again.
-    if (r.status != TrackerStatus::NoController)
+    if (r.status != TrackerStatus::NoController && !(cut_short && r.status == TrackerStatus::ResourceLimit))
       return {Failure::Unsearchable,
               "tracking " + pb_.agents[i].name + ": " + to_string(r.status) + (r.message.empty() ? "" : ": " + r.message),
               {}, {}};
