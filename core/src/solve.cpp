@@ -452,6 +452,7 @@ Failure Search::tracking_failure(const std::vector<int>& redo) {
   // counts as not tracked, as the agents never started do, so that the stop message still names
   // the lever that would have come next. Every rank asks (a collective), the answer is rank 0's.
   const bool cut_short = stopping();
+  std::string cut;  // the agents whose synthesis the stop cut short
   for (std::size_t i = 0; i < out_.agents.size(); ++i) {
     const auto& r = out_.agents[i].track;
     const bool kept = std::find(redo.begin(), redo.end(), static_cast<int>(i)) == redo.end();
@@ -468,6 +469,7 @@ Failure Search::tracking_failure(const std::vector<int>& redo) {
               {}, {}};
     f.agents.push_back(static_cast<int>(i));
     f.reason += " " + pb_.agents[i].name;
+    if (r.status == TrackerStatus::ResourceLimit) cut += (cut.empty() ? "" : " ") + pb_.agents[i].name;
     f.why.push_back(r.failure);
     const int c = r.failure.coordinate;
     const Eigen::VectorXd& eps = pb_.agents[i].tube.eps;
@@ -477,6 +479,7 @@ Failure Search::tracking_failure(const std::vector<int>& redo) {
     f.nominal_saturation.push_back(
         i < out_.plan.nominal.size() ? planning::saturation_share(out_.plan.nominal[i].u, pb_.agents[i].input_bounds) : 0.0);
   }
+  if (!cut.empty()) f.reason += "; the stop cut short the synthesis of " + cut;
   return f.agents.empty() ? Failure{} : f;
 }
 
