@@ -461,10 +461,8 @@ class FunnelVerifier {
     law_.emplace(p_, K_, d, flow_, o_.shift_inputs);
     parts_.push_back({std::move(zx), 0});
     for (int k = 0; k < T_; ++k) {
-      if (o_.stop && o_.stop()) {
+      if (o_.stop && o_.stop()) {  // the ladder ends on it: no reach or reason of its own to report
         out_.stopped = true;
-        out_.reached_step = k;
-        out_.why = "stopped at step " + std::to_string(k) + " (the run's time limit or a stop request)";
         return std::move(out_);
       }
       const Step s = step(k);

@@ -543,11 +543,10 @@ TrackResult FunnelTracker::track(const TrackingProblem& p, const TrackOptions& o
                   std::to_string(i);
     return res;
   }
-  const Stopwatch clock;
   Search found = search(p, options.stop);
   if (found.stopped && !found.best.ok) {  // a funnel verified before the stop (the cheap pass) stands
     res.status = TrackerStatus::ResourceLimit;
-    res.message = "stopped by the run after " + number_text(clock.seconds(), 3) + " s, in verification " +
+    res.message = "stopped by the run after " + number_text(found.gain_time + found.verify_time, 3) + " s, in verification " +
                   std::to_string(found.attempts);
     return res;
   }
