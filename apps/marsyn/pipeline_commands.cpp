@@ -245,6 +245,13 @@ int run_track(const std::string& config, const std::string& agent, const std::st
   TrackOptions to;  // its memory budget: the loader's, set by the Setup
   to.threads = threads;
   to.collective = cluster;  // every rank shares this agent's sweep (docs/mpi.md)
+  // SIGINT or SIGTERM ends the synthesis in progress (status "resource limit", the tracker's
+  // "stopped by the run" and how far it got), not the process with nothing said. Not over MPI:
+  // ranks sharing a sweep exchange every step, and a stop seen by one rank only would hang them.
+  if (!cluster) {
+    stop_on_signals();
+    to.stop = [] { return g_stop_requested.load(); };
+  }
   if (root)
     to.progress = [p = std::make_shared<SweepProgress>(a.name, log_line, stderr_is_terminal() ? live_line : SweepProgress::Sink{})](
                       int done, int total) { (*p)(done, total); };
@@ -308,7 +315,7 @@ void print_search_summary(const SolveOutcome& out) {
   std::printf("guarantee     %s\n", out.problem.guarantee == Guarantee::Continuous
                                         ? "continuous: safe for every t in [0, T tau], between the samples too"
                                         : "sampled: safe at t = k tau only (the paper's semantics)");
-  std::printf("plan          %s, T = %d, %.3f s over %s, smallest robust margin %.4g",
+  std::printf("plan          %s, T = %d, %.3g s over %s, smallest robust margin %.4g",
               out.plan.feasible ? "feasible" : "infeasible", out.plan.horizon, out.search.plan_time_s,
               count_of(planned_rounds(out.search), "planning round").c_str(), out.plan.check.min_margin);
   if (out.plan.check.continuous)
@@ -319,7 +326,7 @@ void print_search_summary(const SolveOutcome& out) {
                 a.track.message.rfind("not tracked", 0) == 0 ? "not tracked" : to_string(a.track.status),
                 a.track.stats.state_input_pairs, a.track.stats.boxes_computed,
                 a.track.stats.abstraction_time_s + a.track.stats.synthesis_time_s);
-  std::printf("tracking      %.3f s over every round\n", out.search.track_time_s);
+  std::printf("tracking      %.3g s over every round\n", out.search.track_time_s);
   if (out.certification_ran) std::printf("certification %s\n", out.certification.message.c_str());
   std::printf("search        %s\n", out.search.message().c_str());
   // Every change the search made to what the file says, per agent, with the failure it answered.
@@ -405,7 +412,7 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
   if (out.verification_ran) print_verification(out.verification);
   std::printf("global ABCD   N_g = %.3g state-input pairs, >= %.3g bytes: %s\n", out.global.state_input_pairs,
               out.global.memory_bytes_estimate, out.global.status.c_str());
-  std::printf("total         %.2f s, peak memory %.1f MB\n", out.total_time_s, peak_rss_mb());
+  std::printf("total         %.4g s, peak memory %.4g MB\n", out.total_time_s, peak_rss_mb());
   std::string listed;
   for (const auto& f : written) listed += (listed.empty() ? "" : ", ") + f;
   std::printf("output        %s/{%s}\n", dir.c_str(), listed.c_str());

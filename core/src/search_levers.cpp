@@ -376,7 +376,7 @@ class Proposer {
     for (const auto& [name, m] : failure_.shortfalls) {
       const double before = p_.extra.count(name) ? p_.extra.at(name) : 0.0;
       p_.extra[name] = before + 1.5 * -m;
-      p_.changes.push_back({"", "clearance of " + name, std::to_string(before), std::to_string(p_.extra[name])});
+      p_.changes.push_back({"", "clearance of " + name, number_text(before, 3), number_text(p_.extra[name], 3)});
     }
     p_.replan = true;
     if (p_.changes.empty()) p_.why_not = "certification named no requirement to clear";

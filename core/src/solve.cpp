@@ -396,7 +396,7 @@ void Search::record_plan_attempts() {
     }
     const bool robust = pa.check.passed;
     out_.attempts.push_back({"plan", params.str(),
-                             robust ? "feasible, smallest robust margin " + std::to_string(pa.check.min_margin)
+                             robust ? "feasible, smallest robust margin " + number_text(pa.check.min_margin, 3)
                                     : std::string(to_string(pa.status)) + (pa.check.message.empty() ? "" : ": " + pa.check.message),
                              pa.solve_time_s, pa.horizon});
   }
@@ -430,7 +430,7 @@ Failure Search::track(SearchRound& round) {
   }
   round.track_time_s = last_track_s_ = t.seconds();
   if (redo.size() == N) full_track_s_ = last_track_s_;
-  log("[track] all agents in " + std::to_string(round.track_time_s) + " s");
+  log("[track] all agents in " + number_text(round.track_time_s, 3) + " s");
   return tracking_failure(redo);
 }
 

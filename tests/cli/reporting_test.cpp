@@ -44,7 +44,7 @@ TEST(Reporting, CheckTableKeepsLongValuesOutOfTheTrackerColumn) {
   // The tracker's name starts where its heading does, after at least two spaces.
   EXPECT_EQ(row.substr(column, 4), "abcd") << header << "\n" << row;
   EXPECT_EQ(row.substr(column - 2, 2), "  ") << header << "\n" << row;
-  EXPECT_NE(row.find("(0.0123457, 0.0123457, 0.0123457)"), std::string::npos) << row;
+  EXPECT_NE(row.find("(0.01235, 0.01235, 0.01235)"), std::string::npos) << row;
 }
 
 TEST(Reporting, OneAgentOneInputAndTheSearchSaysWhatItChanged) {
@@ -69,6 +69,12 @@ TEST(Reporting, OneAgentOneInputAndTheSearchSaysWhatItChanged) {
   const std::string result = marsyn::test::slurp(out + "/result.json");
   EXPECT_NE(result.find("\"stop_message\": \"stopped: no controller for pendulum"), std::string::npos);
   EXPECT_NE(result.find("\"from\": \"(0.2,0.2)\""), std::string::npos);
+  // The clearances the verdict is about, resolved (the pendulum's file gives none: 0, inf-norm).
+  const auto delta = result.find("\"delta\": {");
+  ASSERT_NE(delta, std::string::npos) << result;
+  const std::string clearances = result.substr(delta, result.find('}', delta) - delta);
+  for (const char* part : {"\"agents\": 0.0", "\"obstacles\": 0.0", "\"bounds\": 0.0", "\"norm\": \"inf\""})
+    EXPECT_NE(clearances.find(part), std::string::npos) << part << " in " << clearances;
   const std::string page = marsyn::test::slurp(out + "/report.html");
   EXPECT_NE(page.find("\"to\":\"(0.25,0.25)\""), std::string::npos);
 }

@@ -192,3 +192,51 @@ TEST(Stop, APlanStopsAfterTheSolveInProgressAndWritesItsBest) {
   EXPECT_TRUE(fs::exists(out / "plan.json"));
   fs::remove_all(out);
 }
+
+// `marsyn track` stops too: SIGINT during a synthesis ends it through the tracker's stop request
+// (status "resource limit" with the tracker's words), not by the signal with nothing said.
+TEST(Stop, ATrackStopsTheSynthesisInProgress) {
+  std::string s = two_agents();
+  s.replace(s.find("name: stall_pendulum"), 20, "name: hold_pendulum");
+  const std::string cfg = write_temp("track_hold.yaml", s);
+  const fs::path out = fs::temp_directory_path() / ("marsyn_stop_track_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  const fs::path log = out.string() + ".log";
+  fs::remove(log);  // a stale log would be read before the child truncates it
+  fs::remove(log.string() + ".out");
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const std::string cmd = std::string("exec ") + MARSYN_EXE + " track " + cfg + " --agent hold_pendulum --out " +
+                            out.string() + " >" + log.string() + ".out 2>" + log.string();
+    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  bool signalled = false, ended = false;
+  int status = 0;
+  const auto start = std::chrono::steady_clock::now();
+  while (std::chrono::steady_clock::now() - start < std::chrono::seconds(50)) {
+    if (::waitpid(pid, &status, WNOHANG) == pid) {
+      ended = true;
+      break;
+    }
+    if (!signalled && slurp(log.string()).find("hold_pendulum with never") != std::string::npos) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));  // inside the tracker's hold
+      ::kill(pid, SIGINT);
+      signalled = true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  if (!ended) {
+    ::kill(pid, SIGKILL);
+    ::waitpid(pid, &status, 0);
+  }
+  const std::string said = slurp(log.string()), printed = slurp(log.string() + ".out");
+  ASSERT_TRUE(signalled) << said;
+  ASSERT_TRUE(ended) << "marsyn track did not end after the signal (the hold lasts 60 s)";
+  ASSERT_TRUE(WIFEXITED(status)) << "ended by the signal itself, with nothing said";
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(40));
+  EXPECT_NE(printed.find("resource limit: the test tracker was stopped by the run"), std::string::npos) << printed << said;
+  EXPECT_TRUE(fs::exists(out / "hold_pendulum.track.json"));
+  fs::remove_all(out);
+}

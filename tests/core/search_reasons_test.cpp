@@ -301,7 +301,7 @@ agents:
   EXPECT_EQ(actions(o)[1], "shrink eps by 0.8 and re-plan");
   const auto& ch = o.search.rounds[1].changes;
   ASSERT_EQ(ch.size(), 3u);  // both agents' eps and the factor's reason
-  EXPECT_EQ(ch[0].to, "(0.11875,0.11875,0.2375)");  // 0.95 x 0.8333
+  EXPECT_EQ(ch[0].to, "(0.1187,0.1187,0.2375)");  // 0.95 x 0.8333
   EXPECT_EQ(ch[2].what, "eps factor");
   EXPECT_NE(ch[2].to.find("what the goals without room need"), std::string::npos) << ch[2].to;
   EXPECT_EQ(o.search.rounds[1].horizon, 60);
@@ -326,7 +326,7 @@ TEST(SearchReasons, ATightFormationShrinksEpsAsFarAsItNeedsWithoutTryingHorizons
   ASSERT_FALSE(ch.empty());
   EXPECT_EQ(ch[0].what, "eps");
   // 0.7 x 0.35 / (sqrt(2) x 0.5) = 0.3465 on every coordinate.
-  EXPECT_EQ(ch[0].to, "(0.0866206,0.0866206,0.0519723,0.0519723)");
+  EXPECT_EQ(ch[0].to, "(0.08662,0.08662,0.05197,0.05197)");
   EXPECT_EQ(ch.back().what, "eps factor");
   for (const auto& r : o.search.rounds)
     for (const auto& c : r.changes) EXPECT_NE(c.what, "horizon") << o.search.message();

@@ -85,7 +85,7 @@ TEST_F(AbcdAssessment, MemoryBudgetFromTheRequest) {
   EXPECT_FALSE(r.ok);
   EXPECT_EQ(r.field, "eta_x");
   EXPECT_EQ(r.message,
-            "the tracker would need about 284954 bytes for this agent (4.91e+03 tube cells per step x 21 steps), more "
+            "the tracker would need about 284954 bytes for this agent (4913 tube cells per step x 21 steps), more "
             "than the memory budget of 102400 bytes (--memory-budget); enlarge eta_x");
 }
 

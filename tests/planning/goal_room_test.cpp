@@ -7,6 +7,7 @@
 #include "marsyn/core/planning/goal_room.hpp"
 #include "marsyn/core/planning/margins.hpp"
 #include "marsyn/core/planning/spec_margins.hpp"
+#include "../support/message_style.hpp"
 
 using namespace marsyn;
 using namespace marsyn::planning;
@@ -75,6 +76,7 @@ TEST(GoalRoom, AGoalBesideAWallIsFoundWithTheFactorThatFreesIt) {
     const std::string text = describe(c[0], p);
     EXPECT_NE(text.find("a's goal leaves no room for its tube beside obstacle wall"), std::string::npos) << text;
     EXPECT_NE(text.find("no horizon can help; eps x 0.83 or less"), std::string::npos) << text;
+    EXPECT_EQ(marsyn::test::style_report(text), "");  // it used to stop at "... would"
 
     // Just below the factor the goal has room; just above it has none.
     Problem q = p;

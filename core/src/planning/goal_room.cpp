@@ -146,6 +146,7 @@ bool radii(const Problem& problem, const CrowdedGoal& c) {
 
 std::string describe(const CrowdedGoal& c, const Problem& problem) {
   std::ostringstream os;
+  os.precision(4);  // docs/messages.md
   const bool obstacle = c.other.rfind("obstacle ", 0) == 0;
   os << (obstacle ? c.agent + "'s goal leaves no room for its tube beside " + c.other
                   : c.agent + "'s and " + c.other + "'s goals leave no room for their tubes between them")
@@ -155,9 +156,9 @@ std::string describe(const CrowdedGoal& c, const Problem& problem) {
      << (obstacle ? "'s" : "s'") << " margin) is at most " << (std::abs(c.room) < kNoRoom ? 0.0 : c.room)
      << ": no horizon can help; ";
   if (c.eps_factor > 0)
-    os << "eps x " << std::floor(c.eps_factor * 100) / 100 << " or less (or a larger goal) would";
+    os << "eps x " << std::floor(c.eps_factor * 100) / 100 << " or less (or a larger goal) would leave room";
   else
-    os << "only a larger goal " << (obstacle ? "or one further from the obstacle" : "or goals further apart") << " would";
+    os << "only a larger goal " << (obstacle ? "or one further from the obstacle" : "or goals further apart") << " would leave room";
   return os.str();
 }
 

@@ -10,6 +10,7 @@
 #include "marsyn/core/planning/spec_margins.hpp"
 #include "marsyn/core/planning/goal_room.hpp"
 #include "marsyn/core/planning/workspace_gaps.hpp"
+#include "marsyn/number_text.hpp"
 #include "marsyn/stopwatch.hpp"
 
 namespace marsyn::planning {
@@ -225,6 +226,7 @@ class HorizonSearch {
     }
     if (options_.log) {
       std::ostringstream os;
+      os.precision(4);  // docs/messages.md
       // The solver's verdict is its own; when the exact check passes a plan the solver gave up on
       // (the clamped, re-simulated inputs are robust), both are said without contradicting.
       const bool gave_up = out.res.status != PlannerStatus::ExactSolution && out.res.status != PlannerStatus::ApproximateSolution;
@@ -262,6 +264,7 @@ class HorizonSearch {
     ++retries_here_;
     more_clearance(assembly_, a.check);
     std::ostringstream os;
+    os.precision(4);  // docs/messages.md
     os << "robust at the samples, short by " << -a.check.between_margin << " between them (" << a.check.worst_between
        << " after step " << a.check.worst_between_step << "; " << a.check.between_shortfalls.size()
        << " requirement(s) short): re-planning T = " << horizon_ << " with more clearance for them";
@@ -283,7 +286,7 @@ class HorizonSearch {
     for (const auto& ag : problem_.agents) eps = std::min(eps, ag.tube.eps.minCoeff());
     if (!(-a.check.min_margin <= 0.25 * eps)) return false;
     warm_again_here_ = true;
-    log("short by " + std::to_string(-a.check.min_margin) + " (" + a.check.worst +
+    log("short by " + number_text(-a.check.min_margin, 3) + " (" + a.check.worst +
         ") after the solver gave up: re-planning T = " + std::to_string(horizon_) + " warm from that plan");
     return true;
   }
@@ -364,8 +367,8 @@ class HorizonSearch {
     if (worse && a.check.worst_agents[1] < 0) {
       routes_ = false;
       routes_dropped_ = true;
-      log("the routes did worse than the straight ways (" + std::to_string(a.check.min_margin) + " against " +
-          std::to_string(*routes_judge_) + "): later attempts start without them");
+      log("the routes did worse than the straight ways (" + number_text(a.check.min_margin, 3) + " against " +
+          number_text(*routes_judge_, 3) + "): later attempts start without them");
     }
     routes_judge_.reset();
   }
@@ -421,6 +424,7 @@ class HorizonSearch {
       const MissionStage& st = problem_.agents[static_cast<std::size_t>(v.agent)].stages[static_cast<std::size_t>(v.stage)];
       if (!(v.sampled_margin < 0) || st.by < 0 || v.step < st.by || !(v.sampled_margin <= c.sampled_margin + 1e-12)) continue;
       std::ostringstream os;
+      os.precision(4);  // docs/messages.md
       os << v.name << " must be reached by " << st.by * problem_.tau << " s (step " << st.by << "); the plan at T = " << T
          << " falls short there by " << -v.sampled_margin
          << ": a longer horizon does not move the window (a later `by`, fewer stages before it, a faster agent or a "
@@ -448,6 +452,7 @@ class HorizonSearch {
                       std::abs(c.min_margin - last_short_->second) <= 0.1 * std::abs(last_short_->second);
     if (same) {
       std::ostringstream os;
+      os.precision(4);  // docs/messages.md
       os << "the plans at the last two horizons fall short at the same requirement (" << c.worst << ", by "
          << -last_short_->second << " and " << -c.min_margin
          << ") with their inputs inside U: a longer horizon does not help here";
@@ -503,14 +508,14 @@ class HorizonSearch {
                           options_.time_limit_s - clock_.seconds() > 0;
            ++retry) {
         more_clearance(assembly_, one.a.check);
-        log("re-timed plan short by " + std::to_string(-one.a.check.between_margin) +
+        log("re-timed plan short by " + number_text(-one.a.check.between_margin, 3) +
             " between the samples: the same knots again with more clearance for the requirements short there");
         one = solve_once(one.clean, options_.time_limit_s - clock_.seconds());
         best_.attempts.push_back(one.a);
       }
       const bool keep = one.a.check.passed && one.a.effort < effort;
       log(std::string(keep ? "re-timed knots kept" : "re-timed knots not kept") + " (input effort " +
-          std::to_string(effort) + " -> " + std::to_string(one.a.effort) + (one.a.check.passed ? "" : ", not robust") +
+          number_text(effort) + " -> " + number_text(one.a.effort) + (one.a.check.passed ? "" : ", not robust") +
           ")");
       if (!keep) break;
       effort = one.a.effort;
@@ -637,6 +642,7 @@ PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearc
         return a.width < b.width;
       });
       std::ostringstream os;
+      os.precision(4);  // docs/messages.md
       os << gaps.size() << " closed gaps (`marsyn check` lists them), the narrowest: " << describe(*narrowest)
          << "; a longer horizon cannot open them (a route around them, a smaller eps or delta can)";
       options.log(os.str());
@@ -666,6 +672,7 @@ double input_effort(const Problem& problem, const GlobalPlan& plan) {
 
 std::string summary(const Problem& problem, const PlanOutcome& o) {
   std::ostringstream os;
+  os.precision(4);  // docs/messages.md
   os << "problem " << (problem.name.empty() ? "(unnamed)" : problem.name) << ": " << problem.agents.size()
      << " agents, " << problem.product_state_dim() << " states, " << problem.product_input_dim() << " inputs\n";
   for (const auto& a : o.attempts)

@@ -138,6 +138,10 @@ struct PeriodBoxes {
   std::vector<char> have;  // 0: no one-part enclosure (the parts are then taken as they come)
 };
 
+// What a user can change when the flow has no enclosure over a period.
+constexpr const char* kNoEnclosureHint =
+    " over one period (its a priori enclosure did not close: a shorter tau or smaller inputs let it)";
+
 // The eps-box around the exact flow between samples k and k+1 (every agent, `parts` parts),
 // against bounds, obstacles, the other agents in the same part of the period, and formation.
 // Returns false when a part has no enclosure (recorded as -inf).
@@ -180,7 +184,7 @@ bool check_period(const Problem& problem, const ProductLayout& at, const std::ve
     const Box* period = whole.have[i] ? &whole.box[i] : nullptr;
     if (!flow_boxes(*a.dynamics, point, ui, Eigen::VectorXd::Zero(a.n()), problem.tau, P, flow)) {
       if (!period) {
-        t.record(-std::numeric_limits<double>::infinity(), k, [&] { return "no enclosure of the flow of " + a.name; });
+        t.record(-std::numeric_limits<double>::infinity(), k, [&] { return "no enclosure of the flow of " + a.name + kNoEnclosureHint; });
         return false;
       }
       flow.assign(static_cast<size_t>(P), *period);
@@ -489,6 +493,7 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan, const M
   }
   r.passed = r.min_margin >= 0.0 && tu.min_ >= 0.0;
   std::ostringstream os;
+  os.precision(4);  // docs/messages.md
   os << (r.passed ? "eps-robust" : "NOT eps-robust") << (r.continuous ? " in continuous time" : " at the samples")
      << (r.passed ? ": smallest margin " : ": ") << r.min_margin << " (" << r.worst;
   if (r.worst.find(" between steps ") == std::string::npos) os << " at step " << r.worst_step;

@@ -12,8 +12,14 @@
 
 namespace marsyn::loader {
 
+// A workspace point as a message prints it: a coordinate within rounding of 0 beside the point's
+// size (cos(pi/2) = 6.1e-17 for a footprint's offset) is 0, not rounding noise.
 std::string point(const planning::Point& p, int dim) {
-  return dim == 3 ? list_text(p) : list_text(Eigen::Vector2d(p.x(), p.y()));
+  Eigen::VectorXd v = dim == 3 ? Eigen::VectorXd(p) : Eigen::VectorXd(Eigen::Vector2d(p.x(), p.y()));
+  const double scale = std::max(1.0, v.cwiseAbs().maxCoeff());
+  for (Eigen::Index i = 0; i < v.size(); ++i)
+    if (std::abs(v[i]) < 1e-12 * scale) v[i] = 0;
+  return list_text(v);
 }
 
 // The real specification at k = 0, with the exact geometry of the robustness check

@@ -318,6 +318,12 @@ nlohmann::json result_json(const SolveOutcome& o) {
   j["problem"] = o.problem.name;
   // Which times the result holds for: every t in [0, T tau], or only t = k tau.
   j["guarantee"] = to_string(o.problem.guarantee);
+  // The clearances the verdict is about (the file's delta, resolved): agent-agent, agent-obstacle
+  // and agent-bound, in the norm of delta_norm.
+  j["delta"] = {{"agents", o.problem.delta},
+                {"obstacles", o.problem.obstacle_delta()},
+                {"bounds", o.problem.delta_bounds},
+                {"norm", o.problem.delta_norm == Norm::Inf ? "inf" : "2"}};
   j["tracker"] = o.problem.tracker.name;  // the request: a tracker or "auto"; each agent's is agents[i].tracker.name
   j["plan"] = plan_json(o);
   json agents = json::array();

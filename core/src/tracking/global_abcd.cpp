@@ -8,6 +8,7 @@
 #include "marsyn/core/tracking/product_dynamics.hpp"
 #include "marsyn/scalar.hpp"
 #include "marsyn/stopwatch.hpp"
+#include "marsyn/number_text.hpp"
 
 namespace marsyn {
 namespace {
@@ -173,7 +174,7 @@ GlobalAbcdEstimate attempt_global_abcd(const Problem& pb, TrackerInstances& inst
     est.time_s = g.time_s;
     est.boxes_computed = g.boxes_computed;
     est.attempted = true;
-    log("[global] " + g.status + " in " + std::to_string(g.time_s) + " s");
+    log("[global] " + g.status + " in " + number_text(g.time_s, 3) + " s");
   }
   return est;
 }

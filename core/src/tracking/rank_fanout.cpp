@@ -135,6 +135,7 @@ std::shared_ptr<const Controller> controller_from(const Tracker& t, const std::v
 
 std::string result_line(const AgentOutcome& o, const std::string& where, double seconds) {
   std::ostringstream s;
+  s.precision(4);  // docs/messages.md
   s << "[track] " << o.name << " (" << o.tracker << ", " << where << "): " << to_string(o.track.status) << ", "
     << stats_text(o.track.stats) << ", " << seconds << " s";
   if (!o.track.message.empty()) s << " (" << o.track.message << ")";

@@ -99,6 +99,7 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
       std::lock_guard<std::mutex> lock(log_mutex);
       running[i] = 0;
       std::ostringstream s;
+      s.precision(4);  // docs/messages.md
       s << "[track " << d << "/" << N << "] " << a.name << " (" << a.tracker.name
         << "): " << to_string(out[i].track.status) << ", " << stats_text(out[i].track.stats) << ", " << t0.seconds()
         << " s";
@@ -120,6 +121,7 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
       for (int i = 0; i < N; ++i)
         if (running[i]) names += (names.empty() ? "" : ", ") + pb.agents[i].name;
       std::ostringstream s;
+      s.precision(4);  // docs/messages.md
       s << "[track] " << done.load() << "/" << N << " agents done after " << static_cast<int>(t0.seconds())
         << " s; still working on " << (names.empty() ? "-" : names);
       opt.log(s.str());
@@ -145,6 +147,7 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
 
 std::string stats_text(const TrackerStats& stats) {
   std::ostringstream s;
+  s.precision(4);  // docs/messages.md
   // Counts only: a flag or a per-step list says nothing in one line.
   for (const auto& f : stats.figures) {
     if (const auto* v = std::get_if<long long>(&f.value)) s << *v << " " << f.label << ", ";

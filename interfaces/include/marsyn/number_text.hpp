@@ -6,11 +6,20 @@
 
 namespace marsyn {
 
-// printf's %g with `digits` significant digits: "0.25", "1e+06", "4096". Six digits is what an
-// ostream prints by default, so messages that used `os << v` read the same.
-inline std::string number_text(double v, int digits = 6) {
+// printf's %g with `digits` significant digits: "0.25", "1e+06", "4096". Four by default: the
+// message style (docs/messages.md) reads 3, and 4 where two figures compared agree in the third
+// ("half-width 0.2012 vs eps 0.2"). Files that are read back keep full precision elsewhere.
+// Whole-number magnitudes up to 1e9 keep their integer digits ("38910 tube cells", not
+// "3.891e+04").
+inline std::string number_text(double v, int digits = 4) {
   char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  const double a = v < 0 ? -v : v;
+  double big = 1;
+  for (int i = 0; i < digits; ++i) big *= 10;
+  if (a >= big && a < 1e9)
+    std::snprintf(buf, sizeof buf, "%.0f", v);
+  else
+    std::snprintf(buf, sizeof buf, "%.*g", digits, v);
   return buf;
 }
 
@@ -24,7 +33,7 @@ inline std::string hex_double(double v) {
 // "(a, b, c)", each coordinate by number_text with `digits`; `open`, `close` and `sep` give other
 // brackets and separators ("(a,b,c)": one token in a key=value log line).
 inline std::string list_text(const Eigen::VectorXd& v, const char* open = "(", const char* close = ")",
-                             const char* sep = ", ", int digits = 6) {
+                             const char* sep = ", ", int digits = 4) {
   std::string s = open;
   for (Eigen::Index i = 0; i < v.size(); ++i) s += (i ? sep : "") + number_text(v[i], digits);
   return s + close;

@@ -43,15 +43,18 @@ namespace marsyn {
 
 // How a number's default is written in the listing. Both exist so that existing listings stay
 // byte-identical: Shortest is the shortest text that reads back to the same double, exponent
-// without '+' or leading zeros ("1e-6", "2e7", "0.01"); Stream is number_text (number_text.hpp:
-// six significant digits as `std::ostream << v` prints them, "1e-06", "1e+08").
+// without '+' or leading zeros ("1e-6", "2e7", "0.01"); Stream is six significant digits as
+// `std::ostream << v` prints them ("1e-06", "1e+08").
 enum class NumberText { Shortest, Stream };
 
 namespace detail {
 
 inline std::string number_text(double v, NumberText style) {
-  if (style == NumberText::Stream) return marsyn::number_text(v);
   char buf[64];
+  if (style == NumberText::Stream) {  // exactly as `std::ostream << v` prints it
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+  }
   const auto r = std::to_chars(buf, buf + sizeof buf, v);
   std::string s(buf, r.ptr);
   const auto e = s.find('e');

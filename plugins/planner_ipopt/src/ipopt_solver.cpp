@@ -14,7 +14,7 @@ namespace marsyn::ipopt_planner {
 namespace {
 
 // Ipopt's return status in its manual's words (a user reads "converged to a point of local
-// infeasibility", not "status 2"); the number stays beside an unknown one.
+// infeasibility", not "status 2"); the number stays beside an unknown one (docs/messages.md).
 std::string status_words(Ipopt::ApplicationReturnStatus st) {
   switch (st) {
     case Ipopt::Solve_Succeeded: return "solved";
@@ -34,7 +34,7 @@ std::string status_words(Ipopt::ApplicationReturnStatus st) {
     case Ipopt::Invalid_Number_Detected: return "an invalid number (NaN or Inf) in a function or derivative";
     default: break;
   }
-  return "status " + std::to_string(static_cast<int>(st));
+  return "an outcome its manual does not list (" + std::to_string(static_cast<int>(st)) + ")";
 }
 
 // Debian's Ipopt 3.11 solves with sequential MUMPS, which keeps global state: two solves at once
@@ -96,7 +96,7 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
   res.solve_time_s = clock.seconds();
   if (nlp->inputs().empty()) {
     res.status = PlannerStatus::Crash;
-    res.message = "Ipopt returned no solution (status " + std::to_string(static_cast<int>(st)) + ")";
+    res.message = "Ipopt returned no solution (" + status_words(st) + ")";
     return res;
   }
   // The plan is the inputs alone, re-simulated: defects Ipopt left within its tolerance are
@@ -113,6 +113,7 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
   for (const auto& u : U) res.cost += 0.5 * o.r_input * u.squaredNorm();
   const bool converged = st == Ipopt::Solve_Succeeded || st == Ipopt::Solved_To_Acceptable_Level;
   std::ostringstream os;
+  os.precision(4);  // docs/messages.md
   os << "Ipopt: " << status_words(st) << " (" << o.hessian << " Hessian";
   if (o.hessian == "exact") {
     // Blocks the interfaces cannot differentiate twice are differenced; say which.

@@ -160,6 +160,20 @@ void constraints_cb(unsigned, double* c, unsigned, const double* z, double* grad
 
 }  // namespace
 
+// NLopt's successful returns in its manual's words (docs/messages.md: no raw codes); failures
+// arrive as exceptions.
+std::string result_words(nlopt::result r) {
+  switch (r) {
+    case nlopt::SUCCESS: return "success";
+    case nlopt::STOPVAL_REACHED: return "the objective reached its stop value";
+    case nlopt::FTOL_REACHED: return "the objective changed less than its tolerance";
+    case nlopt::XTOL_REACHED: return "the inputs changed less than their tolerance";
+    case nlopt::MAXEVAL_REACHED: return "the evaluation limit was reached";
+    case nlopt::MAXTIME_REACHED: return "the time limit was reached";
+    default: return "an outcome its manual does not list (" + std::to_string(static_cast<int>(r)) + ")";
+  }
+}
+
 PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Options& o) {
   const Stopwatch clock;
   if (auto refused = planner_support::invalid_input(pp)) return *refused;
@@ -169,6 +183,7 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
   if (static_cast<double>(sh.rows()) * sh.variables() > o.max_dense_entries) {
     res.status = PlannerStatus::InvalidInput;
     std::ostringstream os;
+    os.precision(4);  // docs/messages.md
     os << "single shooting needs a dense " << sh.rows() << " x " << sh.variables()
        << " constraint Jacobian, above max_dense_entries = " << o.max_dense_entries << "; use ipopt or altro";
     res.message = os.str();
@@ -209,13 +224,13 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
   std::string nlopt_note;
   try {
     const nlopt::result r = opt.optimize(z, f);
-    nlopt_note = "nlopt result " + std::to_string(static_cast<int>(r));
+    nlopt_note = "NLopt: " + result_words(r);
   } catch (const nlopt::roundoff_limited&) {
-    nlopt_note = "nlopt: roundoff limited";
+    nlopt_note = "NLopt: roundoff limited the progress";
   } catch (const nlopt::forced_stop&) {
-    nlopt_note = "nlopt: forced stop";
+    nlopt_note = "NLopt: stopped on request";
   } catch (const std::exception& e) {
-    nlopt_note = std::string("nlopt: ") + e.what();
+    nlopt_note = std::string("NLopt: ") + e.what();
   }
   if (!sh.best().empty()) z = sh.best();
   std::vector<Vec> U(model.T, Vec(model.m));

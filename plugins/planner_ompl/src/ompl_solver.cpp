@@ -324,6 +324,7 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
   res.iterations = static_cast<int>(data.numVertices());
   res.solve_time_s = clock.seconds();
   std::ostringstream msg;
+  msg.precision(4);  // docs/messages.md
   msg << o.planner << ": " << st.asString() << ", " << data.numVertices() << " tree vertices";
   const bool exact = st == ob::PlannerStatus::EXACT_SOLUTION && pdef->hasExactSolution() && !pdef->hasApproximateSolution();
   if (!exact) {
