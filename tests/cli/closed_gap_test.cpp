@@ -145,8 +145,8 @@ TEST(ClosedGap, AnEdgeIsNamedByItsNumber) {
   text.replace(text.find("hi: [4.1, 3.0, 2.2]"), 19, "hi: [4.1, 3.0, 2.5]");
   r = run_marsyn("check " + marsyn::test::write_temp("rack_below_ceiling.yaml", text));
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.out.find("obstacle rack and the edge z = 2.8 of d1's workspace leave a gap 0.3 wide across z; passing it needs 0.45 "
-                       "(delta + 2 eps in z)"),
+  EXPECT_NE(r.out.find("obstacle rack and the edge z = 2.8 of the workspace leave a gap 0.3 wide across z; passing it needs 0.45 "
+                       "(delta + 2 eps in z): closed to d1"),
             std::string::npos)
       << r.out;
   EXPECT_EQ(r.out.find("2.800000"), std::string::npos) << r.out;

@@ -29,9 +29,17 @@ std::string two_agents() {
   return s + stall;
 }
 
-// Starts marsyn in the background, sends `sig` once its log shows the first agent's controller,
-// and returns its exit status (-1 when it did not end within 60 s).
-int solve_and_signal(const std::string& args, const fs::path& log, int sig, bool& signalled) {
+// How a signalled run ended: whether the signal went out, whether marsyn ended within the limit,
+// and its wait status.
+struct Signalled {
+  bool signalled = false, ended = false;
+  int status = 0;
+};
+
+// Starts `marsyn ARGS` in the background (stdout to LOG.out, stderr to LOG), sends `sig` once
+// LOG shows `trigger` (after `delay`), and waits at most `limit` for it to end (then kills it).
+Signalled run_and_signal(const std::string& args, const fs::path& log, const std::string& trigger, int sig,
+                         std::chrono::seconds limit, std::chrono::milliseconds delay = std::chrono::milliseconds(0)) {
   // A log left by an earlier run with the same pid would be read before the child's shell
   // truncates it, and the signal would arrive before marsyn can catch it (a CI run failed so).
   fs::remove(log);
@@ -42,20 +50,31 @@ int solve_and_signal(const std::string& args, const fs::path& log, int sig, bool
     ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
     ::_exit(127);
   }
-  signalled = false;
+  Signalled r;
   const auto start = std::chrono::steady_clock::now();
-  int status = 0;
-  while (std::chrono::steady_clock::now() - start < std::chrono::seconds(60)) {
-    if (::waitpid(pid, &status, WNOHANG) == pid) return status;
-    if (!signalled && slurp(log.string()).find("] pendulum (funnel): controller,") != std::string::npos) {
-      ::kill(pid, sig);
-      signalled = true;
+  while (std::chrono::steady_clock::now() - start < limit) {
+    if (::waitpid(pid, &r.status, WNOHANG) == pid) {
+      r.ended = true;
+      return r;
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    if (!r.signalled && slurp(log.string()).find(trigger) != std::string::npos) {
+      std::this_thread::sleep_for(delay);
+      ::kill(pid, sig);
+      r.signalled = true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   ::kill(pid, SIGKILL);
-  ::waitpid(pid, &status, 0);
-  return -1;
+  ::waitpid(pid, &r.status, 0);
+  return r;
+}
+
+// A solve signalled once its log shows the first agent's controller; its exit status (-1 when it
+// did not end within 60 s).
+int solve_and_signal(const std::string& args, const fs::path& log, int sig, bool& signalled) {
+  const Signalled r = run_and_signal(args, log, "] pendulum (funnel): controller,", sig, std::chrono::seconds(60));
+  signalled = r.signalled;
+  return r.ended ? r.status : -1;
 }
 
 void expect_partial_result(int sig, const std::string& name, bool resume = false) {
@@ -152,35 +171,10 @@ TEST(Stop, APlanStopsAfterTheSolveInProgressAndWritesItsBest) {
   const fs::path out = fs::temp_directory_path() / ("marsyn_stop_plan_" + std::to_string(::getpid()));
   fs::remove_all(out);
   const fs::path log = out.string() + ".log";
-  fs::remove(log);  // a stale log would be read before the child truncates it
-  fs::remove(log.string() + ".out");
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    const std::string cmd = std::string("exec ") + MARSYN_EXE + " plan " + MARSYN_SOURCE_DIR +
-                            "/tests/continuous/vehicle_maze.yaml --out " + out.string() + " >" + log.string() +
-                            ".out 2>" + log.string();
-    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
-  bool signalled = false;
-  int status = 0;
-  bool ended = false;
-  const auto start = std::chrono::steady_clock::now();
-  while (std::chrono::steady_clock::now() - start < std::chrono::seconds(120)) {
-    if (::waitpid(pid, &status, WNOHANG) == pid) {
-      ended = true;
-      break;
-    }
-    if (!signalled && slurp(log.string()).find("[plan] T = 400:") != std::string::npos) {
-      ::kill(pid, SIGINT);
-      signalled = true;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  if (!ended) {
-    ::kill(pid, SIGKILL);
-    ::waitpid(pid, &status, 0);
-  }
+  const Signalled r = run_and_signal(std::string("plan ") + MARSYN_SOURCE_DIR + "/tests/continuous/vehicle_maze.yaml --out " + out.string(),
+                                     log, "[plan] T = 400:", SIGINT, std::chrono::seconds(120));
+  const bool signalled = r.signalled, ended = r.ended;
+  const int status = r.status;
   ASSERT_TRUE(signalled) << slurp(log.string());
   ASSERT_TRUE(ended) << "marsyn plan did not end after the signal";
   ASSERT_TRUE(WIFEXITED(status)) << "ended by the signal itself, with nothing written";
@@ -202,34 +196,12 @@ TEST(Stop, ATrackStopsTheSynthesisInProgress) {
   const fs::path out = fs::temp_directory_path() / ("marsyn_stop_track_" + std::to_string(::getpid()));
   fs::remove_all(out);
   const fs::path log = out.string() + ".log";
-  fs::remove(log);  // a stale log would be read before the child truncates it
-  fs::remove(log.string() + ".out");
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    const std::string cmd = std::string("exec ") + MARSYN_EXE + " track " + cfg + " --agent hold_pendulum --out " +
-                            out.string() + " >" + log.string() + ".out 2>" + log.string();
-    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
-  bool signalled = false, ended = false;
-  int status = 0;
   const auto start = std::chrono::steady_clock::now();
-  while (std::chrono::steady_clock::now() - start < std::chrono::seconds(50)) {
-    if (::waitpid(pid, &status, WNOHANG) == pid) {
-      ended = true;
-      break;
-    }
-    if (!signalled && slurp(log.string()).find("hold_pendulum with never") != std::string::npos) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(200));  // inside the tracker's hold
-      ::kill(pid, SIGINT);
-      signalled = true;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  if (!ended) {
-    ::kill(pid, SIGKILL);
-    ::waitpid(pid, &status, 0);
-  }
+  // The signal a little after the hold began: inside the tracker, not in planning.
+  const Signalled r = run_and_signal("track " + cfg + " --agent hold_pendulum --out " + out.string(), log,
+                                     "hold_pendulum with never", SIGINT, std::chrono::seconds(50), std::chrono::milliseconds(200));
+  const bool signalled = r.signalled, ended = r.ended;
+  const int status = r.status;
   const std::string said = slurp(log.string()), printed = slurp(log.string() + ".out");
   ASSERT_TRUE(signalled) << said;
   ASSERT_TRUE(ended) << "marsyn track did not end after the signal (the hold lasts 60 s)";

@@ -5,6 +5,7 @@
 #include <optional>
 #include <sstream>
 
+#include "marsyn/core/planning/clearance_rounds.hpp"
 #include "marsyn/core/planning/projector.hpp"
 #include "marsyn/core/planning/routes.hpp"
 #include "marsyn/core/planning/spec_margins.hpp"
@@ -165,7 +166,8 @@ class HorizonSearch {
       if (!longer_horizon_helps()) break;
       here_ = {};
       warm_again_here_ = false;
-      retries_here_ = retimed_here_ = 0;
+      retimed_here_ = 0;
+      clearance_rounds_.reset();
       horizon_ = std::max(horizon_ + 1, static_cast<int>(std::ceil(horizon_ * options_.horizon_growth)));
       visits_ = schedule_missions(problem_, horizon_);
     }
@@ -258,10 +260,10 @@ class HorizonSearch {
     }
   }
 
-  // Robust at the samples, short between them: more clearance for the requirements short there.
+  // Robust at the samples, short between them: more clearance for the requirements short there,
+  // as often as ClearanceRounds allows at one horizon.
   bool more_clearance_between(const PlanAttempt& a) {
-    if (!short_between_only(a.check) || retries_here_ >= kRetriesPerHorizon) return false;
-    ++retries_here_;
+    if (!short_between_only(a.check) || !clearance_rounds_.take(a.check)) return false;
     more_clearance(assembly_, a.check);
     std::ostringstream os;
     os.precision(4);  // docs/messages.md
@@ -540,7 +542,8 @@ class HorizonSearch {
   // initial schedule; re-timed along the plans (retime_missions) at most retime_rounds times per
   // horizon; a longer horizon starts again from the initial schedule.
   MissionSchedule visits_;
-  int retries_here_ = 0, retimed_here_ = 0;
+  int retimed_here_ = 0;
+  ClearanceRounds clearance_rounds_;
   bool warm_again_here_ = false;  // a near miss re-planned warm at this horizon
   bool clearance_dropped_ = false, routes_ = false, retimed_ = false, other_tried_ = false;
   // Agents whose routes pass the first obstacle on their way on another side than the shortest

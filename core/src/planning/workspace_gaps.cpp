@@ -100,7 +100,17 @@ std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
         g.footprint = g.footprint || !problem.agents[i].workspace.linear();
       }
     }
-    if (!g.agents.empty()) out.push_back(std::move(g));
+    if (g.agents.empty()) return;
+    // One warning per cause: the agents an edge gap closes, each found on its own, are one gap
+    // (a team with the same bounds got one line per robot).
+    for (NarrowGap& h : out)
+      if (h.first == g.first && h.second == g.second && h.width == g.width && h.axis == g.axis) {
+        if (g.needed > h.needed) h.fixed = g.fixed, h.body = g.body, h.needed = g.needed;
+        h.agents.insert(h.agents.end(), g.agents.begin(), g.agents.end());
+        h.footprint = h.footprint || g.footprint;
+        return;
+      }
+    out.push_back(std::move(g));
   };
   std::vector<size_t> everyone(problem.agents.size());
   for (size_t i = 0; i < everyone.size(); ++i) everyone[i] = i;
@@ -124,11 +134,11 @@ std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
       const char* axis = c == 0 ? "x" : c == 1 ? "y" : "z";
       if (std::isfinite(a.state_bounds.lo[at]))
         edges.push_back({std::string("the edge ") + axis + " = " + number_text(a.state_bounds.lo[at] + off) +
-                             " of " + a.name + "'s workspace",
+                             " of the workspace",
                          c, a.state_bounds.lo[at] + off, true});
       if (std::isfinite(a.state_bounds.hi[at]))
         edges.push_back({std::string("the edge ") + axis + " = " + number_text(a.state_bounds.hi[at] + off) +
-                             " of " + a.name + "'s workspace",
+                             " of the workspace",
                          c, a.state_bounds.hi[at] + off, false});
     }
     for (const auto& o : obs)

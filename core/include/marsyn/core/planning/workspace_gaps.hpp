@@ -12,7 +12,7 @@
 namespace marsyn::planning {
 
 struct NarrowGap {
-  std::string first, second;        // obstacle names, or "the edge x >= lo of <agent>'s workspace" etc.
+  std::string first, second;        // obstacle names, or "the edge x = 12 of the workspace" (agents: whose)
   double width = 0.0;               // the gap's width in the problem's norm
   double needed = 0.0;              // the largest clearance (fixed + tube) among the agents it closes
   double fixed = 0.0;               // of it, the part no tube changes: 2 (delta + radius) between obstacles, delta + radius at an edge
