@@ -395,3 +395,31 @@ TEST(Projector, SplitsTheProductPlan) {
   EXPECT_NEAR(parts[1].x[3][1], 2.0, 1e-12);
   EXPECT_NEAR(parts[1].x[3][0], 0.3, 1e-12);
 }
+
+// A crowd's clearance (AssemblyOptions::pair_between_extra, planning/clearance_rounds.hpp) holds
+// every pair apart by that much more at the interior points, and leaves the knots' rows alone.
+TEST(Assembly, ACrowdsClearanceHoldsEveryPairBetweenTheSamplesOnly) {
+  Problem p;
+  p.agents.push_back(unicycle("a", {0, 0, 0}));
+  p.agents.push_back(unicycle("b", {0.45, 0.45, 0}));
+  p.delta = 0.2;
+  AssemblyOptions crowd;
+  crowd.pair_between_extra = 0.1;
+  const auto plain = assemble(p, 5, {}), crowded = assemble(p, 5, crowd);
+  auto pair_row = [](const std::vector<std::shared_ptr<const Constraint>>& rows) {
+    for (const auto& c : rows)
+      if (c->name() == "collision a vs b") return c;
+    return std::shared_ptr<const Constraint>();
+  };
+  Eigen::VectorXd x(6);
+  x << 0.1, -0.2, 0.3, 0.5, 0.7, -0.1;
+  double g0, g1;
+  ASSERT_TRUE(pair_row(plain.constraints) && pair_row(crowded.constraints));
+  pair_row(plain.constraints)->evaluate(x.data(), &g0, nullptr);
+  pair_row(crowded.constraints)->evaluate(x.data(), &g1, nullptr);
+  EXPECT_DOUBLE_EQ(g0, g1);  // the knots: as written
+  ASSERT_TRUE(pair_row(plain.between) && pair_row(crowded.between));
+  pair_row(plain.between)->evaluate(x.data(), &g0, nullptr);
+  pair_row(crowded.between)->evaluate(x.data(), &g1, nullptr);
+  EXPECT_NEAR(g1 - g0, 0.1, 1e-12);  // between them: 0.1 more
+}

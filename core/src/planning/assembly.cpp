@@ -89,6 +89,7 @@ class Assembly {
     const bool inf = problem_.delta_norm == Norm::Inf;
     // The larger of the two, not the sum: the relative motion reaches the sum only when both
     // move at full speed against each other, and the band of a formation is narrow.
+    const double crowd = &out == &pp_.between ? opt_.pair_between_extra : 0.0;
     auto pair_clear = [&](int i, int j) { return std::max(clear[i], clear[j]); };
     // Obstacles and pairs are of body slots (the agents' first bodies, then the further ones:
     // Problem::body_count); a slot's state is its agent's.
@@ -127,7 +128,7 @@ class Assembly {
           const std::string name = collision_name(a, b);
           out.push_back(std::make_shared<PairConstraint>(name, a, xo_[i], b, xo_[j], problem_.delta_norm, problem_.pair_clearance(s, t),
                                                          margin_[s], margin_[t], opt_.inf_norm_corner,
-                                                         opt_.buffer + pair_clear(i, j) + more(name)));
+                                                         opt_.buffer + pair_clear(i, j) + crowd + more(name)));
         }
     for (const auto& f : problem_.formation) {
       if (f.i < 0 || f.j < 0 || f.i >= N_ || f.j >= N_ || f.i == f.j)

@@ -37,6 +37,9 @@ struct AssemblyOptions {
   // <b>", "formation <a> - <b>", "state bound <state name> of <agent>"): where a continuous-time check found
   // the plan (or the trackers' period enclosures) too close between the samples.
   std::map<std::string, double> extra;
+  // Extra slack every pair keeps at the interior points (not at the knots): the team-wide
+  // answer when several pairs of a crowd came short between the samples at once.
+  double pair_between_extra = 0.0;
   // The mission stages' visit knots (the plan's, mission.hpp); empty or of another horizon: the
   // initial schedule at the horizon assembled.
   MissionSchedule visits;
