@@ -413,8 +413,17 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
   std::printf("global ABCD   N_g = %.3g state-input pairs, >= %.3g bytes: %s\n", out.global.state_input_pairs,
               out.global.memory_bytes_estimate, out.global.status.c_str());
   std::printf("total         %.4g s, peak memory %.4g MB\n", out.total_time_s, peak_rss_mb());
+  // A team of hundreds: the first controllers, the count, and the team's files (the line listed
+  // 1003 names for 1000 robots).
+  constexpr std::size_t kListed = 10;
   std::string listed;
-  for (const auto& f : written) listed += (listed.empty() ? "" : ", ") + f;
+  for (std::size_t i = 0; i < written.size(); ++i) {
+    if (written.size() > kListed && i >= 3 && i + 3 < written.size()) {
+      if (i == 3) listed += ", ... (" + std::to_string(written.size()) + " files)";
+      continue;
+    }
+    listed += (listed.empty() ? "" : ", ") + written[i];
+  }
   std::printf("output        %s/{%s}\n", dir.c_str(), listed.c_str());
   return out.verified ? 0 : 1;
 }

@@ -86,7 +86,7 @@ bool short_between_only(const RobustCheck& c) {
 // covers a straight path between them.
 void more_clearance(AssemblyOptions& assembly, const RobustCheck& c) {
   for (const auto& [name, m] : c.between_shortfalls) assembly.extra[name] += std::max(1.5 * -m.margin, 0.5 * m.motion);
-  assembly.pair_between_extra = std::max(assembly.pair_between_extra, crowd_clearance(c));  // a crowd: every pair
+  assembly.pair_between_extra += crowd_clearance(c);  // a crowd: every pair, growing as the named ones do
 }
 
 // The largest number of steps any knot moves from a to b.

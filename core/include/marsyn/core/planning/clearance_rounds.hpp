@@ -42,8 +42,9 @@ class ClearanceRounds {
 // Two or more pairs short between the samples at once is a crowd: clearing the named pairs
 // brings the next ones up short (a field of 400 unicycles named 15, 8, 4, 5, ... pairs in its
 // rounds). What every pair then keeps at the interior points (AssemblyOptions::
-// pair_between_extra): 1.5 times the worst pair's shortfall, as the named ones get; 0 when fewer
-// than two pairs are short. Pairs are the check's "collision <a> vs <b>" requirements.
+// pair_between_extra, added up over the re-plans as the named clearances are): 1.5 times the
+// worst pair's shortfall, as the named ones get; 0 when fewer than two pairs are short. Pairs are
+// the check's "collision <a> vs <b>" requirements.
 inline double crowd_clearance(const RobustCheck& c) {
   int pairs = 0;
   double worst = 0.0;
