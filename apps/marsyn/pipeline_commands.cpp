@@ -322,7 +322,7 @@ void print_search_summary(const SolveOutcome& out) {
     std::printf(" (at the samples %.4g, between them %.4g)", out.plan.check.sampled_margin, out.plan.check.between_margin);
   std::printf("\n");
   for (const auto& a : out.agents)
-    std::printf("  %-12s %-8s %-14s N_l %-10.3g boxes %-8lld %.3f s\n", a.name.c_str(), a.tracker.c_str(),
+    std::printf("  %-12s %-8s %-14s N_l %-10.3g boxes %-8lld %.3g s\n", a.name.c_str(), a.tracker.c_str(),
                 a.track.message.rfind("not tracked", 0) == 0 ? "not tracked" : to_string(a.track.status),
                 a.track.stats.state_input_pairs, a.track.stats.boxes_computed,
                 a.track.stats.abstraction_time_s + a.track.stats.synthesis_time_s);
@@ -358,7 +358,7 @@ void print_verification(const VerificationReport& v) {
   else  // no obstacle, collision or formation: nothing to check between the samples but the bounds
     std::printf("verification  %d closed-loop runs, %d violations, smallest margin %.4g\n", v.runs, v.violations,
                 v.sampled_min_margin);
-  std::printf("              %.2f s, %.0f runs/s\n", v.time_s, v.runs_per_s());
+  std::printf("              %.3g s, %.0f runs/s\n", v.time_s, v.runs_per_s());
   std::printf("open loop     %d runs, %d violations, smallest margin %.4g (%s)\n", v.open_loop_runs,
               v.open_loop_violations, v.open_loop_min_margin, v.open_loop_worst.c_str());
   // Each run's parts, so that a collision shows even where a missed goal is the worst.

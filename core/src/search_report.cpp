@@ -71,7 +71,7 @@ std::string SearchReport::tried() const {
 
 std::string SearchReport::message() const {
   char head[64];
-  std::snprintf(head, sizeof head, " after %zu round%s and %.2f s; ", rounds.size(), rounds.size() == 1 ? "" : "s", time_s);
+  std::snprintf(head, sizeof head, " after %zu round%s and %.3g s; ", rounds.size(), rounds.size() == 1 ? "" : "s", time_s);
   std::string s = "stopped: " + stop_reason + head + tried();
   if (!not_tried.empty()) {
     s += "; not tried:";

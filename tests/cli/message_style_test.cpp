@@ -54,6 +54,7 @@ TEST(MessageStyle, EachRuleCatchesWhatItIsFor) {
   EXPECT_TRUE(breaks_rule("eps (0.148492, 0.148492, 0.25)", "digits"));
   EXPECT_TRUE(breaks_rule("crane at (6.12323e-17, 0.1)", "rounding"));
   EXPECT_TRUE(breaks_rule("T = 150: infeasible after 267 iterations; eps-robust in continuous time", "contradiction"));
+  EXPECT_TRUE(breaks_rule("[  100.01 s] [plan] solving: violation 0.112345", "digits"));  // the clock is not judged, the rest is
 
   for (const std::string clean :
        {"agents[0].x0: x0 puts b at (0.15, 2.1), inf-norm distance 0.15 from a at (0, 2)",
@@ -61,7 +62,7 @@ TEST(MessageStyle, EachRuleCatchesWhatItIsFor) {
         "T = 150: infeasible after 267 iterations; NOT eps-robust in continuous time: -0.95",
         "write this mission as 'stages' with 'avoid' or 'avoid_after'", "violation 7.033e-11, 16.0 MiB, 0.590 s",
         "[track 1/3] eastbound (funnel): controller", "equations:ee582538  6 x 2",
-        "output /tmp/x/run.1234567/plan.json", "agent's x_0 cell"})
+        "output /tmp/x/run.1234567/plan.json", "agent's x_0 cell", "[  100.01 s] [plan] solving: iteration 39, cost 105.9"})
     EXPECT_EQ(style_report(clean), "") << clean;
 }
 

@@ -16,8 +16,13 @@ struct StyleBreak {
 
 namespace style_detail {
 
-// The line without quoted text ('...' or "...") and without tokens holding a '/' (paths).
-inline std::string judged_part(const std::string& line) {
+// The line without the log's clock ("[  100.01 s] ", a fixed-width column), quoted text ('...'
+// or "...") and tokens holding a '/' (paths).
+inline std::string judged_part(std::string line) {
+  if (line.rfind("[", 0) == 0) {
+    const auto close = line.find(" s] ");
+    if (close != std::string::npos && line.find_first_not_of(" 0123456789.", 1) == close + 1) line = line.substr(close + 4);
+  }
   std::string out;
   char quote = 0;
   for (std::size_t i = 0; i < line.size(); ++i) {

@@ -240,7 +240,9 @@ class HorizonSearch {
          << out.res.max_violation << "; " << (gave_up && a.check.passed ? "the exact check passes it: " : "")
          << a.check.message;
       if (mission_) os << "; visits " << knots_text(problem_, visits_) << ", input effort " << a.effort;
-      if (!out.res.message.empty()) os << "; planner: " << out.res.message;
+      // The solver's own account of giving up ("likely infeasible at this horizon") would
+      // contradict the exact check that passed the plan; its violation is in the verdict above.
+      if (!out.res.message.empty() && !(gave_up && a.check.passed)) os << "; planner: " << out.res.message;
       options_.log(os.str());
     }
     return out;
