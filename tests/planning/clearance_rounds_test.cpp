@@ -44,10 +44,10 @@ TEST(ClearanceRounds, ARequirementShortAgainEndsTheRunAtTwo) {
 TEST(ClearanceRounds, TwoPairsShortAtOnceAreACrowdEveryPairKeepsClearanceFor) {
   using marsyn::planning::crowd_clearance;
   RobustCheck c;
-  c.between_shortfalls["collision a1 vs a2"] = {-0.02, 0.1};
+  c.between_shortfalls["collision a1 vs a2"] = {-0.02, 0.1, true};
   EXPECT_EQ(crowd_clearance(c), 0.0);  // one pair: its own clearance by name is enough
   c.between_shortfalls["obstacle p1 vs a3"] = {-0.05, 0.1};
   EXPECT_EQ(crowd_clearance(c), 0.0);  // an obstacle is no crowd
-  c.between_shortfalls["collision a4 vs a5"] = {-0.01, 0.1};
+  c.between_shortfalls["collision a4 vs a5"] = {-0.01, 0.1, true};
   EXPECT_NEAR(crowd_clearance(c), 0.03, 1e-15);  // 1.5 x the worst pair
 }

@@ -10,6 +10,7 @@
 #include "marsyn/core/planning/margins.hpp"
 #include "marsyn/core/planning/mission.hpp"
 #include "marsyn/core/planning/spec_margins.hpp"
+#include "marsyn/number_text.hpp"
 
 namespace marsyn::planning {
 
@@ -146,7 +147,7 @@ bool radii(const Problem& problem, const CrowdedGoal& c) {
 
 std::string describe(const CrowdedGoal& c, const Problem& problem) {
   std::ostringstream os;
-  os.precision(4);  // docs/messages.md
+  os.precision(kMessageDigits);
   const bool obstacle = c.other.rfind("obstacle ", 0) == 0;
   os << (obstacle ? c.agent + "'s goal leaves no room for its tube beside " + c.other
                   : c.agent + "'s and " + c.other + "'s goals leave no room for their tubes between them")

@@ -229,7 +229,7 @@ class HorizonSearch {
     }
     if (options_.log) {
       std::ostringstream os;
-      os.precision(4);  // docs/messages.md
+      os.precision(kMessageDigits);
       // The solver's verdict is its own; when the exact check passes a plan the solver gave up on
       // (the clamped, re-simulated inputs are robust), both are said without contradicting.
       const bool gave_up = out.res.status != PlannerStatus::ExactSolution && out.res.status != PlannerStatus::ApproximateSolution;
@@ -269,7 +269,7 @@ class HorizonSearch {
     if (!short_between_only(a.check) || !clearance_rounds_.take(a.check)) return false;
     more_clearance(assembly_, a.check);
     std::ostringstream os;
-    os.precision(4);  // docs/messages.md
+    os.precision(kMessageDigits);
     os << "robust at the samples, short by " << -a.check.between_margin << " between them (" << a.check.worst_between
        << " after step " << a.check.worst_between_step << "; " << a.check.between_shortfalls.size()
        << " requirement(s) short): re-planning T = " << horizon_ << " with more clearance for them";
@@ -429,7 +429,7 @@ class HorizonSearch {
       const MissionStage& st = problem_.agents[static_cast<std::size_t>(v.agent)].stages[static_cast<std::size_t>(v.stage)];
       if (!(v.sampled_margin < 0) || st.by < 0 || v.step < st.by || !(v.sampled_margin <= c.sampled_margin + 1e-12)) continue;
       std::ostringstream os;
-      os.precision(4);  // docs/messages.md
+      os.precision(kMessageDigits);
       os << v.name << " must be reached by " << st.by * problem_.tau << " s (step " << st.by << "); the plan at T = " << T
          << " falls short there by " << -v.sampled_margin
          << ": a longer horizon does not move the window (a later `by`, fewer stages before it, a faster agent or a "
@@ -457,7 +457,7 @@ class HorizonSearch {
                       std::abs(c.min_margin - last_short_->second) <= 0.1 * std::abs(last_short_->second);
     if (same) {
       std::ostringstream os;
-      os.precision(4);  // docs/messages.md
+      os.precision(kMessageDigits);
       os << "the plans at the last two horizons fall short at the same requirement (" << c.worst << ", by "
          << -last_short_->second << " and " << -c.min_margin
          << ") with their inputs inside U: a longer horizon does not help here";
@@ -648,7 +648,7 @@ PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearc
         return a.width < b.width;
       });
       std::ostringstream os;
-      os.precision(4);  // docs/messages.md
+      os.precision(kMessageDigits);
       os << gaps.size() << " closed gaps (`marsyn check` lists them), the narrowest: " << describe(*narrowest)
          << "; a longer horizon cannot open them (a route around them, a smaller eps or delta can)";
       options.log(os.str());
@@ -678,7 +678,7 @@ double input_effort(const Problem& problem, const GlobalPlan& plan) {
 
 std::string summary(const Problem& problem, const PlanOutcome& o) {
   std::ostringstream os;
-  os.precision(4);  // docs/messages.md
+  os.precision(kMessageDigits);
   os << "problem " << (problem.name.empty() ? "(unnamed)" : problem.name) << ": " << problem.agents.size()
      << " agents, " << problem.product_state_dim() << " states, " << problem.product_input_dim() << " inputs\n";
   for (const auto& a : o.attempts)

@@ -20,6 +20,7 @@
 #include "marsyn/fast_interval.hpp"
 #include "marsyn/interval.hpp"
 #include "marsyn/sampled_map.hpp"
+#include "marsyn/number_text.hpp"
 
 namespace marsyn::planning {
 
@@ -76,11 +77,11 @@ class Tally {
 class NamedTally : public Tally {
  public:
   void record(double margin, int k, const std::function<std::string()>& name, double motion = 0.0,
-              std::array<int, 2> who = {-1, -1}) {
+              std::array<int, 2> who = {-1, -1}, bool collision = false) {
     Tally::record(margin, k, name, who);
     if (!(margin >= 0)) {
       const std::string n = name();
-      auto [it, fresh] = negative.try_emplace(n, BetweenShortfall{margin, motion});
+      auto [it, fresh] = negative.try_emplace(n, BetweenShortfall{margin, motion, collision});
       if (!fresh) {
         it->second.margin = std::min(it->second.margin, margin);
         it->second.motion = std::max(it->second.motion, motion);
@@ -227,7 +228,7 @@ bool check_period(const Problem& problem, const ProductLayout& at, const std::ve
     for_each_requirement(problem, windows, Moment{k, true}, [&](const Requirement& q) {
       if (floors && floor_decides(floor[r++], t.min_)) return;
       t.record(box_requirement_margin(problem, q, ws[s]), k, [&] { return q.name(problem); }, motion(q),
-               agents_of(problem, q));
+               agents_of(problem, q), q.kind == Requirement::Collision);
     });
   }
   return true;
@@ -493,7 +494,7 @@ RobustCheck check_robust(const Problem& problem, const GlobalPlan& plan, const M
   }
   r.passed = r.min_margin >= 0.0 && tu.min_ >= 0.0;
   std::ostringstream os;
-  os.precision(4);  // docs/messages.md
+  os.precision(kMessageDigits);
   os << (r.passed ? "eps-robust" : "NOT eps-robust") << (r.continuous ? " in continuous time" : " at the samples")
      << (r.passed ? ": smallest margin " : ": ") << r.min_margin << " (" << r.worst;
   if (r.worst.find(" between steps ") == std::string::npos) os << " at step " << r.worst_step;

@@ -183,7 +183,7 @@ double gap_eps_factor(const Problem& problem, const RobustCheck& check) {
 
 std::string describe(const NarrowGap& g) {
   std::ostringstream os;
-  os.precision(4);  // docs/messages.md
+  os.precision(kMessageDigits);
   const char* axis = g.axis == 0 ? "x" : g.axis == 1 ? "y" : g.axis == 2 ? "z" : nullptr;
   const bool edge = g.second.rfind("the edge ", 0) == 0;
   const std::string tube = g.footprint ? std::string("how far the footprint moves inside its eps-tube") + (axis ? std::string(" in ") + axis : "")
@@ -300,7 +300,7 @@ double formation_eps_factor(const Problem& problem) {
 
 std::string describe(const CrowdedStart& c, const Problem& problem) {
   std::ostringstream os;
-  os.precision(4);  // docs/messages.md
+  os.precision(kMessageDigits);
   if (c.formation) {
     os << c.first << " and " << c.second << " start " << c.distance << " apart (Euclidean); their formation keeps "
        << c.lambda << " +- " << c.mu << ", with the tubes around them " << c.lambda << " +- " << std::max(c.robust_mu, 0.0)

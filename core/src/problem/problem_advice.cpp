@@ -110,7 +110,7 @@ namespace {
 // One agent's trackers, its auto note and their estimates, without its name.
 std::string agent_block(const AgentAdvice& a) {
   std::ostringstream s;
-  s.precision(4);  // docs/messages.md
+  s.precision(kMessageDigits);
   s << a.chosen << (a.automatic ? " (auto's pick" : " (named in the file");
   if (a.automatic) {
     s << "; fallback order: " << a.chosen;
@@ -134,7 +134,7 @@ std::string agent_block(const AgentAdvice& a) {
 
 std::string to_text(const Advice& adv) {
   std::ostringstream s;
-  s.precision(4);  // docs/messages.md
+  s.precision(kMessageDigits);
   s << "trackers per agent (estimates: one core's time, peak memory)\n";
   // Each agent's block without its name; consecutive agents with the same block share one.
   std::vector<std::string> names, blocks;

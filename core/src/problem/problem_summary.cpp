@@ -22,7 +22,7 @@ std::string bodies_line(const Problem& pb) {
   for (std::size_t i = 0; i < pb.agents.size(); ++i) {
     const AgentSpec& a = pb.agents[i];
     std::ostringstream d;
-    d.precision(4);  // docs/messages.md
+    d.precision(kMessageDigits);
     d << (a.body.empty() ? "" : a.body + ": ") << "radius " << a.radius;
     bool more = false;
     for (const auto& e : pb.extra_bodies) {
@@ -39,7 +39,7 @@ std::string bodies_line(const Problem& pb) {
   }
   if (by_radius.empty()) return "";
   std::ostringstream s;
-  s.precision(4);  // docs/messages.md
+  s.precision(kMessageDigits);
   s << "bodies    ";
   for (std::size_t k = 0; k < by_radius.size(); ++k) {
     const auto& names = by_radius[k].second;
@@ -77,7 +77,7 @@ namespace {
 // (a long vector) runs into the next column. The trackers' own fields (abcd's grid) by name.
 std::string agent_table(const Problem& pb, const std::vector<AgentTrackers>& trackers) {
   std::ostringstream s;
-  s.precision(4);  // docs/messages.md
+  s.precision(kMessageDigits);
   std::vector<std::string> field_names;
   for (const auto& a : pb.agents)
     for (const auto& f : a.fields.items)
@@ -141,7 +141,7 @@ std::string agent_table(const Problem& pb, const std::vector<AgentTrackers>& tra
 
 std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& trackers) {
   std::ostringstream s;
-  s.precision(4);  // docs/messages.md
+  s.precision(kMessageDigits);
   const ConstraintCounts c = count_constraints(pb);
   s << "problem   " << pb.name << "  (" << pb.source << ")\n";
   s << "agents    " << pb.agents.size() << "    product system: " << pb.product_state_dim() << " states, "

@@ -14,6 +14,7 @@
 #include "../mpi/bytes.hpp"
 #include "marsyn/core/tracking/sweep_progress.hpp"
 #include "marsyn/stopwatch.hpp"
+#include "marsyn/number_text.hpp"
 
 namespace fs = std::filesystem;
 
@@ -135,7 +136,7 @@ std::shared_ptr<const Controller> controller_from(const Tracker& t, const std::v
 
 std::string result_line(const AgentOutcome& o, const std::string& where, double seconds) {
   std::ostringstream s;
-  s.precision(4);  // docs/messages.md
+  s.precision(kMessageDigits);
   s << "[track] " << o.name << " (" << o.tracker << ", " << where << "): " << to_string(o.track.status) << ", "
     << stats_text(o.track.stats) << ", " << seconds << " s";
   if (!o.track.message.empty()) s << " (" << o.track.message << ")";

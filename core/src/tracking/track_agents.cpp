@@ -13,6 +13,7 @@
 #include "marsyn/core/parallel_tasks.hpp"
 #include "marsyn/core/tracking/tracker_choice.hpp"
 #include "marsyn/stopwatch.hpp"
+#include "marsyn/number_text.hpp"
 
 namespace marsyn {
 
@@ -99,7 +100,7 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
       std::lock_guard<std::mutex> lock(log_mutex);
       running[i] = 0;
       std::ostringstream s;
-      s.precision(4);  // docs/messages.md
+      s.precision(kMessageDigits);
       s << "[track " << d << "/" << N << "] " << a.name << " (" << a.tracker.name
         << "): " << to_string(out[i].track.status) << ", " << stats_text(out[i].track.stats) << ", " << t0.seconds()
         << " s";
@@ -121,7 +122,7 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
       for (int i = 0; i < N; ++i)
         if (running[i]) names += (names.empty() ? "" : ", ") + pb.agents[i].name;
       std::ostringstream s;
-      s.precision(4);  // docs/messages.md
+      s.precision(kMessageDigits);
       s << "[track] " << done.load() << "/" << N << " agents done after " << static_cast<int>(t0.seconds())
         << " s; still working on " << (names.empty() ? "-" : names);
       opt.log(s.str());
@@ -147,7 +148,7 @@ std::vector<AgentOutcome> track_agents(const Problem& pb, const std::vector<Nomi
 
 std::string stats_text(const TrackerStats& stats) {
   std::ostringstream s;
-  s.precision(4);  // docs/messages.md
+  s.precision(kMessageDigits);
   // Counts only: a flag or a per-step list says nothing in one line.
   for (const auto& f : stats.figures) {
     if (const auto* v = std::get_if<long long>(&f.value)) s << *v << " " << f.label << ", ";

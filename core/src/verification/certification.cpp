@@ -227,7 +227,7 @@ CertificationReport certify(const Problem& pb, const std::vector<std::shared_ptr
   r.failing_agents.assign(failing.begin(), failing.end());
   r.certified = r.min_margin >= 0;
   std::ostringstream os;
-  os.precision(4);  // docs/messages.md
+  os.precision(kMessageDigits);
   os << (r.certified ? "certified in continuous time" : "NOT certified in continuous time") << ": " << r.enclosures
      << " period enclosures, smallest margin " << number_text(r.min_margin);
   if (worst->step >= 0)

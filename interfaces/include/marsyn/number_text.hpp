@@ -6,12 +6,15 @@
 
 namespace marsyn {
 
-// printf's %g with `digits` significant digits: "0.25", "1e+06", "4096". Four by default: the
-// message style (docs/messages.md) reads 3, and 4 where two figures compared agree in the third
-// ("half-width 0.2012 vs eps 0.2"). Files that are read back keep full precision elsewhere.
+// The most significant digits a message prints (docs/messages.md): it reads 3, and 4 where two
+// figures compared agree in the third ("half-width 0.2012 vs eps 0.2"). number_text's default and
+// the precision of every message stream. Files that are read back keep full precision elsewhere.
+inline constexpr int kMessageDigits = 4;
+
+// printf's %g with `digits` significant digits: "0.25", "1e+06", "4096".
 // Whole-number magnitudes up to 1e9 keep their integer digits ("38910 tube cells", not
 // "3.891e+04").
-inline std::string number_text(double v, int digits = 4) {
+inline std::string number_text(double v, int digits = kMessageDigits) {
   char buf[64];
   const double a = v < 0 ? -v : v;
   double big = 1;
@@ -33,7 +36,7 @@ inline std::string hex_double(double v) {
 // "(a, b, c)", each coordinate by number_text with `digits`; `open`, `close` and `sep` give other
 // brackets and separators ("(a,b,c)": one token in a key=value log line).
 inline std::string list_text(const Eigen::VectorXd& v, const char* open = "(", const char* close = ")",
-                             const char* sep = ", ", int digits = 4) {
+                             const char* sep = ", ", int digits = kMessageDigits) {
   std::string s = open;
   for (Eigen::Index i = 0; i < v.size(); ++i) s += (i ? sep : "") + number_text(v[i], digits);
   return s + close;

@@ -9,6 +9,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Dense>
 
+#include "marsyn/number_text.hpp"
 #include "rk4.hpp"
 
 namespace marsyn::altro::detail {
@@ -407,7 +408,7 @@ PlanResult Solver::result(double viol, const std::string& worst, int outer, bool
   res.max_violation = viol;
   res.cost = cost_;
   std::ostringstream msg;
-  msg.precision(4);  // docs/messages.md
+  msg.precision(kMessageDigits);
   if (viol <= opt_.constraint_tolerance) {
     res.status = PlannerStatus::ExactSolution;
     msg << "converged: violation " << viol << " after " << outer + 1 << " outer updates"

@@ -7,6 +7,7 @@
 
 #include "marsyn/planner_support/invalid_input.hpp"
 #include "marsyn/stopwatch.hpp"
+#include "marsyn/number_text.hpp"
 #include "shooting_nlp.hpp"
 
 namespace marsyn::ipopt_planner {
@@ -113,7 +114,7 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
   for (const auto& u : U) res.cost += 0.5 * o.r_input * u.squaredNorm();
   const bool converged = st == Ipopt::Solve_Succeeded || st == Ipopt::Solved_To_Acceptable_Level;
   std::ostringstream os;
-  os.precision(4);  // docs/messages.md
+  os.precision(kMessageDigits);
   os << "Ipopt: " << status_words(st) << " (" << o.hessian << " Hessian";
   if (o.hessian == "exact") {
     // Blocks the interfaces cannot differentiate twice are differenced; say which.

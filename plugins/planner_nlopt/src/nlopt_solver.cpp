@@ -8,6 +8,7 @@
 #include "marsyn/stopwatch.hpp"
 #include "marsyn/planner_support/invalid_input.hpp"
 #include "marsyn/planner_support/product_model.hpp"
+#include "marsyn/number_text.hpp"
 
 namespace marsyn::nlopt_planner {
 
@@ -183,7 +184,7 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
   if (static_cast<double>(sh.rows()) * sh.variables() > o.max_dense_entries) {
     res.status = PlannerStatus::InvalidInput;
     std::ostringstream os;
-    os.precision(4);  // docs/messages.md
+    os.precision(kMessageDigits);
     os << "single shooting needs a dense " << sh.rows() << " x " << sh.variables()
        << " constraint Jacobian, above max_dense_entries = " << o.max_dense_entries << "; use ipopt or altro";
     res.message = os.str();

@@ -22,6 +22,7 @@
 #include "marsyn/stopwatch.hpp"
 #include "marsyn/planner_support/invalid_input.hpp"
 #include "marsyn/planner_support/product_model.hpp"
+#include "marsyn/number_text.hpp"
 
 namespace marsyn::ompl_planner {
 
@@ -324,7 +325,7 @@ PlanResult solve(const PlanningProblem& pp, const PlanOptions& run, const Option
   res.iterations = static_cast<int>(data.numVertices());
   res.solve_time_s = clock.seconds();
   std::ostringstream msg;
-  msg.precision(4);  // docs/messages.md
+  msg.precision(kMessageDigits);
   msg << o.planner << ": " << st.asString() << ", " << data.numVertices() << " tree vertices";
   const bool exact = st == ob::PlannerStatus::EXACT_SOLUTION && pdef->hasExactSolution() && !pdef->hasApproximateSolution();
   if (!exact) {

@@ -257,7 +257,7 @@ TrackerAssessment FunnelTracker::assess(const AgentSpec& a, int horizon, double 
   r.work_s = tries * std::max(1, horizon) * s_.substeps * per_step;
   r.memory_bytes = 8.0 * std::max(1, horizon) * (3.0 * n * n + 4.0 * n + m * n + s_.parts * (2.0 * n + 4));
   std::ostringstream s;
-  s.precision(4);  // docs/messages.md
+  s.precision(kMessageDigits);
   s << "LQR funnel, " << s_.substeps << " enclosure steps per period of " << tau << " s, initial box ";
   if (!s_.initial_radius.empty()) s << "as configured";
   else if (a.x0_radius.size() > 0) s << "the stated initial set (x0_radius)";

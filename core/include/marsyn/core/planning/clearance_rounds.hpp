@@ -43,13 +43,12 @@ class ClearanceRounds {
 // brings the next ones up short (a field of 400 unicycles named 15, 8, 4, 5, ... pairs in its
 // rounds). What every pair then keeps at the interior points (AssemblyOptions::
 // pair_between_extra, added up over the re-plans as the named clearances are): 1.5 times the
-// worst pair's shortfall, as the named ones get; 0 when fewer than two pairs are short. Pairs are
-// the check's "collision <a> vs <b>" requirements.
+// worst pair's shortfall, as the named ones get; 0 when fewer than two pairs are short.
 inline double crowd_clearance(const RobustCheck& c) {
   int pairs = 0;
   double worst = 0.0;
   for (const auto& [name, m] : c.between_shortfalls)
-    if (name.rfind("collision ", 0) == 0) ++pairs, worst = std::max(worst, -m.margin);
+    if (m.collision) ++pairs, worst = std::max(worst, -m.margin);
   return pairs >= 2 ? 1.5 * worst : 0.0;
 }
 

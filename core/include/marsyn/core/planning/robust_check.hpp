@@ -19,6 +19,7 @@ namespace marsyn::planning {
 struct BetweenShortfall {
   double margin = 0.0;
   double motion = 0.0;
+  bool collision = false;  // a pair of agents' clearance (what a crowd's clearance widens)
 };
 
 struct RobustCheck {
