@@ -120,4 +120,35 @@ inline void expect_declared_independence(const Dynamics& f, const SampleBox& whe
   }
 }
 
+// A coordinate declared periodic() shifts by whole turns without changing f or any footprint
+// (up to the rounding of sin and cos at the larger argument).
+inline void expect_declared_periodicity(const Dynamics& f, const SampleBox& where) {
+  const int n = f.state_dim();
+  const auto periodic = f.periodic();
+  ASSERT_EQ(static_cast<int>(periodic.size()), n);
+  const double turn = 6.283185307179586;
+  std::mt19937_64 rng(5);
+  for (int s = 0; s < 100; ++s) {
+    std::vector<double> z(n + f.input_dim());
+    for (size_t i = 0; i < z.size(); ++i) z[i] = std::uniform_real_distribution<double>(where.lo[i], where.hi[i])(rng);
+    std::vector<double> f0(n), f1(n);
+    f.field(z.data(), z.data() + n, f0.data());
+    for (int i = 0; i < n; ++i) {
+      if (!periodic[i]) continue;
+      for (double turns : {-3.0, -1.0, 1.0, 2.0}) {
+        auto shifted = z;
+        shifted[i] += turns * turn;
+        f.field(shifted.data(), shifted.data() + n, f1.data());
+        for (int j = 0; j < n; ++j) EXPECT_NEAR(f0[j], f1[j], 1e-9 * (1 + std::abs(f0[j]))) << "f_" << j << " at x_" << i << " + " << turns << " turns";
+        for (int fp = 0; fp < static_cast<int>(f.footprints().size()); ++fp) {
+          double p0[3] = {0, 0, 0}, p1[3] = {0, 0, 0};
+          f.footprint(fp, z.data(), p0);
+          f.footprint(fp, shifted.data(), p1);
+          for (int c = 0; c < 3; ++c) EXPECT_NEAR(p0[c], p1[c], 1e-9 * (1 + std::abs(p0[c]))) << "footprint " << fp;
+        }
+      }
+    }
+  }
+}
+
 }  // namespace marsyn::testing

@@ -14,6 +14,7 @@
 #include "marsyn/core/problem/tracker_assessment.hpp"
 #include "marsyn/core/problem/tracker_fields.hpp"
 #include "agent_fields.hpp"
+#include "periodic_fields.hpp"
 #include "disturbance_fields.hpp"
 #include "marsyn/core/problem/auto_tube.hpp"
 #include "tube_fields.hpp"
@@ -313,12 +314,15 @@ void read_agent(const Field& af, std::size_t idx, LoadedProblem& out, AgentsRead
     af.child("x0_radius").fail("the initial set's radius is given twice: in x0 {center, radius} and as x0_radius; keep one");
   const Field& radiusf = radius_own.present() ? radius_own : radius_beside;
   if (radiusf.present()) a.x0_radius = radiusf.non_negative_vector(n, sn);
+  // `any`: in a goal at any coordinate (the state bounds), in bounds at a periodic one (free turns).
+  const std::vector<bool> periodic = a.dynamics->periodic();
   Field goalf = agent_required(af, defaults, "goal");
-  a.goal = read_box(goalf, n, sn);
+  a.goal = read_box_any(goalf, n, sn, std::vector<bool>(static_cast<std::size_t>(n), true), "");
   const Field boundsf = agent_required(af, defaults, "state_bounds");
-  a.state_bounds = read_box(boundsf, n, sn);
+  a.state_bounds = read_box_any(boundsf, n, sn, periodic, bounds_any_rule(*a.dynamics));
   read_agent_workspace(af, defaults, r.spatial, pb, a);
   read_body(af, defaults, boundsf, pb, a);
+  lift_periodic(a);
   const Field bodiesf = agent_field(af, defaults, "bodies");
   std::vector<PendingBody> further = bodiesf.present() ? read_further_bodies(bodiesf, pb, a) : std::vector<PendingBody>{};
   for (const PendingBody& b : further)
@@ -333,6 +337,7 @@ void read_agent(const Field& af, std::size_t idx, LoadedProblem& out, AgentsRead
   // so are then absent fields).
   const AutoTube at = read_tube(af, defaults, pb.tau, a, sn, sm, r.tracker_fields, r.tracker_instances);
   out.auto_tube.push_back(at);
+  check_periodic_eps(a, agent_field(af, defaults, "eps").present() ? agent_field(af, defaults, "eps") : af);
   validate_agent(a, x0f, radiusf.present() ? radiusf : x0f, goalf, pb.delta_bounds + a.radius);
   check_field_finite(a, agent_field(af, defaults, "dynamics"));
   read_mission(af, pb, a, r);

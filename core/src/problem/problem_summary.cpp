@@ -1,5 +1,7 @@
 #include "marsyn/core/problem/problem_summary.hpp"
 
+#include "periodic_fields.hpp"
+
 #include <algorithm>
 #include <iomanip>
 #include <sstream>
@@ -75,6 +77,37 @@ namespace {
 
 // The agent table: each column as wide as its widest cell plus two spaces, so that no value
 // (a long vector) runs into the next column. The trackers' own fields (abcd's grid) by name.
+// "angles    westbound: theta free, goal a turn of +1.571 (4.712 +- 0.4); ...": for angles left free
+// (`any`), where the goal's arc was kept on the lift (the shorter way round): which way each turns.
+std::string angles_line(const Problem& pb) {
+  std::vector<std::string> parts;
+  for (const auto& a : pb.agents) {
+    const std::vector<bool> periodic = a.dynamics ? a.dynamics->periodic() : std::vector<bool>{};
+    const auto names = a.dynamics ? a.dynamics->state_names() : std::vector<std::string>{};
+    std::ostringstream d;
+    d.precision(kMessageDigits);
+    for (int i = 0; i < a.n() && i < static_cast<int>(periodic.size()); ++i) {
+      if (!periodic[static_cast<std::size_t>(i)]) continue;
+      const double width = a.state_bounds.hi[i] - a.state_bounds.lo[i];
+      // Bounds written as numbers bound the lift as written: nothing to tell.
+      if (!(width >= 2 * loader::kFreeTurns * 2 * M_PI * (1 - 1e-12))) continue;
+      d << (d.tellp() > 0 ? "; " : "") << names[static_cast<std::size_t>(i)] << " free";
+      if (a.goal.lo[i] <= a.state_bounds.lo[i] && a.goal.hi[i] >= a.state_bounds.hi[i]) d << ", goal any";
+      else {
+        const double c = a.goal.center()[i], turn = c - a.x0[i];
+        d << ", goal a turn of " << (turn > 0 ? "+" : "") << number_text(turn) << " (" << number_text(c) << " +- " << number_text(0.5 * (a.goal.hi[i] - a.goal.lo[i])) << ")";
+      }
+    }
+    if (d.tellp() > 0) parts.push_back(a.name + ": " + d.str());
+  }
+  if (parts.empty()) return "";
+  std::string line = "angles    ";
+  const std::size_t shown = parts.size() > 4 ? 3 : parts.size();
+  for (std::size_t i = 0; i < shown; ++i) line += (i ? "; " : "") + parts[i];
+  if (shown < parts.size()) line += "; ... (" + std::to_string(parts.size()) + " agents)";
+  return line + "\n";
+}
+
 std::string agent_table(const Problem& pb, const std::vector<AgentTrackers>& trackers) {
   std::ostringstream s;
   s.precision(kMessageDigits);
@@ -154,6 +187,7 @@ std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& track
   s << " (" << (pb.delta_norm == Norm::Inf ? "inf-norm" : "2-norm")
     << (pb.workspace_dim == 3 ? ", in space: x, y, z; obstacles are vertical prisms" : "") << ")\n";
   s << bodies_line(pb);
+  s << angles_line(pb);
   s << "guarantee " << (pb.guarantee == Guarantee::Continuous
                             ? "continuous (every t in [0, T tau], between the samples too)"
                             : "sampled (t = k tau only, the paper's semantics)")

@@ -57,6 +57,14 @@ class Dynamics {
     return std::vector<bool>(static_cast<size_t>(state_dim()), false);
   }
 
+  // Coordinates the model is 2 pi-periodic in (angles: a heading, a pendulum's angle): f and
+  // every footprint take the same value at x and at x + 2 pi e_i. Problems may then leave them
+  // free (`any`) and state goals on the circle; the method works on the lift (the angle as a real
+  // number) and a controller reads a measured angle on the branch nearest its step's reference
+  // (docs/problem-format.md "Periodic coordinates", docs/soundness.md). The declaration is the
+  // model author's; the dynamics tests check it at random states.
+  virtual std::vector<bool> periodic() const { return std::vector<bool>(static_cast<size_t>(state_dim()), false); }
+
   // Optional named workspace footprint (a point in the plane computed from the state, e.g. the
   // crane's pendulum tip). Returns the number of workspace coordinates, 0 when the model has
   // no footprint of that name.

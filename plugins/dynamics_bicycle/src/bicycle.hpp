@@ -28,6 +28,7 @@ class Bicycle : public DynamicsModel<Bicycle> {
   std::vector<std::string> input_names() const override { return {"accel", "steer_rate"}; }
   // Position never enters the field: successor boxes translate with the cell.
   std::vector<bool> field_independent_of() const override { return {true, true, false, false, false}; }
+  std::vector<bool> periodic() const override { return {false, false, true, false, false}; }  // the heading
 
   template <class S>
   void vector_field(const S* x, const S* u, S* dx) const {

@@ -157,3 +157,5 @@ TEST(Bicycle, PluginLibraryCreatesTheModel) {
     EXPECT_THROW(lib.create(*e, p), marsyn::ParamError);
   }
 }
+
+TEST(Bicycle, DeclaredPeriodicityHolds) { marsyn::testing::expect_declared_periodicity(Bicycle{}, kWhere); }

@@ -41,6 +41,8 @@ class CartPole : public DynamicsModel<CartPole> {
   std::vector<std::string> state_names() const override { return {"z", "z_dot", "theta", "theta_dot"}; }
   std::vector<std::string> input_names() const override { return {"force"}; }
   std::vector<bool> field_independent_of() const override { return {true, false, false, false}; }
+  // The pole angle (the tip footprint reads it through sin and cos too).
+  std::vector<bool> periodic() const override { return {false, false, true, false}; }
   std::vector<std::string> footprints() const override { return {"pendulum_tip"}; }
 
   template <class S>

@@ -79,3 +79,5 @@ TEST(CartPole, EnergyIsNearlyConservedWithoutForceOverOneSecond) {
   for (int k = 0; k < 10; ++k) marsyn::rk4_step<double>(f, x, u, nullptr, 0.1, 20, x);
   EXPECT_NEAR(energy(x), e0, 1e-7);
 }
+
+TEST(CartPole, DeclaredPeriodicityHolds) { marsyn::testing::expect_declared_periodicity(CartPole{}, kWhere); }

@@ -22,6 +22,7 @@ class Pendulum : public DynamicsModel<Pendulum> {
   int input_dim() const override { return 1; }
   std::vector<std::string> state_names() const override { return {"angle", "rate"}; }
   std::vector<std::string> input_names() const override { return {"torque"}; }
+  std::vector<bool> periodic() const override { return {true, false}; }  // the angle
 
   template <class S>
   void vector_field(const S* x, const S* u, S* dx) const {

@@ -30,3 +30,4 @@ TEST(Pendulum, JacobiansMatchFiniteDifferences) {
   marsyn::testing::expect_ad_matches_finite_differences(Pendulum{}, kWhere);
 }
 TEST(Pendulum, IntervalsEnclosePoints) { marsyn::testing::expect_interval_encloses_points(Pendulum{}, kWhere); }
+TEST(Pendulum, DeclaredPeriodicityHolds) { marsyn::testing::expect_declared_periodicity(Pendulum{}, kWhere); }

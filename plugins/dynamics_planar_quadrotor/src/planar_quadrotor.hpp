@@ -28,6 +28,7 @@ class PlanarQuadrotor : public DynamicsModel<PlanarQuadrotor> {
   std::vector<std::string> input_names() const override { return {"thrust", "torque"}; }
   // Position never enters the field: successor boxes translate with the cell.
   std::vector<bool> field_independent_of() const override { return {true, true, false, false, false, false}; }
+  std::vector<bool> periodic() const override { return {false, false, true, false, false, false}; }  // the tilt phi
 
   template <class S>
   void vector_field(const S* x, const S* u, S* dx) const {

@@ -167,3 +167,5 @@ TEST(PlanarQuadrotor, PluginLibraryCreatesTheModel) {
     EXPECT_THROW(lib.create(*e, p), marsyn::ParamError);
   }
 }
+
+TEST(PlanarQuadrotor, DeclaredPeriodicityHolds) { marsyn::testing::expect_declared_periodicity(PlanarQuadrotor{}, kWhere); }

@@ -62,6 +62,11 @@ class Quadrotor : public DynamicsModel<Quadrotor> {
   std::vector<bool> field_independent_of() const override {
     return {true, true, true, false, false, false, false, false, false, false, false, false};
   }
+  // The yaw: roll and pitch enter through sin and cos too, but the Euler kinematics are singular
+  // at theta = +-pi/2, so only psi turns freely.
+  std::vector<bool> periodic() const override {
+    return {false, false, false, false, false, true, false, false, false, false, false, false};
+  }
 
   template <class S>
   void vector_field(const S* x, const S* u, S* dx) const {

@@ -245,3 +245,5 @@ TEST(Quadrotor, PluginLibraryCreatesTheModel) {
     EXPECT_THROW(lib.create(*e, p), marsyn::ParamError);
   }
 }
+
+TEST(Quadrotor, DeclaredPeriodicityHolds) { marsyn::testing::expect_declared_periodicity(Quadrotor{}, kWhere); }

@@ -19,6 +19,7 @@ class Unicycle : public DynamicsModel<Unicycle> {
   std::vector<std::string> input_names() const override { return {"v", "omega"}; }
   // Position never enters the field: successor boxes translate with the cell.
   std::vector<bool> field_independent_of() const override { return {true, true, false}; }
+  std::vector<bool> periodic() const override { return {false, false, true}; }  // the heading
 
   template <class S>
   void vector_field(const S* x, const S* u, S* dx) const {

@@ -86,3 +86,5 @@ TEST(Unicycle, DualFieldEqualsTheGenericForm) {
     }
   }
 }
+
+TEST(Unicycle, DeclaredPeriodicityHolds) { marsyn::testing::expect_declared_periodicity(Unicycle{}, kWhere); }

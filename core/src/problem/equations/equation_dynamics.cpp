@@ -38,6 +38,50 @@ std::string type_name(const EquationSpec& spec) {
 
 }  // namespace
 
+namespace {
+
+// Node `id` changes by a whole multiple of 2 pi when variable v does: v itself, k v (k a whole
+// number), and sums, differences and negations of such terms and terms without v.
+bool whole_turns_of(const Graph& g, int id, int v) {
+  const Node& e = g[id];
+  if (((e.deps >> v) & 1u) == 0) return true;
+  switch (e.op) {
+    case Op::Var:
+      return e.k == v;
+    case Op::Neg:
+      return whole_turns_of(g, e.a, v);
+    case Op::Add:
+    case Op::Sub:
+      return whole_turns_of(g, e.a, v) && whole_turns_of(g, e.b, v);
+    case Op::Mul: {
+      const Node &l = g[e.a], &r = g[e.b];
+      auto whole = [](const Node& c) { return c.op == Op::Const && std::nearbyint(c.value) == c.value; };
+      return (whole(l) && whole_turns_of(g, e.b, v)) || (whole(r) && whole_turns_of(g, e.a, v));
+    }
+    default:
+      return false;
+  }
+}
+
+// Node `id` is 2 pi-periodic in variable v: v appears only as the argument of sin, cos or tan
+// shifted by whole turns (a sufficient condition, read off the expression).
+bool periodic_in(const Graph& g, int id, int v) {
+  const Node& e = g[id];
+  if (((e.deps >> v) & 1u) == 0) return true;
+  switch (e.op) {
+    case Op::Sin:
+    case Op::Cos:
+    case Op::Tan:
+      return whole_turns_of(g, e.a, v);
+    case Op::Var:
+      return false;
+    default:
+      return (e.a < 0 || periodic_in(g, e.a, v)) && (e.b < 0 || periodic_in(g, e.b, v));
+  }
+}
+
+}  // namespace
+
 EquationDynamics::EquationDynamics(const EquationSpec& spec) : spec_(spec), type_(type_name(spec)) {
   const int n = static_cast<int>(spec.states.size()), m = static_cast<int>(spec.inputs.size());
   if (n == 0) throw EquationError("states", -1, "expected at least one state");
@@ -114,6 +158,7 @@ EquationDynamics::EquationDynamics(const EquationSpec& spec) : spec_(spec), type
   for (int i = 0; i < n; ++i) independent_[i] = ((read >> i) & 1u) == 0;
 
   // Footprints: two coordinates each, of the state only.
+  std::vector<std::pair<int, int>> footprint_roots;  // (footprint, node)
   std::map<std::string, int> seen;
   for (std::size_t p = 0; p < spec.footprints.size(); ++p) {
     const auto& fp = spec.footprints[p];
@@ -131,8 +176,28 @@ EquationDynamics::EquationDynamics(const EquationSpec& spec) : spec_(spec), type
                                 spec.inputs[static_cast<std::size_t>(std::countr_zero(inputs_read))] + "'",
                             c, 0);
       pr.push_back(node);
+      footprint_roots.emplace_back(static_cast<int>(p), node);
     }
     footprint_programs_.emplace_back(g, pr, n, 0);
+  }
+
+  periodic_.assign(static_cast<std::size_t>(n), false);
+  for (std::size_t q = 0; q < spec.periodic.size(); ++q) {
+    const std::string& name = spec.periodic[q];
+    int v = -1;
+    for (int s = 0; s < n; ++s)
+      if (spec.states[s] == name) v = s;
+    if (v < 0)
+      throw EquationError("periodic", static_cast<int>(q), "'" + name + "' is not a state (" + listing("states", spec.states) + ")");
+    const std::string why = " is not 2 pi-periodic in '" + name + "': '" + name +
+                            "' may appear only inside sin, cos or tan of a whole multiple of it plus terms without it";
+    for (int i = 0; i < n; ++i)
+      if (!periodic_in(g, roots[i], v))
+        throw EquationError("periodic", static_cast<int>(q), "the equation of '" + spec.states[i] + "'" + why);
+    for (const auto& [p, node] : footprint_roots)
+      if (!periodic_in(g, node, v))
+        throw EquationError("periodic", static_cast<int>(q), "the footprint '" + spec.footprints[static_cast<std::size_t>(p)].name + "'" + why);
+    periodic_[v] = true;
   }
 }
 

@@ -27,6 +27,10 @@ struct EquationSpec {
     std::array<std::string, 2> text;
   };
   std::vector<Footprint> footprints;
+  // States the model turns freely in (`periodic: [theta]`): each may appear only inside sin, cos
+  // and tan of a whole multiple of itself plus terms without it, so that the field and every
+  // footprint are 2 pi-periodic in it by construction.
+  std::vector<std::string> periodic;
 };
 
 // What went wrong and where: the part of the spec (`section`: "states", "inputs", "constants",
@@ -60,6 +64,7 @@ class EquationDynamics final : public DynamicsModel<EquationDynamics> {
   std::vector<std::string> input_names() const override { return spec_.inputs; }
   std::vector<bool> field_independent_of() const override { return independent_; }
   std::vector<std::string> footprints() const override;
+  std::vector<bool> periodic() const override { return periodic_; }
 
   template <class S>
   void vector_field(const S* x, const S* u, S* dx) const {
@@ -80,6 +85,7 @@ class EquationDynamics final : public DynamicsModel<EquationDynamics> {
   Program field_;
   std::vector<Program> footprint_programs_;
   std::vector<bool> independent_;
+  std::vector<bool> periodic_;
 };
 
 }  // namespace marsyn::equations

@@ -15,7 +15,7 @@ namespace {
 
 using yaml::Field;
 
-const std::vector<std::string> kKeys = {"states", "inputs", "constants", "params", "definitions", "field", "footprints"};
+const std::vector<std::string> kKeys = {"states", "inputs", "constants", "params", "definitions", "field", "footprints", "periodic"};
 
 bool has_model_keys(const Field& f) { return f.is_map() && (f.child("states").present() || f.child("field").present()); }
 
@@ -169,6 +169,10 @@ std::shared_ptr<const Dynamics> load_equation_dynamics(const Field& agent_dynami
     spec.footprints.push_back({fp.name, {expression_text(fp.value[0]), expression_text(fp.value[1])}});
   }
 
+  const Field periodic = model.child("periodic");
+  std::vector<Field> periodic_f = periodic.present() ? periodic.items() : std::vector<Field>{};
+  for (const auto& p : periodic_f) spec.periodic.push_back(p.text());
+
   try {
     return std::make_shared<const EquationDynamics>(spec);
   } catch (const EquationError& e) {
@@ -178,6 +182,7 @@ std::shared_ptr<const Dynamics> load_equation_dynamics(const Field& agent_dynami
     if (s == "states") (i >= 0 ? state_f[si] : states).fail(e.what());
     if (s == "inputs") (i >= 0 ? input_f[si] : inputs).fail(e.what());
     if (s == "constants") constant_at[si]->fail(e.what());
+    if (s == "periodic") (i >= 0 ? periodic_f[si] : periodic).fail(e.what());
     if (s == "field" && i < 0) field.fail(e.what());
     const Entry* entry = s == "definitions" ? &definitions[si]
                          : s == "field"     ? &equations[si]
