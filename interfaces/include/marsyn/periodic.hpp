@@ -14,8 +14,11 @@ inline constexpr double kTurn = 6.283185307179586;  // fl(2 pi)
 // `reference`. std::remainder is exact; the result differs from the real lift by the rounding
 // of measured - reference and of the final sum and by turns x |2 pi - fl(2 pi)| (2.4e-16 per
 // turn): a reading error of order 1e-15 rad for references within a few turns (docs/deploy.md).
+// A reading already within half a turn of the reference is returned as it is, bit for bit: the
+// lifted states of the verification's runs, and a robot that reads the lift, see no rounding.
 inline double lift_angle(double measured, double reference) {
-  return reference + std::remainder(measured - reference, kTurn);
+  const double d = measured - reference;
+  return std::fabs(d) <= 0.5 * kTurn ? measured : reference + std::remainder(d, kTurn);
 }
 
 // The shortest signed difference a - b on the circle, in [-pi, pi].

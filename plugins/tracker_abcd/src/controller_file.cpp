@@ -1,6 +1,7 @@
 #include "controller_file.hpp"
 
 #include "marsyn/binary_file.hpp"
+#include "marsyn/periodic.hpp"
 #include "marsyn/period_enclosure_file.hpp"
 
 #include <algorithm>
@@ -48,6 +49,8 @@ std::string serialize(const ControllerData& d) {
   }
   // Version 2: the period enclosures (continuous time).
   binary::write_period_enclosures(p, d.enclosures, d.n);
+  // Version 3: the periodic coordinates.
+  for (int i = 0; i < d.n; ++i) p.u8(i < static_cast<int>(d.periodic.size()) ? d.periodic[static_cast<std::size_t>(i)] : 0);
   return binary::envelope(kMagic, kFormatVersion, p.bytes());
 }
 
@@ -62,7 +65,7 @@ ControllerData deserialize(const std::string& s, const std::string& what) {
     fail("format version 1 was written before controllers carried their enclosures between the samples "
          "(continuous-time guarantee); re-run `marsyn solve` or `marsyn track` to write version " +
          std::to_string(kFormatVersion));
-  if (version != kFormatVersion)
+  if (version != 2 && version != kFormatVersion)
     fail("format version " + std::to_string(version) + ", this reader understands " + std::to_string(kFormatVersion));
   const std::uint64_t size = h.uN(8);
   if (size != s.size() - 28) fail("truncated or oversized (payload size does not match file size)");
@@ -109,6 +112,13 @@ ControllerData deserialize(const std::string& s, const std::string& what) {
     }
   }
   d.enclosures = binary::read_period_enclosures(r, d.n, static_cast<int>(ntables));
+  if (version >= 3) {
+    d.periodic.resize(static_cast<std::size_t>(d.n));
+    for (auto& f : d.periodic) {
+      f = r.u8();
+      if (f > 1) fail("bad periodic flag");
+    }
+  }
   if (!r.done()) fail("trailing bytes in payload");
   return d;
 }
@@ -139,6 +149,17 @@ GridController::GridController(ControllerData d) : data_(std::move(d)) {
   for (auto v : data_.inputs)
     if (v != kLosing && v != kTarget && v >= ugrid_.size())
       throw std::runtime_error("controller: input index out of range of the input grid");
+  bool periodic = false;
+  for (int i = 0; i < data_.n; ++i) periodic = periodic || data_.is_periodic(i);
+  if (periodic) {
+    reference_.assign(data_.boxes.size() * static_cast<std::size_t>(data_.n), 0.0);
+    for (std::size_t k = 0; k < data_.boxes.size(); ++k)
+      for (int i = 0; i < data_.n; ++i)
+        if (data_.is_periodic(i))
+          reference_[k * static_cast<std::size_t>(data_.n) + static_cast<std::size_t>(i)] =
+              data_.origin[static_cast<std::size_t>(i)] +
+              0.5 * static_cast<double>(data_.boxes[k].lo[i] + data_.boxes[k].hi[i] + 1) * data_.eta_x[static_cast<std::size_t>(i)];
+  }
   // The verification asks for an input T x runs times per agent: decoding an index costs two
   // 64-bit divisions per input dimension, a table of the decoded points (the same values) none.
   if (ugrid_.size() * data_.m <= kInputTableMax) {
@@ -152,7 +173,7 @@ std::int64_t GridController::locate(const double* x, int k) const {
   std::int64_t idx[kMaxDim];
   for (int i = 0; i < data_.n; ++i) {
     if (!std::isfinite(x[i])) return -1;
-    idx[i] = grid_.index(i, x[i]);
+    idx[i] = grid_.index(i, data_.is_periodic(i) ? lift_angle(x[i], reference(k, i)) : x[i]);
   }
   if (!b.contains(idx)) return -1;
   return b.linear(idx);

@@ -6,7 +6,8 @@
 // agent, dimensions, grid origin and eta_x, eps, W, tau, the input grid, and per step the tube's
 // index box followed (for steps with inputs) by one u16 input index per tube cell, then (version
 // 2) the period enclosures: u32 count, each u32 step, f64 t0, t1, state lo[n], hi[n], workspace
-// lo[2], hi[2].
+// lo[2], hi[2]; (version 3) one u8 per state coordinate, 1 where the dynamics is periodic in it
+// (an angle the controller reads on any branch, docs/problem-format.md "Periodic coordinates").
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -20,7 +21,7 @@ namespace marsyn::abcd {
 
 inline constexpr std::uint16_t kLosing = 0xFFFF;  // cell not in the winning set
 inline constexpr std::uint16_t kTarget = 0xFFFE;  // whole-domain mode: target reached, no input needed
-inline constexpr std::uint32_t kFormatVersion = 2;  // 2: period enclosures
+inline constexpr std::uint32_t kFormatVersion = 3;  // 2: period enclosures; 3: periodic coordinates
 
 struct ControllerData {
   std::string dynamics_type, agent;
@@ -36,7 +37,12 @@ struct ControllerData {
   std::vector<std::uint16_t> inputs;
   // Continuous time: sound enclosures of the closed loop between samples (tracking only).
   std::vector<PeriodEnclosure> enclosures;
+  // Per state coordinate, 1 where the dynamics is periodic (Dynamics::periodic): a tracking
+  // controller reads such an angle on the branch nearest its step's reference (lift_angle).
+  // Empty (a version 2 file): none.
+  std::vector<std::uint8_t> periodic;
 
+  bool is_periodic(int i) const { return !time_invariant && i < static_cast<int>(periodic.size()) && periodic[static_cast<std::size_t>(i)]; }
   int tables() const { return static_cast<int>(offsets.size()); }
 };
 
@@ -65,8 +71,16 @@ class GridController : public marsyn::Controller {
   const InputGrid& input_grid() const { return ugrid_; }
 
  private:
-  // Index of x's cell in table k, or -1 outside the step's box.
+  // Index of x's cell in table k, or -1 outside the step's box (periodic coordinates lifted first).
   std::int64_t locate(const double* x, int k) const;
+ public:
+  // The step's reference for reading an angle (the centre of the step's tube box, periodic
+  // coordinates only; 0 elsewhere): what <prefix>_input lifts a measured angle to.
+  double reference(int k, int i) const { return reference_[static_cast<std::size_t>(k) * static_cast<std::size_t>(data_.n) + static_cast<std::size_t>(i)]; }
+  bool any_periodic() const { return !reference_.empty(); }
+
+ private:
+  std::vector<double> reference_;  // boxes x n, empty without periodic coordinates
 
   ControllerData data_;
   UniformGrid grid_;

@@ -57,6 +57,7 @@ ControllerData controller_header(const Dynamics& f, const std::string& agent, do
                                  const InputGrid& ug, const Eigen::VectorXd& w) {
   ControllerData d;
   d.dynamics_type = f.type();
+  for (bool p : f.periodic()) d.periodic.push_back(p ? 1 : 0);
   d.agent = agent;
   d.n = f.state_dim();
   d.m = f.input_dim();

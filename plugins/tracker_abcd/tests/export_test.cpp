@@ -22,6 +22,7 @@
 #include "deploy/c_answers.hpp"
 #include "dynamics_double_integrator/src/double_integrator.hpp"
 #include "export_formats.hpp"
+#include "marsyn/periodic.hpp"
 
 using namespace marsyn;
 using namespace marsyn::abcd;
@@ -175,6 +176,49 @@ TEST(ExportC, DroneBitIdenticalInBothEncodings) {
     EXPECT_GT(counts[ControlStatus::OutsideDomain], 10000) << enc;
     EXPECT_GT(counts[ControlStatus::OutsideHorizon], 2000) << enc;
   }
+}
+
+// The pendulum's angle is periodic: a state read on another branch (whole turns away) gets the
+// answer of its lift, in C exactly as in C++ (the same lift), and the source says so.
+TEST(ExportC, PendulumReadsItsAngleOnAnyBranch) {
+  const auto& a = marsyn::abcd::testing::agent("pendulum");
+  const auto c = grid_controller(a.result);
+  ASSERT_TRUE(c);
+  ASSERT_TRUE(c->any_periodic());
+  const auto base = queries(*c, a.problem.nominal.x, a.problem.tube.eps, 20000, 4);
+  std::vector<Query> turned;
+  std::mt19937_64 rng(9);
+  const double turns[] = {-3, -1, 1, 2};
+  for (const Query& q : base) {
+    Query t = q;
+    t.x[0] += turns[rng() % 4] * kTurn;
+    turned.push_back(t);
+  }
+  auto counts = check_c_against_cpp(*c, turned, "pendulum_turned", "dense");
+  EXPECT_GT(counts[ControlStatus::Ok], 2000);
+  // The lifted reading is the state up to about 1e-15: the same cell but at cell boundaries.
+  int same = 0, ok = 0;
+  double u0[1], u1[1];
+  const ControllerData& d = c->data();
+  for (size_t q = 0; q < base.size(); ++q) {
+    // A state on a cell boundary (a fifth of the queries, to the ulp) may read as its neighbour.
+    const double cells = (base[q].x[0] - d.origin[0]) / d.eta_x[0];
+    if (std::abs(cells - std::nearbyint(cells)) < 1e-9) continue;
+    if (c->input(base[q].x.data(), base[q].k, u0) != ControlStatus::Ok) continue;
+    ++ok;
+    if (c->input(turned[q].x.data(), turned[q].k, u1) == ControlStatus::Ok && u0[0] == u1[0]) ++same;
+  }
+  EXPECT_GT(ok, 2000);
+  EXPECT_GE(same, ok * 999 / 1000) << same << " of " << ok;
+  const fs::path dir = scratch("pendulum_src");
+  ExportRequest req;
+  req.format = "c";
+  req.out_dir = dir.string();
+  ASSERT_TRUE(c->export_to(req).ok);
+  std::ifstream in(dir / "pendulum.c");
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_NE(text.str().find("x[0] = pendulum_lift(x_read[0], pendulum_ref[k][0]);"), std::string::npos);
 }
 
 TEST(ExportC, WholeDomainControllerWithTargetCells) {

@@ -20,6 +20,7 @@
 #include <sstream>
 
 #include "marsyn/c_source.hpp"
+#include "marsyn/periodic.hpp"
 #include "membership.hpp"
 
 namespace marsyn::funnel {
@@ -272,13 +273,42 @@ void write_rounding_helpers(std::ostringstream& c, const std::string& p) {
     << "  return e < 0.0 ? t - 0x1.0000000000001p-53 * fabs(t) : t;\n}\n\n";
 }
 
+bool any_periodic(const FunnelData& d) { return std::find(d.periodic.begin(), d.periodic.end(), 1) != d.periodic.end(); }
+
+// A controller with periodic coordinates reads an angle on any branch: lifted onto the nominal
+// x_k's, with the same two operations and remainder as marsyn::lift_angle (FunnelController).
+void write_lift(std::ostringstream& c, const FunnelData& d, const std::string& p) {
+  if (!any_periodic(d)) return;
+  c << "/* the angle v on the branch nearest ref: v itself within half a turn (pi), else moved by whole turns */\n"
+    << "static double " << p << "lift(double v, double ref)\n{\n  const double d = v - ref;\n"
+    << "  return fabs(d) <= " << c_source::hex_double(0.5 * kTurn) << " ? v : ref + remainder(d, " << c_source::hex_double(kTurn)
+    << ");\n}\n\n/* x_read with its periodic coordinates (";
+  for (int i = 0; i < d.n; ++i)
+    if (d.periodic[static_cast<size_t>(i)]) c << " " << i;
+  c << " ) on the nominal's branch, in x */\nstatic const double *" << p << "lifted(const double *x_read, int k, double *x)\n{\n"
+    << "  int j;\n  for (j = 0; j < " << d.n << "; ++j)\n    x[j] = x_read[j];\n";
+  for (int i = 0; i < d.n; ++i)
+    if (d.periodic[static_cast<size_t>(i)]) c << "  x[" << i << "] = " << p << "lift(x_read[" << i << "], " << p << "xk[k][" << i << "]);\n";
+  c << "  return x;\n}\n\n";
+}
+
+std::string lifted_declaration(const FunnelData& d, const std::string&) {
+  return any_periodic(d) ? "  double x_lifted[" + std::to_string(d.n) + "];\n  const double *x = x_read;\n" : "  const double *x = x_read;\n";
+}
+
+std::string lifted_call(const FunnelData& d, const std::string& p) {
+  return any_periodic(d) ? "  x = " + p + "lifted(x_read, k, x_lifted);\n" : "";
+}
+
 // PREFIX_inside(x, k): V_k's membership test.
 void write_inside(std::ostringstream& c, const FunnelData& d, const SetPool& pool, const std::string& prefix,
                   bool any_eps_box) {
   const std::string p = prefix + "_";
   const int n = d.n, T = d.horizon();
-  c << "int " << prefix << "_inside(const double *x, int k)\n{\n  const double *c;\n  int i, j, kind;\n"
+  c << "int " << prefix << "_inside(const double *x_read, int k)\n{\n  const double *c;\n  int i, j, kind;\n"
+    << lifted_declaration(d, p)
     << "  if (k < 0 || k > " << T << ")\n    return 0;\n"
+    << lifted_call(d, p)
     << "  c = " << p << "set + " << p << "at[k];\n  kind = " << p << "kind[k];\n"
     << "  if (kind & 4) {\n"
     << "    for (j = 0; j < " << n << "; ++j)\n"
@@ -332,8 +362,10 @@ void write_inside(std::ostringstream& c, const FunnelData& d, const SetPool& poo
 void write_input(std::ostringstream& c, const FunnelData& d, const std::string& prefix) {
   const std::string p = prefix + "_", P = c_source::upper(prefix);
   const int n = d.n, m = d.m, T = d.horizon();
-  c << "int " << prefix << "_input(const double *x, int k, double *u)\n{\n  int i, j;\n"
+  c << "int " << prefix << "_input(const double *x_read, int k, double *u)\n{\n  int i, j;\n"
+    << lifted_declaration(d, p)
     << "  if (k < 0 || k >= " << T << ")\n    return " << P << "_OUTSIDE_HORIZON;\n"
+    << lifted_call(d, p)
     << "  if (!" << prefix << "_inside(x, k))\n    return " << P << "_OUTSIDE_DOMAIN;\n"
     << "  for (i = 0; i < " << m << "; ++i) {\n    double acc = " << p << "uk[k][i];\n"
     << "    for (j = 0; j < " << n << "; ++j)\n      acc += " << p << "K[k][i * " << n << " + j] * (x[j] - " << p << "xk[k][j]);\n"
@@ -356,6 +388,7 @@ std::string source(const FunnelData& d, const SetPool& pool, const std::string& 
   const bool any_eps_box = std::any_of(pool.kind.begin(), pool.kind.end(), [](int k) { return !(k & kExplicitBox); });
   if (any_eps_box) write_rounding_helpers(c, p);
   if (pool.any_zonotope) write_solver(c, p, n, pool.max_generators);
+  write_lift(c, d, p);
   write_inside(c, d, pool, prefix, any_eps_box);
   write_input(c, d, prefix);
   return c.str();

@@ -1,5 +1,7 @@
 #include "funnel_controller.hpp"
 
+#include "marsyn/periodic.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -28,8 +30,20 @@ FunnelController::FunnelController(FunnelData d) : data_(std::move(d)) {
   }
 }
 
-bool FunnelController::in_set(const double* x, int k) const {
+const double* FunnelController::lifted(const double* x, int k, double* buf) const {
+  if (data_.periodic.empty()) return x;
+  const auto& xk = data_.x_nom[static_cast<std::size_t>(k)];
+  for (int j = 0; j < data_.n; ++j) buf[j] = data_.periodic[static_cast<std::size_t>(j)] ? lift_angle(x[j], xk[static_cast<std::size_t>(j)]) : x[j];
+  return buf;
+}
+
+bool FunnelController::in_set(const double* x_read, int k) const {
   if (k < 0 || k > horizon()) return false;
+  double buf[64];
+  return in_lifted_set(lifted(x_read, k, buf), k);
+}
+
+bool FunnelController::in_lifted_set(const double* x, int k) const {
   const StepSet& s = data_.sets[static_cast<std::size_t>(k)];
   const int n = data_.n;
   for (int j = 0; j < n; ++j)
@@ -69,9 +83,11 @@ bool FunnelController::in_set(const double* x, int k) const {
   return true;
 }
 
-ControlStatus FunnelController::input(const double* x, int k, double* u) const {
+ControlStatus FunnelController::input(const double* x_read, int k, double* u) const {
   if (k < 0 || k >= horizon()) return ControlStatus::OutsideHorizon;
-  if (!in_set(x, k)) return ControlStatus::OutsideDomain;
+  double buf[64];
+  const double* x = lifted(x_read, k, buf);
+  if (!in_lifted_set(x, k)) return ControlStatus::OutsideDomain;
   const int n = data_.n, m = data_.m;
   const auto& xk = data_.x_nom[static_cast<std::size_t>(k)];
   const auto& uk = data_.u_nom[static_cast<std::size_t>(k)];
@@ -115,6 +131,8 @@ std::string serialize(const FunnelData& d) {
   }
   binary::write_period_enclosures(p, d.enclosures, d.n);
   p.u32(static_cast<std::uint32_t>(d.invariant_from));
+  // Format 3: the periodic coordinates, one u8 each.
+  for (int i = 0; i < d.n; ++i) p.u8(i < static_cast<int>(d.periodic.size()) ? d.periodic[static_cast<std::size_t>(i)] : 0);
   return binary::envelope(kMagic, kFormatVersion, p.bytes());
 }
 
@@ -123,8 +141,8 @@ FunnelData deserialize(const std::string& s, const std::string& what) {
   std::size_t begin = 0, end = 0;
   const std::uint32_t version = binary::open_envelope(s, kMagic, where, "a marsyn funnel controller", begin, end);
   binary::Reader r(s, begin, end, where);
-  if (version != kFormatVersion && version != 1)
-    r.fail("format version " + std::to_string(version) + ", this reader understands " + "1 and " + std::to_string(kFormatVersion));
+  if (version < 1 || version > kFormatVersion)
+    r.fail("format version " + std::to_string(version) + ", this reader understands 1 to " + std::to_string(kFormatVersion));
   FunnelData d;
   d.dynamics_type = r.str();
   d.agent = r.str();
@@ -182,6 +200,12 @@ FunnelData deserialize(const std::string& s, const std::string& what) {
     const std::uint32_t from = r.u32();
     if (from > T + 1) r.fail("invariant_from " + std::to_string(from) + " beyond the horizon " + std::to_string(T));
     d.invariant_from = static_cast<int>(from);
+  }
+  if (version >= 3) {
+    std::vector<std::uint8_t> flags(static_cast<std::size_t>(d.n));
+    for (auto& f : flags)
+      if ((f = r.u8()) > 1) r.fail("bad periodic flag");
+    if (std::find(flags.begin(), flags.end(), 1) != flags.end()) d.periodic = flags;
   }
   if (!r.done()) r.fail("trailing bytes in the payload");
   return d;

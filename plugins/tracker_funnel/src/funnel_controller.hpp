@@ -12,7 +12,9 @@
 // box lo[n], hi[n], u8 kind (0 box, 1 parallelotope, 2 zonotope); kind 1: c_k[n], S_k[n n]
 // row-major; kind 2: u32 p, c_k[n], G_k[n p] column-major, tol[n]; per step k < T: u_k[m],
 // K_k[m n] row-major; u32 enclosure count, each u32 step, f64 t0, t1, state lo[n], hi[n],
-// workspace lo[2], hi[2]. Format 2 appends u32 invariant_from (format 1 files read as T + 1).
+// workspace lo[2], hi[2]. Format 2 appends u32 invariant_from (format 1 files read as T + 1);
+// format 3 one u8 per state coordinate, 1 where the dynamics is periodic (an angle read on any
+// branch: lifted onto the nominal x_k's, docs/problem-format.md "Periodic coordinates").
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -23,7 +25,7 @@
 
 namespace marsyn::funnel {
 
-inline constexpr std::uint32_t kFormatVersion = 2;
+inline constexpr std::uint32_t kFormatVersion = 3;  // 3: periodic coordinates
 
 // How V_k is tested beyond its box: nothing more (the initial box), |fl(S (x - c))|_inf <= 1 (a
 // parallelotope), or a zonotope c + G xi: the membership solver's xi must leave a residual
@@ -54,6 +56,8 @@ struct FunnelData {
   // From this step on, each V_k is invariant: every state it accepts has the guarantee from there
   // (invariant_sets.hpp); before it, V_k only contains what the initial set reaches. T + 1: none.
   int invariant_from = 0;
+  // Per state coordinate, 1 where the dynamics is periodic; empty: none.
+  std::vector<std::uint8_t> periodic;
 
   int horizon() const { return static_cast<int>(u_nom.size()); }
 };
@@ -73,13 +77,16 @@ class FunnelController : public marsyn::Controller {
   // is refused with the reason.
   ExportResult export_to(const ExportRequest& request) const override;
 
-  // x in V_k (k = 0..T).
+  // x in V_k (k = 0..T), periodic coordinates read on any branch (lifted onto x_k's).
   bool in_set(const double* x, int k) const;
   const FunnelData& data() const { return data_; }
   // Per step: the zonotope's least-norm map (membership.hpp), or empty.
   const std::vector<double>& least_norm(int k) const { return least_norm_[static_cast<std::size_t>(k)]; }
 
  private:
+  // x with its periodic coordinates on the nominal's branch (in buf), or x itself.
+  const double* lifted(const double* x, int k, double* buf) const;
+  bool in_lifted_set(const double* x, int k) const;
   FunnelData data_;
   std::vector<std::vector<double>> least_norm_;
 };

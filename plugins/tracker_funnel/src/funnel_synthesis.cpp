@@ -244,6 +244,8 @@ void describe_law(const TrackingProblem& p, const std::vector<Eigen::MatrixXd>& 
   const int T = static_cast<int>(p.nominal.u.size());
   d.dynamics_type = f.type();
   d.agent = p.agent;
+  if (const auto per = f.periodic(); std::find(per.begin(), per.end(), true) != per.end())
+    for (bool q : per) d.periodic.push_back(q ? 1 : 0);
   d.n = n;
   d.m = m;
   d.tau = p.tau;

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "deploy/c_answers.hpp"
+#include "marsyn/periodic.hpp"
 #include "export_c.hpp"
 
 namespace marsyn::funnel::testing {
@@ -102,8 +103,10 @@ inline std::vector<deploy_test::CQuery> funnel_queries(const FunnelController& c
   return out;
 }
 
+// turn_angles: every query's periodic coordinates moved by whole turns (-2, -1, 1 or 3), as a
+// sensor that reports an angle modulo a turn would give them.
 inline ExportComparison compare_export(const FunnelController& c, const std::filesystem::path& dir, const std::string& prefix,
-                                       int count, std::uint64_t seed) {
+                                       int count, std::uint64_t seed, bool turn_angles = false) {
   ExportComparison r;
   std::filesystem::remove_all(dir);
   ExportRequest req;
@@ -117,7 +120,14 @@ inline ExportComparison compare_export(const FunnelController& c, const std::fil
   }
   r.const_bytes = e.const_data_bytes;
   const FunnelData& d = c.data();
-  const auto qs = funnel_queries(c, count, seed, &r.boundary);
+  auto qs = funnel_queries(c, count, seed, &r.boundary);
+  if (turn_angles) {
+    const double turns[] = {-2, -1, 1, 3};
+    std::mt19937_64 rng(seed + 1);
+    for (auto& Q : qs)
+      for (std::size_t i = 0; i < d.periodic.size(); ++i)
+        if (d.periodic[i]) Q.x[i] += turns[rng() % 4] * kTurn;
+  }
   std::vector<deploy_test::CAnswer> answers;
   r.error = deploy_test::answer_in_c(dir, prefix, d.n, d.m, qs, answers);
   if (!r.error.empty()) return r;

@@ -53,6 +53,20 @@ TEST(FunnelExportC, BicycleBitIdenticalWithZonotopes) { expect_identical("bicycl
 
 TEST(FunnelExportC, UnicycleBitIdenticalWithParallelotopes) { expect_identical("unicycle", kParallelotope, "parallelotope"); }
 
+// The unicycle's heading is periodic: read whole turns away, the C answers as the C++ (the same
+// lift onto x_k's branch) and most states near V_k's centre are still accepted; read as written
+// they would all be refused.
+TEST(FunnelExportC, UnicycleReadsItsHeadingOnAnyBranch) {
+  const auto c = controller("unicycle", "parallelotope");
+  ASSERT_TRUE(c);
+  ASSERT_EQ(c->data().periodic, (std::vector<std::uint8_t>{0, 0, 1}));
+  const auto r = testing::compare_export(*c, scratch("unicycle_turned"), "unicycle", 40000, 8, true);
+  ASSERT_EQ(r.error, "");
+  EXPECT_EQ(r.mismatches, 0) << r.first_mismatches;
+  EXPECT_GT(r.status[0], 4000);  // Ok
+  EXPECT_GT(r.inside, 4000);
+}
+
 // The compact tables (box_k recomputed from x_k and eps, axis generators stored as their
 // diagonal) are used only where they reproduce the file's bits; elsewhere the C stores the numbers
 // as they are. Forcing those fallbacks (a -0.0 off the diagonal, a bound one ulp inward) must
