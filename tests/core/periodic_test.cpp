@@ -83,6 +83,21 @@ TEST(Periodic, AnyGoalSpansTheBoundsAndItsTubeATwentiethOfATurn) {
   EXPECT_NEAR(west.tube.eps[2], 0.05 * 2 * kPi, 1e-12);
 }
 
+TEST(Periodic, AStageRegionReadsAnyAndArcsAsTheGoalDoes) {
+  const marsyn::LoadedProblem lp = marsyn::load_problem(variant(
+      {{"    goal: {center: [6.4, 1, -1.5708], radius: [0.5, 0.6, 0.4]}\n",
+        "    goal: {center: [6.4, 1, -1.5708], radius: [0.5, 0.6, 0.4]}\n"
+        "    stages:\n"
+        "      - {name: junction, region: {center: [6, 5, any], radius: [0.8, 0.8, any]}}\n"
+        "      - {name: turning, region: {center: [6, 3, -2.4], radius: [1, 1, 0.9]}}\n"}},
+      "stages"));
+  const auto& st = lp.problem.agents[0].stages;
+  ASSERT_EQ(st.size(), 2u);
+  EXPECT_DOUBLE_EQ(st[0].box.lo[2], lp.problem.agents[0].state_bounds.lo[2]);
+  EXPECT_DOUBLE_EQ(st[0].box.hi[2], lp.problem.agents[0].state_bounds.hi[2]);
+  EXPECT_NEAR(st[1].box.lo[2], -2.4 - 0.9 + 2 * kPi, 1e-12);  // written -2.4, kept at 3.88 (nearer pi)
+}
+
 TEST(Periodic, AnyWhereItIsNotAllowedAndWideAngleTubesAreLocatedErrors) {
   const std::string x_any = load_error(variant({{"lo: [0, 0, any], hi: [12, 10, any]", "lo: [any, 0, any], hi: [any, 10, any]"}}, "x_any"));
   EXPECT_NE(x_any.find("state_bounds.lo[0]"), std::string::npos) << x_any;

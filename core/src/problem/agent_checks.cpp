@@ -1,6 +1,7 @@
 #include "marsyn/core/problem/agent_checks.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "marsyn/number_text.hpp"
 
@@ -14,6 +15,9 @@ AgentDefect agent_defect(const AgentSpec& a, int i) {
   if (a.goal.lo[i] + a.tube.eps[i] > a.goal.hi[i] - a.tube.eps[i]) return AgentDefect::GoalEmpty;
   if (a.goal.hi[i] < lo || a.goal.lo[i] > hi) return AgentDefect::GoalOutsideBounds;
   if (std::max(a.goal.lo[i], lo) + a.tube.eps[i] > std::min(a.goal.hi[i], hi) - a.tube.eps[i]) return AgentDefect::GoalUnreachable;
+  if (a.dynamics && i < static_cast<int>(a.dynamics->periodic().size()) && a.dynamics->periodic()[static_cast<std::size_t>(i)] &&
+      !(a.tube.eps[i] < 0.5 * M_PI))
+    return AgentDefect::AngleTubeTooWide;
   return AgentDefect::None;
 }
 
@@ -45,6 +49,8 @@ std::string agent_defect_text(const AgentSpec& a) {
       case AgentDefect::GoalOutsideBounds: return "the goal lies outside the state bounds";
       case AgentDefect::GoalUnreachable:
         return eps + " leaves no point of the goal eps inside the state bounds";
+      case AgentDefect::AngleTubeTooWide:
+        return eps + " reaches a quarter turn (pi/2) in an angle, where a measured angle could lie on two branches of the tube";
       case AgentDefect::None: break;
     }
   }

@@ -110,6 +110,7 @@ void validate_agent(const AgentSpec& a, const Field& x0f, const Field& radiusf, 
                                   (pulled ? " (the state bounds less the body's clearance " + number_text(bounds_clearance) + ")" : "");
     switch (agent_defect(a, i)) {
       case AgentDefect::None:
+      case AgentDefect::AngleTubeTooWide:  // located at eps by check_periodic_eps, which runs first
         break;
       case AgentDefect::X0OutsideBounds:
         x0f[si].fail("x0 = " + number_text(a.x0[i]) + " in " + coord + " lies outside " + (pulled ? "" : "the state bounds ") + in_bounds);

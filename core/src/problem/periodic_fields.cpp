@@ -92,7 +92,16 @@ void lift_periodic(AgentSpec& a) {
       const double k = std::floor((a.x0[i] - lo) / kTurn);
       if (lo + k * kTurn <= a.x0[i] && a.x0[i] <= hi + k * kTurn) lo += k * kTurn, hi += k * kTurn;
     }
-    double &glo = a.goal.lo[i], &ghi = a.goal.hi[i];
+  }
+  lift_box(a.goal, a);
+}
+
+void lift_box(Box& box, const AgentSpec& a) {
+  const std::vector<bool> periodic = a.dynamics->periodic();
+  for (int i = 0; i < a.n(); ++i) {
+    const bool p = i < static_cast<int>(periodic.size()) && periodic[static_cast<std::size_t>(i)];
+    const double lo = a.state_bounds.lo[i], hi = a.state_bounds.hi[i];
+    double &glo = box.lo[i], &ghi = box.hi[i];
     if (std::isnan(glo)) {
       glo = lo;
       ghi = hi;

@@ -25,6 +25,8 @@ std::string bounds_any_rule(const Dynamics& dyn);
 // the bounds (the shorter way round). Wider arcs are kept as written: they bound the lift.
 inline constexpr double kFreeTurns = 2.0;
 void lift_periodic(AgentSpec& a);
+// The same for another box of the agent's state (a stage's region), after lift_periodic.
+void lift_box(Box& box, const AgentSpec& a);
 
 // The periodic coordinates' tubes must be narrower than half a turn either way, so that a
 // measured angle lies on exactly one branch within the tube (the controllers unwrap by it).

@@ -1,5 +1,7 @@
 #include "stage_fields.hpp"
 
+#include "periodic_fields.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -144,7 +146,8 @@ void read_stage_region(const Field& rf, const AgentSpec& a, MissionStage& st) {
   } else {
     const std::string sn = "a box in the state of '" + a.dynamics_type + "', which has " + std::to_string(n) +
                            " states; or {polygon: [[x, y], ...]} in the workspace";
-    st.box = read_box(rf, n, sn);
+    st.box = read_box_any(rf, n, sn, std::vector<bool>(static_cast<std::size_t>(n), true), "");
+    lift_box(st.box, a);  // `any` is the state bounds; an angle's arc the branch nearest x0
     for (int c = 0; c < n; ++c) {
       const std::string coord = "'" + names[c] + "'";
       const double lo = std::max(st.box.lo[c], a.state_bounds.lo[c]) + a.tube.eps[c];

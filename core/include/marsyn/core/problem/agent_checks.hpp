@@ -17,6 +17,7 @@ enum class AgentDefect {
   GoalEmpty,          // Goal shrunk by eps is empty
   GoalOutsideBounds,  // Goal and X do not overlap
   GoalUnreachable,    // Goal shrunk by eps and X shrunk by eps do not overlap: no eps-robust final state
+  AngleTubeTooWide,   // a periodic coordinate's eps of a quarter turn or more (a reading could lie on two branches)
 };
 
 // The first defect of coordinate i, in the order listed above.
