@@ -216,12 +216,12 @@ std::string controller_body(const std::string& file, const std::string& type) {
 }  // namespace
 
 // The same plan and the same controller from the plugin and from its equations (the field is
-// bit-identical, so every successor box is).
+// bit-identical, so every successor box is; the heading periodic in both, as the file records).
 TEST(EquationsCli, SameControllerAsThePlugin) {
   const std::string plugin = write_temp("pair_plugin.yaml", replace(kPair, "DYNAMICS", "unicycle"));
   const std::string eq = write_temp(
       "pair_equations.yaml",
-      replace(kPair, "DYNAMICS", "{states: [x, y, theta], inputs: [v, omega], field: {x: v * cos(theta), y: v * sin(theta), theta: omega}}"));
+      replace(kPair, "DYNAMICS", "{states: [x, y, theta], inputs: [v, omega], periodic: [theta], field: {x: v * cos(theta), y: v * sin(theta), theta: omega}}"));
   const std::string out = write_temp("pair_out_dummy", "");
   const auto a = run_marsyn("track " + plugin + " --agent low --threads 1 --out " + out + "_plugin");
   ASSERT_EQ(a.code, 0) << a.err;
