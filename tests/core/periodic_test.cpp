@@ -83,6 +83,17 @@ TEST(Periodic, AnyGoalSpansTheBoundsAndItsTubeATwentiethOfATurn) {
   EXPECT_NEAR(west.tube.eps[2], 0.05 * 2 * kPi, 1e-12);
 }
 
+// A patrol round an island back to the start heading: the heading winds a turn on (anticlockwise)
+// or back (clockwise), not the unwound branch nearest x0, which made each boat spin in place.
+TEST(Periodic, APatrolKeepsItsGoalOnTheBranchItsWayWindsTo) {
+  const std::string path = std::string(MARSYN_SOURCE_DIR) + "/tests/problems/periodic/patrol_island.yaml";
+  const marsyn::LoadedProblem lp = marsyn::load_problem(path);
+  EXPECT_NEAR(lp.problem.agents[0].goal.center()[2], 2 * kPi, 1e-9);
+  EXPECT_NEAR(lp.problem.agents[1].goal.center()[2], 3.14159 - 2 * kPi, 1e-9);
+  const marsyn::SolveOutcome o = marsyn::solve(lp, marsyn::test::quick_solve());
+  EXPECT_TRUE(o.verified) << o.failure;
+}
+
 TEST(Periodic, AStageRegionReadsAnyAndArcsAsTheGoalDoes) {
   const marsyn::LoadedProblem lp = marsyn::load_problem(variant(
       {{"    goal: {center: [6.4, 1, -1.5708], radius: [0.5, 0.6, 0.4]}\n",

@@ -2,14 +2,16 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 
+#include "marsyn/core/planning/routes.hpp"
 #include "marsyn/number_text.hpp"
+#include "marsyn/periodic.hpp"
 
 namespace marsyn::loader {
 
 namespace {
 
-constexpr double kTurn = 6.283185307179586;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 bool says_any(const yaml::Field& e) { return e.is_scalar() && e.text() == "any"; }
@@ -96,6 +98,29 @@ void lift_periodic(AgentSpec& a) {
   lift_box(a.goal, a);
 }
 
+namespace {
+
+// Whole turns k that bring [lo, hi] + 2 pi k nearest `target` among those inside [blo, bhi] (an
+// exact tie goes counter-clockwise, the larger angle); the nearest overall when none fits.
+double nearest_turns(double lo, double hi, double target, double blo, double bhi) {
+  const double mid = 0.5 * (lo + hi);
+  const double k0 = std::nearbyint((target - mid) / kTurn);
+  double best = k0, best_off = std::numeric_limits<double>::infinity();
+  bool found = false;
+  for (double k = k0 - 3; k <= k0 + 3; ++k) {
+    if (!(blo <= lo + k * kTurn && hi + k * kTurn <= bhi)) continue;
+    const double off = std::abs(mid + k * kTurn - target);
+    if (!found || off < best_off - 1e-9 * (1 + off) || (std::abs(off - best_off) <= 1e-9 * (1 + off) && k > best)) {
+      best = k;
+      best_off = off;
+      found = true;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
 void lift_box(Box& box, const AgentSpec& a) {
   const std::vector<bool> periodic = a.dynamics->periodic();
   for (int i = 0; i < a.n(); ++i) {
@@ -108,16 +133,9 @@ void lift_box(Box& box, const AgentSpec& a) {
     } else if (p && ghi - glo < kTurn) {
       // The branch nearest x0 (the shorter way round) among those inside the bounds; the nearest
       // overall when none fits (the goal's check then says so).
-      const double mid = 0.5 * (glo + ghi);
-      const double k0 = std::nearbyint((a.x0[i] - mid) / kTurn);
-      double best = k0;
-      bool found = false;
-      for (double k = k0 - 3; k <= k0 + 3; ++k) {
-        const bool fits = lo <= glo + k * kTurn && ghi + k * kTurn <= hi;
-        if (fits && (!found || std::abs(mid + k * kTurn - a.x0[i]) < std::abs(mid + best * kTurn - a.x0[i]))) best = k, found = true;
-      }
-      glo += best * kTurn;
-      ghi += best * kTurn;
+      const double k = nearest_turns(glo, ghi, a.x0[i], lo, hi);
+      glo += k * kTurn;
+      ghi += k * kTurn;
     }
   }
 }
@@ -131,6 +149,95 @@ void check_periodic_eps(const AgentSpec& a, const yaml::Field& epsf) {
       at.fail("eps in '" + names[static_cast<std::size_t>(i)] + "', a periodic coordinate (an angle), is " + number_text(a.tube.eps[i]) +
               "; it must be below pi/2 = 1.571 so that a measured angle lies on one branch of the tube");
     }
+}
+
+int travel_heading(const AgentSpec& a) {
+  if (!a.workspace.linear() || a.workspace.index.size() < 2 || a.workspace.index[0] < 0 || a.workspace.index[1] < 0) return -1;
+  const std::vector<bool> periodic = a.dynamics->periodic();
+  const int n = a.n(), m = a.m(), ix = a.workspace.index[0], iy = a.workspace.index[1];
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<double> x(static_cast<std::size_t>(n)), u(static_cast<std::size_t>(m)), dx(static_cast<std::size_t>(n));
+  for (int h = 0; h < n && h < static_cast<int>(periodic.size()); ++h) {
+    if (!periodic[static_cast<std::size_t>(h)]) continue;
+    bool parallel = true, moves = false;
+    for (int s = 0; s < 64 && parallel; ++s) {
+      for (int i = 0; i < n; ++i) {
+        const double lo = a.state_bounds.lo[i], hi = a.state_bounds.hi[i];
+        x[static_cast<std::size_t>(i)] = i == h ? -M_PI + 2 * M_PI * unit(rng) : lo + (hi - lo) * unit(rng);
+      }
+      for (int j = 0; j < m; ++j) u[static_cast<std::size_t>(j)] = a.input_bounds.lo[j] + (a.input_bounds.hi[j] - a.input_bounds.lo[j]) * unit(rng);
+      a.dynamics->field(x.data(), u.data(), dx.data());
+      const double vx = dx[static_cast<std::size_t>(ix)], vy = dx[static_cast<std::size_t>(iy)], th = x[static_cast<std::size_t>(h)];
+      const double speed = std::hypot(vx, vy);
+      if (!std::isfinite(speed)) return -1;
+      moves = moves || speed > 1e-6;
+      parallel = std::abs(vx * std::sin(th) - vy * std::cos(th)) <= 1e-9 * (1 + speed);
+    }
+    if (parallel && moves) return h;
+  }
+  return -1;
+}
+
+void branch_by_route(Problem& pb) {
+  std::vector<planning::Polygon> polygons;
+  for (const auto& o : pb.obstacles)
+    if (!o.staged) polygons.push_back(o.vertices);
+  for (std::size_t ai = 0; ai < pb.agents.size(); ++ai) {
+    AgentSpec& a = pb.agents[ai];
+    const int h = travel_heading(a);
+    if (h < 0) continue;
+    const int ix = a.workspace.index[0], iy = a.workspace.index[1];
+    auto point_of = [&](const Box& b) { return Eigen::Vector2d(0.5 * (b.lo[ix] + b.hi[ix]), 0.5 * (b.lo[iy] + b.hi[iy])); };
+    double heading = a.x0[h];
+    Eigen::Vector2d at(a.x0[ix], a.x0[iy]);
+    // Carries the heading along the leg to `to`, around the obstacles, each segment the shorter way.
+    auto travel = [&](const Eigen::Vector2d& to) {
+      bool found = false;
+      std::vector<Eigen::Vector2d> corners;
+      try {
+        corners = planning::shortest_route(polygons, at, to, &found);
+      } catch (const std::exception&) {
+        corners.clear();
+      }
+      if (!found) corners.clear();
+      corners.push_back(to);
+      for (const auto& c : corners) {
+        const Eigen::Vector2d d = c - at;
+        if (d.norm() > 1e-9) heading += angle_difference(std::atan2(d.y(), d.x()), heading);
+        at = c;
+      }
+    };
+    // An arc narrower than a turn onto the branch nearest the heading carried there, when that
+    // branch lies inside the bounds; true when the box is such an arc.
+    auto rebranch = [&](Box& b) {
+      if (!(b.hi[h] - b.lo[h] < kTurn)) return false;
+      const double k = nearest_turns(b.lo[h], b.hi[h], heading, a.state_bounds.lo[h], a.state_bounds.hi[h]);
+      if (a.state_bounds.lo[h] <= b.lo[h] + k * kTurn && b.hi[h] + k * kTurn <= a.state_bounds.hi[h]) {
+        b.lo[h] += k * kTurn;
+        b.hi[h] += k * kTurn;
+      }
+      return true;
+    };
+    for (auto& st : a.stages) {
+      if (st.is_polygon()) {
+        Eigen::Vector2d c = Eigen::Vector2d::Zero();
+        for (const auto& v : st.polygon) c += v;
+        travel(c / static_cast<double>(st.polygon.size()));
+      } else {
+        travel(point_of(st.box));
+        // The robot leaves the stage with the heading the stage holds it to.
+        if (rebranch(st.box)) heading = 0.5 * (st.box.lo[h] + st.box.hi[h]);
+      }
+    }
+    travel(point_of(a.goal));
+    rebranch(a.goal);
+    for (auto& e : pb.extra_bodies)
+      if (e.agent == static_cast<int>(ai)) {
+        e.spec.goal = a.goal;
+        e.spec.stages = {};
+      }
+  }
 }
 
 }  // namespace marsyn::loader

@@ -33,3 +33,19 @@ void lift_box(Box& box, const AgentSpec& a);
 void check_periodic_eps(const AgentSpec& a, const yaml::Field& epsf);
 
 }  // namespace marsyn::loader
+
+namespace marsyn::loader {
+
+// The coordinate an agent travels along (its heading): a periodic coordinate i such that the
+// velocity of its workspace point in the plane is parallel to (cos x_i, sin x_i) at sampled
+// states and inputs (a unicycle's and a bicycle's theta); -1 when there is none.
+int travel_heading(const AgentSpec& a);
+
+// For agents that travel along a heading: the goal's (and stage boxes') arcs on the branch the
+// way there winds to, not the one nearest x0: the heading is carried along the polyline from x0
+// through the stages' regions to the goal (each leg around the obstacles, shortest_route), each
+// leg turning the shorter way. A patrol round an island that returns to its start heading keeps
+// the goal a turn on. Only a branch inside the bounds is taken. Extra bodies follow their owner.
+void branch_by_route(Problem& pb);
+
+}  // namespace marsyn::loader

@@ -487,6 +487,7 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
   }
   check_teams(pb, r.stage_fields);
   read_stage_obstacles(pb, r.stage_fields, top.child("obstacles"));
+  branch_by_route(pb);  // an angle's goal on the branch the way there winds to (a patrol's full turn)
   check_start_geometry(pb, r.x0_fields);
   check_planning_memory(top, out, read_planners(top, path, out));
   if (Field f = top.child("collision"); f.present()) read_collision(f, out);

@@ -78,7 +78,8 @@ namespace {
 // The agent table: each column as wide as its widest cell plus two spaces, so that no value
 // (a long vector) runs into the next column. The trackers' own fields (abcd's grid) by name.
 // "angles    westbound: theta free, goal a turn of +1.571 (4.712 +- 0.4); ...": for angles left free
-// (`any`), where the goal's arc was kept on the lift (the shorter way round): which way each turns.
+// (`any`) and goal arcs half a radian or more from x0, the branch the goal was kept on (the way
+// there winds, or the shorter way round): which way each robot turns.
 std::string angles_line(const Problem& pb) {
   std::vector<std::string> parts;
   for (const auto& a : pb.agents) {
@@ -89,14 +90,20 @@ std::string angles_line(const Problem& pb) {
     for (int i = 0; i < a.n() && i < static_cast<int>(periodic.size()); ++i) {
       if (!periodic[static_cast<std::size_t>(i)]) continue;
       const double width = a.state_bounds.hi[i] - a.state_bounds.lo[i];
-      // Bounds written as numbers bound the lift as written: nothing to tell.
-      if (!(width >= 2 * loader::kFreeTurns * 2 * M_PI * (1 - 1e-12))) continue;
-      d << (d.tellp() > 0 ? "; " : "") << names[static_cast<std::size_t>(i)] << " free";
-      if (a.goal.lo[i] <= a.state_bounds.lo[i] && a.goal.hi[i] >= a.state_bounds.hi[i]) d << ", goal any";
-      else {
-        const double c = a.goal.center()[i], turn = c - a.x0[i];
-        d << ", goal a turn of " << (turn > 0 ? "+" : "") << number_text(turn) << " (" << number_text(c) << " +- " << number_text(0.5 * (a.goal.hi[i] - a.goal.lo[i])) << ")";
-      }
+      const bool free = width >= 2 * loader::kFreeTurns * 2 * M_PI * (1 - 1e-12);
+      const bool any_goal = a.goal.lo[i] <= a.state_bounds.lo[i] && a.goal.hi[i] >= a.state_bounds.hi[i];
+      const bool arc = a.goal.hi[i] - a.goal.lo[i] < 2 * M_PI;
+      const double c = a.goal.center()[i];
+      double turn = c - a.x0[i];
+      if (std::abs(turn) < 1e-9 * (1 + std::abs(c))) turn = 0;  // rounding residue of the lift
+      // Angles left free, and goal arcs half a radian or more away: which way the robot turns.
+      if (!free && !(arc && std::abs(turn) >= 0.5)) continue;
+      d << (d.tellp() > 0 ? "; " : "") << names[static_cast<std::size_t>(i)] << (free ? " free" : "");
+      if (any_goal) d << ", goal any";
+      else if (!arc) d << ", goal wider than a turn";
+      else
+        d << (free ? ", goal" : " goal") << " a turn of " << (turn > 0 ? "+" : "") << number_text(turn) << " (" << number_text(c) << " +- "
+          << number_text(0.5 * (a.goal.hi[i] - a.goal.lo[i])) << ")";
     }
     if (d.tellp() > 0) parts.push_back(a.name + ": " + d.str());
   }
