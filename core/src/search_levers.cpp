@@ -54,7 +54,7 @@ void describe(const AgentSpec& before, const AgentSpec& after, std::vector<Searc
 std::string lever_name(const LeverChoice& l) {
   switch (l.lever) {
     case Lever::LongerHorizon: return "plan from a longer horizon";
-    case Lever::ShrinkEps: return "shrink eps by 0.8 and re-plan";
+    case Lever::ShrinkEps: return "shrink eps (x 0.8 or less) and re-plan";
     case Lever::TightenInput: return "re-plan with U tightened for the nominal";
     case Lever::TrackerLever: return "the tracker's " + l.tracker_lever;
     case Lever::EpsInCoordinate: return "enlarge eps by 1.25 in the missed coordinate and re-plan";
@@ -365,8 +365,10 @@ class Proposer {
     if (p_.changed.empty()) {
       bool automatic = false;
       for (int i : failure_.agents) automatic = automatic || p_.trackers[i].automatic;
-      p_.why_not = automatic ? "no other installed tracker accepts the agents" + refusals()
-                             : "the file names the agents' trackers; only tracker: auto falls back";
+      // Every fallback used already (no refusal) is not the same as one that refused.
+      p_.why_not = !automatic ? "the file names the agents' trackers; only tracker: auto falls back"
+                   : refused_.empty() ? "the failed agents have tried every installed tracker that accepts them"
+                                      : "no other installed tracker accepts the agents" + refusals();
     }
   }
 

@@ -44,11 +44,21 @@ std::string SearchReport::tried() const {
     // for each lever it ran.
     std::vector<std::string> levers;
     const std::string& action = rounds[r].action;
+    // The levers of a round are joined by "; " outside brackets (a lever's own words may hold one).
+    auto next_separator = [&](std::size_t from) {
+      int depth = 0;
+      for (std::size_t i = from; i + 1 < action.size(); ++i) {
+        if (action[i] == '(') ++depth;
+        else if (action[i] == ')') --depth;
+        else if (depth <= 0 && action[i] == ';' && action[i + 1] == ' ') return i;
+      }
+      return std::string::npos;
+    };
     for (std::size_t from = 0; from <= action.size();) {
-      std::size_t to = action.find("; ", from);
+      std::size_t to = next_separator(from);
       if (to == std::string::npos) to = action.size();
       std::string part = action.substr(from, to - from);
-      if (const auto colon = part.find(": "); colon != std::string::npos && action.find("; ") != std::string::npos)
+      if (const auto colon = part.find(": "); colon != std::string::npos && next_separator(0) != std::string::npos)
         part = part.substr(colon + 2);
       bool seen = false;
       for (const auto& l : levers) seen = seen || l == part;

@@ -131,6 +131,16 @@ TEST(SearchRank, TriedCountsEachLeverOfAPerAgentRound) {
   EXPECT_EQ(r.tried(), "tried: widen x1, knob x3, fall back x1");
 }
 
+// A lever whose words hold "; " inside brackets is one lever ("... (its coordinate and those at
+// the edge x2, the plan re-checked) x2" split it in two).
+TEST(SearchRank, TriedKeepsALeversBracketsWhole) {
+  marsyn::SearchReport r;
+  r.rounds.resize(3);
+  r.rounds[1].action = "widen eps (its coordinate; the plan re-checked)";
+  r.rounds[2].action = "a1: widen eps (its coordinate; the plan re-checked); a2: knob";
+  EXPECT_EQ(r.tried(), "tried: widen eps (its coordinate; the plan re-checked) x2, knob x1");
+}
+
 // The auto line no longer says "the first value stood" after the search's levers changed eps.
 TEST(SearchRank, TheAutoNoteSaysWhenTheLeversChangedEps) {
   marsyn::SolveOutcome o;

@@ -197,7 +197,7 @@ TEST(SearchReasons, AFailedPlanStartsFromALongerHorizonThenShrinksEps) {
   ASSERT_EQ(o.search.rounds[1].changes.size(), 1u);
   EXPECT_EQ(o.search.rounds[1].changes[0].what, "horizon");
   EXPECT_GT(o.search.rounds[1].horizon, std::stoi(o.search.rounds[1].changes[0].from));
-  if (a.size() > 2 && o.search.rounds[1].outcome.rfind("planning failed", 0) == 0) EXPECT_EQ(a[2], "shrink eps by 0.8 and re-plan");
+  if (a.size() > 2 && o.search.rounds[1].outcome.rfind("planning failed", 0) == 0) EXPECT_EQ(a[2], "shrink eps (x 0.8 or less) and re-plan");
 }
 
 // Two unicycles driving side by side 0.5 apart (inf-norm delta 0.24): with eps 0.2 in position the
@@ -252,7 +252,7 @@ TEST(SearchReasons, CrowdedStartsShrinkEpsAsFarAsTheyNeedWithoutTryingHorizons) 
   EXPECT_NE(o.search.rounds[0].outcome.find("no eps-robust plan at any horizon: low and high start 0.5 apart"),
             std::string::npos)
       << o.search.rounds[0].outcome;
-  EXPECT_EQ(actions(o)[1], "shrink eps by 0.8 and re-plan");
+  EXPECT_EQ(actions(o)[1], "shrink eps (x 0.8 or less) and re-plan");
   // 0.95 x 0.65 = 0.6175 at once, not 0.8 (still crowded) and not horizons in between.
   const auto& ch = o.search.rounds[1].changes;
   ASSERT_FALSE(ch.empty());
@@ -298,7 +298,7 @@ agents:
                                             "beside obstacle wall"),
             std::string::npos)
       << o.search.rounds[0].outcome;
-  EXPECT_EQ(actions(o)[1], "shrink eps by 0.8 and re-plan");
+  EXPECT_EQ(actions(o)[1], "shrink eps (x 0.8 or less) and re-plan");
   const auto& ch = o.search.rounds[1].changes;
   ASSERT_EQ(ch.size(), 3u);  // both agents' eps and the factor's reason
   EXPECT_EQ(ch[0].to, "(0.1187,0.1187,0.2375)");  // 0.95 x 0.8333
@@ -321,7 +321,7 @@ TEST(SearchReasons, ATightFormationShrinksEpsAsFarAsItNeedsWithoutTryingHorizons
   const marsyn::SolveOutcome o = marsyn::solve(lp, quick());
   EXPECT_TRUE(o.verified) << o.search.message();
   ASSERT_GE(o.search.rounds.size(), 2u);
-  EXPECT_EQ(actions(o)[1], "shrink eps by 0.8 and re-plan");
+  EXPECT_EQ(actions(o)[1], "shrink eps (x 0.8 or less) and re-plan");
   const auto& ch = o.search.rounds[1].changes;
   ASSERT_FALSE(ch.empty());
   EXPECT_EQ(ch[0].what, "eps");
@@ -381,7 +381,7 @@ TEST(SearchReasons, AReplanForATrackerThatFindsNoPlanGoesBackToThePlanBeforeIt) 
       << o.search.rounds[r].outcome;
   // The next round addresses the tracker's failure again, from the plan before the lever.
   EXPECT_NE(a[r + 1], "plan from a longer horizon");
-  EXPECT_NE(a[r + 1], "shrink eps by 0.8 and re-plan");
+  EXPECT_NE(a[r + 1], "shrink eps (x 0.8 or less) and re-plan");
   EXPECT_EQ(o.search.rounds[r + 1].outcome.rfind("no controller for pinned_boat", 0), 0u) << o.search.rounds[r + 1].outcome;
   EXPECT_NE(o.search.message().find("re-plan with U tightened for the nominal (its re-plan found no eps-robust plan"),
             std::string::npos)

@@ -232,7 +232,9 @@ class HorizonSearch {
       os.precision(kMessageDigits);
       // The solver's verdict is its own; when the exact check passes a plan the solver gave up on
       // (the clamped, re-simulated inputs are robust), both are said without contradicting.
-      const bool gave_up = out.res.status != PlannerStatus::ExactSolution && out.res.status != PlannerStatus::ApproximateSolution;
+      // An approximate plan the exact check passes is the same case: the solver's "no feasible
+      // plan found" beside "eps-robust" said two things at once.
+      const bool gave_up = out.res.status != PlannerStatus::ExactSolution;
       const std::string verdict = gave_up && a.check.passed ? "stopped short of the solver's own tolerance"
                                                             : std::string(to_string(out.res.status));
       os << (options_.warm_start_planner ? a.planner + " " : std::string()) << "T = " << horizon_ << ": " << verdict

@@ -76,11 +76,11 @@ void Solver::for_each_between_row(const std::vector<Vec>& X, const std::vector<V
 
 double Solver::between_violation(const std::vector<Vec>& X, const std::vector<Vec>& U, const std::vector<Vec>* Z,
                                  std::string* worst, double v) const {
-  for_each_between_row(X, U, Z, [&](int, int, const ConstraintRef& r, const double* g) {
+  for_each_between_row(X, U, Z, [&](int k, int, const ConstraintRef& r, const double* g) {
     for (int i = 0; i < r.rows; ++i)
       if (g[i] > v) {
         v = g[i];
-        if (worst) *worst = r.c->name() + " between steps";
+        if (worst) *worst = r.c->name() + " between steps " + std::to_string(k) + " and " + std::to_string(k + 1);
       }
   });
   return v;

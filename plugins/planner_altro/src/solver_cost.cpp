@@ -90,7 +90,7 @@ double Solver::max_violation(const std::vector<Vec>& X, const std::vector<Vec>& 
       g.resize(std::max<size_t>(g.size(), r.rows));
       r.c->evaluate(X[k].data(), g.data(), nullptr);
       for (int j = 0; j < r.rows; ++j)
-        if (g[j] > v) note(g[j], r.c->name());
+        if (g[j] > v) note(g[j], r.c->name() + " at step " + std::to_string(k));
     }
   }
   for (int i = 0; i < n_; ++i) {

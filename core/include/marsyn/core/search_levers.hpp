@@ -60,7 +60,7 @@ std::string params_text(const Params& p);
 // the tracker or its parameters, eps, and the trackers' own fields by name.
 void describe(const AgentSpec& before, const AgentSpec& after, std::vector<SearchChange>& out);
 
-// "shrink eps by 0.8 and re-plan", "the tracker's finer state grid", ...
+// "shrink eps (x 0.8 or less) and re-plan", "the tracker's finer state grid", ...
 std::string lever_name(const LeverChoice& lever);
 // How often a lever may run in one search (eps x 0.8 four times is 0.41 eps; x 1.25 three times
 // is 1.95 eps; each tracker lever four times).
