@@ -181,12 +181,22 @@ int travel_heading(const AgentSpec& a) {
 
 void branch_by_route(Problem& pb) {
   std::vector<planning::Polygon> polygons;
+  double vertices = 0;
   for (const auto& o : pb.obstacles)
-    if (!o.staged) polygons.push_back(o.vertices);
+    if (!o.staged) polygons.push_back(o.vertices), vertices += static_cast<double>(o.vertices.size());
+  // A blocked leg's visibility graph costs about vertices^2 x polygons segment tests: past a
+  // budget over all the legs (hundreds of robots among hundreds of pillars), legs go straight.
+  double legs = 0;
+  for (const auto& a : pb.agents) legs += 1.0 + static_cast<double>(a.stages.size());
+  const bool around = vertices * vertices * static_cast<double>(polygons.size()) * legs <= 2e8;
   for (std::size_t ai = 0; ai < pb.agents.size(); ++ai) {
     AgentSpec& a = pb.agents[ai];
     const int h = travel_heading(a);
     if (h < 0) continue;
+    // Nothing to choose where no arc is narrower than a turn.
+    bool arcs = a.goal.hi[h] - a.goal.lo[h] < kTurn;
+    for (const auto& st : a.stages) arcs = arcs || (!st.is_polygon() && st.box.hi[h] - st.box.lo[h] < kTurn);
+    if (!arcs) continue;
     const int ix = a.workspace.index[0], iy = a.workspace.index[1];
     auto point_of = [&](const Box& b) { return Eigen::Vector2d(0.5 * (b.lo[ix] + b.hi[ix]), 0.5 * (b.lo[iy] + b.hi[iy])); };
     double heading = a.x0[h];
@@ -195,10 +205,12 @@ void branch_by_route(Problem& pb) {
     auto travel = [&](const Eigen::Vector2d& to) {
       bool found = false;
       std::vector<Eigen::Vector2d> corners;
-      try {
-        corners = planning::shortest_route(polygons, at, to, &found);
-      } catch (const std::exception&) {
-        corners.clear();
+      if (around) {
+        try {
+          corners = planning::shortest_route(polygons, at, to, &found);
+        } catch (const std::exception&) {
+          corners.clear();
+        }
       }
       if (!found) corners.clear();
       corners.push_back(to);
