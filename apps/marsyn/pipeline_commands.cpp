@@ -332,8 +332,8 @@ void print_search_summary(const SolveOutcome& out) {
   // Every change the search made to what the file says, per agent, with the failure it answered.
   for (const auto& r : out.search.rounds)
     for (const auto& c : grouped(r.changes, out.problem.agents.size()))
-      std::printf("  %-12s %s %s -> %s (round %d: %s)\n", c.agent.empty() ? "(team)" : c.agent.c_str(), c.what.c_str(),
-                  c.from.c_str(), c.to.c_str(), r.index, r.reason.c_str());
+      std::printf("  %-12s %s %s -> %s (round %d%s: %s)\n", c.agent.empty() ? "(team)" : c.agent.c_str(), c.what.c_str(),
+                  c.from.c_str(), c.to.c_str(), r.index, r.undone ? ", undone" : "", r.reason.c_str());
 }
 
 // What the file left to marsyn (eps and the trackers' fields: auto), the values chosen and why.

@@ -1220,6 +1220,11 @@ bool Search::run(const Stopwatch& t_start) {
       restore(saved_);
       rep.stop_reason = success + " (round " + std::to_string(saved_.round) + "'s; the narrower auto eps of round " +
                         std::to_string(index) + " failed: " + f.reason + ")";
+      // Its changes and the notes that proposed them no longer describe the result.
+      for (auto& r : rep.rounds)
+        if (r.index > saved_.round) r.undone = true;
+      for (auto& note : out_.auto_notes)
+        if (!note.empty()) note += "; round " + std::to_string(index) + " failed with it, round " + std::to_string(saved_.round) + "'s eps stands";
       done = true;
       break;
     }

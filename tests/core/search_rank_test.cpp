@@ -154,4 +154,9 @@ TEST(SearchRank, TheAutoNoteSaysWhenTheLeversChangedEps) {
   EXPECT_EQ(marsyn::auto_search_note(o, 1), "the first value stood");
   o.auto_notes = {"round 2's controller kept ...", ""};
   EXPECT_EQ(marsyn::auto_search_note(o, 0), "round 2's controller kept ...");
+  // A round the search rolled back (a narrower auto eps that failed) changed nothing that stands.
+  o.auto_notes.clear();
+  o.search.rounds[2].undone = true;
+  EXPECT_EQ(marsyn::auto_search_note(o, 0), "the search's levers changed it in 1 round (search: rounds)");
+  EXPECT_EQ(marsyn::result_json(o)["search"]["rounds"][2]["undone"], true);
 }

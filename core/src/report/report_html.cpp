@@ -119,7 +119,7 @@ const se = R.search || {};
 $('stop').textContent = se.stop_message || '';
 table($('rounds'), ['round', 'action', 'why', 'changes (from -> to)', 'T', 'outcome', 'plan [s]', 'track [s]', 'certify [s]', 'round [s]'],
   (se.rounds || []).map(r => [r.round, esc(r.action), esc(r.reason || '-'),
-    esc((r.changes || []).map(c => (c.agent ? c.agent + ' ' : '') + c.what + ' ' + c.from + ' -> ' + c.to).join('; ') || '-'),
+    esc((r.changes || []).map(c => (c.agent ? c.agent + ' ' : '') + c.what + ' ' + c.from + ' -> ' + c.to).join('; ') || '-') + (r.undone ? ' <span class="muted">(undone)</span>' : ''),
     fmt(r.horizon, 0) + (r.planned ? '' : ' (kept)'), esc(r.outcome), fmt(r.plan_time_s, 2), fmt(r.track_time_s, 2),
     fmt(r.certify_time_s, 2), fmt(r.time_s, 2)]));
 

@@ -77,7 +77,8 @@ nlohmann::json search_json(const SearchReport& s) {
                       {"plan_time_s", r.plan_time_s},
                       {"track_time_s", r.track_time_s},
                       {"certify_time_s", r.certify_time_s},
-                      {"time_s", r.time_s}});
+                      {"time_s", r.time_s},
+                      {"undone", r.undone}});
   }
   json not_tried = json::array();
   for (const auto& n : s.not_tried) not_tried.push_back({{"lever", n.lever}, {"why", n.why}});
@@ -296,6 +297,7 @@ std::string auto_search_note(const SolveOutcome& o, std::size_t i) {
   // Before: "the first value stood" after four rounds of eps x 0.8 (tests/problems/users2/01).
   int rounds = 0;
   for (const auto& r : o.search.rounds) {
+    if (r.undone) continue;  // rolled back: not what the result used
     bool changed = false;
     for (const auto& c : r.changes)
       changed = changed || (c.what == "eps" && (c.agent.empty() || (i < o.problem.agents.size() && c.agent == o.problem.agents[i].name)));

@@ -30,6 +30,7 @@ struct SearchRound {
   std::string outcome;      // how the round ended
   double plan_time_s = 0, track_time_s = 0, certify_time_s = 0;
   double time_s = 0;        // the round's wall time: deciding, planning, tracking, certifying
+  bool undone = false;      // its changes were rolled back (a narrower auto eps that did not verify)
 };
 
 struct NotTried {
