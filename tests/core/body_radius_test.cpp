@@ -19,6 +19,7 @@
 #include "marsyn/core/problem/problem_summary.hpp"
 #include "marsyn/core/solve.hpp"
 #include "load_error.hpp"
+#include "problem_variant.hpp"
 #include "quick_solve.hpp"
 #include "side_by_side.hpp"
 
@@ -28,20 +29,8 @@ using marsyn::test::load_error;
 
 std::string base_file() { return std::string(MARSYN_SOURCE_DIR) + "/tests/continuous/clearance_by_kind.yaml"; }
 
-// The doorway problem with each (from, to) replaced, written to a temporary file.
 std::string variant(const std::vector<std::pair<std::string, std::string>>& edits, const std::string& tag) {
-  std::ifstream in(base_file());
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string s = text.str();
-  for (const auto& [from, to] : edits) {
-    const auto at = s.find(from);
-    if (at == std::string::npos) throw std::runtime_error("no '" + from + "' in the doorway problem");
-    s.replace(at, from.size(), to);
-  }
-  const std::string path = testing::TempDir() + "body_" + tag + ".yaml";
-  std::ofstream(path) << s;
-  return path;
+  return marsyn::test::problem_variant(base_file(), edits, "body_" + tag);
 }
 
 // The second robot with its own radius r (the first keeps none).

@@ -14,6 +14,7 @@
 #include "marsyn/core/solve.hpp"
 #include "marsyn/periodic.hpp"
 #include "load_error.hpp"
+#include "problem_variant.hpp"
 #include "quick_solve.hpp"
 
 namespace {
@@ -23,20 +24,8 @@ constexpr double kPi = 3.141592653589793;
 
 std::string base_file() { return std::string(MARSYN_SOURCE_DIR) + "/tests/problems/periodic/left_turn_wrap.yaml"; }
 
-// The left turn with each (from, to) replaced, written to a temporary file.
 std::string variant(const std::vector<std::pair<std::string, std::string>>& edits, const std::string& tag) {
-  std::ifstream in(base_file());
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string s = text.str();
-  for (const auto& [from, to] : edits) {
-    const auto at = s.find(from);
-    if (at == std::string::npos) throw std::runtime_error("no '" + from + "' in the left turn");
-    s.replace(at, from.size(), to);
-  }
-  const std::string path = testing::TempDir() + "periodic_" + tag + ".yaml";
-  std::ofstream(path) << s;
-  return path;
+  return marsyn::test::problem_variant(base_file(), edits, "periodic_" + tag);
 }
 
 TEST(Periodic, AnyBoundsTurnFreelyAndTheGoalTakesTheShorterWayRound) {
