@@ -906,10 +906,16 @@ bool Search::agents_round(const Failure& failure, double elapsed, SearchRound& n
         }
       }
     }
-    if (best > 0 && candidates[best].lever.lever == Lever::FallBack && candidates[0].lever.lever == Lever::TrackerLever)
+    if (best > 0 && candidates[best].lever.lever == Lever::FallBack && candidates[0].lever.lever == Lever::TrackerLever) {
+      // Say why when the prediction alone would have taken the knob.
+      const int misses = knob_misses_[failure.agents[w]];
+      const std::string why = candidates[best].predicted_s > candidates[0].predicted_s && misses > 0
+                                  ? ": the tracker's own knobs did not help it " + std::to_string(misses) + (misses == 1 ? " time" : " times")
+                                  : "";
       log("[search] " + pb_.agents[failure.agents[w]].name + ": " + search::lever_name(candidates[best].lever) + " (about " +
           seconds(candidates[best].predicted_s) + ") before " + search::lever_name(candidates[0].lever) + " (about " +
-          seconds(candidates[0].predicted_s) + ")");
+          seconds(candidates[0].predicted_s) + ")" + why);
+    }
     picks.push_back(std::move(candidates[best].proposal));
     names.push_back(search::lever_name(candidates[best].lever));
     who.push_back(pb_.agents[failure.agents[w]].name);
