@@ -7,6 +7,14 @@
 
 namespace marsyn {
 
+bool periodic_coordinate(const AgentSpec& a, int i) {
+  if (!a.dynamics) return false;
+  const std::vector<bool> periodic = a.dynamics->periodic();
+  return i >= 0 && i < static_cast<int>(periodic.size()) && periodic[static_cast<std::size_t>(i)];
+}
+
+bool angle_tube_too_wide(const AgentSpec& a, int i) { return periodic_coordinate(a, i) && !(a.tube.eps[i] < 0.5 * M_PI); }
+
 AgentDefect agent_defect(const AgentSpec& a, int i) {
   const double lo = a.state_bounds.lo[i], hi = a.state_bounds.hi[i];
   if (a.x0[i] < lo || a.x0[i] > hi) return AgentDefect::X0OutsideBounds;
@@ -15,9 +23,7 @@ AgentDefect agent_defect(const AgentSpec& a, int i) {
   if (a.goal.lo[i] + a.tube.eps[i] > a.goal.hi[i] - a.tube.eps[i]) return AgentDefect::GoalEmpty;
   if (a.goal.hi[i] < lo || a.goal.lo[i] > hi) return AgentDefect::GoalOutsideBounds;
   if (std::max(a.goal.lo[i], lo) + a.tube.eps[i] > std::min(a.goal.hi[i], hi) - a.tube.eps[i]) return AgentDefect::GoalUnreachable;
-  if (a.dynamics && i < static_cast<int>(a.dynamics->periodic().size()) && a.dynamics->periodic()[static_cast<std::size_t>(i)] &&
-      !(a.tube.eps[i] < 0.5 * M_PI))
-    return AgentDefect::AngleTubeTooWide;
+  if (angle_tube_too_wide(a, i)) return AgentDefect::AngleTubeTooWide;
   return AgentDefect::None;
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "marsyn/core/problem/agent_checks.hpp"
 #include "marsyn/number_text.hpp"
 
 namespace marsyn {
@@ -16,8 +17,8 @@ Eigen::VectorXd first_auto_eps(const AgentSpec& a, double tau, std::string* why)
     const double goal_half = 0.5 * (a.goal.hi[i] - a.goal.lo[i]);
     const double room = std::min(a.x0[i] - a.state_bounds.lo[i], a.state_bounds.hi[i] - a.x0[i]);
     // An angle's range is at most one turn, however many turns its bounds allow.
-    const bool periodic = a.dynamics && i < static_cast<int>(a.dynamics->periodic().size()) && a.dynamics->periodic()[static_cast<std::size_t>(i)];
-    const double range = periodic ? std::min(a.state_bounds.hi[i] - a.state_bounds.lo[i], 2 * M_PI) : a.state_bounds.hi[i] - a.state_bounds.lo[i];
+    const double range = periodic_coordinate(a, i) ? std::min(a.state_bounds.hi[i] - a.state_bounds.lo[i], 2 * M_PI)
+                                                   : a.state_bounds.hi[i] - a.state_bounds.lo[i];
     // A goal spanning 90 % of the state bounds' range or more says nothing about the tube ("any
     // heading" written as radius 3.9 within +-4 gave a heading tube of 1.95 rad): 5 % of the
     // range instead.

@@ -5,6 +5,7 @@
 #include <random>
 
 #include "marsyn/core/planning/routes.hpp"
+#include "marsyn/core/problem/agent_checks.hpp"
 #include "marsyn/number_text.hpp"
 #include "marsyn/periodic.hpp"
 
@@ -82,9 +83,8 @@ std::string bounds_any_rule(const Dynamics& dyn) {
 }
 
 void lift_periodic(AgentSpec& a) {
-  const std::vector<bool> periodic = a.dynamics->periodic();
   for (int i = 0; i < a.n(); ++i) {
-    const bool p = i < static_cast<int>(periodic.size()) && periodic[static_cast<std::size_t>(i)];
+    const bool p = periodic_coordinate(a, i);
     double &lo = a.state_bounds.lo[i], &hi = a.state_bounds.hi[i];
     if (p && std::isnan(lo)) {
       lo = a.x0[i] - kFreeTurns * kTurn;
@@ -122,9 +122,8 @@ double nearest_turns(double lo, double hi, double target, double blo, double bhi
 }  // namespace
 
 void lift_box(Box& box, const AgentSpec& a) {
-  const std::vector<bool> periodic = a.dynamics->periodic();
   for (int i = 0; i < a.n(); ++i) {
-    const bool p = i < static_cast<int>(periodic.size()) && periodic[static_cast<std::size_t>(i)];
+    const bool p = periodic_coordinate(a, i);
     const double lo = a.state_bounds.lo[i], hi = a.state_bounds.hi[i];
     double &glo = box.lo[i], &ghi = box.hi[i];
     if (std::isnan(glo)) {
@@ -141,10 +140,9 @@ void lift_box(Box& box, const AgentSpec& a) {
 }
 
 void check_periodic_eps(const AgentSpec& a, const yaml::Field& epsf) {
-  const std::vector<bool> periodic = a.dynamics->periodic();
   const auto names = a.dynamics->state_names();
   for (int i = 0; i < a.n() && i < a.tube.eps.size(); ++i)
-    if (i < static_cast<int>(periodic.size()) && periodic[static_cast<std::size_t>(i)] && !(a.tube.eps[i] < 0.5 * M_PI)) {
+    if (angle_tube_too_wide(a, i)) {
       const yaml::Field at = epsf.is_sequence() ? epsf[static_cast<std::size_t>(i)] : epsf;
       at.fail("eps in '" + names[static_cast<std::size_t>(i)] + "', a periodic coordinate (an angle), is " + number_text(a.tube.eps[i]) +
               "; it must be below pi/2 = 1.571 so that a measured angle lies on one branch of the tube");

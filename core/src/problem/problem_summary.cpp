@@ -10,6 +10,7 @@
 #include "marsyn/core/planning/goal_room.hpp"
 #include "marsyn/core/planning/workspace_gaps.hpp"
 #include "marsyn/number_text.hpp"
+#include "marsyn/periodic.hpp"
 #include "agent_runs.hpp"
 
 namespace marsyn {
@@ -75,8 +76,6 @@ ConstraintCounts count_constraints(const Problem& pb) {
 
 namespace {
 
-// The agent table: each column as wide as its widest cell plus two spaces, so that no value
-// (a long vector) runs into the next column. The trackers' own fields (abcd's grid) by name.
 // "angles    westbound: theta free, goal a turn of +1.571 (4.712 +- 0.4); ...": for angles left free
 // (`any`) and goal arcs half a radian or more from x0, the branch the goal was kept on (the way
 // there winds, or the shorter way round): which way each robot turns.
@@ -90,9 +89,9 @@ std::string angles_line(const Problem& pb) {
     for (int i = 0; i < a.n() && i < static_cast<int>(periodic.size()); ++i) {
       if (!periodic[static_cast<std::size_t>(i)]) continue;
       const double width = a.state_bounds.hi[i] - a.state_bounds.lo[i];
-      const bool free = width >= 2 * loader::kFreeTurns * 2 * M_PI * (1 - 1e-12);
+      const bool free = width >= 2 * loader::kFreeTurns * kTurn * (1 - 1e-12);
       const bool any_goal = a.goal.lo[i] <= a.state_bounds.lo[i] && a.goal.hi[i] >= a.state_bounds.hi[i];
-      const bool arc = a.goal.hi[i] - a.goal.lo[i] < 2 * M_PI;
+      const bool arc = a.goal.hi[i] - a.goal.lo[i] < kTurn;
       const double c = a.goal.center()[i];
       double turn = c - a.x0[i];
       if (std::abs(turn) < 1e-9 * (1 + std::abs(c))) turn = 0;  // rounding residue of the lift
@@ -115,6 +114,8 @@ std::string angles_line(const Problem& pb) {
   return line + "\n";
 }
 
+// The agent table: each column as wide as its widest cell plus two spaces, so that no value
+// (a long vector) runs into the next column. The trackers' own fields (abcd's grid) by name.
 std::string agent_table(const Problem& pb, const std::vector<AgentTrackers>& trackers) {
   std::ostringstream s;
   s.precision(kMessageDigits);

@@ -13,6 +13,7 @@
 
 #include "marsyn/controller_export.hpp"
 #include "marsyn/number_text.hpp"
+#include "marsyn/periodic.hpp"
 
 namespace marsyn::c_source {
 
@@ -101,6 +102,15 @@ inline std::string header_text(const CHeader& h) {
     << "_HORIZON + 1: no step; 0: every step */\n\n"
     << "#ifdef __cplusplus\n}\n#endif\n\n#endif /* " << P << "_H_ */\n";
   return o.str();
+}
+
+// `static double <p>lift(double v, double ref)`: an angle read on any branch moved onto the one
+// nearest ref, the same two operations and remainder as marsyn::lift_angle (so C and C++ agree
+// bit for bit): every tracker's source with periodic coordinates (docs/deploy.md).
+inline void lift_function(std::ostream& o, const std::string& p) {
+  o << "/* the angle v on the branch nearest ref: v itself within half a turn (pi), else moved by whole turns */\n"
+    << "static double " << p << "lift(double v, double ref)\n{\n  const double d = v - ref;\n"
+    << "  return fabs(d) <= " << hex_double(0.5 * kTurn) << " ? v : ref + remainder(d, " << hex_double(kTurn) << ");\n}\n\n";
 }
 
 // The includes and the guards every source starts with: the arithmetic must round each

@@ -24,7 +24,6 @@
 
 #include "export_formats.hpp"
 #include "marsyn/c_source.hpp"
-#include "marsyn/periodic.hpp"
 
 namespace marsyn::abcd {
 namespace {
@@ -256,11 +255,17 @@ void rle_tables(std::ostringstream& c, const Tables& t, const std::string& p) {
 
 // A controller with periodic coordinates reads an angle on any branch: the table of the steps'
 // references and the lift, the same two operations and remainder as marsyn::lift_angle.
+// The coordinates the controller lifts (none for a whole-domain controller).
+std::vector<int> periodic_columns(const GridController& ctrl) {
+  std::vector<int> periodic;
+  for (int i = 0; i < ctrl.data().n; ++i)
+    if (ctrl.any_periodic() && ctrl.data().is_periodic(i)) periodic.push_back(i);
+  return periodic;
+}
+
 std::vector<int> lift_code(std::ostringstream& c, const GridController& ctrl, const std::string& p) {
   const ControllerData& d = ctrl.data();
-  std::vector<int> periodic;
-  for (int i = 0; i < d.n; ++i)
-    if (ctrl.any_periodic() && d.is_periodic(i)) periodic.push_back(i);
+  const std::vector<int> periodic = periodic_columns(ctrl);
   if (periodic.empty()) return periodic;
   const long long B = static_cast<long long>(d.boxes.size()), NP = static_cast<long long>(periodic.size());
   c << "/* periodic coordinates (angles):";
@@ -268,9 +273,8 @@ std::vector<int> lift_code(std::ostringstream& c, const GridController& ctrl, co
   c << "; per step k = 0..T the reference each is read against (the tube box's centre) */\n";
   c << "static const double " << p << "ref[" << B << "][" << NP << "] = ";
   array_body_2d(c, B, NP, [&](long long e) { return hex_double(ctrl.reference(static_cast<int>(e / NP), periodic[static_cast<size_t>(e % NP)])); });
-  c << ";\n\n/* the angle v on the branch nearest ref: v itself within half a turn (pi), else moved by whole turns */\n"
-    << "static double " << p << "lift(double v, double ref)\n{\n  const double d = v - ref;\n"
-    << "  return fabs(d) <= " << hex_double(0.5 * kTurn) << " ? v : ref + remainder(d, " << hex_double(kTurn) << ");\n}\n\n";
+  c << ";\n\n";
+  c_source::lift_function(c, p);
   return periodic;
 }
 
@@ -360,9 +364,7 @@ ExportResult export_c(const GridController& ctrl, const ExportRequest& req) {
   r.ok = true;
   r.encoding = rle ? "rle" : "dense";
   // The periodic coordinates' reference table (lift_code), in either encoding.
-  long long ref_bytes = 0;
-  for (int i = 0; i < d.n; ++i)
-    if (ctrl.any_periodic() && d.is_periodic(i)) ref_bytes += static_cast<long long>(d.boxes.size()) * 8;
+  const long long ref_bytes = static_cast<long long>(periodic_columns(ctrl).size() * d.boxes.size()) * 8;
   r.dense_bytes = t.dense_bytes() + ref_bytes;
   r.rle_bytes = t.rle_bytes() + ref_bytes;
   r.const_data_bytes = rle ? r.rle_bytes : r.dense_bytes;

@@ -20,7 +20,6 @@
 #include <sstream>
 
 #include "marsyn/c_source.hpp"
-#include "marsyn/periodic.hpp"
 #include "membership.hpp"
 
 namespace marsyn::funnel {
@@ -279,10 +278,8 @@ bool any_periodic(const FunnelData& d) { return std::find(d.periodic.begin(), d.
 // x_k's, with the same two operations and remainder as marsyn::lift_angle (FunnelController).
 void write_lift(std::ostringstream& c, const FunnelData& d, const std::string& p) {
   if (!any_periodic(d)) return;
-  c << "/* the angle v on the branch nearest ref: v itself within half a turn (pi), else moved by whole turns */\n"
-    << "static double " << p << "lift(double v, double ref)\n{\n  const double d = v - ref;\n"
-    << "  return fabs(d) <= " << c_source::hex_double(0.5 * kTurn) << " ? v : ref + remainder(d, " << c_source::hex_double(kTurn)
-    << ");\n}\n\n/* x_read with its periodic coordinates (";
+  c_source::lift_function(c, p);
+  c << "/* x_read with its periodic coordinates (";
   for (int i = 0; i < d.n; ++i)
     if (d.periodic[static_cast<size_t>(i)]) c << " " << i;
   c << " ) on the nominal's branch, in x */\nstatic const double *" << p << "lifted(const double *x_read, int k, double *x)\n{\n"
@@ -292,7 +289,7 @@ void write_lift(std::ostringstream& c, const FunnelData& d, const std::string& p
   c << "  return x;\n}\n\n";
 }
 
-std::string lifted_declaration(const FunnelData& d, const std::string&) {
+std::string lifted_declaration(const FunnelData& d) {
   return any_periodic(d) ? "  double x_lifted[" + std::to_string(d.n) + "];\n  const double *x = x_read;\n" : "  const double *x = x_read;\n";
 }
 
@@ -306,7 +303,7 @@ void write_inside(std::ostringstream& c, const FunnelData& d, const SetPool& poo
   const std::string p = prefix + "_";
   const int n = d.n, T = d.horizon();
   c << "int " << prefix << "_inside(const double *x_read, int k)\n{\n  const double *c;\n  int i, j, kind;\n"
-    << lifted_declaration(d, p)
+    << lifted_declaration(d)
     << "  if (k < 0 || k > " << T << ")\n    return 0;\n"
     << lifted_call(d, p)
     << "  c = " << p << "set + " << p << "at[k];\n  kind = " << p << "kind[k];\n"
@@ -363,7 +360,7 @@ void write_input(std::ostringstream& c, const FunnelData& d, const std::string& 
   const std::string p = prefix + "_", P = c_source::upper(prefix);
   const int n = d.n, m = d.m, T = d.horizon();
   c << "int " << prefix << "_input(const double *x_read, int k, double *u)\n{\n  int i, j;\n"
-    << lifted_declaration(d, p)
+    << lifted_declaration(d)
     << "  if (k < 0 || k >= " << T << ")\n    return " << P << "_OUTSIDE_HORIZON;\n"
     << lifted_call(d, p)
     << "  if (!" << prefix << "_inside(x, k))\n    return " << P << "_OUTSIDE_DOMAIN;\n"

@@ -20,6 +20,12 @@ enum class AgentDefect {
   AngleTubeTooWide,   // a periodic coordinate's eps of a quarter turn or more (a reading could lie on two branches)
 };
 
+// Coordinate i is an angle the agent's dynamics turns freely in (Dynamics::periodic).
+bool periodic_coordinate(const AgentSpec& agent, int i);
+// An angle's tube of a quarter turn or more (AgentDefect::AngleTubeTooWide; the loader locates
+// it at eps first).
+bool angle_tube_too_wide(const AgentSpec& agent, int i);
+
 // The first defect of coordinate i, in the order listed above.
 AgentDefect agent_defect(const AgentSpec& agent, int i);
 
