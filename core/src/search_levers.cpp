@@ -281,6 +281,25 @@ class Proposer {
       p_.why_not = "the gap the plan is pressed into stays closed for any tube (eps x " + number_text(gap, 3) + ")";
       return;
     }
+    // Crowded starts alone: only the crowded agents narrow, each as far as its own starts need
+    // (issue 51: one car beside a kerb narrowed the whole junction's tubes, the others' too).
+    if (start < 1 && std::min({goal, formation, gap}) >= 1) {
+      const std::vector<double> own = planning::start_eps_factors(*team_.problem);
+      double least = 1.0;
+      for (std::size_t i = 0; i < own.size() && i < p_.agents.size(); ++i)
+        if (own[i] < 1) {
+          least = std::min(least, std::min(0.8, 0.95 * own[i]));
+          scale_eps({static_cast<int>(i)}, std::min(0.8, 0.95 * own[i]), {});
+        }
+      std::string who;
+      for (int i : p_.changed) who += (who.empty() ? "" : ", ") + p_.agents[static_cast<std::size_t>(i)].name;
+      if (!p_.changed.empty())
+        p_.changes.push_back({"", "eps factor", "0.8",
+                              number_text(least, 3) + " or less (what the crowded starts need; " + who +
+                                  " only, the other agents keep their eps)"});
+      if (p_.changed.empty()) p_.why_not = "no crowded agent's tracker accepts a smaller eps" + refusals();
+      return;
+    }
     const double factor = std::min({0.8, 0.95 * start, 0.95 * goal, formation, gap});
     scale_eps(everyone, factor, {});
     const char* why = formation <= factor            ? " (what the formation's tolerance needs)"

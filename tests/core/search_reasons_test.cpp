@@ -11,6 +11,7 @@
 #include <sstream>
 #include <unistd.h>
 
+#include "marsyn/core/planning/workspace_gaps.hpp"
 #include "marsyn/core/problem/problem_loader.hpp"
 #include "marsyn/core/report/result_json.hpp"
 #include "marsyn/core/search_levers.hpp"
@@ -259,6 +260,33 @@ TEST(SearchReasons, CrowdedStartsShrinkEpsAsFarAsTheyNeedWithoutTryingHorizons) 
   EXPECT_EQ(ch[0].what, "eps");
   EXPECT_EQ(ch[0].to, "(0.1235,0.1235,0.1482)");
   EXPECT_EQ(o.search.rounds[1].horizon, 40);
+}
+
+// A third robot far from the crowded pair keeps its tube (issue 51: one car beside a kerb
+// narrowed every car's tube at a junction, though only its own start needed it).
+TEST(SearchReasons, CrowdedStartsNarrowOnlyTheCrowdedAgents) {
+  const auto path = std::filesystem::temp_directory_path() / "marsyn_crowded_pair_and_one.yaml";
+  {
+    std::ifstream in(crowded_pair());
+    std::stringstream text;
+    text << in.rdbuf();
+    std::ofstream(path) << text.str()
+                        << "  - {name: far, x0: [0, 2.5, 0], goal: {center: [3, 2.5, 0], radius: [0.4, 0.4, 0.6]}}\n";
+  }
+  const auto lp = marsyn::load_problem(path.string());
+  EXPECT_EQ(marsyn::planning::start_eps_factors(lp.problem)[2], 1.0);
+  const marsyn::SolveOutcome o = marsyn::solve(lp, quick());
+  EXPECT_TRUE(o.verified) << o.search.message();
+  ASSERT_GE(o.search.rounds.size(), 2u);
+  EXPECT_EQ(actions(o)[1], "shrink eps (x 0.8 or less) and re-plan");
+  const auto& ch = o.search.rounds[1].changes;
+  ASSERT_EQ(ch.size(), 3u);  // low's and high's eps and the factor's reason; far's stays
+  EXPECT_EQ(ch[0].agent, "low");
+  EXPECT_EQ(ch[0].to, "(0.1235,0.1235,0.1482)");
+  EXPECT_EQ(ch[1].agent, "high");
+  EXPECT_EQ(ch[2].what, "eps factor");
+  EXPECT_NE(ch[2].to.find("low, high only, the other agents keep their eps"), std::string::npos) << ch[2].to;
+  EXPECT_EQ(o.problem.agents[2].tube.eps, lp.problem.agents[2].tube.eps);
 }
 
 // Two unicycles parking beside a wall: each goal's far end keeps 0.25 - 0.3 f from delta plus the

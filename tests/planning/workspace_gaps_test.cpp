@@ -254,3 +254,78 @@ TEST(WorkspaceGaps, AGapAcrossXNeedsTheTubeInXOnly) {
   EXPECT_NE(describe(gaps[0]).find("(delta + 2 eps in x)"), std::string::npos) << describe(gaps[0]);
 }
 
+
+namespace {
+
+// Crop beds 0.3 wide, furrows 1.2 wide, the first bed 0.5 from the field's edge x = 0 (issue 54:
+// "warnings no robot needs"); weeders drive north down their furrows.
+Problem crop_field() {
+  Problem p;
+  p.delta = 0.35;
+  p.delta_norm = Norm::Inf;
+  for (int b = 0; b < 4; ++b)
+    p.obstacles.push_back(box("bed" + std::to_string(b), 0.5 + 1.5 * b, 2, 0.8 + 1.5 * b, 12));
+  for (int w = 0; w < 3; ++w) {
+    AgentSpec a = agent("weeder" + std::to_string(w + 1), 0.1);
+    a.state_bounds = {Eigen::Vector3d(0, 0, -3), Eigen::Vector3d(5.3, 14, 3)};
+    a.x0 = Eigen::Vector3d(1.4 + 1.5 * w, 0.8, 1.57);
+    a.goal = {Eigen::Vector3d(1.0 + 1.5 * w, 12.8, 1), Eigen::Vector3d(1.8 + 1.5 * w, 13.6, 2)};
+    p.agents.push_back(a);
+  }
+  return p;
+}
+
+}  // namespace
+
+// The gap between the first bed and the edge is closed (0.5 wide, needs 0.35 + 2 x 0.1) but no
+// weeder's way goes through it: named by narrow_gaps, not a cause on anyone's way.
+TEST(WorkspaceGaps, AGapNoAgentsWayPassesIsNotACause) {
+  Problem p = crop_field();
+  const auto all = narrow_gaps(p);
+  ASSERT_EQ(all.size(), 1u);
+  EXPECT_EQ(all[0].second, "the edge x = 0 of the workspace");
+  EXPECT_EQ(all[0].agents.size(), 3u);
+  std::size_t off = 99;
+  EXPECT_TRUE(gaps_on_the_way(p, &off).empty()) << describe(gaps_on_the_way(p).front());
+  EXPECT_EQ(off, 1u);
+  // A weeder that works the strip along the edge needs it; the others still do not.
+  p.agents[1].x0 = Eigen::Vector3d(0.25, 0.8, 1.57);
+  p.agents[1].goal = {Eigen::Vector3d(0.05, 12.8, 1), Eigen::Vector3d(0.45, 13.6, 2)};
+  auto on = gaps_on_the_way(p, &off);
+  ASSERT_EQ(on.size(), 1u);
+  EXPECT_EQ(on[0].agents, (std::vector<std::string>{"weeder2"}));
+  EXPECT_EQ(off, 0u);
+  // So does one that starts inside it.
+  p.agents[1] = crop_field().agents[1];
+  p.agents[2].x0 = Eigen::Vector3d(0.25, 6, 1.57);
+  on = gaps_on_the_way(p);
+  ASSERT_EQ(on.size(), 1u);
+  EXPECT_EQ(on[0].agents, (std::vector<std::string>{"weeder3"}));
+}
+
+// A wall of three pieces with two closed doorways: the way goes through the nearer one, and
+// with both plugged there is no way at all, so each one's opening alone would give a way: both
+// are causes. A wall of touching boxes has no seam to pass through.
+TEST(WorkspaceGaps, EveryClosedDoorwayOnTheWayIsACause) {
+  Problem p;
+  p.delta = 0.35;
+  p.delta_norm = Norm::Inf;
+  p.obstacles = {box("w0", -1, 5, 3, 6), box("w1", 3.5, 5, 6.5, 6), box("w2", 7, 5, 11, 6)};
+  AgentSpec a = agent("robot", 0.1);
+  a.x0 = Eigen::Vector3d(3.25, 1, 0);
+  a.goal = {Eigen::Vector3d(3, 8.75, -1), Eigen::Vector3d(3.5, 9.25, 1)};
+  p.agents = {a};
+  auto gaps = gaps_on_the_way(p);
+  ASSERT_EQ(gaps.size(), 2u);
+  // A third doorway, open (1.0 wide, needs 0.9), makes the two closed ones detours: no cause.
+  p.obstacles = {box("w0", -1, 5, 3, 6), box("w1", 3.5, 5, 6.5, 6), box("w2", 7, 5, 9, 6), box("w3", 10, 5, 11, 6)};
+  std::size_t off = 0;
+  gaps = gaps_on_the_way(p, &off);
+  ASSERT_EQ(gaps.size(), 1u) << describe(gaps.front());  // the nearer one: the shortest way uses it
+  EXPECT_EQ(gaps[0].first, "obstacle w0");
+  EXPECT_EQ(off, 1u);
+  // The wall's last piece split in two touching boxes: no way through the seam.
+  p.obstacles = {box("w0", -1, 5, 3, 6), box("w1", 3.5, 5, 6.5, 6), box("w2", 7, 5, 9, 6), box("w3", 9, 5, 11, 6)};
+  gaps = gaps_on_the_way(p);
+  EXPECT_EQ(gaps.size(), 2u);
+}

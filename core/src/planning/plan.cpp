@@ -643,7 +643,7 @@ PlanOutcome plan(const Problem& problem, const Planner& planner, const PlanSearc
   if (!best.plan.u.empty()) best.nominal = ProductProjector().project(problem, best.plan);
   // A gap closed at every horizon explains a failure better than "try a longer horizon".
   if (!best.feasible && options.log && options.log_closed_gaps) {
-    const auto gaps = narrow_gaps(problem);
+    const auto gaps = gaps_on_the_way(problem);
     // A field of many (crop beds, shelves) is one cause: grouped beyond three, `check` lists them.
     if (gaps.size() > 3) {
       const auto narrowest = std::min_element(gaps.begin(), gaps.end(), [](const NarrowGap& a, const NarrowGap& b) {
@@ -695,7 +695,7 @@ std::string summary(const Problem& problem, const PlanOutcome& o) {
        << knots_text(problem, schedule_missions(problem, o.visits.horizon)) << ")\n";
   if (!o.feasible && !o.horizon_blocked.empty()) os << "  no longer horizon tried: " << o.horizon_blocked << "\n";
   if (!o.feasible)
-    for (const auto& gap : narrow_gaps(problem))
+    for (const auto& gap : gaps_on_the_way(problem))
       os << "  closed gap: " << describe(gap) << " (a longer horizon cannot open it)\n";
   return os.str();
 }

@@ -4,9 +4,11 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <unordered_map>
 
 #include "marsyn/core/planning/geometry.hpp"
 #include "marsyn/core/planning/margins.hpp"
+#include "marsyn/core/planning/routes.hpp"
 #include "marsyn/core/planning/spec_margins.hpp"
 #include "marsyn/number_text.hpp"
 
@@ -66,8 +68,40 @@ int separating_axis(const Obstacle& a, const Obstacle& b) {
   return axis;
 }
 
-std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
-  std::vector<NarrowGap> out;
+namespace {
+
+// One agent a gap is closed to, with what it would need there; narrow_gaps groups them by gap.
+struct Closure {
+  std::string first, second;
+  double width = 0.0;
+  int axis = -1;
+  Polygon plug;
+  std::size_t agent = 0;
+  double need = 0.0, fixed = 0.0;
+  bool body = false, footprint = false;
+};
+
+// The region a gap spans in the plane, what a route through it crosses: the two obstacles' convex
+// hull (the obstacles and the band between them), or an obstacle with its shadow on the edge.
+// Empty across z, where a plane's route cannot tell.
+Polygon plug_between(const Obstacle& a, const Obstacle& b) {
+  std::vector<Eigen::Vector2d> pts(a.vertices.begin(), a.vertices.end());
+  pts.insert(pts.end(), b.vertices.begin(), b.vertices.end());
+  return convex_hull(std::move(pts));
+}
+
+Polygon plug_to_edge(const Obstacle& o, int axis, double at) {
+  std::vector<Eigen::Vector2d> pts(o.vertices.begin(), o.vertices.end());
+  for (const auto& v : o.vertices) {
+    Eigen::Vector2d s = v;
+    s[axis] = at;
+    pts.push_back(s);
+  }
+  return convex_hull(std::move(pts));
+}
+
+std::vector<Closure> closures(const Problem& problem) {
+  std::vector<Closure> out;
   const bool inf = problem.delta_norm == Norm::Inf;
   const double delta = problem.obstacle_delta();
   std::vector<WorkspaceMargin> margin(problem.agents.size());
@@ -84,43 +118,27 @@ std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
   // sides: how many clearances the gap holds besides the tubes (2 between obstacles, 1 at a
   // workspace edge, whose bounds already hold the body); each is delta plus the agent's radius,
   // what no tube changes.
-  auto closed = [&](const std::string& first, const std::string& second, double width, const std::vector<size_t>& who,
-                    int axis, int sides) {
-    NarrowGap g{first, second, width, 0.0, 0.0, {}, false, axis};
-    for (size_t i : who) {
-      const double fixed = sides * (delta + problem.agents[i].radius);
-      const double need = fixed + 2.0 * tube(i, axis);
-      if (width < need) {
-        if (need > g.needed) {
-          g.fixed = fixed;
-          g.body = problem.agents[i].radius > 0;
-        }
-        g.needed = std::max(g.needed, need);
-        g.agents.push_back(problem.agents[i].name);
-        g.footprint = g.footprint || !problem.agents[i].workspace.linear();
-      }
-    }
-    if (g.agents.empty()) return;
-    // One warning per cause: the agents an edge gap closes, each found on its own, are one gap
-    // (a team with the same bounds got one line per robot).
-    for (NarrowGap& h : out)
-      if (h.first == g.first && h.second == g.second && h.width == g.width && h.axis == g.axis) {
-        if (g.needed > h.needed) h.fixed = g.fixed, h.body = g.body, h.needed = g.needed;
-        h.agents.insert(h.agents.end(), g.agents.begin(), g.agents.end());
-        h.footprint = h.footprint || g.footprint;
-        return;
-      }
-    out.push_back(std::move(g));
+  auto closed = [&](const std::string& first, const std::string& second, double width, size_t i, int axis, int sides,
+                    const Polygon& plug) {
+    const double fixed = sides * (delta + problem.agents[i].radius);
+    const double need = fixed + 2.0 * tube(i, axis);
+    if (!(width < need)) return;
+    out.push_back({first, second, width, axis, plug, i, need, fixed, problem.agents[i].radius > 0,
+                   !problem.agents[i].workspace.linear()});
   };
-  std::vector<size_t> everyone(problem.agents.size());
-  for (size_t i = 0; i < everyone.size(); ++i) everyone[i] = i;
   const auto& obs = problem.obstacles;
   // Staged obstacles (scope: stages) are left out: they close a gap only on some stages' way.
   for (size_t p = 0; p < obs.size(); ++p)
     for (size_t q = p + 1; q < obs.size(); ++q) {
       if (obs[p].staged || obs[q].staged) continue;
       const double w = prism_distance(obs[p], obs[q], problem.delta_norm);
-      if (w > 0) closed("obstacle " + obs[p].name, "obstacle " + obs[q].name, w, everyone, separating_axis(obs[p], obs[q]), 2);
+      if (!(w > 0)) continue;
+      const int axis = separating_axis(obs[p], obs[q]);
+      const Polygon plug = axis == 2 || polygon_distance(obs[p].vertices, obs[q].vertices, problem.delta_norm) != w
+                               ? Polygon{}
+                               : plug_between(obs[p], obs[q]);
+      for (size_t i = 0; i < problem.agents.size(); ++i)
+        closed("obstacle " + obs[p].name, "obstacle " + obs[q].name, w, i, axis, 2, plug);
     }
   // An obstacle near the edge of an agent's workspace (a linear workspace: its state bounds).
   for (size_t i = 0; i < problem.agents.size(); ++i) {
@@ -151,9 +169,167 @@ std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
           for (const auto& v : o.vertices) lo = std::min(lo, v[e.axis]), hi = std::max(hi, v[e.axis]);
         }
         const double w = e.low ? lo - e.at : e.at - hi;
-        if (w > 0 && std::isfinite(w)) closed("obstacle " + o.name, e.name, w, {i}, e.axis, 1);
+        if (w > 0 && std::isfinite(w))
+          closed("obstacle " + o.name, e.name, w, i, e.axis, 1, e.axis == 2 ? Polygon{} : plug_to_edge(o, e.axis, e.at));
       }
   }
+  return out;
+}
+
+// One warning per cause: the agents a gap closes, each found on its own, are one gap (a team
+// with the same bounds got one line per robot).
+std::vector<NarrowGap> grouped(const Problem& problem, const std::vector<Closure>& closures) {
+  std::vector<NarrowGap> out;
+  for (const Closure& c : closures) {
+    NarrowGap* g = nullptr;
+    for (NarrowGap& h : out)
+      if (h.first == c.first && h.second == c.second && h.width == c.width && h.axis == c.axis) g = &h;
+    if (!g) {
+      out.push_back(NarrowGap{c.first, c.second, c.width, 0.0, 0.0, {}, false, c.axis});
+      g = &out.back();
+    }
+    if (c.need > g->needed) g->fixed = c.fixed, g->body = c.body, g->needed = c.need;
+    g->agents.push_back(problem.agents[c.agent].name);
+    g->footprint = g->footprint || c.footprint;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
+  return grouped(problem, closures(problem));
+}
+
+namespace {
+
+// An agent's way in the plane: its start, its stages' centres in order, its goal's centre
+// (workspace points); empty when one of them is not a finite point of a planar linear map.
+std::vector<Eigen::Vector2d> way_points(const AgentSpec& a) {
+  const Workspace& ws = a.workspace;
+  if (!ws.linear() || ws.dim() != 2 || ws.index[0] < 0 || ws.index[1] < 0 || a.x0.size() != a.n()) return {};
+  const int ix = ws.index[0], iy = ws.index[1];
+  auto centre = [&](const Box& b) {
+    return Eigen::Vector2d(0.5 * (b.lo[ix] + b.hi[ix]) + ws.offset[0], 0.5 * (b.lo[iy] + b.hi[iy]) + ws.offset[1]);
+  };
+  std::vector<Eigen::Vector2d> way{Eigen::Vector2d(a.x0[ix] + ws.offset[0], a.x0[iy] + ws.offset[1])};
+  for (const auto& st : a.stages) {
+    if (st.is_polygon()) {
+      Eigen::Vector2d c = Eigen::Vector2d::Zero();
+      for (const auto& v : st.polygon) c += v;
+      way.push_back(c / static_cast<double>(st.polygon.size()));
+    } else {
+      way.push_back(centre(st.box));
+    }
+  }
+  way.push_back(centre(a.goal));
+  for (const auto& p : way)
+    if (!p.allFinite()) return {};
+  return way;
+}
+
+// The outside of an agent's position bounds as four slabs (the route keeps inside them), out to
+// a frame past everything else on the way.
+std::vector<Polygon> outside_of(const AgentSpec& a, const std::vector<Polygon>& polygons,
+                                const std::vector<Eigen::Vector2d>& way) {
+  const Workspace& ws = a.workspace;
+  Eigen::Vector2d lo = way[0], hi = way[0];
+  auto take = [&](const Eigen::Vector2d& p) { lo = lo.cwiseMin(p), hi = hi.cwiseMax(p); };
+  for (const auto& p : way) take(p);
+  for (const auto& poly : polygons)
+    for (const auto& v : poly) take(v);
+  Eigen::Vector2d blo, bhi;
+  for (int c = 0; c < 2; ++c) {
+    blo[c] = a.state_bounds.lo[ws.index[c]] + ws.offset[c];
+    bhi[c] = a.state_bounds.hi[ws.index[c]] + ws.offset[c];
+    if (std::isfinite(blo[c])) lo[c] = std::min(lo[c], blo[c]);
+    if (std::isfinite(bhi[c])) hi[c] = std::max(hi[c], bhi[c]);
+  }
+  const Eigen::Vector2d pad = Eigen::Vector2d::Constant(1.0 + (hi - lo).maxCoeff());
+  const Eigen::Vector2d flo = lo - pad, fhi = hi + pad;
+  auto box = [](double x0, double y0, double x1, double y1) {
+    return Polygon{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+  };
+  std::vector<Polygon> out;
+  if (std::isfinite(blo.x())) out.push_back(box(flo.x(), flo.y(), blo.x(), fhi.y()));
+  if (std::isfinite(bhi.x())) out.push_back(box(bhi.x(), flo.y(), fhi.x(), fhi.y()));
+  if (std::isfinite(blo.y())) out.push_back(box(flo.x(), flo.y(), fhi.x(), blo.y()));
+  if (std::isfinite(bhi.y())) out.push_back(box(flo.x(), bhi.y(), fhi.x(), fhi.y()));
+  return out;
+}
+
+// The length of the shortest way through `way`'s points around the polygons; infinite when a
+// leg has none (or a point lies inside one).
+double way_length(const std::vector<Polygon>& polygons, const std::vector<Eigen::Vector2d>& way) {
+  double length = 0.0;
+  for (std::size_t k = 0; k + 1 < way.size(); ++k) {
+    bool found = false;
+    auto corners = shortest_route(polygons, way[k], way[k + 1], &found);
+    if (!found) return std::numeric_limits<double>::infinity();
+    corners.push_back(way[k + 1]);
+    Eigen::Vector2d at = way[k];
+    for (const auto& c : corners) length += (c - at).norm(), at = c;
+  }
+  return length;
+}
+
+bool longer(double a, double b) { return a > b + 1e-9 * (1.0 + b); }
+
+}  // namespace
+
+std::vector<NarrowGap> gaps_on_the_way(const Problem& problem, std::size_t* off_the_way) {
+  const std::vector<Closure> all = closures(problem);
+  std::vector<bool> keep(all.size(), true);
+  std::vector<Polygon> obstacles;
+  double vertices = 0;
+  for (const auto& o : problem.obstacles)
+    if (!o.staged) obstacles.push_back(o.vertices), vertices += static_cast<double>(o.vertices.size());
+  // A visibility graph costs about vertices^2 x polygons segment tests a leg; past a budget over
+  // all the routes (hundreds of robots among hundreds of pillars) every closed gap is named.
+  double work = 0;
+  for (const Closure& c : all) {
+    const double v = vertices + 16 + 2.0 * static_cast<double>(c.plug.size());
+    work += 4.0 * v * v * static_cast<double>(obstacles.size() + 6) *
+            (1.0 + static_cast<double>(problem.agents[c.agent].stages.size()));
+  }
+  if (problem.workspace_dim == 2 && work <= 4e8)
+    for (std::size_t i = 0; i < problem.agents.size(); ++i) {
+      std::vector<std::size_t> mine;
+      for (std::size_t k = 0; k < all.size(); ++k)
+        if (all[k].agent == i && !all[k].plug.empty()) mine.push_back(k);
+      const auto way = way_points(problem.agents[i]);
+      if (mine.empty() || way.empty()) continue;
+      std::vector<Polygon> base = obstacles;
+      for (auto& p : outside_of(problem.agents[i], obstacles, way)) base.push_back(std::move(p));
+      // Routes may run along an edge (touching is not crossing): polygons that share one (a wall
+      // of boxes, an obstacle on the bounds, a plug beside its edge) would leave a seam of width
+      // 0 to pass through. Grown by a hair they overlap; a gap is far wider.
+      double span = 0;
+      for (const auto& p : way) span = std::max(span, p.cwiseAbs().maxCoeff());
+      for (const auto& poly : base)
+        for (const auto& v : poly) span = std::max(span, v.cwiseAbs().maxCoeff());
+      const double hair = 1e-7 * (1.0 + span);
+      for (auto& poly : base) poly = grow_by_box(poly, hair, hair);
+      const double open = way_length(base, way);
+      if (!std::isfinite(open)) continue;  // no way even with every gap open: each may be why
+      auto plugged = [&](std::size_t except, std::size_t only) {
+        std::vector<Polygon> polygons = base;
+        for (std::size_t k : mine)
+          if (k != except && (only == all.size() || k == only)) polygons.push_back(grow_by_box(all[k].plug, hair, hair));
+        return way_length(polygons, way);
+      };
+      const double closed = plugged(all.size(), all.size());
+      // A gap the way needs: the shortest way goes through it (plugging it alone lengthens the
+      // way), or every way is closed and opening it alone would give one (doorways side by side).
+      for (std::size_t k : mine)
+        keep[k] = longer(closed, open) && (longer(plugged(all.size(), k), open) ||
+                                           (!std::isfinite(closed) && std::isfinite(plugged(k, all.size()))));
+    }
+  std::vector<Closure> needed;
+  for (std::size_t k = 0; k < all.size(); ++k)
+    if (keep[k]) needed.push_back(all[k]);
+  auto out = grouped(problem, needed);
+  if (off_the_way) *off_the_way = grouped(problem, all).size() - out.size();
   return out;
 }
 
@@ -272,9 +448,19 @@ std::vector<CrowdedStart> crowded_starts(const Problem& problem, std::size_t lim
   return out;
 }
 
+std::vector<double> start_eps_factors(const Problem& problem) {
+  std::vector<double> f(problem.agents.size(), 1.0);
+  std::unordered_map<std::string, std::size_t> index;
+  for (std::size_t i = 0; i < problem.agents.size(); ++i) index.emplace(problem.agents[i].name, i);
+  for (const auto& c : all_crowded_starts(problem))
+    for (const std::string* name : {&c.first, &c.second})
+      if (const auto at = index.find(*name); at != index.end()) f[at->second] = std::min(f[at->second], c.eps_factor);
+  return f;
+}
+
 double start_eps_factor(const Problem& problem) {
   double f = 1.0;
-  for (const auto& c : all_crowded_starts(problem)) f = std::min(f, c.eps_factor);
+  for (double g : start_eps_factors(problem)) f = std::min(f, g);
   return f;
 }
 

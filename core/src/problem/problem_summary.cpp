@@ -239,12 +239,17 @@ std::string summarize(const Problem& pb, const std::vector<AgentTrackers>& track
     if (!sched.feasible) s << "warning: " << sched.why << "\n";
   }
   // The narrowest gaps first; a room of many alike gaps (crop beds, shelves) names a few.
-  std::vector<planning::NarrowGap> gaps = planning::narrow_gaps(pb);
+  std::size_t off_the_way = 0;
+  std::vector<planning::NarrowGap> gaps = planning::gaps_on_the_way(pb, &off_the_way);
   std::stable_sort(gaps.begin(), gaps.end(), [](const auto& a, const auto& b) { return a.width < b.width; });
   constexpr std::size_t kGaps = 8;
   for (std::size_t g = 0; g < gaps.size() && g < kGaps; ++g) s << "warning: " << planning::describe(gaps[g]) << "\n";
   if (gaps.size() > kGaps)
     s << "warning: " << gaps.size() - kGaps << " more closed gaps, each at least " << gaps[kGaps].width << " wide\n";
+  // Said once, not as a warning: a user who sees a narrow passage on a map may wonder.
+  if (off_the_way > 0)
+    s << "gaps: " << off_the_way << " closed " << (off_the_way == 1 ? "gap lies" : "gaps lie")
+      << " off every agent's shortest way (not a cause)\n";
   std::size_t crowded = 0;
   for (const auto& c : planning::crowded_starts(pb, 5, &crowded)) s << "warning: " << planning::describe(c, pb) << "\n";
   if (crowded > 5) s << "warning: " << crowded - 5 << " more crowded starts\n";

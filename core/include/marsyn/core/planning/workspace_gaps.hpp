@@ -30,6 +30,16 @@ struct NarrowGap {
 // largest margin.
 std::vector<NarrowGap> narrow_gaps(const Problem& problem);
 
+// The closed gaps some agent's way needs, each with only those agents: what `check` and a failed
+// plan warn about. A gap is on an agent's way (start, stages' centres in order, goal's centre, in
+// a planar linear workspace) when its shortest way around the bare obstacles, inside its
+// position bounds, passes through the gap (the way grows when the gap is plugged), or when
+// every gap closed to it plugged leaves no way and opening this one alone gives one. A gap between
+// beds and the field's edge that no robot drives through is not a cause. Footprints, 3-D
+// workspaces, gaps across z and problems past a budget of route work keep every closed gap.
+// `off_the_way`, when given, receives how many closed gaps no agent needs.
+std::vector<NarrowGap> gaps_on_the_way(const Problem& problem, std::size_t* off_the_way = nullptr);
+
 // One line: "obstacles A and B leave a gap 0.62 wide (inf-norm); passing it needs 0.88
 // (2 (delta + eps)): closed to drone1, drone2 at every horizon".
 std::string describe(const NarrowGap& gap);
@@ -69,6 +79,11 @@ std::string describe(const CrowdedStart& c, const Problem& problem);
 // The largest factor on every eps that leaves all starts robust (below the smallest
 // CrowdedStart::eps_factor), or 1 when no start is crowded.
 double start_eps_factor(const Problem& problem);
+
+// The same per agent: the smallest factor among the crowded starts it is part of (1 when none).
+// A pair's margin falls as either tube grows, so each agent narrowed by at most its own factor
+// leaves every pair's step 0 robust; agents not crowded need no narrower tube.
+std::vector<double> start_eps_factors(const Problem& problem);
 
 // The larger eps of an agent's two workspace coordinates (linear map only), or -1.
 double position_eps(const AgentSpec& agent);
