@@ -1181,9 +1181,10 @@ bool Search::run(const Stopwatch& t_start) {
       if (f.kind == Failure::Plan) {
         const ReplanBase base = std::move(replan_base_);
         std::string levers;
+        std::set<std::string> said;  // one lever taken by four agents is named once, not four times
         for (const auto& l : base.levers) {
           unhelpful_[l] = "its re-plan found no eps-robust plan (" + f.reason + ")";
-          levers += (levers.empty() ? "" : " and ") + l;
+          if (said.insert(l).second) levers += (levers.empty() ? "" : " and ") + l;
         }
         log("[search] " + levers + " left no eps-robust plan; back to round " + std::to_string(base.saved.round) +
             "'s plan and its failure (" + base.failure.reason + ")");

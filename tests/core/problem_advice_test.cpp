@@ -2,14 +2,17 @@
 // agent, auto's pick and its fallback order, and warnings with numbers on constructed cases.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
 
 #include "marsyn/core/planning/workspace_gaps.hpp"
+#include "marsyn/core/problem/auto_tube.hpp"
 #include "marsyn/core/problem/problem_advice.hpp"
 #include "marsyn/core/problem/problem_summary.hpp"
 #include "pendulum_variant.hpp"
+#include "problem_variant.hpp"
 
 namespace {
 
@@ -202,4 +205,48 @@ TEST(ProblemAdvice, AlikeAgentsInARowShareOneLine) {
   EXPECT_NE(warned.find("warning: u1 .. u6 (6 agents): eps 0.2 in 'y'"), std::string::npos) << warned;
   EXPECT_NE(warned.find("warning: u5: eps 0.25 in 'x'"), std::string::npos) << warned;
   EXPECT_EQ(warned.find("warning: u2:"), std::string::npos) << warned;
+}
+
+// A robot whose auto eps would crowd its start against a kerb starts with a narrower tube, by
+// its own factor; a robot with room keeps the first value (issue 51: one car beside a kerb,
+// four cars' tubes narrowed, and a plan that failed at once before the search narrowed them).
+TEST(ProblemAdvice, AnAutoEpsStartsRobustBesideAKerb) {
+  const auto path = std::filesystem::temp_directory_path() / "marsyn_auto_eps_kerb.yaml";
+  std::ofstream(path) << R"(name: kerb
+tau: 0.1
+horizon: 60
+delta: 0.2
+delta_norm: inf
+defaults:
+  dynamics: unicycle
+  state_bounds: {lo: [-10, -10, -4], hi: [10, 10, 4]}
+  input_bounds: {lo: [-2, -2], hi: [2, 2]}
+  disturbance: [0.02, 0.02, 0.02]
+  eps: auto
+  workspace: {position: [x, y]}
+obstacles:
+  - {name: kerb, box: {lo: [-8, 1], hi: [8, 2]}}
+agents:
+  - {name: beside, x0: [-6, 0.5, 0], goal: {center: [6, -1, 0], radius: [1, 1, 0.6]}}
+  - {name: free, x0: [-6, -5, 0], goal: {center: [6, -5, 0], radius: [1, 1, 0.6]}}
+)";
+  const auto lp = marsyn::load_problem(path.string());
+  EXPECT_TRUE(marsyn::planning::crowded_starts(lp.problem).empty());
+  const auto& beside = lp.problem.agents[0];
+  const Eigen::VectorXd first = marsyn::first_auto_eps(beside, lp.problem.tau);
+  EXPECT_EQ(lp.problem.agents[1].tube.eps, marsyn::first_auto_eps(lp.problem.agents[1], lp.problem.tau));
+  // 0.3 from the kerb less delta 0.2 leaves 0.3: the first eps (0.5 in y) would crowd it.
+  marsyn::Problem as_first = lp.problem;
+  as_first.agents[0].tube.eps = first;
+  const double f = marsyn::planning::start_eps_factors(as_first)[0];
+  ASSERT_LT(f, 1.0);
+  for (Eigen::Index k = 0; k < first.size(); ++k) EXPECT_NEAR(beside.tube.eps[k], 0.95 * f * first[k], 1e-12) << k;
+  // A start exactly robust with the first value (0.8 from the kerb: delta 0.2 + eps 0.5 + 0.1
+  // from x0 to the kerb's face... here 0.7 = delta + eps) keeps 5 % of room, not a margin of 0.
+  const auto exact = marsyn::load_problem(
+      marsyn::test::problem_variant(path.string(), {{"x0: [-6, 0.5, 0]", "x0: [-6, 0.3, 0]"}}, "auto_eps_kerb_exact"));
+  ASSERT_LT(exact.problem.agents[0].tube.eps[1], first[1]);
+  EXPECT_NEAR(exact.problem.agents[0].tube.eps[1], 0.95 * first[1], 1e-12);
+  EXPECT_NE(lp.auto_tube[0].start_cap.find("where its start is crowded"), std::string::npos);
+  EXPECT_TRUE(lp.auto_tube[1].start_cap.empty());
 }

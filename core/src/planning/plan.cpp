@@ -155,7 +155,7 @@ class HorizonSearch {
       // to where it got stuck).
       const bool obstacle_first = one.a.check.worst_agents[0] >= 0 && one.a.check.worst_agents[1] < 0;
       if (more_clearance_between(one.a) || near_miss_again(one) || (obstacle_first && take_routes(one)) || retime_knots(one) ||
-          take_routes(one) || other_homotopy_class(one) || drop_clearance(one.a))
+          agents_alone_first(one) || take_routes(one) || other_homotopy_class(one) || drop_clearance(one.a))
         continue;
       ++horizons;
       if (horizons >= std::max(1, options_.max_attempts)) {
@@ -334,6 +334,59 @@ class HorizonSearch {
     warm_.reset();
     log("not robust at the samples, and straight ways cross obstacles: re-planning T = " + std::to_string(horizon_) +
         " from routes around them (" + std::to_string(ways.size()) + " waypoints)");
+    return true;
+  }
+
+  // A team whose joint solve lost its way (short at the samples, the worst requirement one
+  // agent's own: its goal, a bound, an obstacle) while each agent alone may be an easy problem:
+  // each agent planned alone at this horizon (the same planner, one attempt, its own obstacles
+  // and bodies), their plans side by side as the start of the joint solve; once per
+  // planning stage (later attempts start from the best so far, as after any lever). Four bicycles
+  // turning left through a junction (tests/problems/users3/intersection.yaml): short by 18.6 at a
+  // goal from the straight ways and 21.3 from the routes, 0.007 from the agents' own plans.
+  // Not for formations (what the agents do alone says little there), missions (their knots are
+  // re-timed along the plan instead, and a re-timed attempt given up on says the horizon is
+  // short: tests/core/mission_retime) nor teams past kAloneAgents (a solve each).
+  static constexpr std::size_t kAloneAgents = 16;
+  bool agents_alone_first(const Solved& one) {
+    const auto& w = one.a.check.worst_agents;
+    if (alone_tried_ || mission_ || problem_.agents.size() < 2 || problem_.agents.size() > kAloneAgents ||
+        !problem_.formation.empty() || !(one.a.check.sampled_margin < 0) || w[1] >= 0)
+      return false;
+    alone_tried_ = true;
+    const ProductLayout lay(problem_);
+    GlobalPlan side;
+    side.tau = problem_.tau;
+    side.u.assign(static_cast<std::size_t>(horizon_), Eigen::VectorXd::Zero(problem_.product_input_dim()));
+    side.x.assign(static_cast<std::size_t>(horizon_) + 1, Eigen::VectorXd::Zero(problem_.product_state_dim()));
+    for (std::size_t i = 0; i < problem_.agents.size(); ++i) {
+      if (options_.stop && options_.stop()) return false;
+      Problem alone = problem_;
+      alone.agents = {problem_.agents[i]};
+      alone.formation.clear();
+      alone.extra_bodies.clear();
+      for (const auto& e : problem_.extra_bodies)
+        if (e.agent == static_cast<int>(i)) alone.extra_bodies.push_back(e), alone.extra_bodies.back().agent = 0;
+      alone.horizon = horizon_;
+      PlanSearchOptions o;
+      o.assembly.buffer = assembly_.buffer;
+      o.assembly.inf_norm_corner = assembly_.inf_norm_corner;
+      o.assembly.between_points = assembly_.between_points;
+      o.assembly.between_clearance = assembly_.between_clearance;
+      o.max_attempts = 1;
+      o.time_limit_s = std::max(1e-3, (options_.time_limit_s - clock_.seconds()) / static_cast<double>(problem_.agents.size() - i + 1));
+      o.routes = options_.routes;
+      o.retime_rounds = 0;
+      o.stop = options_.stop;
+      o.log_closed_gaps = false;
+      const PlanOutcome own = HorizonSearch(alone, planner_, o, std::nullopt, clock_).run();
+      if (own.plan.horizon() != horizon_) return false;
+      for (int k = 0; k < horizon_; ++k) side.u[static_cast<std::size_t>(k)].segment(lay.input[i], own.plan.u[static_cast<std::size_t>(k)].size()) = own.plan.u[static_cast<std::size_t>(k)];
+      for (int k = 0; k <= horizon_; ++k) side.x[static_cast<std::size_t>(k)].segment(lay.state[i], own.plan.x[static_cast<std::size_t>(k)].size()) = own.plan.x[static_cast<std::size_t>(k)];
+    }
+    warm_ = side;
+    log("short at the samples by " + number_text(-one.a.check.sampled_margin, 3) + " (" + one.a.check.worst +
+        "): re-planning T = " + std::to_string(horizon_) + " from each agent's own plan alone, side by side");
     return true;
   }
 
@@ -550,7 +603,7 @@ class HorizonSearch {
   int retimed_here_ = 0;
   ClearanceRounds clearance_rounds_;
   bool warm_again_here_ = false;  // a near miss re-planned warm at this horizon
-  bool clearance_dropped_ = false, routes_ = false, retimed_ = false, other_tried_ = false;
+  bool clearance_dropped_ = false, routes_ = false, retimed_ = false, other_tried_ = false, alone_tried_ = false;
   // Agents whose routes pass the first obstacle on their way on another side than the shortest
   // (another homotopy class), and the margin of the attempt before that change while it is
   // still to be judged (kept for later horizons only when the new class did better).

@@ -58,6 +58,7 @@ Advice advise(const LoadedProblem& lp) {
       first.tube.eps = first_auto_eps(first, pb.tau, &eps_rule);
       if (std::string cap; cap_auto_eps_for_formation(first, formation_tolerance(pb, static_cast<int>(i)), &cap))
         eps_rule += "; " + cap;
+      if (!at.start_cap.empty()) eps_rule += "; " + at.start_cap;
       std::string v;
       for (Eigen::Index k = 0; k < a.tube.eps.size(); ++k) v += (k ? ", " : "") + number_text(a.tube.eps[k], 4);
       if (at.eps) ad.auto_note = "eps: auto, (" + v + ") to start (" + eps_rule + "); solve narrows it to the tube the controller keeps";

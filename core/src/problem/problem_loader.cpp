@@ -8,6 +8,7 @@
 
 #include <climits>
 
+#include "marsyn/core/planning/workspace_gaps.hpp"
 #include "marsyn/core/problem/agent_checks.hpp"
 #include "marsyn/directed_rounding.hpp"
 #include "marsyn/core/problem/input_limits.hpp"
@@ -422,6 +423,30 @@ std::vector<std::shared_ptr<const Planner>> read_planners(const Field& top, cons
   return planners;
 }
 
+// An auto eps is a first value for the search: beside a kerb or another robot at x0 it starts
+// where step 0 is eps-robust, each crowded agent by its own factor (planning::start_eps_factors),
+// rather than a plan that fails at once and a search round that narrows it (the others keep
+// theirs). A start that leaves no room at all (factor near 0) is left to check's warning.
+void narrow_auto_eps_for_starts(Problem& pb, LoadedProblem& out, AgentsRead& r, const Field& defaults) {
+  // Judged with the auto tubes 1/0.95 as wide: a start crowded with those is narrowed to 0.95 of
+  // what makes it exactly robust, so that none is left with a margin of 0 (a car exactly
+  // delta + radius + eps from a kerb, short by 3e-8 between the first two samples).
+  Problem wider = pb;
+  for (std::size_t i = 0; i < pb.agents.size(); ++i)
+    if (out.auto_tube[i].eps) wider.agents[i].tube.eps /= 0.95;
+  const std::vector<double> factor = planning::start_eps_factors(wider);
+  for (std::size_t i = 0; i < pb.agents.size(); ++i) {
+    if (!out.auto_tube[i].eps || !(factor[i] < 1) || !(factor[i] > 0.05)) continue;
+    AgentSpec& a = pb.agents[i];
+    const double f = factor[i];
+    a.tube.eps *= f;
+    out.auto_tube[i].start_cap = "x " + number_text(f, 3) + " where its start is crowded (0.95 of what makes step 0 eps-robust)";
+    follow_tube(r.tracker_instances, a, TubeChange::Set);
+    out.trackers[i] = resolve_tracker(a, r.tracker_requests[i], r.tracker_instances, *out.registry, pb, out.memory_budget,
+                                      r.agent_fields[i], defaults);
+  }
+}
+
 }  // namespace
 
 LoadedProblem load_problem(const std::string& path, const LoadOptions& options) {
@@ -489,6 +514,7 @@ LoadedProblem load_problem(const std::string& path, const LoadOptions& options) 
   read_stage_obstacles(pb, r.stage_fields, top.child("obstacles"));
   branch_by_route(pb);  // an angle's goal on the branch the way there winds to (a patrol's full turn)
   check_start_geometry(pb, r.x0_fields);
+  narrow_auto_eps_for_starts(pb, out, r, defaults);
   check_planning_memory(top, out, read_planners(top, path, out));
   if (Field f = top.child("collision"); f.present()) read_collision(f, out);
   return out;

@@ -17,6 +17,7 @@ struct AutoTube {
   bool eps = false;
   std::vector<std::string> fields;  // the tracker-owned fields left to marsyn (abcd: eta_x, eta_u)
   std::string field_rule;           // how their owners derive them (Tracker::follow_tube)
+  std::string start_cap;            // the loader's narrowing for a crowded start, as text; empty: none
   bool automatic(std::string_view field) const {
     for (const auto& f : fields)
       if (f == field) return true;
