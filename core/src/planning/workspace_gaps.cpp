@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <unordered_map>
 
@@ -118,13 +119,16 @@ std::vector<Closure> closures(const Problem& problem) {
   // sides: how many clearances the gap holds besides the tubes (2 between obstacles, 1 at a
   // workspace edge, whose bounds already hold the body); each is delta plus the agent's radius,
   // what no tube changes.
-  auto closed = [&](const std::string& first, const std::string& second, double width, size_t i, int axis, int sides,
-                    const Polygon& plug) {
+  // The names and the plug are made only for a gap closed to someone: a field of 1000 robots
+  // among pillars has half a million pairs of them, nearly all open.
+  auto closed = [&](const auto& make, double width, size_t i, int axis, int sides) {
     const double fixed = sides * (delta + problem.agents[i].radius);
     const double need = fixed + 2.0 * tube(i, axis);
     if (!(width < need)) return;
-    out.push_back({first, second, width, axis, plug, i, need, fixed, problem.agents[i].radius > 0,
-                   !problem.agents[i].workspace.linear()});
+    Closure c = make();
+    c.width = width, c.axis = axis, c.agent = i, c.need = need, c.fixed = fixed;
+    c.body = problem.agents[i].radius > 0, c.footprint = !problem.agents[i].workspace.linear();
+    out.push_back(std::move(c));
   };
   const auto& obs = problem.obstacles;
   // Staged obstacles (scope: stages) are left out: they close a gap only on some stages' way.
@@ -134,11 +138,17 @@ std::vector<Closure> closures(const Problem& problem) {
       const double w = prism_distance(obs[p], obs[q], problem.delta_norm);
       if (!(w > 0)) continue;
       const int axis = separating_axis(obs[p], obs[q]);
-      const Polygon plug = axis == 2 || polygon_distance(obs[p].vertices, obs[q].vertices, problem.delta_norm) != w
-                               ? Polygon{}
-                               : plug_between(obs[p], obs[q]);
-      for (size_t i = 0; i < problem.agents.size(); ++i)
-        closed("obstacle " + obs[p].name, "obstacle " + obs[q].name, w, i, axis, 2, plug);
+      std::optional<Closure> made;
+      auto make = [&] {
+        if (!made) {
+          made.emplace();
+          made->first = "obstacle " + obs[p].name, made->second = "obstacle " + obs[q].name;
+          if (axis != 2 && polygon_distance(obs[p].vertices, obs[q].vertices, problem.delta_norm) == w)
+            made->plug = plug_between(obs[p], obs[q]);
+        }
+        return *made;
+      };
+      for (size_t i = 0; i < problem.agents.size(); ++i) closed(make, w, i, axis, 2);
     }
   // An obstacle near the edge of an agent's workspace (a linear workspace: its state bounds).
   for (size_t i = 0; i < problem.agents.size(); ++i) {
@@ -170,7 +180,14 @@ std::vector<Closure> closures(const Problem& problem) {
         }
         const double w = e.low ? lo - e.at : e.at - hi;
         if (w > 0 && std::isfinite(w))
-          closed("obstacle " + o.name, e.name, w, i, e.axis, 1, e.axis == 2 ? Polygon{} : plug_to_edge(o, e.axis, e.at));
+          closed(
+              [&] {
+                Closure c;
+                c.first = "obstacle " + o.name, c.second = e.name;
+                if (e.axis != 2) c.plug = plug_to_edge(o, e.axis, e.at);
+                return c;
+              },
+              w, i, e.axis, 1);
       }
   }
   return out;

@@ -431,6 +431,7 @@ void narrow_auto_eps_for_starts(Problem& pb, LoadedProblem& out, AgentsRead& r, 
   // Judged with the auto tubes 1/0.95 as wide: a start crowded with those is narrowed to 0.95 of
   // what makes it exactly robust, so that none is left with a margin of 0 (a car exactly
   // delta + radius + eps from a kerb, short by 3e-8 between the first two samples).
+  if (std::none_of(out.auto_tube.begin(), out.auto_tube.end(), [](const AutoTube& t) { return t.eps; })) return;
   Problem wider = pb;
   for (std::size_t i = 0; i < pb.agents.size(); ++i)
     if (out.auto_tube[i].eps) wider.agents[i].tube.eps /= 0.95;
