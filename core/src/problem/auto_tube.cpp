@@ -33,7 +33,7 @@ Eigen::VectorXd first_auto_eps(const AgentSpec& a, double tau, std::string* why)
     eps[i] = e;
   }
   if (why)
-    *why = "first value: half the goal's half-width per coordinate, at least 2 w tau (and twice a stated x0_radius), at most 0.9 of the room around x0" +
+    *why = "first value: half the goal's half-width per coordinate, at least 2 w tau (and twice a stated x0_radius), at most 0.9 of the room between x0 and the state bounds" +
            (any.empty() ? std::string()
                         : "; " + any + ": the goal spans 90 % of the bounds' range or more (any value), 5 % of the range");
   return eps;
