@@ -288,8 +288,9 @@ class Proposer {
       double least = 1.0;
       for (std::size_t i = 0; i < own.size() && i < p_.agents.size(); ++i)
         if (own[i] < 1) {
-          least = std::min(least, std::min(0.8, 0.95 * own[i]));
-          scale_eps({static_cast<int>(i)}, std::min(0.8, 0.95 * own[i]), {});
+          const double f = std::min(0.8, 0.95 * own[i]);
+          least = std::min(least, f);
+          scale_eps({static_cast<int>(i)}, f, {});
         }
       std::string who;
       for (int i : p_.changed) who += (who.empty() ? "" : ", ") + p_.agents[static_cast<std::size_t>(i)].name;

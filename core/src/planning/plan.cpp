@@ -380,9 +380,9 @@ class HorizonSearch {
       o.stop = options_.stop;
       o.log_closed_gaps = false;
       const PlanOutcome own = HorizonSearch(alone, planner_, o, std::nullopt, clock_).run();
-      if (own.plan.horizon() != horizon_) return false;
-      for (int k = 0; k < horizon_; ++k) side.u[static_cast<std::size_t>(k)].segment(lay.input[i], own.plan.u[static_cast<std::size_t>(k)].size()) = own.plan.u[static_cast<std::size_t>(k)];
-      for (int k = 0; k <= horizon_; ++k) side.x[static_cast<std::size_t>(k)].segment(lay.state[i], own.plan.x[static_cast<std::size_t>(k)].size()) = own.plan.x[static_cast<std::size_t>(k)];
+      if (own.plan.horizon() != horizon_ || own.plan.x.size() != side.x.size()) return false;
+      for (std::size_t k = 0; k < own.plan.u.size(); ++k) side.u[k].segment(lay.input[i], own.plan.u[k].size()) = own.plan.u[k];
+      for (std::size_t k = 0; k < own.plan.x.size(); ++k) side.x[k].segment(lay.state[i], own.plan.x[k].size()) = own.plan.x[k];
     }
     warm_ = side;
     log("short at the samples by " + number_text(-one.a.check.sampled_margin, 3) + " (" + one.a.check.worst +

@@ -309,11 +309,12 @@ std::vector<NarrowGap> gaps_on_the_way(const Problem& problem, std::size_t* off_
     work += 4.0 * v * v * static_cast<double>(obstacles.size() + 6) *
             (1.0 + static_cast<double>(problem.agents[c.agent].stages.size()));
   }
+  std::vector<std::vector<std::size_t>> by_agent(problem.agents.size());
+  for (std::size_t k = 0; k < all.size(); ++k)
+    if (!all[k].plug.empty()) by_agent[all[k].agent].push_back(k);
   if (problem.workspace_dim == 2 && work <= 4e8)
     for (std::size_t i = 0; i < problem.agents.size(); ++i) {
-      std::vector<std::size_t> mine;
-      for (std::size_t k = 0; k < all.size(); ++k)
-        if (all[k].agent == i && !all[k].plug.empty()) mine.push_back(k);
+      const std::vector<std::size_t>& mine = by_agent[i];
       const auto way = way_points(problem.agents[i]);
       if (mine.empty() || way.empty()) continue;
       std::vector<Polygon> base = obstacles;
@@ -327,20 +328,26 @@ std::vector<NarrowGap> gaps_on_the_way(const Problem& problem, std::size_t* off_
         for (const auto& v : poly) span = std::max(span, v.cwiseAbs().maxCoeff());
       const double hair = 1e-7 * (1.0 + span);
       for (auto& poly : base) poly = grow_by_box(poly, hair, hair);
-      const double open = way_length(base, way);
-      if (!std::isfinite(open)) continue;  // no way even with every gap open: each may be why
-      auto plugged = [&](std::size_t except, std::size_t only) {
+      std::vector<Polygon> plugs;
+      for (std::size_t k : mine) plugs.push_back(grow_by_box(all[k].plug, hair, hair));
+      // The way's length with the plugs of the gaps `plugged(j)` says (j indexes mine).
+      auto way_with = [&](const auto& plugged) {
         std::vector<Polygon> polygons = base;
-        for (std::size_t k : mine)
-          if (k != except && (only == all.size() || k == only)) polygons.push_back(grow_by_box(all[k].plug, hair, hair));
+        for (std::size_t j = 0; j < plugs.size(); ++j)
+          if (plugged(j)) polygons.push_back(plugs[j]);
         return way_length(polygons, way);
       };
-      const double closed = plugged(all.size(), all.size());
+      const double open = way_length(base, way);
+      if (!std::isfinite(open)) continue;  // no way even with every gap open: each may be why
+      const double closed = way_with([](std::size_t) { return true; });
       // A gap the way needs: the shortest way goes through it (plugging it alone lengthens the
       // way), or every way is closed and opening it alone would give one (doorways side by side).
-      for (std::size_t k : mine)
-        keep[k] = longer(closed, open) && (longer(plugged(all.size(), k), open) ||
-                                           (!std::isfinite(closed) && std::isfinite(plugged(k, all.size()))));
+      for (std::size_t j = 0; j < mine.size(); ++j) {
+        const bool through = longer(way_with([&](std::size_t g) { return g == j; }), open);
+        const bool only_opening =
+            !std::isfinite(closed) && std::isfinite(way_with([&](std::size_t g) { return g != j; }));
+        keep[mine[j]] = longer(closed, open) && (through || only_opening);
+      }
     }
   std::vector<Closure> needed;
   for (std::size_t k = 0; k < all.size(); ++k)
