@@ -83,6 +83,23 @@ TEST(Periodic, APatrolKeepsItsGoalOnTheBranchItsWayWindsTo) {
   EXPECT_TRUE(o.verified) << o.failure;
 }
 
+// The same boat written in coordinates 20 m north of the island's frame (a workspace offset):
+// its way is followed in the workspace, where the island and the check-points are, so it winds
+// the same turn. Read in its own coordinates the start lay north of the check-points and the
+// goal went a turn the other way.
+TEST(Periodic, AWorkspaceOffsetWindsTheWayWhereTheObstaclesAre) {
+  const std::string patrol = std::string(MARSYN_SOURCE_DIR) + "/tests/problems/periodic/patrol_island.yaml";
+  const marsyn::LoadedProblem lp = marsyn::load_problem(marsyn::test::problem_variant(
+      patrol,
+      {{"    x0: [-1.0, -5.0, 0]\n    goal: {center: [-1.0, -5.0, 0], radius: [0.5, 0.5, 0.4]}\n",
+        "    x0: [-1.0, 15.0, 0]\n    goal: {center: [-1.0, 15.0, 0], radius: [0.5, 0.5, 0.4]}\n"
+        "    state_bounds: {lo: [-8, 12, any], hi: [8, 28, any]}\n"
+        "    workspace: {position: [x, y], offset: [0, -20]}\n"}},
+      "periodic_patrol_offset"));
+  EXPECT_NEAR(lp.problem.agents[0].goal.center()[2], 2 * kPi, 1e-9);
+  EXPECT_NEAR(lp.problem.agents[1].goal.center()[2], 3.14159 - 2 * kPi, 1e-9);
+}
+
 TEST(Periodic, AStageRegionReadsAnyAndArcsAsTheGoalDoes) {
   const marsyn::LoadedProblem lp = marsyn::load_problem(variant(
       {{"    goal: {center: [6.4, 1, -1.5708], radius: [0.5, 0.6, 0.4]}\n",

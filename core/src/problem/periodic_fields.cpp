@@ -195,10 +195,11 @@ void branch_by_route(Problem& pb) {
     bool arcs = a.goal.hi[h] - a.goal.lo[h] < kTurn;
     for (const auto& st : a.stages) arcs = arcs || (!st.is_polygon() && st.box.hi[h] - st.box.lo[h] < kTurn);
     if (!arcs) continue;
-    const int ix = a.workspace.index[0], iy = a.workspace.index[1];
-    auto point_of = [&](const Box& b) { return Eigen::Vector2d(0.5 * (b.lo[ix] + b.hi[ix]), 0.5 * (b.lo[iy] + b.hi[iy])); };
+    // The way's points in the workspace (the obstacles' frame): start, stages, goal.
+    const std::vector<Eigen::Vector2d> way = planning::way_points(a);
+    if (way.size() != a.stages.size() + 2) continue;
     double heading = a.x0[h];
-    Eigen::Vector2d at(a.x0[ix], a.x0[iy]);
+    Eigen::Vector2d at = way.front();
     // Carries the heading along the leg to `to`, around the obstacles, each segment the shorter way.
     auto travel = [&](const Eigen::Vector2d& to) {
       bool found = false;
@@ -229,18 +230,13 @@ void branch_by_route(Problem& pb) {
       }
       return true;
     };
-    for (auto& st : a.stages) {
-      if (st.is_polygon()) {
-        Eigen::Vector2d c = Eigen::Vector2d::Zero();
-        for (const auto& v : st.polygon) c += v;
-        travel(c / static_cast<double>(st.polygon.size()));
-      } else {
-        travel(point_of(st.box));
-        // The robot leaves the stage with the heading the stage holds it to.
-        if (rebranch(st.box)) heading = 0.5 * (st.box.lo[h] + st.box.hi[h]);
-      }
+    for (std::size_t si = 0; si < a.stages.size(); ++si) {
+      travel(way[si + 1]);
+      // The robot leaves the stage with the heading the stage holds it to.
+      MissionStage& st = a.stages[si];
+      if (!st.is_polygon() && rebranch(st.box)) heading = 0.5 * (st.box.lo[h] + st.box.hi[h]);
     }
-    travel(point_of(a.goal));
+    travel(way.back());
     rebranch(a.goal);
     for (auto& e : pb.extra_bodies)
       if (e.agent == static_cast<int>(ai)) {
