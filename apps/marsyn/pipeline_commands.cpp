@@ -24,9 +24,11 @@
 #include "marsyn/core/verification/verification.hpp"
 #include "marsyn/core/problem/config_error.hpp"
 #include "marsyn/core/report/result_json.hpp"
+#include "marsyn/core/stage_memory.hpp"
 #include "marsyn/core/report/solve_outputs.hpp"
 #include "marsyn/core/setup.hpp"
 #include "marsyn/core/solve.hpp"
+#include "marsyn/core/stage_memory.hpp"
 #include "marsyn/core/report/output_folder.hpp"
 #include "marsyn/core/planning/plan_io.hpp"
 #include "marsyn/core/planning/plan.hpp"
@@ -117,7 +119,9 @@ LoadedProblem load_on_every_rank(const std::string& config, const LoadOptions& l
 double peak_rss_mb() {
   rusage ru{};
   getrusage(RUSAGE_SELF, &ru);
-  return ru.ru_maxrss / 1024.0;  // ru_maxrss is in KiB on Linux
+  // A solve resets the kernel's high-water mark at each stage (stage_memory.hpp): the run's peak
+  // is the larger of what getrusage still holds and what the stages saw.
+  return std::max(ru.ru_maxrss / 1024.0, run_peak_memory_bytes() / 1048576.0);  // ru_maxrss is in KiB on Linux
 }
 
 // A tracker's figure as `marsyn track` prints it: yes/no, a number, or a per-step count read as
@@ -413,6 +417,8 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
   std::printf("global ABCD   N_g = %.3g state-input pairs, >= %.3g bytes: %s\n", out.global.state_input_pairs,
               out.global.memory_bytes_estimate, out.global.status.c_str());
   std::printf("total         %.4g s, peak memory %.4g MB\n", out.total_time_s, peak_rss_mb());
+  if (const std::string m = stage_memory_text(out.memory); !m.empty())
+    std::printf("memory        added at each stage's peak: %s\n", m.c_str());
   // A team of hundreds: the first controllers, the count, and the team's files (the line listed
   // 1003 names for 1000 robots).
   constexpr std::size_t kListed = 10;

@@ -1,5 +1,9 @@
 #include "marsyn/core/solve.hpp"
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -41,6 +45,16 @@ constexpr int kWidenBeforeKnobs = 2;
 // knob rarely closes a miss the one before it left (30 of the 400-robot field's unicycles went
 // through five knob rounds, 15-22 s each, before abcd gave all of them controllers in 4 s).
 constexpr int kKnobsBeforeFallback = 1;
+
+// A large team's plan frees gigabytes of small blocks (rows, multipliers) that glibc keeps in
+// the process, so tracking and verification came on top of the plan's peak instead of reusing
+// it: handing them back to the system makes the run's peak the largest stage's, not their sum
+// (400 unicycles: 607 -> 448 MB).
+void return_freed_memory() {
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
+}
 
 using search::Failure;
 using search::Lever;
@@ -292,7 +306,12 @@ Failure Search::plan(SearchRound& round, double time_left) {
   }
   warm_from_last_ = false;
   const Stopwatch t;
-  if (root()) out_.plan = setup_.plan(planned, std::move(po));
+  if (root()) {
+    StageWatch watch(out_.memory.plan);
+    out_.memory.per_stage = out_.memory.per_stage && watch.resettable();
+    out_.plan = setup_.plan(planned, std::move(po));
+  }
+  return_freed_memory();
   if (opt_.cluster) mpi::broadcast_plan(*opt_.cluster, out_.plan);  // what the other ranks need of it
   if (opt_.cluster) broadcast_visits();
   round.planned = true;
@@ -404,6 +423,7 @@ void Search::record_plan_attempts() {
 
 Failure Search::track(SearchRound& round) {
   const Stopwatch t;
+  const StageWatch watch(out_.memory.track);
   const std::size_t N = pb_.agents.size();
   const std::vector<int> redo = agents_to_track();
   if (redo.size() == N || out_.agents.size() != N) {
@@ -486,7 +506,10 @@ Failure Search::tracking_failure(const std::vector<int>& redo) {
 Failure Search::certify(SearchRound& round) {
   // The stages at the plan's visit knots (docs/tasks.md): the problem with each stage's window
   // narrowed to its knot, so the certifier judges exactly the knots the plan was checked at.
-  out_.certification = setup_.certify(planning::with_visits(pb_, out_.plan.visits), out_.agents);
+  {
+    const StageWatch watch(out_.memory.certify);
+    out_.certification = setup_.certify(planning::with_visits(pb_, out_.plan.visits), out_.agents);
+  }
   out_.certification_ran = true;
   round.certify_time_s = last_certify_s_ = out_.certification.time_s;
   log("[certify] " + out_.certification.message);
@@ -1278,8 +1301,11 @@ void verify_controllers(Setup& setup, const SolveOptions& opt, SolveOutcome& out
   // A live bar on a terminal (runs, runs/s, time left), else a line every quarter.
   vo.progress = [p = std::make_shared<RunProgress>(opt.log, opt.live)](int done, int total) { (*p)(done, total); };
   // The runs judge the stages (and the staged obstacles' windows) at the plan's visit knots.
-  out.verification = setup.verify(planning::with_visits(out.problem, out.plan.visits), out.plan.nominal,
-                                  controllers_of(out.agents), vo);
+  {
+    const StageWatch watch(out.memory.verify);
+    out.verification = setup.verify(planning::with_visits(out.problem, out.plan.visits), out.plan.nominal,
+                                    controllers_of(out.agents), vo);
+  }
   out.verification_ran = true;
   out.attempts.push_back({"verify", std::to_string(out.verification.runs) + " runs",
                           std::to_string(out.verification.violations) + " violations", out.verification.time_s,
@@ -1318,6 +1344,9 @@ SolveOutcome Setup::solve(const SolveOptions& opt) {
     out.attempts.push_back({"global ABCD", kGlobalAbcdParameters, out.global.status, out.global.time_s, 0});
 
   if (controllers) verify_controllers(*this, opt, out);
+  // `check`'s figure is the planner's at the file's horizon: beside the peak only when that is
+  // the horizon planned.
+  if (out.problem.horizon == problem().horizon) out.memory.plan_predicted_bytes = loaded().plan_memory.bytes;
   out.total_time_s = t_start.seconds();
   return out;
 }

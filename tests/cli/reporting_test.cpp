@@ -79,6 +79,26 @@ TEST(Reporting, OneAgentOneInputAndTheSearchSaysWhatItChanged) {
   EXPECT_NE(page.find("\"to\":\"(0.25,0.25)\""), std::string::npos);
 }
 
+// What each stage added to the process at its peak, the plan's beside `check`'s prediction, in
+// the summary and in result.json (issue 50 item 4).
+TEST(Reporting, SolveSaysWhatEachStageAddedToMemory) {
+  const std::string file = std::string(MARSYN_SOURCE_DIR) + "/examples/pendulum.yaml";
+  const std::string out = write_temp("stage_memory.yaml", "") + ".out";
+  const auto r = run_marsyn("solve " + file + " --runs 5 --global-budget 0 --out " + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto line = r.out.find("memory        added at each stage's peak: plan ");
+  ASSERT_NE(line, std::string::npos) << r.out;
+  const std::string text = r.out.substr(line, r.out.find('\n', line) - line);
+  for (const char* part : {" MB predicted), tracking ", ", verification "})
+    EXPECT_NE(text.find(part), std::string::npos) << part << " in " << text;
+  const std::string result = marsyn::test::slurp(out + "/result.json");
+  const auto memory = result.find("\"memory\": {");
+  ASSERT_NE(memory, std::string::npos) << result;
+  for (const char* key : {"\"plan\": {", "\"tracking\": {", "\"verification\": {", "\"added_bytes\": ",
+                          "\"plan_predicted_bytes\": ", "\"per_stage\": true"})
+    EXPECT_NE(result.find(key, memory), std::string::npos) << key;
+}
+
 TEST(Reporting, PlanWritesOneCsvFileInTheSingular) {
   const std::string file = write_temp("one_csv.yaml", pendulum_with("tracker: abcd\n", "tracker: abcd\n"));
   const auto r = run_marsyn("plan " + file + " --out " + file + ".plan");

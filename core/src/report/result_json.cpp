@@ -349,6 +349,17 @@ nlohmann::json result_json(const SolveOutcome& o) {
   j["attempts"] = attempts_json(o.attempts);
   j["search"] = search_json(o.search);
   j["tracking_time_s"] = o.search.track_time_s;  // every round's tracking, wall time
+  // Bytes each stage added to the process at its peak (over all its rounds; absent: not run).
+  nlohmann::json mem{{"per_stage", o.memory.per_stage}};
+  auto stage = [&](const char* key, const StagePeak& p) {
+    if (p.peak_bytes > 0) mem[key] = {{"added_bytes", p.added_bytes()}, {"peak_bytes", p.peak_bytes}, {"start_bytes", p.start_bytes}};
+  };
+  stage("plan", o.memory.plan);
+  stage("tracking", o.memory.track);
+  stage("certification", o.memory.certify);
+  stage("verification", o.memory.verify);
+  if (o.memory.plan_predicted_bytes > 0) mem["plan_predicted_bytes"] = o.memory.plan_predicted_bytes;
+  j["memory"] = mem;
   j["total_time_s"] = o.total_time_s;
   return j;
 }

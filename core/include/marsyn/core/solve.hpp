@@ -18,6 +18,7 @@
 #include "marsyn/core/problem/problem_loader.hpp"
 #include "marsyn/core/search_report.hpp"
 #include "marsyn/core/solve_options.hpp"
+#include "marsyn/core/stage_memory.hpp"
 #include "marsyn/core/tracking/global_abcd.hpp"
 #include "marsyn/core/tracking/track_agents.hpp"
 #include "marsyn/core/tracking/tracker_choice.hpp"
@@ -52,6 +53,7 @@ struct SolveOutcome {
   // narrowed an auto eps (empty when it did not).
   std::vector<AutoTube> auto_tube;
   std::vector<std::string> auto_notes;
+  StageMemory memory;  // what each stage added to the process at its peak (plan: `check`'s prediction beside it)
   double total_time_s = 0;
 };
 
