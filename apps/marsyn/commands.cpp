@@ -7,6 +7,7 @@
 #include "marsyn/core/problem/problem_loader.hpp"
 #include "marsyn/core/problem/problem_advice.hpp"
 #include "marsyn/core/problem/problem_summary.hpp"
+#include "marsyn/core/verification/verification.hpp"
 
 namespace marsyn::cli {
 
@@ -50,7 +51,10 @@ int run_check(const std::string& config, const LoadOptions& load) {
   const LoadedProblem loaded = load_problem(config, load);
   std::cout << summarize(loaded.problem, loaded.trackers) << "memory    planning about " << format_bytes(loaded.plan_memory.bytes)
             << " at T = " << loaded.problem.horizon << " (" << loaded.plan_memory_source << ": " << loaded.plan_memory.detail
-            << "), budget " << format_bytes(loaded.memory_budget.bytes) << " (" << loaded.memory_budget.source << ")\n\n"
+            << "), budget " << format_bytes(loaded.memory_budget.bytes) << " (" << loaded.memory_budget.source << ")\n"
+            << "          verification about " << format_bytes(verification_memory_bytes(loaded.problem))
+            << " (the ten runs kept for the report: every state at every 1/" << VerificationOptions{}.fine_substeps
+            << " of a period)\n\n"
             << to_text(advise(loaded)) << "\nok: " << config << " is a valid marsyn problem\n";
   return 0;
 }

@@ -1302,6 +1302,7 @@ void verify_controllers(Setup& setup, const SolveOptions& opt, SolveOutcome& out
   vo.progress = [p = std::make_shared<RunProgress>(opt.log, opt.live)](int done, int total) { (*p)(done, total); };
   // The runs judge the stages (and the staged obstacles' windows) at the plan's visit knots.
   {
+    out.memory.verify_predicted_bytes = verification_memory_bytes(out.problem, vo.fine_substeps);
     const StageWatch watch(out.memory.verify);
     out.verification = setup.verify(planning::with_visits(out.problem, out.plan.visits), out.plan.nominal,
                                     controllers_of(out.agents), vo);

@@ -76,7 +76,7 @@ std::string stage_memory_text(const StageMemory& m) {
   add("plan", m.plan, m.plan_predicted_bytes);
   add("tracking", m.track, 0);
   add("certification", m.certify, 0);
-  add("verification", m.verify, 0);
+  add("verification", m.verify, m.verify_predicted_bytes);
   if (!m.per_stage && !s.empty()) s += " (the run's peak so far at each stage: the system keeps one high-water mark)";
   return s;
 }

@@ -89,13 +89,13 @@ TEST(Reporting, SolveSaysWhatEachStageAddedToMemory) {
   const auto line = r.out.find("memory        added at each stage's peak: plan ");
   ASSERT_NE(line, std::string::npos) << r.out;
   const std::string text = r.out.substr(line, r.out.find('\n', line) - line);
-  for (const char* part : {" MB predicted), tracking ", ", verification "})
+  for (const char* part : {" MB predicted), tracking ", ", verification ", " MB predicted)"})
     EXPECT_NE(text.find(part), std::string::npos) << part << " in " << text;
   const std::string result = marsyn::test::slurp(out + "/result.json");
   const auto memory = result.find("\"memory\": {");
   ASSERT_NE(memory, std::string::npos) << result;
   for (const char* key : {"\"plan\": {", "\"tracking\": {", "\"verification\": {", "\"added_bytes\": ",
-                          "\"plan_predicted_bytes\": ", "\"per_stage\": true"})
+                          "\"plan_predicted_bytes\": ", "\"verification_predicted_bytes\": ", "\"per_stage\": true"})
     EXPECT_NE(result.find(key, memory), std::string::npos) << key;
 }
 

@@ -120,6 +120,18 @@ int default_verification_runs(int agents) {
   return std::max(kFewest, kAgentRuns / agents);
 }
 
+double verification_memory_bytes(const Problem& problem, int fine_substeps) {
+  constexpr double kKeptRuns = 10;
+  // Per kept run and substep, besides the product state's doubles: its vector's header and the
+  // allocator's, the time, the margins and their copy in the report (with the vectors' growth
+  // room), and a few bytes per agent that the dense check keeps (fitted on the field, above).
+  constexpr double kPerSubstep = 64, kPerAgent = 8;
+  constexpr double kInFlight = 1 << 20;  // the runs in flight, a batch per thread (crane_vehicle: 2.05 MB in all)
+  const double substeps = static_cast<double>(problem.horizon) * std::max(1, fine_substeps) + 1;
+  const double agents = static_cast<double>(problem.agents.size());
+  return kInFlight + kKeptRuns * substeps * (8.0 * problem.product_state_dim() + kPerAgent * agents + kPerSubstep);
+}
+
 VerificationReport verify(const Problem& problem, const std::vector<NominalTrajectory>& nominal,
                           const std::vector<std::shared_ptr<const Controller>>& controllers,
                           const VerificationOptions& opt) {

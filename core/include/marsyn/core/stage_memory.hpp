@@ -17,7 +17,8 @@ struct StagePeak {
 
 struct StageMemory {
   StagePeak plan, track, certify, verify;
-  double plan_predicted_bytes = 0;  // the planner's own figure at the horizon planned (`check`'s)
+  double plan_predicted_bytes = 0;    // the planner's own figure at the horizon planned (`check`'s)
+  double verify_predicted_bytes = 0;  // verification_memory_bytes (`check`'s)
   bool per_stage = true;            // false where the high-water mark cannot be reset: each peak is then the run's so far
 };
 
