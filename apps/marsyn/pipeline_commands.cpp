@@ -119,9 +119,7 @@ LoadedProblem load_on_every_rank(const std::string& config, const LoadOptions& l
 double peak_rss_mb() {
   rusage ru{};
   getrusage(RUSAGE_SELF, &ru);
-  // A solve resets the kernel's high-water mark at each stage (stage_memory.hpp): the run's peak
-  // is the larger of what getrusage still holds and what the stages saw.
-  return std::max(ru.ru_maxrss / 1024.0, run_peak_memory_bytes() / 1048576.0);  // ru_maxrss is in KiB on Linux
+  return ru.ru_maxrss / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 
 // A tracker's figure as `marsyn track` prints it: yes/no, a number, or a per-step count read as

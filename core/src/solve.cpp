@@ -307,8 +307,7 @@ Failure Search::plan(SearchRound& round, double time_left) {
   warm_from_last_ = false;
   const Stopwatch t;
   if (root()) {
-    StageWatch watch(out_.memory.plan);
-    out_.memory.per_stage = out_.memory.per_stage && watch.resettable();
+    const StageWatch watch(out_.memory.plan);
     out_.plan = setup_.plan(planned, std::move(po));
   }
   return_freed_memory();

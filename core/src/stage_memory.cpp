@@ -1,10 +1,16 @@
 #include "marsyn/core/stage_memory.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <condition_variable>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 #include <string>
+#include <thread>
 
 #include "marsyn/number_text.hpp"
 
@@ -12,16 +18,13 @@ namespace marsyn {
 
 namespace {
 
-// The largest high-water mark seen before a reset: the run's peak survives the stages' resets.
-std::atomic<double> g_before_resets{0.0};
-
-// A field of /proc/self/status in bytes ("VmHWM:  218332 kB"); 0 where it cannot be read.
-double status_bytes(const std::string& key) {
+// The kernel's high-water mark (VmHWM) in bytes; 0 where it cannot be read.
+double high_water_bytes() {
   std::ifstream in("/proc/self/status");
   std::string line;
   while (std::getline(in, line))
-    if (line.rfind(key + ":", 0) == 0) {
-      std::istringstream s(line.substr(key.size() + 1));
+    if (line.rfind("VmHWM:", 0) == 0) {
+      std::istringstream s(line.substr(6));
       double kb = 0;
       s >> kb;
       return kb * 1024.0;
@@ -29,19 +32,12 @@ double status_bytes(const std::string& key) {
   return 0.0;
 }
 
-void fold(double bytes) {
-  double seen = g_before_resets.load();
-  while (bytes > seen && !g_before_resets.compare_exchange_weak(seen, bytes)) {
-  }
-}
-
-// "5" resets the high-water mark to the current resident size (Linux 4.0 and later).
-bool reset_high_water() {
-  fold(status_bytes("VmHWM"));
-  std::ofstream out("/proc/self/clear_refs");
-  out << "5";
-  out.flush();
-  return static_cast<bool>(out);
+// The resident size now, from /proc/self/statm (pages); 0 where it cannot be read.
+double resident_bytes() {
+  std::ifstream in("/proc/self/statm");
+  double size = 0, resident = 0;
+  if (!(in >> size >> resident)) return 0.0;
+  return resident * static_cast<double>(sysconf(_SC_PAGESIZE));
 }
 
 // MB as the summary's total line counts them (2^20 bytes).
@@ -49,21 +45,39 @@ std::string mb(double bytes) { return number_text(bytes / 1048576.0, 3) + " MB";
 
 }  // namespace
 
-StageWatch::StageWatch(StagePeak& into) : into_(into) {
-  resettable_ = reset_high_water();
-  if (into_.peak_bytes == 0) into_.start_bytes = status_bytes("VmRSS");
+// The sampler: the resident size every few milliseconds while the stage runs.
+struct StageWatch::Sampler {
+  std::mutex m;
+  std::condition_variable cv;
+  bool done = false;
+  double largest = 0;
+  std::thread thread;
+};
+
+StageWatch::StageWatch(StagePeak& into) : into_(into), high_water_at_start_(high_water_bytes()), sampler_(new Sampler) {
+  const double now = resident_bytes();
+  if (into_.peak_bytes == 0) into_.start_bytes = now;
+  sampler_->largest = now;
+  Sampler* s = sampler_.get();
+  s->thread = std::thread([s] {
+    std::unique_lock<std::mutex> lock(s->m);
+    while (!s->cv.wait_for(lock, std::chrono::milliseconds(5), [s] { return s->done; }))
+      s->largest = std::max(s->largest, resident_bytes());
+  });
 }
 
 StageWatch::~StageWatch() {
-  const double peak = status_bytes("VmHWM");
-  fold(peak);
+  {
+    std::lock_guard<std::mutex> lock(sampler_->m);
+    sampler_->done = true;
+  }
+  sampler_->cv.notify_all();
+  sampler_->thread.join();
+  double peak = std::max(sampler_->largest, resident_bytes());
+  // A stage that set the process's record has it exactly (a spike between two samples too).
+  const double high_water = high_water_bytes();
+  if (high_water > high_water_at_start_) peak = std::max(peak, high_water);
   into_.peak_bytes = std::max(into_.peak_bytes, peak);
-}
-
-double run_peak_memory_bytes() {
-  const double now = status_bytes("VmHWM");
-  fold(now);
-  return g_before_resets.load();
 }
 
 std::string stage_memory_text(const StageMemory& m) {
@@ -77,7 +91,6 @@ std::string stage_memory_text(const StageMemory& m) {
   add("tracking", m.track, 0);
   add("certification", m.certify, 0);
   add("verification", m.verify, m.verify_predicted_bytes);
-  if (!m.per_stage && !s.empty()) s += " (the run's peak so far at each stage: the system keeps one high-water mark)";
   return s;
 }
 

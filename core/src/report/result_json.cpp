@@ -350,7 +350,7 @@ nlohmann::json result_json(const SolveOutcome& o) {
   j["search"] = search_json(o.search);
   j["tracking_time_s"] = o.search.track_time_s;  // every round's tracking, wall time
   // Bytes each stage added to the process at its peak (over all its rounds; absent: not run).
-  nlohmann::json mem{{"per_stage", o.memory.per_stage}};
+  nlohmann::json mem = nlohmann::json::object();
   auto stage = [&](const char* key, const StagePeak& p) {
     if (p.peak_bytes > 0) mem[key] = {{"added_bytes", p.added_bytes()}, {"peak_bytes", p.peak_bytes}, {"start_bytes", p.start_bytes}};
   };

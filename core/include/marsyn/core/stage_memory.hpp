@@ -1,9 +1,10 @@
 #pragma once
 // Resident memory stage by stage (issue 50, "memory budget per stage"): how much each stage of a
 // solve added to the process at its peak, next to what `check` predicted for it, so that a user
-// of a large team sees which stage sets the machine they need. Read from the kernel's high-water
-// mark (VmHWM), reset at each stage's start (/proc/self/clear_refs), so one stage's peak is not
-// hidden behind an earlier one's.
+// of a large team sees which stage sets the machine they need. The resident size is sampled every
+// 5 ms while a stage runs, and a stage that raises the kernel's high-water mark (VmHWM) has that
+// exactly. The mark itself is never reset: /usr/bin/time and the like report the run's true peak.
+#include <memory>
 #include <string>
 
 namespace marsyn {
@@ -19,25 +20,22 @@ struct StageMemory {
   StagePeak plan, track, certify, verify;
   double plan_predicted_bytes = 0;    // the planner's own figure at the horizon planned (`check`'s)
   double verify_predicted_bytes = 0;  // verification_memory_bytes (`check`'s)
-  bool per_stage = true;            // false where the high-water mark cannot be reset: each peak is then the run's so far
 };
 
-// One stage's measurement: the high-water mark reset when it starts, read when it ends.
+// One stage's measurement, from construction to destruction (folded into `into` over rounds).
 class StageWatch {
  public:
   explicit StageWatch(StagePeak& into);
   ~StageWatch();
   StageWatch(const StageWatch&) = delete;
   StageWatch& operator=(const StageWatch&) = delete;
-  bool resettable() const { return resettable_; }
 
  private:
+  struct Sampler;
   StagePeak& into_;
-  bool resettable_ = false;
+  double high_water_at_start_;
+  std::unique_ptr<Sampler> sampler_;
 };
-
-// The process's resident peak over the whole run (the stages' resets folded in); 0 where unknown.
-double run_peak_memory_bytes();
 
 // "plan 401 MB (412 MB predicted), tracking 66 MB, certification 12 MB, verification 180 MB":
 // what each stage added at its peak.
