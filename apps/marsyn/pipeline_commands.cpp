@@ -24,7 +24,6 @@
 #include "marsyn/core/verification/verification.hpp"
 #include "marsyn/core/problem/config_error.hpp"
 #include "marsyn/core/report/result_json.hpp"
-#include "marsyn/core/stage_memory.hpp"
 #include "marsyn/core/report/solve_outputs.hpp"
 #include "marsyn/core/setup.hpp"
 #include "marsyn/core/solve.hpp"
