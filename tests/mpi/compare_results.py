@@ -5,11 +5,11 @@ import json
 import sys
 
 # What legitimately differs between runs: wall-clock and CPU times, the peak memory of the
-# reporting process, and the search's stop message (it names the seconds the search took).
+# reporting process and what each stage added to it (`memory`), and the search's stop message (it names the seconds the search took).
 def strip(v):
     if isinstance(v, dict):
         return {k: strip(x) for k, x in v.items()
-                if not (k.endswith("time_s") or k in ("peak_memory_bytes", "stop_message"))}
+                if not (k.endswith("time_s") or k in ("peak_memory_bytes", "memory", "stop_message"))}
     if isinstance(v, list):
         return [strip(x) for x in v]
     return v

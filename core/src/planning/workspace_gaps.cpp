@@ -218,6 +218,29 @@ std::vector<NarrowGap> narrow_gaps(const Problem& problem) {
   return grouped(problem, closures(problem));
 }
 
+std::vector<Eigen::Vector2d> way_points(const AgentSpec& a) {
+  const Workspace& ws = a.workspace;
+  if (!ws.linear() || ws.dim() < 2 || ws.index[0] < 0 || ws.index[1] < 0 || a.x0.size() != a.n()) return {};
+  const int ix = ws.index[0], iy = ws.index[1];
+  auto centre = [&](const Box& b) {
+    return Eigen::Vector2d(0.5 * (b.lo[ix] + b.hi[ix]) + ws.offset[0], 0.5 * (b.lo[iy] + b.hi[iy]) + ws.offset[1]);
+  };
+  std::vector<Eigen::Vector2d> way{Eigen::Vector2d(a.x0[ix] + ws.offset[0], a.x0[iy] + ws.offset[1])};
+  for (const auto& st : a.stages) {
+    if (st.is_polygon()) {
+      Eigen::Vector2d c = Eigen::Vector2d::Zero();
+      for (const auto& v : st.polygon) c += v;
+      way.push_back(c / static_cast<double>(st.polygon.size()));
+    } else {
+      way.push_back(centre(st.box));
+    }
+  }
+  way.push_back(centre(a.goal));
+  for (const auto& p : way)
+    if (!p.allFinite()) return {};
+  return way;
+}
+
 namespace {
 
 // The outside of an agent's position bounds as four slabs (the route keeps inside them), out to

@@ -5,6 +5,7 @@
 #include <random>
 
 #include "marsyn/core/planning/routes.hpp"
+#include "marsyn/core/planning/workspace_gaps.hpp"
 #include "marsyn/core/problem/agent_checks.hpp"
 #include "marsyn/number_text.hpp"
 #include "marsyn/periodic.hpp"
@@ -105,9 +106,12 @@ namespace {
 double nearest_turns(double lo, double hi, double target, double blo, double bhi) {
   const double mid = 0.5 * (lo + hi);
   const double k0 = std::nearbyint((target - mid) / kTurn);
+  // Past 2^52 turns k0 +- 1 is k0 itself (an angle of 1e49 in a file): no branch to choose.
+  if (!(std::abs(k0) < 0x1p52)) return 0.0;
   double best = k0, best_off = std::numeric_limits<double>::infinity();
   bool found = false;
-  for (double k = k0 - 3; k <= k0 + 3; ++k) {
+  for (int j = -3; j <= 3; ++j) {
+    const double k = k0 + j;
     if (!(blo <= lo + k * kTurn && hi + k * kTurn <= bhi)) continue;
     const double off = std::abs(mid + k * kTurn - target);
     if (!found || off < best_off - 1e-9 * (1 + off) || (std::abs(off - best_off) <= 1e-9 * (1 + off) && k > best)) {

@@ -53,12 +53,6 @@ std::optional<Prism> other_side_barrier(const std::vector<Prism>& prisms, const 
                                         const Eigen::Vector3d& to, const std::vector<Eigen::Vector3d>& corners,
                                         double reach);
 
-// An agent's way in the plane: its start, its stages' centres in order (a polygon's vertex mean),
-// its goal's centre, as workspace x-y points (the offset added); empty when one of them is not a
-// finite point of a linear map with x and y. The points the closed-gap diagnosis and the heading's
-// winding both follow.
-std::vector<Eigen::Vector2d> way_points(const AgentSpec& a);
-
 // Waypoints for every agent with a linear workspace whose straight way crosses an obstacle grown
 // by delta + its workspace margin (+ 10%, so the route does not graze what the plan must clear):
 // the route's corners at knots in proportion to the distance along it. An agent's way is its

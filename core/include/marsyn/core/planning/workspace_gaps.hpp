@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "marsyn/core/planning/robust_check.hpp"
 #include "marsyn/problem.hpp"
 
@@ -29,6 +31,12 @@ struct NarrowGap {
 // margins (the tube stays inside the bounds, delta from the obstacle); a slanted gap takes the
 // largest margin.
 std::vector<NarrowGap> narrow_gaps(const Problem& problem);
+
+// An agent's way in the plane: its start, its stages' centres in order (a polygon's vertex mean),
+// its goal's centre, as workspace x-y points (the offset added); empty when one of them is not a
+// finite point of a linear map with x and y. The points the closed-gap diagnosis and the heading's
+// winding both follow.
+std::vector<Eigen::Vector2d> way_points(const AgentSpec& a);
 
 // The closed gaps some agent's way needs, each with only those agents: what `check` and a failed
 // plan warn about. A gap is on an agent's way (start, stages' centres in order, goal's centre, in
