@@ -134,12 +134,14 @@ TEST(Stop, TheTimeLimitEndsASynthesisInProgress) {
   s.replace(s.find("name: stall_pendulum"), 20, "name: hold_pendulum");
   const fs::path out = fs::temp_directory_path() / ("marsyn_stop_hold_" + std::to_string(::getpid()));
   fs::remove_all(out);
-  const auto r = marsyn::test::run_marsyn("solve " + write_temp("hold.yaml", s) + " --time-limit 1 --out " + out.string() +
+  // 3 s: the pendulum's funnel (1.1 s under the sanitizers on a loaded machine) ends first, so
+  // hold_pendulum's synthesis is the one in progress when the limit comes.
+  const auto r = marsyn::test::run_marsyn("solve " + write_temp("hold.yaml", s) + " --time-limit 3 --out " + out.string() +
                                           " --runs 5");
   EXPECT_EQ(r.code, 1) << r.err;
   EXPECT_NE(r.err.find("hold_pendulum (never): resource limit"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("the test tracker was stopped by the run"), std::string::npos) << r.err;
-  EXPECT_NE(r.out.find("the time limit (1 s) was reached in round 1 (no controller for hold_pendulum; the stop cut short "
+  EXPECT_NE(r.out.find("the time limit (3 s) was reached in round 1 (no controller for hold_pendulum; the stop cut short "
                        "the synthesis of hold_pendulum)"),
             std::string::npos)
       << r.out;
