@@ -7,6 +7,8 @@
 #include "marsyn/core/problem/problem_loader.hpp"
 #include "marsyn/core/problem/problem_advice.hpp"
 #include "marsyn/core/problem/problem_summary.hpp"
+#include "marsyn/core/solve_options.hpp"
+#include "marsyn/core/tracking/tracking_memory.hpp"
 #include "marsyn/core/verification/verification.hpp"
 
 namespace marsyn::cli {
@@ -47,11 +49,23 @@ std::string default_example() {
   throw std::runtime_error("the default example examples/multi_drone.yaml was not found; give a CONFIG");
 }
 
+// "tracking at most about 43.1 MiB (100 controllers kept, ...)": the stage's upper figure at the
+// file's horizon with solve's default threads.
+std::string tracking_memory_line(const LoadedProblem& loaded) {
+  const int threads = SolveOptions{}.threads;
+  const TrackingMemory m = tracking_memory(loaded.trackers, threads, loaded.problem.horizon, loaded.problem.horizon);
+  const std::size_t agents = loaded.trackers.size();
+  return "          tracking at most about " + format_bytes(m.bytes()) + " (" + std::to_string(agents) + " controller" +
+         (agents == 1 ? "" : "s") + " kept, " + format_bytes(m.kept_bytes) + " in all; " + std::to_string(threads) +
+         " syntheses at once, " + format_bytes(m.working_bytes) + ")\n";
+}
+
 int run_check(const std::string& config, const LoadOptions& load) {
   const LoadedProblem loaded = load_problem(config, load);
   std::cout << summarize(loaded.problem, loaded.trackers) << "memory    planning about " << format_bytes(loaded.plan_memory.bytes)
             << " at T = " << loaded.problem.horizon << " (" << loaded.plan_memory_source << ": " << loaded.plan_memory.detail
             << "), budget " << format_bytes(loaded.memory_budget.bytes) << " (" << loaded.memory_budget.source << ")\n"
+            << tracking_memory_line(loaded)
             << "          verification about " << format_bytes(verification_memory_bytes(loaded.problem))
             << " (the ten runs kept for the report: every state at every 1/" << VerificationOptions{}.fine_substeps
             << " of a period)\n\n"

@@ -35,6 +35,7 @@
 #include "marsyn/core/problem/problem_loader.hpp"
 #include "marsyn/core/problem/tracker_fields.hpp"
 #include "marsyn/core/tracking/global_abcd.hpp"
+#include "marsyn/core/tracking/tracking_memory.hpp"
 
 namespace marsyn {
 namespace {
@@ -1347,6 +1348,7 @@ SolveOutcome Setup::solve(const SolveOptions& opt) {
   // `check`'s figure is the planner's at the file's horizon: beside the peak only when that is
   // the horizon planned.
   if (out.problem.horizon == problem().horizon) out.memory.plan_predicted_bytes = loaded().plan_memory.bytes;
+  out.memory.track_predicted_bytes = tracking_memory(out.trackers, opt.threads, problem().horizon, out.problem.horizon).bytes();
   out.total_time_s = t_start.seconds();
   return out;
 }

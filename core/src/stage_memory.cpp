@@ -81,15 +81,16 @@ StageWatch::~StageWatch() {
 
 std::string stage_memory_text(const StageMemory& m) {
   std::string s;
-  auto add = [&](const char* name, const StagePeak& p, double predicted) {
+  auto add = [&](const char* name, const StagePeak& p, double predicted, const char* kind) {
     if (p.peak_bytes <= 0) return;
     s += (s.empty() ? "" : ", ") + std::string(name) + " " + mb(p.added_bytes());
-    if (predicted > 0) s += " (" + mb(predicted) + " predicted)";
+    if (predicted > 0) s += " (" + mb(predicted) + " predicted" + kind + ")";
   };
-  add("plan", m.plan, m.plan_predicted_bytes);
-  add("tracking", m.track, 0);
-  add("certification", m.certify, 0);
-  add("verification", m.verify, m.verify_predicted_bytes);
+  add("plan", m.plan, m.plan_predicted_bytes, "");
+  // The trackers' figures are upper ones (abcd's successor cache is counted full).
+  add("tracking", m.track, m.track_predicted_bytes, " at most");
+  add("certification", m.certify, 0, "");
+  add("verification", m.verify, m.verify_predicted_bytes, "");
   return s;
 }
 

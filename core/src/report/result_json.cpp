@@ -359,6 +359,7 @@ nlohmann::json result_json(const SolveOutcome& o) {
   stage("certification", o.memory.certify);
   stage("verification", o.memory.verify);
   if (o.memory.plan_predicted_bytes > 0) mem["plan_predicted_bytes"] = o.memory.plan_predicted_bytes;
+  if (o.memory.track_predicted_bytes > 0) mem["tracking_predicted_bytes"] = o.memory.track_predicted_bytes;
   if (o.memory.verify_predicted_bytes > 0) mem["verification_predicted_bytes"] = o.memory.verify_predicted_bytes;
   j["memory"] = mem;
   j["total_time_s"] = o.total_time_s;

@@ -24,6 +24,7 @@ class DisturbanceBound {
   bool constant() const { return growth_.empty(); }
   int dim() const { return static_cast<int>(base_.size()); }
   const std::vector<double>& base() const { return base_; }
+  const std::vector<DisturbanceGrowth>& growth() const { return growth_; }
 
   // W(x, u) at a point (simulation and sampling: ordinary rounding).
   void at(const double* x, const double* u, double* out) const {

@@ -248,9 +248,14 @@ struct TrackerAssessment {
   int coordinate = -1;  // the state or input coordinate at fault; -1: the whole field
   std::string message;  // what is wrong and what would do, when !ok
   // Estimated tracking cost, to rank trackers and to spread agents over threads or ranks: seconds
-  // of one core (order of magnitude only) and peak memory in bytes.
+  // of one core (order of magnitude only) and the synthesis's peak working memory in bytes.
   double work_s = 0.0;
   double memory_bytes = 0.0;
+  // What the controller keeps once found (its tables, sets and enclosures, with the allocator's
+  // overhead), an upper estimate: the tracking stage's memory is every agent's kept bytes plus a
+  // synthesis's working memory per thread (`check`, docs/problem-format.md "Resources"). 0: not
+  // stated (core then counts memory_bytes).
+  double kept_bytes = 0.0;
   std::string summary;  // one line for `marsyn check`, e.g. "<= 1600 tube cells per step"
 };
 

@@ -87,6 +87,7 @@ class FlatMap {
     std::swap(gen_, o.gen_);
   }
   size_t size() const { return count_; }
+  static constexpr std::size_t slot_bytes() { return sizeof(Slot); }
 
  private:
   struct Slot {
@@ -129,6 +130,8 @@ class SuccessorTable {
     return static_cast<double>(std::llabs(idx)) + std::abs(g.origin()[i]) / g.eta()[i] <= 4e5;
   }
 
+  // One cache slot's bytes (the assessment's working-memory figure).
+  static constexpr std::size_t slot_bytes() { return FlatMap<Key, RelBox, KeyHash>::slot_bytes(); }
   long long computed() const { return computed_; }
   long long probes() const { return probes_; }
   const std::vector<bool>& invariant() const { return inv_; }

@@ -18,7 +18,51 @@ namespace {
 constexpr char kMagic[8] = {'M', 'A', 'R', 'S', 'Y', 'N', 'F', 'T'};
 constexpr std::uint32_t kMaxDim = 64, kMaxSteps = 1u << 20;
 
+// One heap block holding `bytes` (glibc's malloc: 8 bytes of header, 16-byte granules, 32 at least).
+double block(std::size_t bytes) {
+  if (bytes == 0) return 0.0;
+  return static_cast<double>(std::max<std::size_t>(32, (bytes + 8 + 15) / 16 * 16));
+}
+template <class T> double block_of(const std::vector<T>& v) { return block(v.capacity() * sizeof(T)); }
+double block_of(const Eigen::VectorXd& v) { return block(static_cast<std::size_t>(v.size()) * sizeof(double)); }
+double block_of(const std::string& s) { return s.capacity() > 15 ? block(s.capacity() + 1) : 0.0; }
+
+// Doubles in a block, as block() counts them.
+double doubles(long count) { return block(static_cast<std::size_t>(std::max(0L, count)) * sizeof(double)); }
+
 }  // namespace
+
+double heap_bytes(const FunnelController& c) {
+  const FunnelData& d = c.data();
+  double b = block(sizeof(FunnelController)) + block_of(d.dist.base()) + block_of(d.dist.growth()) + block_of(d.dynamics_type) + block_of(d.agent) + block_of(d.eps) +
+             block_of(d.w) + block_of(d.u_lo) + block_of(d.u_hi) + block_of(d.periodic);
+  for (const DisturbanceGrowth& g : d.dist.growth()) b += block_of(g.gain);
+  for (const auto* rows : {&d.x_nom, &d.u_nom, &d.K}) {
+    b += block_of(*rows);
+    for (const auto& r : *rows) b += block_of(r);
+  }
+  b += block_of(d.sets);
+  for (const StepSet& s : d.sets) b += block_of(s.lo) + block_of(s.hi) + block_of(s.c) + block_of(s.S) + block_of(s.tol);
+  b += block_of(d.enclosures);
+  for (const PeriodEnclosure& e : d.enclosures)
+    b += block_of(e.state.lo) + block_of(e.state.hi) + block_of(e.workspace.lo) + block_of(e.workspace.hi);
+  b += block(d.sets.size() * sizeof(std::vector<double>));  // least_norm_'s rows
+  for (std::size_t k = 0; k < d.sets.size(); ++k) b += block_of(c.least_norm(static_cast<int>(k)));
+  return b;
+}
+
+double kept_bytes_bound(int n, int m, int horizon, int parts, int set_generators) {
+  const double T = std::max(1, horizon), sets = T + 1, g = std::max(n, set_generators);
+  const long w = std::max(n, 3);
+  const double row = sizeof(std::vector<double>);
+  // The strings, eps, w (twice: the bound's own copy), U and the periodic flags; no W growth.
+  const double fixed = block(sizeof(FunnelController)) + 2 * block(64) + 5 * doubles(std::max(n, m)) + block(n);
+  const double nominal = block(sets * row) + sets * doubles(n) + 2 * block(T * row) + T * (doubles(m) + doubles(m * n));
+  const double step_sets = block(sets * sizeof(StepSet)) +
+                           sets * (4 * doubles(n) + 2 * doubles(static_cast<long>(n * g)));
+  const double enclosures = block(T * parts * sizeof(PeriodEnclosure)) + T * parts * (2 * doubles(n) + 2 * doubles(w));
+  return fixed + nominal + step_sets + enclosures + block(sets * row);
+}
 
 FunnelController::FunnelController(FunnelData d) : data_(std::move(d)) {
   least_norm_.resize(data_.sets.size());

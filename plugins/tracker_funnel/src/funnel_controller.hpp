@@ -91,6 +91,15 @@ class FunnelController : public marsyn::Controller {
   std::vector<std::vector<double>> least_norm_;
 };
 
+// The controller's memory as the allocator holds it: every object with each vector's block
+// (glibc: the request plus an 8-byte header, rounded up to 16, at least 32). What a finished agent
+// keeps until the run ends.
+double heap_bytes(const FunnelController& c);
+// The same before synthesis, an upper estimate at `horizon` steps: `parts` period enclosures per
+// step (their workspace boxes at most max(n, 3) wide), every set a zonotope of `set_generators`
+// generators with its least-norm map (a parallelotope, n generators, holds less).
+double kept_bytes_bound(int n, int m, int horizon, int parts, int set_generators);
+
 std::string serialize(const FunnelData& d);
 FunnelData deserialize(const std::string& bytes, const std::string& what);
 // Throws std::runtime_error naming the file and the defect.

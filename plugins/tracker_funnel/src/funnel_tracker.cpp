@@ -255,7 +255,13 @@ TrackerAssessment FunnelTracker::assess(const AgentSpec& a, int horizon, double 
   const double per_step = 2e-9 * (n * N * p + 40 * N * N);
   const double tries = s_.weight_search ? 3 : 1;
   r.work_s = tries * std::max(1, horizon) * s_.substeps * per_step;
-  r.memory_bytes = 8.0 * std::max(1, horizon) * (3.0 * n * n + 4.0 * n + m * n + s_.parts * (2.0 * n + 4));
+  // Kept: the controller (funnel_controller.hpp). Working: the funnel being built beside the best
+  // so far, the reachable set carried per step for the invariant sets (zonotopes of up to
+  // reach_order n generators), and the recursion's matrices.
+  const double steps = std::max(1, horizon);
+  r.kept_bytes = kept_bytes_bound(n, m, horizon, static_cast<int>(s_.parts), static_cast<int>(s_.set_order) * n);
+  r.memory_bytes = 2 * r.kept_bytes + 8.0 * (steps + 1) * n * (static_cast<double>(s_.reach_order) * n + 1) +
+                   8.0 * steps * (3.0 * n * n + 4.0 * n + m * n + s_.parts * (2.0 * n + 4));
   std::ostringstream s;
   s.precision(kMessageDigits);
   s << "LQR funnel, " << s_.substeps << " enclosure steps per period of " << tau << " s, initial box ";

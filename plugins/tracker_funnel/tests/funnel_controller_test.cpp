@@ -1,4 +1,5 @@
 #include <dlfcn.h>
+#include <malloc.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -6,6 +7,7 @@
 #include <random>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "funnel_scenarios.hpp"
 #include "funnel_tracker.hpp"
@@ -141,6 +143,41 @@ TEST(FunnelController, StatusesOutsideTheSetAndTheHorizon) {
   EXPECT_EQ(c->input(d.x_nom[5].data(), 5, u), ControlStatus::Ok);
   EXPECT_DOUBLE_EQ(u[0], d.u_nom[5][0]);
   EXPECT_DOUBLE_EQ(u[1], d.u_nom[5][1]);
+}
+
+// What `check` predicts the tracking stage keeps (TrackerAssessment::kept_bytes) holds the
+// controller as the allocator holds it: heap_bytes models glibc's blocks, and a copy of the
+// controller takes that much from malloc (mallinfo2), so neither figure is a guess.
+TEST(FunnelController, TheKeptBytesBoundHoldsWhatTheAllocatorKeeps) {
+  Params defaults;
+  const TrackResult r = FunnelTracker(defaults).track(testing::unicycle(30), {});
+  ASSERT_EQ(r.status, TrackerStatus::ControllerFound) << r.message;
+  const auto parallelotopes = std::dynamic_pointer_cast<const FunnelController>(r.controller);
+  for (const auto& c : {parallelotopes, unicycle_controller()}) {
+    ASSERT_TRUE(c);
+    const FunnelData& d = c->data();
+    const double model = heap_bytes(*c);
+    // Copied on a thread of its own: its allocator cache starts empty, so every block is new.
+    std::unique_ptr<FunnelController> copy;
+    std::size_t before = 0, after = 0;
+    std::thread([&] {
+      // The thread's arena and cache come with its first block: made before counting, kept after.
+      auto* first = static_cast<char*>(std::malloc(64));
+      before = mallinfo2().uordblks;
+      before = mallinfo2().uordblks;
+      copy = std::make_unique<FunnelController>(d);
+      after = mallinfo2().uordblks;
+      std::free(first);
+    }).join();
+    // Within 3 % and the few KiB of bookkeeping a thread's arena adds as it grows.
+    EXPECT_NEAR(static_cast<double>(after - before), model, 0.03 * model + 4096) << "heap_bytes does not count what malloc gives";
+    // The bound the assessment gives (the tracker's defaults: 8 enclosures per step, order-8 sets).
+    const double bound = kept_bytes_bound(d.n, d.m, d.horizon(), 8, 8 * d.n);
+    EXPECT_LE(model, bound);
+    EXPECT_GT(model, 0.5 * bound) << "a bound this loose says little";
+    // Each part is counted: 10 % less of what a step keeps and the bound no longer holds the zonotope sets.
+    if (d.sets.back().kind == kZonotope) EXPECT_GT(model, 0.9 * bound) << model << " of " << bound;
+  }
 }
 
 // The run's stop request ends the verification at the step it is at (the time limit of

@@ -19,6 +19,7 @@ struct StagePeak {
 struct StageMemory {
   StagePeak plan, track, certify, verify;
   double plan_predicted_bytes = 0;    // the planner's own figure at the horizon planned (`check`'s)
+  double track_predicted_bytes = 0;   // tracking_memory (`check`'s, at the horizon tracked)
   double verify_predicted_bytes = 0;  // verification_memory_bytes (`check`'s)
 };
 
@@ -37,7 +38,8 @@ class StageWatch {
   std::unique_ptr<Sampler> sampler_;
 };
 
-// "plan 401 MB (412 MB predicted), tracking 66 MB, certification 12 MB, verification 180 MB":
+// "plan 401 MB (412 MB predicted), tracking 66 MB (80 MB predicted at most), certification 12 MB,
+// verification 180 MB (190 MB predicted)":
 // what each stage added at its peak.
 std::string stage_memory_text(const StageMemory& m);
 
