@@ -743,6 +743,8 @@ class Bench:
         if 1000 not in sizes:
             L += ["", "1000 robots: `python3 scripts/benchmarks.py --large` (not run by default: a plan of several minutes "
                   "and about 2.5 GB)."]
+        L += ["", "25 to 1000 robots in one process and over two MPI ranks, each stage's memory beside `check`'s "
+              "prediction, with plots: [benchmarks-field.md](benchmarks-field.md) (`python3 scripts/field_scale.py`)."]
         return L
 
     # e. Exported controllers

@@ -1,4 +1,5 @@
 // Subcommands that run the method: plan, track, solve, simulate.
+#include <cmath>
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -411,8 +412,13 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
   print_search_summary(out);
   print_auto_values(out);
   if (out.verification_ran) print_verification(out.verification);
-  std::printf("global ABCD   N_g = %.3g state-input pairs, >= %.3g bytes: %s\n", out.global.state_input_pairs,
-              out.global.memory_bytes_estimate, out.global.status.c_str());
+  // A large team's product grid overflows a double (1e308): say so rather than print "inf".
+  if (std::isfinite(out.global.state_input_pairs))
+    std::printf("global ABCD   N_g = %.3g state-input pairs, >= %.3g bytes: %s\n", out.global.state_input_pairs,
+                out.global.memory_bytes_estimate, out.global.status.c_str());
+  else
+    std::printf("global ABCD   N_g beyond 1e308 state-input pairs (the product of %zu agents' grids): %s\n",
+                out.problem.agents.size(), out.global.status.c_str());
   std::printf("total         %.4g s, peak memory %.4g MB\n", out.total_time_s, peak_rss_mb());
   if (const std::string m = stage_memory_text(out.memory); !m.empty())
     std::printf("memory        added at each stage's peak: %s\n", m.c_str());

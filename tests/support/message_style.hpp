@@ -163,6 +163,20 @@ inline std::vector<StyleBreak> style_breaks(const std::string& line) {
     if (round < 0 || square < 0) break;
   }
   if (round != 0 || square != 0) out.push_back({"cut", "unbalanced brackets"});
+  // A value printed as "inf" or "nan" (printf's words for a figure that overflowed or was never
+  // set): the line should say what it means ("beyond 1e308", "no enclosure"). A line about a value
+  // that is not finite may show it.
+  std::string word;
+  for (std::size_t i = 0; i <= s.size() && !contains(s, "not finite"); ++i) {
+    const char c = i < s.size() ? s[i] : ' ';
+    if (c == ' ' || c == ',' || c == ';' || c == ':' || c == '(' || c == ')' || c == '=') {
+      if (word == "inf" || word == "-inf" || word == "+inf" || word == "nan" || word == "-nan")
+        out.push_back({"non-finite", "'" + word + "' printed as a value: say what it means"});
+      word.clear();
+    } else {
+      word += c;
+    }
+  }
   if (contains(s, "infeasible") && contains(s, "eps-robust in continuous time") && !contains(s, "NOT eps-robust"))
     out.push_back({"contradiction", "infeasible and eps-robust in one line"});
   return out;
