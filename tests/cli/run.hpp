@@ -2,11 +2,15 @@
 // Runs the marsyn executable as a user would and captures exit code, stdout and stderr.
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
+
+#include "../support/temp_dir.hpp"
 
 namespace marsyn::test {
 
@@ -23,8 +27,7 @@ inline std::string slurp(const std::string& path) {
 inline RunResult run_exe(const std::string& exe, const std::string& args, const std::string& env = "") {
   namespace fs = std::filesystem;
   static int counter = 0;
-  const fs::path dir = fs::temp_directory_path() / ("marsyn_cli_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const fs::path dir = process_temp_dir("marsyn_cli_");
   const std::string base = (dir / std::to_string(counter++)).string();
   const std::string cmd = env + " " + exe + " " + args + " >" + base + ".out 2>" + base + ".err";
   const int status = std::system(cmd.c_str());
@@ -38,10 +41,7 @@ inline RunResult run_exe(const std::string& exe, const std::string& args, const 
 inline RunResult run_marsyn(const std::string& args, const std::string& env = "") { return run_exe(MARSYN_EXE, args, env); }
 
 inline std::string write_temp(const std::string& name, const std::string& text) {
-  namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("marsyn_cfg_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  const fs::path p = dir / name;
+  const std::filesystem::path p = process_temp_dir("marsyn_cfg_") / name;
   std::ofstream(p) << text;
   return p.string();
 }

@@ -59,7 +59,7 @@ const std::string kNever = std::string("plugin_paths: [") + NEVER_TRACKER_DIR + 
 std::string marsyn_with_abcd_only() {
   namespace fs = std::filesystem;
   static const std::string exe = [] {
-    const fs::path root = fs::temp_directory_path() / ("marsyn_iso_" + std::to_string(::getpid()));
+    const fs::path root = marsyn::test::process_temp_dir("marsyn_iso_");
     const fs::path from = fs::path(MARSYN_EXE).parent_path() / "../lib/marsyn/plugins";
     fs::remove_all(root);
     fs::create_directories(root / "bin");

@@ -13,6 +13,7 @@
 #include "marsyn/core/planning/constraints.hpp"
 #include "marsyn/core/planning/plan.hpp"
 #include "marsyn/core/problem/problem_loader.hpp"
+#include "../support/temp_dir.hpp"
 
 namespace {
 
@@ -23,9 +24,7 @@ std::string drone_config(const std::string& collision_line) {
   std::ifstream in(std::string(MARSYN_SOURCE_DIR) + "/examples/multi_drone.yaml");
   std::stringstream text;
   text << in.rdbuf();
-  const fs::path dir = fs::temp_directory_path() / ("marsyn_collision_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  const fs::path p = dir / ("drones_" + std::to_string(collision_line.size()) + ".yaml");
+  const fs::path p = marsyn::test::process_temp_dir("marsyn_collision_") / ("drones_" + std::to_string(collision_line.size()) + ".yaml");
   std::ofstream(p) << collision_line << "\n" << text.str();
   return p.string();
 }

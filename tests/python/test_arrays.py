@@ -13,6 +13,7 @@ against the figures result.json computes on its own from the same runs:
 - the funnel's controller files read back without naming the tracker answer as solve()'s.
 """
 import os
+import shutil
 import re
 import sys
 import tempfile
@@ -108,4 +109,5 @@ try:
 except marsyn.ConfigError as e:
     check("abcd" in str(e) and "funnel" in str(e), "a file no tracker recognises names every tracker's reason: %s" % e)
 
+shutil.rmtree(out, ignore_errors=True)
 finish("ok: %d margin figures equal result.json's, %d agents' tubes" % (compared, len(problem.agents)))

@@ -13,6 +13,8 @@
 #include <utility>
 #include <vector>
 
+#include "temp_dir.hpp"
+
 namespace marsyn::test {
 
 inline std::string pendulum_variant(const std::string& name, const std::string& tracker_line,
@@ -28,9 +30,7 @@ inline std::string pendulum_variant(const std::string& name, const std::string& 
     if (at == std::string::npos) throw std::logic_error("pendulum.yaml has no '" + from + "'");
     s.replace(at, from.size(), to);
   }
-  const fs::path dir = fs::temp_directory_path() / ("marsyn_pendulum_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  const fs::path p = dir / (name + ".yaml");
+  const fs::path p = process_temp_dir("marsyn_pendulum_") / (name + ".yaml");
   std::ofstream(p) << s;
   return p.string();
 }

@@ -31,9 +31,15 @@ std::string paper_label(int variant) {
     default: return "-W for all agents";
   }
 }
-// A kept run with its dense margins (every substep, samples included).
-KeptRun keep(const SpecMonitor& monitor, std::string label, const ClosedLoopRun& run) {
-  return KeptRun{std::move(label), run.states, monitor.evaluate(run.states, true), run.dense_t, run.dense_margins};
+// A kept run with its dense margins (every substep, samples included), moved out of the run (a
+// copy held each kept run twice while the report was assembled).
+KeptRun keep(std::string label, ClosedLoopRun&& run, SpecEvaluation spec) {
+  return KeptRun{std::move(label), std::move(run.states), std::move(spec), std::move(run.dense_t),
+                 std::move(run.dense_margins)};
+}
+KeptRun keep(const SpecMonitor& monitor, std::string label, ClosedLoopRun&& run) {
+  SpecEvaluation spec = monitor.evaluate(run.states, true);
+  return keep(std::move(label), std::move(run), std::move(spec));
 }
 
 // One verification run as the report counts it.
@@ -88,7 +94,7 @@ int tally(const std::vector<RunSummary>& results, VerificationReport& rep) {
 }
 
 // Open loop under the paper's constant disturbance `v`: what fails without feedback.
-void add_open_loop(const SpecMonitor& monitor, int v, const ClosedLoopRun& o, VerificationReport& rep) {
+void add_open_loop(const SpecMonitor& monitor, int v, ClosedLoopRun&& o, VerificationReport& rep) {
   SpecEvaluation ev = monitor.evaluate(o.states, true);
   ++rep.open_loop_runs;
   if (!ev.satisfied) ++rep.open_loop_violations;
@@ -107,9 +113,7 @@ void add_open_loop(const SpecMonitor& monitor, int v, const ClosedLoopRun& o, Ve
       if (value < part->margin) *part = {value, k};
   }
   rep.open_loop.push_back(run);
-  KeptRun kept = keep(monitor, "open loop, constant disturbance " + paper_label(v), o);
-  kept.spec = std::move(ev);
-  rep.kept.push_back(std::move(kept));
+  rep.kept.push_back(keep("open loop, constant disturbance " + paper_label(v), std::move(o), std::move(ev)));
 }
 
 }  // namespace
@@ -161,9 +165,10 @@ VerificationReport verify(const Problem& problem, const std::vector<NominalTraje
   std::vector<Kept> kept{{&open_dense, {{DisturbanceMode::None, opt.seed, 0}, paper(0), paper(1), paper(2)}, {}},
                          {&open_dense, {paper(3)}, {}},
                          {&closed_dense, {paper(0), paper(1), paper(2), paper(3)}, {}}};
-  auto kept_run = [&](bool closed_loop, int v) -> const ClosedLoopRun& {  // v = -1: the nominal
-    if (closed_loop) return kept[2].runs[static_cast<size_t>(v)];
-    return v < 3 ? kept[0].runs[static_cast<size_t>(v + 1)] : kept[1].runs[0];
+  // Each is read once, at the end, and moved into the report.
+  auto kept_run = [&](bool closed_loop, int v) -> ClosedLoopRun&& {  // v = -1: the nominal
+    if (closed_loop) return std::move(kept[2].runs[static_cast<size_t>(v)]);
+    return std::move(v < 3 ? kept[0].runs[static_cast<size_t>(v + 1)] : kept[1].runs[0]);
   };
   const int n_kept = static_cast<int>(kept.size());
 
