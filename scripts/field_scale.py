@@ -6,7 +6,7 @@ thread each, as many ranks as cores here), each stage's time and what it added t
 children). Writes a Markdown table and two SVG plots (time and peak memory against N).
 
     python3 scripts/field_scale.py --marsyn build/bin/marsyn --sizes 25 100 400 1000 --ranks 1 2 \\
-        --out /tmp/field-scale --md /tmp/field-scale/table.md --svg docs/images/field-scale
+        --out /tmp/field-scale --md docs/benchmarks-field.md --svg docs/field-scale
 
 Nothing else should run on the machine meanwhile: the times are wall times.
 """
@@ -138,7 +138,8 @@ def page(a, table, plots):
              "rank, as many ranks as cores here). Times are wall seconds from result.json (stage times) and around "
              "the command (total); the peak is the largest process's resident set (ru_maxrss); the stage columns "
              "give what each stage added to rank 0's process at its peak beside `marsyn check`'s prediction "
-             "(tracking's is an upper figure). Teams above 100 agents get 100,000 agent runs spread over the team "
+             "(tracking's is an upper figure for one process; over MPI, rank 0 also holds the other ranks' controller "
+             "files while it reads them, docs/mpi.md). Teams above 100 agents get 100,000 agent runs spread over the team "
              "(`runs`, at least 200; the certificate is the guarantee, the runs can only refute).", "",
              table, ""]
     lines += [f"![{t}]({os.path.basename(p)})" for t, p in plots]

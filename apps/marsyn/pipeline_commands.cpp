@@ -413,9 +413,12 @@ int run_solve(const std::string& config, const std::string& out_requested, int r
   print_auto_values(out);
   if (out.verification_ran) print_verification(out.verification);
   // A large team's product grid overflows a double (1e308): say so rather than print "inf".
-  if (std::isfinite(out.global.state_input_pairs))
+  if (std::isfinite(out.global.state_input_pairs) && std::isfinite(out.global.memory_bytes_estimate))
     std::printf("global ABCD   N_g = %.3g state-input pairs, >= %.3g bytes: %s\n", out.global.state_input_pairs,
                 out.global.memory_bytes_estimate, out.global.status.c_str());
+  else if (std::isfinite(out.global.state_input_pairs))
+    std::printf("global ABCD   N_g = %.3g state-input pairs, beyond 1e308 bytes: %s\n", out.global.state_input_pairs,
+                out.global.status.c_str());
   else
     std::printf("global ABCD   N_g beyond 1e308 state-input pairs (the product of %zu agents' grids): %s\n",
                 out.problem.agents.size(), out.global.status.c_str());

@@ -430,9 +430,14 @@ Failure Search::track(SearchRound& round) {
   const StageWatch watch(out_.memory.track);
   const std::size_t N = pb_.agents.size();
   const std::vector<int> redo = agents_to_track();
+  // The controllers being replaced go first: kept beside their successors, a full round after a
+  // re-plan held every agent's controller twice (tracking's memory figure counts them once).
   if (redo.size() == N || out_.agents.size() != N) {
+    out_.agents.clear();
+    out_.agents.shrink_to_fit();
     out_.agents = setup_.track(pb_, out_.plan.nominal, opt_);
   } else {
+    for (int i : redo) out_.agents[static_cast<std::size_t>(i)].track.controller.reset();
     // Only the agents whose nominal or parameters changed, or that have no controller yet.
     Problem sub = pb_;
     sub.agents.clear();

@@ -56,6 +56,7 @@ TEST(MessageStyle, EachRuleCatchesWhatItIsFor) {
   EXPECT_TRUE(breaks_rule("T = 150: infeasible after 267 iterations; eps-robust in continuous time", "contradiction"));
   EXPECT_TRUE(breaks_rule("global ABCD   N_g = inf state-input pairs, >= inf bytes: skipped", "non-finite"));
   EXPECT_TRUE(breaks_rule("no enclosure of the flow between steps 100 and 101 (margin -inf)", "non-finite"));
+  EXPECT_TRUE(breaks_rule("eps [0.2, nan, 0.24] from the rule", "non-finite"));
   EXPECT_FALSE(breaks_rule("x0 puts b at (0.15, 2.1), inf-norm distance 0.15 from a", "non-finite"));
   EXPECT_FALSE(breaks_rule("T = 150: infeasible after 267 iterations", "non-finite"));
   EXPECT_FALSE(breaks_rule("the vector field is not finite at x0 (0, 0): dv/dt = inf (a division by zero?)", "non-finite"));

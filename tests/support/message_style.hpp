@@ -169,7 +169,8 @@ inline std::vector<StyleBreak> style_breaks(const std::string& line) {
   std::string word;
   for (std::size_t i = 0; i <= s.size() && !contains(s, "not finite"); ++i) {
     const char c = i < s.size() ? s[i] : ' ';
-    if (c == ' ' || c == ',' || c == ';' || c == ':' || c == '(' || c == ')' || c == '=') {
+    if (c == ' ' || c == ',' || c == ';' || c == ':' || c == '(' || c == ')' || c == '[' || c == ']' || c == '=' ||
+        c == '%') {
       if (word == "inf" || word == "-inf" || word == "+inf" || word == "nan" || word == "-nan")
         out.push_back({"non-finite", "'" + word + "' printed as a value: say what it means"});
       word.clear();

@@ -127,8 +127,9 @@ int default_verification_runs(int agents) {
 double verification_memory_bytes(const Problem& problem, int fine_substeps) {
   constexpr double kKeptRuns = 10;
   // Per kept run and substep, besides the product state's doubles: its vector's header and the
-  // allocator's, the time, the margins and their copy in the report (with the vectors' growth
-  // room), and a few bytes per agent that the dense check keeps (fitted on the field, above).
+  // allocator's, the time and the margins (with the vectors' growth room), and a few bytes per
+  // agent that the dense check keeps (fitted on the field, above, when the report still copied
+  // the runs: it now takes them over, so the figure errs high).
   constexpr double kPerSubstep = 64, kPerAgent = 8;
   constexpr double kInFlight = 1 << 20;  // the runs in flight, a batch per thread (crane_vehicle: 2.05 MB in all)
   const double substeps = static_cast<double>(problem.horizon) * std::max(1, fine_substeps) + 1;

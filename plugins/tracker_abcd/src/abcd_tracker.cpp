@@ -187,9 +187,16 @@ TrackerAssessment AbcdTracker::assess(const AgentSpec& a, const AssessRequest& r
   double columns = 1;
   for (int i = 0; i < n; ++i)
     if (!inv[static_cast<std::size_t>(i)]) columns *= std::floor(2 * a.tube.eps[i] / eta_x[i]) + 1;
-  const double slots = std::exp2(std::ceil(std::log2(std::max(2.0, 2 * columns * inputs))));
+  // (A map never holds fewer than 1024 slots.)
+  const double slots = std::exp2(std::ceil(std::log2(std::max(1024.0, 2 * columns * inputs))));
   r.memory_bytes = state_bytes + input_bytes + 2.5 * slots * SuccessorTable::slot_bytes();
-  r.kept_bytes = (static_cast<double>(horizon) + 1) * tube * 2;  // the controller's table; the rest is the synthesis's
+  // Kept: the table, each step's index box and offset, and the period enclosures (state and
+  // workspace boxes, each vector a heap block: glibc's 8-byte header, 16-byte granules, 32 at
+  // least; the list's room as push_back grew it, up to twice its size).
+  auto block = [](double bytes) { return std::max(32.0, std::ceil((bytes + 8) / 16) * 16); };
+  const double steps = std::max(1, horizon), enclosures = steps * base_.enclosure_substeps;
+  r.kept_bytes = (steps + 1) * (tube * 2 + sizeof(IndexBox) + sizeof(std::int64_t)) +
+                 enclosures * (2 * sizeof(PeriodEnclosure) + 2 * block(8.0 * n) + 2 * block(8.0 * std::max(n, 3)));
   r.summary = "<= " + number_text(tube_upper) + " tube cells/step, " + number_text(inputs) + " grid inputs";
   return r;
 }

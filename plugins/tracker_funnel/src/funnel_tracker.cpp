@@ -1,5 +1,6 @@
 #include "funnel_tracker.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -8,6 +9,7 @@
 #include <Eigen/LU>
 
 #include "input_weights.hpp"
+#include "invariant_sets.hpp"
 #include "lqr.hpp"
 #include "tightness.hpp"
 #include "marsyn/dual.hpp"
@@ -259,7 +261,9 @@ TrackerAssessment FunnelTracker::assess(const AgentSpec& a, int horizon, double 
   // so far, the reachable set carried per step for the invariant sets (zonotopes of up to
   // reach_order n generators), and the recursion's matrices.
   const double steps = std::max(1, horizon);
-  r.kept_bytes = kept_bytes_bound(n, m, horizon, static_cast<int>(s_.parts), static_cast<int>(s_.set_order) * n);
+  // Sets: zonotopes of set_order n generators, or the invariant chain's fallback of order 8.
+  const int set_generators = static_cast<int>(std::max<long>(s_.set_order, kChainOrder)) * n;
+  r.kept_bytes = kept_bytes_bound(n, m, horizon, static_cast<int>(s_.parts), set_generators);
   r.memory_bytes = 2 * r.kept_bytes + 8.0 * (steps + 1) * n * (static_cast<double>(s_.reach_order) * n + 1) +
                    8.0 * steps * (3.0 * n * n + 4.0 * n + m * n + s_.parts * (2.0 * n + 4));
   std::ostringstream s;

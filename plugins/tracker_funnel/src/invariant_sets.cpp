@@ -307,12 +307,6 @@ class StepGrower {
 
 namespace {
 
-// The highest order (generators per state) of a zonotope chain: the chain carries what it stores,
-// so a low order boxes generators at every step (on the examples' quadrotors orders 2 and 4 do
-// not hold over 50 steps, 8 does); a higher one costs the controller's membership test and table
-// size in proportion (docs/funnel.md, "Invariant sets"). Order 4 is not tried: it held nowhere 2
-// did not, and a chain that fails late costs a whole pass.
-constexpr int kChainOrder = 8;
 
 // V_0 as the period's start: the initial box with the measured state's allowance.
 Zonotope initial_zonotope(const StepSet& s0, int n) {

@@ -17,6 +17,13 @@ struct VerifyOptions;
 
 namespace marsyn::funnel {
 
+// The highest order (generators per state) of a zonotope chain: the chain carries what it stores,
+// so a low order boxes generators at every step (on the examples' quadrotors orders 2 and 4 do
+// not hold over 50 steps, 8 does); a higher one costs the controller's membership test and table
+// size in proportion (docs/funnel.md, "Invariant sets"). Order 4 is not tried: it held nowhere 2
+// did not, and a chain that fails late costs a whole pass.
+inline constexpr int kChainOrder = 8;
+
 struct InvariantOutcome {
   // V_k is invariant for every k >= from_step (each accepted state's successors are accepted at
   // k + 1, and the period enclosures of step k cover every run from V_k); horizon + 1: none.
