@@ -1,6 +1,5 @@
 #include "commands.hpp"
 
-#include <algorithm>
 #include <filesystem>
 #include <iostream>
 
@@ -56,7 +55,7 @@ std::string tracking_memory_line(const LoadedProblem& loaded) {
   const int threads = SolveOptions{}.threads;
   const TrackingMemory m = tracking_memory(loaded.trackers, threads, loaded.problem.horizon, loaded.problem.horizon);
   const std::size_t agents = loaded.trackers.size();
-  const std::size_t at_once = std::min(agents, static_cast<std::size_t>(threads));
+  const int at_once = m.at_once;
   return "          tracking at most about " + format_bytes(m.bytes()) + " (" + std::to_string(agents) + " controller" +
          (agents == 1 ? "" : "s") + " kept, " + format_bytes(m.kept_bytes) + " in all; " + std::to_string(at_once) +
          (at_once == 1 ? " synthesis" : " syntheses") + " at once, " + format_bytes(m.working_bytes) + ")\n";

@@ -24,6 +24,7 @@ TrackingMemory tracking_memory(const std::vector<AgentTrackers>& trackers, int t
   const std::size_t at_once = std::min(working.size(), static_cast<std::size_t>(std::max(1, threads)));
   std::partial_sort(working.begin(), working.begin() + static_cast<long>(at_once), working.end(), std::greater<>());
   for (std::size_t i = 0; i < at_once; ++i) m.working_bytes += working[i];
+  m.at_once = static_cast<int>(at_once);
   return m;
 }
 

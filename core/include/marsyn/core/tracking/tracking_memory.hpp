@@ -12,6 +12,7 @@ namespace marsyn {
 struct TrackingMemory {
   double kept_bytes = 0;     // every agent's controller and result
   double working_bytes = 0;  // the largest syntheses, one per thread
+  int at_once = 0;           // syntheses counted in working_bytes: min(agents, threads)
   double bytes() const { return kept_bytes + working_bytes; }
 };
 
